@@ -1,0 +1,1 @@
+"""Sub-commands of the ``bearing-envelope`` CLI, one module each (see :mod:`bearing_envelope.cli`)."""
