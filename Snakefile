@@ -1,0 +1,25 @@
+# bearing_envelope: contact-pressure histories of a damaged roller bearing and their envelope
+# analysis over a load x defect-depth sweep. Everything lives in workflow/rules/*.smk; the
+# physics and signal processing live in the package (src/bearing_envelope).
+from snakemake.utils import min_version
+
+min_version("8.10")
+
+
+configfile: "config.yaml"
+
+
+report: "workflow/report/workflow.rst"
+
+
+include: "workflow/rules/common.smk"
+include: "workflow/rules/simulate.smk"
+include: "workflow/rules/analysis.smk"
+include: "workflow/rules/aggregate.smk"
+include: "workflow/rules/figures.smk"
+
+
+rule all:
+    input:
+        all_targets(),
+    default_target: True

@@ -1,0 +1,50 @@
+# Config validation (before any job) and the small input helpers shared by every rule.
+import json
+from pathlib import Path
+
+from snakemake.utils import validate
+
+from bearing_envelope.config import case_name, check_config
+
+
+validate(config, workflow.source_path("../schemas/config.schema.yaml"))
+check_config(config)
+
+# Library code is an input of the rules that use it: editing it reruns what it affects.
+SRC = Path(workflow.basedir) / "src" / "bearing_envelope"
+SIM_CODE = sorted(
+    str(p)
+    for pattern in ("contact/*.py", "scene.py", "geometry.py", "loads.py", "history.py",
+                    "io.py", "fidelity.py", "kinematics.py")
+    for p in SRC.glob(pattern)
+)
+SIGNAL_CODE = sorted(str(p) for p in SRC.glob("signal/*.py"))
+
+LOADS = config["sweep"]["loads_kN"]
+DEPTHS = config["sweep"]["depths_um"]
+CASES = [case_name(f, h) for f in LOADS for h in DEPTHS]
+BAND_NAMES = [b["name"] for b in config["analysis"]["bands"]]
+
+
+wildcard_constraints:
+    case=r"F[0-9.]+kN_h[0-9.]+um",
+    load=r"[0-9.]+",
+    depth=r"[0-9.]+",
+
+
+def scene_params(wildcards):
+    """The scene and fidelity as a canonical JSON string: a change reruns the simulations."""
+    return json.dumps({"scene": config.get("scene", {}), "fidelity": config.get("fidelity", "standard")},
+                      sort_keys=True)
+
+
+def analysis_params(wildcards):
+    return json.dumps(config["analysis"], sort_keys=True)
+
+
+def all_targets():
+    return [
+        "results/tables/harmonics.csv",
+        "results/tables/cases.csv",
+        "results/figures/.done",
+    ]

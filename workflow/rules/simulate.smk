@@ -1,0 +1,20 @@
+# One contact-history job per load x depth case -> one HDF5 file per case.
+
+
+rule simulate:
+    input:
+        code=SIM_CODE,
+    output:
+        "results/cases/F{load}kN_h{depth}um.h5",
+    params:
+        setup=scene_params,
+    log:
+        "logs/simulate/F{load}kN_h{depth}um.log",
+    benchmark:
+        "logs/benchmarks/simulate/F{load}kN_h{depth}um.tsv"
+    threads: 1
+    resources:
+        mem_mb=2000,
+        runtime=20,
+    script:
+        "../scripts/simulate.py"
