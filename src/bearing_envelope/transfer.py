@@ -1,0 +1,586 @@
+"""Transfer path from the contact history to a synthetic accelerometer signal.
+
+The contact simulation gives the *source* of the vibration (the contact pressure, or the contact
+force, as a function of time). A sensor on the housing sees that source filtered by the structure's
+resonances, plus measurement noise and other machine tones. This module builds that signal on plain
+numpy arrays:
+
+1. **Excitation** (:func:`excitation_from_history`): the chosen contact signal minus its mean,
+   times a scale (e.g. an area in m^2 turns a pressure in Pa into a force in N).
+2. **Structure** (:class:`Mode`, :class:`TransferModel`): a sum of second-order resonators, one per
+   mode, each with natural frequency ``f_n``, damping ratio ``zeta`` and gain ``g``,
+
+   .. math::
+
+       H(s) = \\sum_i g_i \\frac{2\\zeta_i\\omega_i s}{s^2 + 2\\zeta_i\\omega_i s + \\omega_i^2},
+       \\qquad \\omega_i = 2\\pi f_{n,i},
+
+   so that ``|H_i(j\\omega_i)| = g_i`` (acceleration per unit excitation at resonance) and the
+   response to a static load is zero (an acceleration has no DC). Each mode is discretised on its
+   own as one second-order section, by impulse invariance (default: the poles map exactly,
+   ``z = exp(s / fs)``, so the digital impulse response rings at ``f_d = f_n sqrt(1 - zeta^2)``
+   and decays as ``exp(-zeta omega_n t)`` exactly) or by the bilinear transform prewarped at
+   ``f_n``; in both cases the numerator is scaled so that the digital gain at ``f_n`` equals
+   ``g``. Modes act in parallel (their outputs add).
+3. **Noise** at a target SNR (:func:`synthesize_acceleration`):
+
+   .. math:: \\mathrm{SNR} = 10 \\log_{10}(P_\\mathrm{defect} / P_\\mathrm{noise})\\ \\mathrm{dB},
+
+   with ``P_defect`` the variance of the defect-related part of the structural response: the
+   response to the excitation minus the response to a no-defect reference excitation when one is
+   given, else the variance of the whole response. The noise is white Gaussian (flat to fs/2).
+4. **Interfering tones** (shaft harmonics, a gear-mesh tone), added after the noise, not counted in
+   the SNR.
+
+All randomness comes from one :class:`numpy.random.Generator` seeded by ``seed``. See
+``docs/sensor.md`` for the model, the config keys (``sensor:`` section) and their units.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import asdict, dataclass, field
+from typing import Any
+
+import numpy as np
+from scipy import signal as sps
+
+__all__ = [
+    "EXCITATION_KINDS",
+    "Mode",
+    "NoiseSpec",
+    "Tone",
+    "TransferModel",
+    "excitation_from_history",
+    "select_excitation",
+    "mode_sos",
+    "impulse_response",
+    "apply_structure",
+    "synthesize_acceleration",
+    "measure_snr_db",
+]
+
+#: Excitation kinds and the case signals they are taken from (first one present wins).
+EXCITATION_KINDS: dict[str, tuple[str, ...]] = {
+    "pressure": ("p_max",),
+    "pressure_defect": ("p_max_defect",),
+    "force": ("force", "contact_force", "roller_load"),
+}
+
+_DISCRETIZATIONS = ("impulse", "bilinear")
+
+
+# --------------------------------------------------------------------------------------------
+# validation helpers
+# --------------------------------------------------------------------------------------------
+def _number(name: str, value: Any) -> float:
+    if isinstance(value, bool):
+        raise ValueError(f"{name} must be a number, got {value!r}")
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a number, got {value!r}") from None
+    if not math.isfinite(v):
+        raise ValueError(f"{name} must be finite, got {value!r}")
+    return v
+
+
+def _check_keys(name: str, mapping: Any, allowed: Sequence[str]) -> Mapping:
+    if not isinstance(mapping, Mapping):
+        raise ValueError(f"{name} must be a mapping, got {type(mapping).__name__} {mapping!r}")
+    unknown = sorted(set(mapping) - set(allowed))
+    if unknown:
+        raise ValueError(f"{name}: unknown key(s) {unknown}; allowed keys: {sorted(allowed)}")
+    return mapping
+
+
+# --------------------------------------------------------------------------------------------
+# model dataclasses
+# --------------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class Mode:
+    """One structural mode.
+
+    Attributes
+    ----------
+    f_n_hz : float
+        Undamped natural frequency (Hz), ``0 < f_n_hz < fs/2``.
+    zeta : float
+        Damping ratio (1), ``0 < zeta < 1``.
+    gain : float
+        Gain at resonance ``|H(j omega_n)|`` (acceleration per unit excitation, e.g.
+        (m/s^2)/N for a force excitation, (m/s^2)/Pa for a pressure excitation), ``> 0``.
+    """
+
+    f_n_hz: float
+    zeta: float
+    gain: float = 1.0
+
+    def __post_init__(self) -> None:
+        f = _number("f_n_hz", self.f_n_hz)
+        z = _number("zeta", self.zeta)
+        g = _number("gain", self.gain)
+        if f <= 0.0:
+            raise ValueError(f"f_n_hz must be > 0 Hz, got {self.f_n_hz!r}")
+        if not 0.0 < z < 1.0:
+            raise ValueError(f"zeta must be in the open range (0, 1) (underdamped), got {self.zeta!r}")
+        if g <= 0.0:
+            raise ValueError(f"gain must be > 0, got {self.gain!r}")
+        object.__setattr__(self, "f_n_hz", f)
+        object.__setattr__(self, "zeta", z)
+        object.__setattr__(self, "gain", g)
+
+    @property
+    def f_d_hz(self) -> float:
+        """Damped natural frequency ``f_n sqrt(1 - zeta^2)`` (Hz)."""
+        return self.f_n_hz * math.sqrt(1.0 - self.zeta**2)
+
+    def check_fs(self, fs: float, where: str = "mode") -> None:
+        """Raise ValueError if ``f_n_hz`` is not below the Nyquist frequency ``fs/2``."""
+        if self.f_n_hz >= 0.5 * fs:
+            raise ValueError(
+                f"{where}.f_n_hz must be < fs/2 = {0.5 * fs:g} Hz, got {self.f_n_hz:g} Hz"
+            )
+
+    @classmethod
+    def from_mapping(cls, m: Mapping, where: str = "mode") -> Mode:
+        m = _check_keys(where, m, ("f_n_hz", "zeta", "gain"))
+        for key in ("f_n_hz", "zeta"):
+            if key not in m:
+                raise ValueError(f"{where}.{key} is required")
+        try:
+            return cls(m["f_n_hz"], m["zeta"], m.get("gain", 1.0))
+        except ValueError as exc:
+            raise ValueError(f"{where}.{exc}") from None
+
+
+@dataclass(frozen=True)
+class Tone:
+    """An interfering sinusoid (shaft harmonic, gear mesh, ...).
+
+    Give the frequency either absolutely (``frequency_hz``) or as an ``order`` of the shaft rate
+    (needs ``fr`` at synthesis), and the size either as a peak ``amplitude`` (output units, e.g.
+    m/s^2) or as ``level_db`` = 10 log10(tone power / P_defect). ``phase_rad`` ``None`` draws a
+    uniform random phase from the seeded generator.
+    """
+
+    frequency_hz: float | None = None
+    order: float | None = None
+    amplitude: float | None = None
+    level_db: float | None = None
+    phase_rad: float | None = None
+
+    def __post_init__(self) -> None:
+        if (self.frequency_hz is None) == (self.order is None):
+            raise ValueError(
+                "tone needs exactly one of frequency_hz (Hz) or order (x shaft rate), got "
+                f"frequency_hz={self.frequency_hz!r}, order={self.order!r}"
+            )
+        if (self.amplitude is None) == (self.level_db is None):
+            raise ValueError(
+                "tone needs exactly one of amplitude (peak, output units) or level_db "
+                f"(dB re P_defect), got amplitude={self.amplitude!r}, level_db={self.level_db!r}"
+            )
+        for key in ("frequency_hz", "order", "amplitude"):
+            v = getattr(self, key)
+            if v is not None:
+                v = _number(key, v)
+                if (key == "amplitude" and v < 0) or (key != "amplitude" and v <= 0):
+                    bound = ">= 0" if key == "amplitude" else "> 0"
+                    raise ValueError(f"{key} must be {bound}, got {getattr(self, key)!r}")
+                object.__setattr__(self, key, v)
+        for key in ("level_db", "phase_rad"):
+            v = getattr(self, key)
+            if v is not None:
+                object.__setattr__(self, key, _number(key, v))
+
+    def frequency(self, fr: float | None) -> float:
+        """Tone frequency in Hz (``order * fr`` for an order tone)."""
+        if self.frequency_hz is not None:
+            return self.frequency_hz
+        if fr is None:
+            raise ValueError(f"tone with order={self.order:g} needs the shaft rate fr (Hz)")
+        return self.order * _number("fr", fr)
+
+    @classmethod
+    def from_mapping(cls, m: Mapping, where: str = "tone") -> Tone:
+        m = _check_keys(where, m, ("frequency_hz", "order", "amplitude", "level_db", "phase_rad"))
+        try:
+            return cls(**dict(m))
+        except ValueError as exc:
+            raise ValueError(f"{where}: {exc}") from None
+
+
+@dataclass(frozen=True)
+class NoiseSpec:
+    """Additive measurement noise.
+
+    Attributes
+    ----------
+    snr_db : float or None
+        Target SNR (dB) = 10 log10(P_defect / P_noise); ``None`` adds no noise. Range -80..200.
+    exact : bool
+        If True (default) the drawn noise is rescaled so that its sample variance gives the
+        target SNR exactly; if False the noise has the nominal variance and the achieved SNR
+        scatters by about ``4.34 sqrt(2/N)`` dB.
+    """
+
+    snr_db: float | None = None
+    exact: bool = True
+
+    def __post_init__(self) -> None:
+        if self.snr_db is not None:
+            v = _number("snr_db", self.snr_db)
+            if not -80.0 <= v <= 200.0:
+                raise ValueError(f"snr_db must be in [-80, 200] dB, got {self.snr_db!r}")
+            object.__setattr__(self, "snr_db", v)
+        if not isinstance(self.exact, bool):
+            raise ValueError(f"exact must be true or false, got {self.exact!r}")
+
+
+@dataclass(frozen=True)
+class TransferModel:
+    """Structural modes, noise and interfering tones: the ``sensor:`` config section.
+
+    Build it from the config with :meth:`from_mapping`. Keys (units):
+
+    ``excitation`` (str, default ``"pressure"``): ``pressure`` (p_max - mean),
+    ``pressure_defect`` (p_max_defect - mean) or ``force`` (contact force - mean);
+    ``excitation_scale`` (default 1.0; e.g. m^2 to turn Pa into N); ``modes`` (list of
+    ``{f_n_hz: Hz, zeta: 1, gain: output per excitation unit at resonance}``, at least one);
+    ``discretization`` (``impulse`` | ``bilinear``, default ``impulse``); ``noise``
+    (``{snr_db: dB or null, exact: bool}``) or the shortcut ``snr_db``; ``tones`` (list of
+    ``{frequency_hz | order, amplitude | level_db, phase_rad}``); ``seed`` (int, default 0).
+    """
+
+    modes: tuple[Mode, ...]
+    noise: NoiseSpec = field(default_factory=NoiseSpec)
+    tones: tuple[Tone, ...] = ()
+    discretization: str = "impulse"
+    excitation: str = "pressure"
+    excitation_scale: float = 1.0
+    seed: int = 0
+
+    def __post_init__(self) -> None:
+        modes = tuple(self.modes)
+        if not modes:
+            raise ValueError("modes must hold at least one mode, got []")
+        for i, m in enumerate(modes):
+            if not isinstance(m, Mode):
+                raise ValueError(f"modes[{i}] must be a Mode, got {m!r}")
+        object.__setattr__(self, "modes", modes)
+        object.__setattr__(self, "tones", tuple(self.tones))
+        if self.discretization not in _DISCRETIZATIONS:
+            raise ValueError(
+                f"discretization must be one of {_DISCRETIZATIONS}, got {self.discretization!r}"
+            )
+        if self.excitation not in EXCITATION_KINDS:
+            raise ValueError(
+                f"excitation must be one of {tuple(EXCITATION_KINDS)}, got {self.excitation!r}"
+            )
+        s = _number("excitation_scale", self.excitation_scale)
+        if s <= 0:
+            raise ValueError(f"excitation_scale must be > 0, got {self.excitation_scale!r}")
+        object.__setattr__(self, "excitation_scale", s)
+        if isinstance(self.seed, bool) or not isinstance(self.seed, (int, np.integer)) or self.seed < 0:
+            raise ValueError(f"seed must be an integer >= 0, got {self.seed!r}")
+
+    _KEYS = ("excitation", "excitation_scale", "modes", "discretization", "noise", "snr_db",
+             "tones", "seed")
+
+    @classmethod
+    def from_mapping(cls, mapping: Mapping, *, fs: float | None = None) -> TransferModel:
+        """Build the model from a plain mapping (the ``sensor:`` config section).
+
+        Raises ValueError naming the offending field (``sensor.modes[0].zeta`` ...), its value and
+        the allowed range. With ``fs`` (Hz) the natural frequencies are also checked against
+        Nyquist.
+        """
+        m = _check_keys("sensor", mapping, cls._KEYS)
+        raw_modes = m.get("modes")
+        if raw_modes is None:
+            raise ValueError("sensor.modes is required (a list of {f_n_hz, zeta, gain})")
+        if isinstance(raw_modes, Mapping) or not isinstance(raw_modes, Sequence) or not raw_modes:
+            raise ValueError(f"sensor.modes must be a non-empty list, got {raw_modes!r}")
+        modes = tuple(Mode.from_mapping(x, f"sensor.modes[{i}]") for i, x in enumerate(raw_modes))
+        noise_m = m.get("noise", {}) or {}
+        noise_m = dict(_check_keys("sensor.noise", noise_m, ("snr_db", "exact")))
+        if "snr_db" in m:
+            if "snr_db" in noise_m:
+                raise ValueError("sensor: give snr_db either at the top level or under noise, not both")
+            noise_m["snr_db"] = m["snr_db"]
+        try:
+            noise = NoiseSpec(**noise_m)
+        except ValueError as exc:
+            raise ValueError(f"sensor.noise.{exc}") from None
+        raw_tones = m.get("tones", []) or []
+        if isinstance(raw_tones, Mapping) or not isinstance(raw_tones, Sequence):
+            raise ValueError(f"sensor.tones must be a list, got {raw_tones!r}")
+        tones = tuple(Tone.from_mapping(x, f"sensor.tones[{i}]") for i, x in enumerate(raw_tones))
+        kw: dict[str, Any] = {}
+        for key in ("discretization", "excitation", "excitation_scale", "seed"):
+            if key in m:
+                kw[key] = m[key]
+        try:
+            model = cls(modes=modes, noise=noise, tones=tones, **kw)
+        except ValueError as exc:
+            raise ValueError(f"sensor.{exc}") from None
+        if fs is not None:
+            model.check_fs(fs)
+        return model
+
+    def check_fs(self, fs: float) -> None:
+        """Raise ValueError if any mode is not below ``fs/2``."""
+        fs = _number("fs", fs)
+        if fs <= 0:
+            raise ValueError(f"fs must be > 0 Hz, got {fs!r}")
+        for i, m in enumerate(self.modes):
+            m.check_fs(fs, f"sensor.modes[{i}]")
+
+    def with_snr(self, snr_db: float | None) -> TransferModel:
+        """A copy with another target SNR (dB; None = no noise)."""
+        return TransferModel(self.modes, NoiseSpec(snr_db, self.noise.exact), self.tones,
+                             self.discretization, self.excitation, self.excitation_scale, self.seed)
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain-dict form (the inverse of :meth:`from_mapping`), for provenance."""
+        d = asdict(self)
+        d["modes"] = [asdict(x) for x in self.modes]
+        d["tones"] = [{k: v for k, v in asdict(t).items() if v is not None} for t in self.tones]
+        return d
+
+
+# --------------------------------------------------------------------------------------------
+# excitation
+# --------------------------------------------------------------------------------------------
+def select_excitation(signals: Mapping[str, np.ndarray], kind: str = "pressure") -> tuple[str, np.ndarray]:
+    """Pick the contact signal for an excitation kind.
+
+    ``pressure`` -> ``p_max`` (Pa, max over the whole contact: the roller-load-related signal
+    that the contact history always carries); ``pressure_defect`` -> ``p_max_defect``;
+    ``force`` -> the first of ``force``, ``contact_force``, ``roller_load`` (N). Returns
+    ``(name, array)``; raises KeyError naming what is missing.
+    """
+    if kind not in EXCITATION_KINDS:
+        raise ValueError(f"excitation must be one of {tuple(EXCITATION_KINDS)}, got {kind!r}")
+    for name in EXCITATION_KINDS[kind]:
+        if name in signals and signals[name] is not None:
+            return name, np.asarray(signals[name], dtype=float)
+    raise KeyError(f"excitation {kind!r} needs one of the signals {EXCITATION_KINDS[kind]}, "
+                   f"the case has {sorted(signals)}")
+
+
+def excitation_from_history(x: np.ndarray, *, scale: float = 1.0) -> np.ndarray:
+    """Excitation ``e(t) = scale * (x(t) - mean(x))`` from a contact signal.
+
+    Parameters
+    ----------
+    x : array_like, shape (n,)
+        Contact history sampled at fs: p_max (Pa) or a contact force (N).
+    scale : float
+        Multiplier (e.g. an effective area in m^2 to express a pressure as a force in N).
+
+    Notes
+    -----
+    The mean (the static load) produces no acceleration; removing it also avoids the start-up
+    step of the filters.
+    """
+    x = np.asarray(x, dtype=float)
+    if x.ndim != 1 or x.size < 2:
+        raise ValueError(f"excitation must be a 1-D array with >= 2 samples, got shape {x.shape}")
+    if not np.all(np.isfinite(x)):
+        raise ValueError("excitation contains non-finite values")
+    return _number("scale", scale) * (x - x.mean())
+
+
+# --------------------------------------------------------------------------------------------
+# structural filter
+# --------------------------------------------------------------------------------------------
+def mode_sos(mode: Mode, fs: float, method: str = "impulse") -> np.ndarray:
+    """Second-order section (shape (1, 6)) of one mode at sampling rate ``fs`` (Hz).
+
+    ``impulse``: impulse invariance with the half-sample correction at t = 0,
+    ``H(z) = T [sum_n h(nT) z^-n - h(0)/2]``; with ``r = exp(-zeta omega_n T)``,
+    ``theta = omega_d T``, ``b1 = 2 zeta omega_n g``:
+    ``A(z) = 1 - 2 r cos(theta) z^-1 + r^2 z^-2``,
+    ``B(z) ~ b1/2 - (b1 zeta/sqrt(1-zeta^2)) r sin(theta) z^-1 - (b1/2) r^2 z^-2``.
+    ``bilinear``: the analog resonator with omega_n prewarped to ``2 fs tan(omega_n T/2)``.
+    Either way B is then scaled so that ``|H(exp(j omega_n T))| = g``. Poles:
+    ``|z| = exp(-zeta omega_n T) < 1`` (impulse) — always stable.
+    """
+    fs = _number("fs", fs)
+    mode.check_fs(fs)
+    T = 1.0 / fs
+    wn = 2.0 * math.pi * mode.f_n_hz
+    z = mode.zeta
+    if method == "impulse":
+        sigma = z * wn
+        wd = wn * math.sqrt(1.0 - z * z)
+        r = math.exp(-sigma * T)
+        th = wd * T
+        b1 = 2.0 * z * wn
+        c = -b1 * sigma / wd  # sin coefficient of h(t) = exp(-sigma t)(b1 cos + c sin)
+        b = T * np.array([b1 / 2.0, c * r * math.sin(th), -b1 / 2.0 * r * r])
+        a = np.array([1.0, -2.0 * r * math.cos(th), r * r])
+    elif method == "bilinear":
+        wp = 2.0 * fs * math.tan(wn * T / 2.0)
+        b, a = sps.bilinear([2.0 * z * wp, 0.0], [1.0, 2.0 * z * wp, wp * wp], fs=fs)
+        b = np.r_[b, np.zeros(3 - len(b))]
+        a = np.r_[a, np.zeros(3 - len(a))]
+    else:
+        raise ValueError(f"discretization must be one of {_DISCRETIZATIONS}, got {method!r}")
+    ejw = np.exp(-1j * wn * T * np.arange(3))
+    h_n = abs(np.dot(b, ejw) / np.dot(a, ejw))
+    b = b * (mode.gain / h_n)
+    return np.concatenate([b, a])[None, :]
+
+
+def impulse_response(model: TransferModel | Sequence[Mode], fs: float, n: int) -> np.ndarray:
+    """Response of the summed modes to a unit-area impulse (first sample ``fs``, others 0)."""
+    x = np.zeros(int(n))
+    x[0] = fs
+    return apply_structure(x, fs, model)
+
+
+def apply_structure(excitation: np.ndarray, fs: float,
+                    model: TransferModel | Sequence[Mode], method: str | None = None) -> np.ndarray:
+    """Filter the excitation through each mode and sum: the noise-free acceleration.
+
+    The impulse-invariant sections approximate ``y(t) = integral h(t - tau) e(tau) dtau``, so an
+    input sample ``fs * A`` is an impulse of area ``A`` (see :func:`impulse_response`).
+    """
+    if isinstance(model, TransferModel):
+        modes, method = model.modes, method or model.discretization
+    else:
+        modes, method = tuple(model), method or "impulse"
+    x = np.asarray(excitation, dtype=float)
+    y = np.zeros_like(x)
+    for m in modes:
+        y += sps.sosfilt(mode_sos(m, fs, method), x)
+    return y
+
+
+# --------------------------------------------------------------------------------------------
+# synthesis
+# --------------------------------------------------------------------------------------------
+def measure_snr_db(defect_part: np.ndarray, noise: np.ndarray) -> float:
+    """``10 log10(var(defect_part) / var(noise))`` (dB)."""
+    pd = float(np.var(defect_part))
+    pn = float(np.var(noise))
+    if pn == 0.0:
+        return math.inf
+    if pd == 0.0:
+        return -math.inf
+    return 10.0 * math.log10(pd / pn)
+
+
+def synthesize_acceleration(
+    excitation: np.ndarray,
+    fs: float,
+    model: TransferModel,
+    *,
+    reference: np.ndarray | None = None,
+    seed: int | None = None,
+    fr: float | None = None,
+    snr_db: float | None | str = "model",
+) -> tuple[np.ndarray, dict[str, Any]]:
+    """Synthetic accelerometer signal: structure response + noise at a target SNR + tones.
+
+    Parameters
+    ----------
+    excitation : array, shape (n,)
+        The excitation e(t) (see :func:`excitation_from_history`), sampled at ``fs``.
+    fs : float
+        Sampling rate (Hz).
+    model : TransferModel
+        Modes, noise and tones.
+    reference : array, shape (n,), optional
+        The excitation of the same case *without* the defect. If given, the defect-related part
+        is ``d = H e - H e_ref``; otherwise ``d = H e`` (the whole response is counted as the
+        defect's). ``P_defect = var(d)``.
+    seed : int, optional
+        Seed of the numpy Generator for noise and tone phases (default: ``model.seed``).
+    fr : float, optional
+        Shaft rate (Hz), needed by tones given as orders.
+    snr_db : float, None or "model"
+        Overrides ``model.noise.snr_db`` (None = no noise).
+
+    Returns
+    -------
+    acc : array, shape (n,)
+        ``y = H e + noise + tones`` (output units, e.g. m/s^2).
+    info : dict
+        Provenance: ``snr_db_target``, ``snr_db_achieved`` (10 log10(P_defect / var(noise))),
+        ``p_defect``, ``p_noise``, ``p_tones``, ``defect_definition``, ``seed``, ``fs``,
+        ``model`` (``TransferModel.to_dict()``), tone frequencies and phases.
+    """
+    fs = _number("fs", fs)
+    if fs <= 0:
+        raise ValueError(f"fs must be > 0 Hz, got {fs!r}")
+    model.check_fs(fs)
+    e = np.asarray(excitation, dtype=float)
+    if e.ndim != 1 or e.size < 2 or not np.all(np.isfinite(e)):
+        raise ValueError(f"excitation must be a finite 1-D array with >= 2 samples, got shape {e.shape}")
+    seed = model.seed if seed is None else seed
+    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
+        raise ValueError(f"seed must be an integer >= 0, got {seed!r}")
+    target = model.noise.snr_db if isinstance(snr_db, str) and snr_db == "model" else snr_db
+    if target is not None:
+        target = NoiseSpec(target).snr_db  # validates the range
+    rng = np.random.default_rng(int(seed))
+
+    y = apply_structure(e, fs, model)
+    if reference is not None:
+        ref = np.asarray(reference, dtype=float)
+        if ref.shape != e.shape:
+            raise ValueError(f"reference must have the excitation's shape {e.shape}, got {ref.shape}")
+        d = y - apply_structure(ref, fs, model)
+        definition = "var(H e - H e_ref)"
+    else:
+        d = y
+        definition = "var(H e)"
+    p_defect = float(np.var(d))
+
+    noise = np.zeros_like(y)
+    if target is not None:
+        if p_defect == 0.0:
+            raise ValueError("the defect-related response has zero power: an SNR cannot be set "
+                             "(excitation equals the reference?)")
+        p_noise = p_defect / 10.0 ** (target / 10.0)
+        w = rng.standard_normal(y.size)
+        if model.noise.exact:
+            w = (w - w.mean()) / w.std()
+        noise = math.sqrt(p_noise) * w
+    t = np.arange(y.size) / fs
+    tones = np.zeros_like(y)
+    tone_info = []
+    for tone in model.tones:
+        f = tone.frequency(fr)
+        if not 0.0 < f < fs / 2:
+            raise ValueError(f"tone frequency {f:g} Hz must be in (0, fs/2 = {fs / 2:g}) Hz")
+        if tone.amplitude is not None:
+            amp = tone.amplitude
+        else:
+            amp = math.sqrt(2.0 * p_defect * 10.0 ** (tone.level_db / 10.0))
+        ph = rng.uniform(0.0, 2.0 * math.pi) if tone.phase_rad is None else tone.phase_rad
+        tones += amp * np.cos(2.0 * math.pi * f * t + ph)
+        tone_info.append({"frequency_hz": f, "amplitude": amp, "phase_rad": ph})
+    acc = y + noise + tones
+    info = {
+        "snr_db_target": target,
+        "snr_db_achieved": measure_snr_db(d, noise) if target is not None else math.inf,
+        "p_defect": p_defect,
+        "p_noise": float(np.var(noise)),
+        "p_tones": float(np.var(tones)),
+        "p_response": float(np.var(y)),
+        "defect_definition": definition,
+        "seed": int(seed),
+        "fs": fs,
+        "n_samples": int(y.size),
+        "tones": tone_info,
+        "model": model.to_dict(),
+        "modes": [{**asdict(m), "f_d_hz": m.f_d_hz} for m in model.modes],
+    }
+    return acc, info
+
