@@ -1,0 +1,326 @@
+"""Fault-band metrics and a detection statistic on a one-sided spectrum.
+
+Everything here works on a spectrum given as two arrays, frequencies ``f`` (Hz, increasing,
+uniformly spaced) and amplitudes ``a`` (any linear amplitude scaling, e.g. the peak amplitude of
+a sinusoid ``2|X_k|/N``), so that envelope spectra and raw spectra are handled alike.
+
+Fault-band metrics (:func:`fault_band_metrics`)
+    For each target frequency ``F`` (BPFI, BPFO, FTF, BSF, ...), each harmonic ``k F``
+    (k = 1..K) and each sideband ``k F + m f_r`` (m = -M..M): the bins within a band of width
+    ``w`` around the centre, the peak amplitude and its frequency, and the band power
+    ``P = sum_band a_j^2 / 2 / ENBW`` (the power of a sinusoid of peak amplitude A is A^2/2;
+    ``ENBW`` in bins is 1 for the rectangular window and 1.5 for Hann, so that ``P`` estimates
+    the power of a line whatever the leakage). ``w`` is either relative (``bandwidth * k F``:
+    the relative spread of a fault frequency under slip is the same for all its harmonics) or
+    absolute (``bandwidth_hz``). ``total_band_power`` is the power over the union of all bands
+    of a target (bins counted once).
+
+Detection statistic (:func:`detection_statistic`, :func:`detect`)
+    ``S = 20 log10(A_line / median(a_background))`` dB, where ``A_line`` is the largest
+    amplitude within ``+- tolerance`` of the line (BPFI by default) and the background is the
+    median amplitude over ``[lo, hi] x line`` with every bin near a harmonic of the line, its
+    shaft-rate sidebands and the shaft harmonics removed. The median is insensitive to the few
+    remaining lines. The threshold follows from the false-alarm probability on a spectrum of
+    Gaussian noise: there the amplitude of each bin is Rayleigh distributed, so
+    ``P(a > t * median) = 2^(-t^2)`` and the largest of ``n`` independent bins in the tolerance
+    band exceeds ``t * median`` with probability ``1 - (1 - 2^(-t^2))^n``. Setting this to
+    ``pfa`` gives :func:`threshold_db`; the default ``pfa = 0.01`` gives about 10-11 dB for
+    5-30 bins. ``docs/sensor.md`` and ``tests/test_diagnosis.py`` check it by Monte Carlo on
+    envelope spectra of band-passed Gaussian noise.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable, Mapping
+from dataclasses import dataclass
+
+import numpy as np
+import pandas as pd
+
+__all__ = [
+    "DEFAULT_PFA",
+    "Detection",
+    "fault_band_metrics",
+    "threshold_db",
+    "detection_statistic",
+    "detect",
+]
+
+#: Default false-alarm probability of :func:`detect` on a Gaussian-noise spectrum.
+DEFAULT_PFA = 0.01
+
+_COLUMNS = [
+    "spectrum", "target", "target_hz", "order", "sideband", "centre_hz", "band_low_hz",
+    "band_high_hz", "n_bins", "peak_hz", "peak_amplitude", "band_power", "total_band_power",
+]
+
+
+def _spectrum(f, a) -> tuple[np.ndarray, np.ndarray, float]:
+    f = np.asarray(f, dtype=float)
+    a = np.asarray(a, dtype=float)
+    if f.ndim != 1 or a.shape != f.shape or f.size < 3:
+        raise ValueError(f"f and amplitude must be 1-D arrays of one length >= 3, got shapes "
+                         f"{f.shape} and {a.shape}")
+    if not (np.all(np.isfinite(f)) and np.all(np.isfinite(a))):
+        raise ValueError("f and amplitude must be finite")
+    df = np.diff(f)
+    if np.any(df <= 0):
+        raise ValueError("f must be strictly increasing")
+    return f, a, float(np.median(df))
+
+
+def _positive(name: str, value, allow_zero: bool = False) -> float:
+    if isinstance(value, bool):
+        raise ValueError(f"{name} must be a number, got {value!r}")
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a number, got {value!r}") from None
+    if not math.isfinite(v) or v < 0 or (v == 0 and not allow_zero):
+        raise ValueError(f"{name} must be a finite number {'>=' if allow_zero else '>'} 0, got {value!r}")
+    return v
+
+
+def _count(name: str, value, minimum: int) -> int:
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < minimum:
+        raise ValueError(f"{name} must be an integer >= {minimum}, got {value!r}")
+    return int(value)
+
+
+def fault_band_metrics(
+    f,
+    amplitude,
+    targets: Mapping[str, float],
+    *,
+    fr: float | None = None,
+    harmonics: int = 3,
+    sidebands: int = 0,
+    bandwidth: float = 0.02,
+    bandwidth_hz: float | None = None,
+    enbw: float = 1.0,
+    spectrum: str = "envelope",
+) -> pd.DataFrame:
+    """Peak amplitude, peak frequency and band power around fault harmonics and sidebands.
+
+    Parameters
+    ----------
+    f, amplitude : array_like, shape (n,)
+        One-sided spectrum: frequencies (Hz, increasing, uniform) and linear amplitudes.
+    targets : mapping
+        Name -> fundamental frequency (Hz), e.g. ``{"BPFI": 231.9, "BPFO": 184.2}``.
+    fr : float, optional
+        Shaft rate (Hz); required when ``sidebands > 0``.
+    harmonics : int
+        Harmonics k = 1..``harmonics`` of each target.
+    sidebands : int
+        Sidebands m = -``sidebands``..``sidebands`` at ``k F + m fr`` (m = 0 is the harmonic).
+    bandwidth : float
+        Full band width relative to the harmonic ``k F`` (default 0.02, i.e. +- 1 %).
+    bandwidth_hz : float, optional
+        Full band width in Hz; overrides ``bandwidth``.
+    enbw : float
+        Equivalent noise bandwidth of the window in bins (1 rectangular, 1.5 Hann).
+    spectrum : str
+        Label stored in the ``spectrum`` column (``"envelope"``, ``"raw"``, ...).
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per target, order, sideband with columns ``spectrum, target, target_hz, order,
+        sideband, centre_hz, band_low_hz, band_high_hz, n_bins, peak_hz, peak_amplitude,
+        band_power, total_band_power``. A band narrower than one bin is widened to the nearest
+        bin; bands outside the spectrum give ``n_bins = 0`` and NaN metrics.
+
+    Examples
+    --------
+    >>> f = np.arange(0, 1000.0, 0.5); a = np.zeros_like(f); a[f == 232.0] = 0.3
+    >>> df = fault_band_metrics(f, a, {"BPFI": 232.0}, harmonics=1)
+    >>> float(df.peak_amplitude[0]), float(df.peak_hz[0])
+    (0.3, 232.0)
+    """
+    f, a, df_hz = _spectrum(f, amplitude)
+    if not isinstance(targets, Mapping) or not targets:
+        raise ValueError(f"targets must be a non-empty mapping name -> Hz, got {targets!r}")
+    harmonics = _count("harmonics", harmonics, 1)
+    sidebands = _count("sidebands", sidebands, 0)
+    enbw = _positive("enbw", enbw)
+    if bandwidth_hz is not None:
+        bandwidth_hz = _positive("bandwidth_hz", bandwidth_hz)
+    else:
+        bandwidth = _positive("bandwidth", bandwidth)
+        if bandwidth >= 1.0:
+            raise ValueError(f"bandwidth (relative) must be in (0, 1), got {bandwidth!r}")
+    if sidebands > 0:
+        if fr is None:
+            raise ValueError("fr (shaft rate, Hz) is required when sidebands > 0")
+        fr = _positive("fr", fr)
+    rows = []
+    for name, F in targets.items():
+        F = _positive(f"targets[{name!r}]", F)
+        union = np.zeros(f.size, dtype=bool)
+        target_rows = []
+        for k in range(1, harmonics + 1):
+            half = 0.5 * (bandwidth_hz if bandwidth_hz is not None else bandwidth * k * F)
+            for m in range(-sidebands, sidebands + 1):
+                c = k * F + (m * fr if m else 0.0)
+                lo, hi = c - half, c + half
+                sel = (f >= lo - 1e-9 * df_hz) & (f <= hi + 1e-9 * df_hz)
+                if not sel.any() and f[0] - 0.5 * df_hz <= c <= f[-1] + 0.5 * df_hz:
+                    sel[int(np.argmin(np.abs(f - c)))] = True
+                row = {"spectrum": spectrum, "target": str(name), "target_hz": F, "order": k,
+                       "sideband": m, "centre_hz": c, "band_low_hz": lo, "band_high_hz": hi,
+                       "n_bins": int(sel.sum())}
+                if sel.any():
+                    idx = np.flatnonzero(sel)
+                    j = idx[int(np.argmax(a[idx]))]
+                    row.update(peak_hz=float(f[j]), peak_amplitude=float(a[j]),
+                               band_power=float(np.sum(a[idx] ** 2) / 2.0 / enbw))
+                    union |= sel
+                else:
+                    row.update(peak_hz=math.nan, peak_amplitude=math.nan, band_power=math.nan)
+                target_rows.append(row)
+        total = float(np.sum(a[union] ** 2) / 2.0 / enbw) if union.any() else math.nan
+        for row in target_rows:
+            row["total_band_power"] = total
+        rows.extend(target_rows)
+    return pd.DataFrame(rows, columns=_COLUMNS)
+
+
+def threshold_db(pfa: float = DEFAULT_PFA, n_bins: int = 1) -> float:
+    """Detection threshold (dB) for a false-alarm probability on a Gaussian-noise spectrum.
+
+    With Rayleigh-distributed bin amplitudes, ``P(a > t median) = 2^(-t^2)``; the largest of
+    ``n_bins`` independent bins exceeds ``t median`` with probability
+    ``1 - (1 - 2^(-t^2))^n_bins``. Solving for ``t`` gives
+    ``t^2 = -log2(1 - (1 - pfa)^(1/n_bins))`` and the threshold ``10 log10(t^2)`` dB.
+
+    Examples
+    --------
+    >>> round(threshold_db(0.01, 1), 2), round(threshold_db(0.01, 10), 2)
+    (8.22, 9.99)
+    """
+    pfa = float(pfa)
+    if not 0.0 < pfa < 1.0:
+        raise ValueError(f"pfa must be in the open range (0, 1), got {pfa!r}")
+    n = _count("n_bins", n_bins, 1)
+    q = -math.expm1(math.log1p(-pfa) / n)  # 1 - (1 - pfa)^(1/n)
+    return 10.0 * math.log10(-math.log2(q))
+
+
+@dataclass(frozen=True)
+class Detection:
+    """Result of :func:`detection_statistic`.
+
+    Attributes
+    ----------
+    statistic_db : float
+        ``20 log10(peak_amplitude / background)`` (dB).
+    peak_amplitude, peak_hz : float
+        Largest amplitude in the tolerance band and its frequency (Hz).
+    background : float
+        Median amplitude of the background bins.
+    n_tolerance_bins, n_background_bins : int
+        Bins in the tolerance band and in the background.
+    threshold_db : float
+        Threshold used by :func:`detect`.
+    detected : bool
+        ``statistic_db > threshold_db``.
+    """
+
+    statistic_db: float
+    peak_amplitude: float
+    peak_hz: float
+    background: float
+    n_tolerance_bins: int
+    n_background_bins: int
+    threshold_db: float
+    detected: bool
+
+
+def detection_statistic(
+    f,
+    amplitude,
+    line_hz: float,
+    *,
+    fr: float | None = None,
+    tolerance: float = 0.01,
+    tolerance_hz: float | None = None,
+    background: tuple[float, float] = (0.5, 1.5),
+    sidebands: int = 3,
+    exclude_hz: Iterable[float] = (),
+    threshold: float | None = None,
+    pfa: float = DEFAULT_PFA,
+) -> Detection:
+    """Line-to-background ratio of a fault line (BPFI by default) in dB.
+
+    Parameters
+    ----------
+    f, amplitude : array_like
+        One-sided spectrum (Hz, linear amplitude), envelope or raw.
+    line_hz : float
+        The fault frequency to look for (Hz), e.g. ``case.bpfi``.
+    fr : float, optional
+        Shaft rate (Hz): its harmonics and the sidebands ``k line +- m fr`` (m <= ``sidebands``)
+        are excluded from the background.
+    tolerance : float
+        Half-width of the search band relative to ``line_hz`` (default 1 %).
+    tolerance_hz : float, optional
+        Half-width in Hz; overrides ``tolerance``. At least half a bin is always used.
+    background : (lo, hi)
+        Background band ``[lo, hi] x line_hz`` (default 0.5-1.5).
+    exclude_hz : iterable of float
+        Further lines (Hz) to exclude from the background (e.g. a gear-mesh tone).
+    threshold : float, optional
+        Threshold in dB; default :func:`threshold_db` ``(pfa, n_tolerance_bins)``.
+    pfa : float
+        False-alarm probability used for the default threshold.
+
+    Returns
+    -------
+    Detection
+    """
+    f, a, df_hz = _spectrum(f, amplitude)
+    line = _positive("line_hz", line_hz)
+    half = _positive("tolerance_hz", tolerance_hz) if tolerance_hz is not None else \
+        _positive("tolerance", tolerance) * line
+    half = max(half, 0.5 * df_hz)
+    lo, hi = (float(background[0]), float(background[1])) if len(background) == 2 else (None, None)
+    if lo is None or not 0.0 <= lo < 1.0 < hi:
+        raise ValueError(f"background must be (lo, hi) with 0 <= lo < 1 < hi, got {background!r}")
+    sidebands = _count("sidebands", sidebands, 0)
+    if fr is not None:
+        fr = _positive("fr", fr)
+    if line + half > f[-1]:
+        raise ValueError(f"line_hz = {line:g} Hz (+ tolerance) lies beyond the spectrum (f max = {f[-1]:g} Hz)")
+    tol_sel = np.abs(f - line) <= half + 1e-9 * df_hz
+    idx = np.flatnonzero(tol_sel)
+    j = idx[int(np.argmax(a[idx]))]
+    peak = float(a[j])
+
+    bg = (f >= lo * line) & (f <= hi * line) & (f > 0)
+    excl = []
+    kmax = int(math.ceil(hi)) + 1
+    for k in range(1, kmax + 1):
+        for m in range(-sidebands if fr else 0, (sidebands if fr else 0) + 1):
+            excl.append(k * line + m * (fr or 0.0))
+    if fr is not None:
+        excl.extend(fr * np.arange(1, int(hi * line / fr) + 2))
+    excl.extend(float(x) for x in exclude_hz)
+    for c in excl:
+        bg &= np.abs(f - c) > half
+    if bg.sum() < 5:
+        raise ValueError(f"too few background bins ({int(bg.sum())}) around {line:g} Hz: widen "
+                         f"background={background!r} or use a finer spectrum")
+    level = float(np.median(a[bg]))
+    stat = 20.0 * math.log10(peak / level) if level > 0 and peak > 0 else \
+        (math.inf if peak > 0 else -math.inf)
+    thr = threshold_db(pfa, int(tol_sel.sum())) if threshold is None else float(threshold)
+    return Detection(stat, peak, float(f[j]), level, int(tol_sel.sum()), int(bg.sum()), thr,
+                     bool(stat > thr))
+
+
+def detect(f, amplitude, line_hz: float, **kwargs) -> tuple[float, bool]:
+    """``(statistic_db, detected)`` of :func:`detection_statistic` (same keyword arguments)."""
+    d = detection_statistic(f, amplitude, line_hz, **kwargs)
+    return d.statistic_db, d.detected
