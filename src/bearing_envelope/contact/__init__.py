@@ -1,0 +1,35 @@
+"""Frictionless normal contact of two elastic half-spaces on a uniform grid.
+
+- :func:`solve_contact`: Polonsky-Keer constrained conjugate gradient with exact force control
+  (or displacement control), warm start, stated convergence criterion;
+- :class:`ElasticHalfSpace`: influence coefficients of uniform rectangular patches (Love) and the
+  non-periodic DC-FFT displacement, kernel spectrum cached per grid;
+- :func:`composite_modulus`: ``E*`` from both bodies;
+- :mod:`hertz`: closed-form Hertz solutions (test oracles, grid sizing).
+
+Grid convention: ``[i, j]`` with axis 0 = x = rolling (``dx``), axis 1 = y = axial (``dy``);
+SI units. See ``docs/contact.md``.
+"""
+
+from . import hertz
+from .halfspace import ElasticHalfSpace, composite_modulus, influence_coefficients, kernel_spectrum
+from .solver import (
+    ContactConvergenceError,
+    ContactGridError,
+    ContactGridWarning,
+    ContactSolution,
+    solve_contact,
+)
+
+__all__ = [
+    "solve_contact",
+    "ContactSolution",
+    "ContactGridError",
+    "ContactGridWarning",
+    "ContactConvergenceError",
+    "ElasticHalfSpace",
+    "composite_modulus",
+    "influence_coefficients",
+    "kernel_spectrum",
+    "hertz",
+]

@@ -1,0 +1,258 @@
+"""Elastic half-space: influence coefficients and the non-periodic (DC-FFT) surface displacement.
+
+Grid convention (docs/interfaces.md): arrays are indexed ``[i, j]``, axis 0 = ``x`` (rolling,
+spacing ``dx``), axis 1 = ``y`` (axial, spacing ``dy``); cell ``[i, j]`` is the rectangle of
+size ``dx x dy`` centred on its node. Surface displacement ``u`` (m) is the combined normal
+displacement of both bodies, positive into the bodies, so it opens the gap: the deformed gap is
+``g + u - approach``.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from collections import OrderedDict
+from threading import Lock
+
+import numpy as np
+import scipy.fft as sfft
+
+__all__ = [
+    "composite_modulus",
+    "influence_coefficients",
+    "kernel_spectrum",
+    "ElasticHalfSpace",
+]
+
+try:  # optional, faster FFTs; never required
+    import pyfftw  # type: ignore
+
+    _HAVE_PYFFTW = True
+except Exception:  # pragma: no cover - depends on the environment
+    pyfftw = None
+    _HAVE_PYFFTW = False
+
+
+def composite_modulus(E1: float, nu1: float, E2: float, nu2: float) -> float:
+    """Composite (contact) modulus of two elastic bodies.
+
+    Parameters
+    ----------
+    E1, E2 : float
+        Young's moduli (Pa), > 0 (``math.inf`` allowed for a rigid body).
+    nu1, nu2 : float
+        Poisson's ratios, in (-1, 0.5].
+
+    Returns
+    -------
+    float
+        ``E*`` (Pa) with :math:`1/E^* = (1-\\nu_1^2)/E_1 + (1-\\nu_2^2)/E_2`.
+
+    Examples
+    --------
+    >>> round(composite_modulus(210e9, 0.3, 210e9, 0.3) / 1e9, 2)
+    115.38
+    """
+    for name, e in (("E1", E1), ("E2", E2)):
+        if not (e > 0) or math.isnan(e):
+            raise ValueError(f"{name} must be > 0 (Pa), got {e!r}")
+    for name, nu in (("nu1", nu1), ("nu2", nu2)):
+        if not (-1.0 < nu <= 0.5):
+            raise ValueError(f"{name} must be in (-1, 0.5], got {nu!r}")
+    c = (1.0 - nu1 * nu1) / E1 + (1.0 - nu2 * nu2) / E2
+    if c <= 0:
+        raise ValueError("both bodies rigid: composite modulus is infinite")
+    return 1.0 / c
+
+
+def _primitive(x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """``F(x, y) = x asinh(y/|x|) + y asinh(x/|y|)``: ``d^2F/dxdy = 1/sqrt(x^2 + y^2)`` up to terms
+    in ``x`` or ``y`` alone (which cancel in the patch integral); ``F(0, .) = 0``."""
+    ax, ay = np.abs(x), np.abs(y)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t1 = np.where(ax > 0.0, x * np.arcsinh(y / np.where(ax > 0.0, ax, 1.0)), 0.0)
+        t2 = np.where(ay > 0.0, y * np.arcsinh(x / np.where(ay > 0.0, ay, 1.0)), 0.0)
+    return t1 + t2
+
+
+def influence_coefficients(x, y, dx: float, dy: float, e_star: float) -> np.ndarray:
+    """Surface displacement at ``(x, y)`` under a unit uniform pressure on a ``dx x dy`` patch.
+
+    Parameters
+    ----------
+    x, y : array_like
+        Position relative to the patch centre (m).
+    dx, dy : float
+        Patch size (m).
+    e_star : float
+        Composite modulus (Pa).
+
+    Returns
+    -------
+    ndarray
+        Displacement per unit pressure (m/Pa).
+
+    Notes
+    -----
+    Love (1929); Johnson (1985) eq. 3.25. With the point-load solution
+    :math:`u = P/(\\pi E^* r)` integrated over the patch
+    :math:`|\\xi| \\le a = dx/2`, :math:`|\\eta| \\le b = dy/2`:
+
+    .. math::
+
+        K(x, y) = \\frac{1}{\\pi E^*}\\left[F(x+a, y+b) - F(x+a, y-b)
+                   - F(x-a, y+b) + F(x-a, y-b)\\right],
+
+    :math:`F(s, t) = s\\,\\mathrm{asinh}(t/|s|) + t\\,\\mathrm{asinh}(s/|t|)`.
+    At the centre of a square patch (``dx = dy = 2a``), :math:`K = 8a\\ln(1+\\sqrt2)/(\\pi E^*)`.
+    """
+    x = np.asarray(x, dtype=float)
+    y = np.asarray(y, dtype=float)
+    a, b = 0.5 * dx, 0.5 * dy
+    f = _primitive(x + a, y + b) - _primitive(x + a, y - b) - _primitive(x - a, y + b) + _primitive(x - a, y - b)
+    return f / (math.pi * e_star)
+
+
+def _padded_kernel(shape: tuple[int, int], dx: float, dy: float, e_star: float) -> np.ndarray:
+    """Influence coefficients on the ``(2nx, 2ny)`` wrap-around grid used by DC-FFT."""
+    nx, ny = shape
+    ix = np.arange(2 * nx)
+    iy = np.arange(2 * ny)
+    ix = np.where(ix <= nx, ix, ix - 2 * nx)  # offsets 0..nx, -(nx-1)..-1
+    iy = np.where(iy <= ny, iy, iy - 2 * ny)
+    return influence_coefficients(ix[:, None] * dx, iy[None, :] * dy, dx, dy, e_star)
+
+
+_CACHE: "OrderedDict[tuple, np.ndarray]" = OrderedDict()
+_CACHE_LOCK = Lock()
+_CACHE_SIZE = 8
+
+
+def kernel_spectrum(shape: tuple[int, int], dx: float, dy: float, e_star: float, element: str = "uniform") -> np.ndarray:
+    """Real spectrum (``rfft2`` of the ``(2nx, 2ny)`` padded kernel, divided by ``4 nx ny``), cached.
+
+    The kernel is even in both offsets, so its spectrum is real; it is stored as float64 of shape
+    ``(2nx, ny + 1)`` and already carries the inverse-FFT normalisation. A small LRU cache
+    (8 entries) keyed by ``(shape, dx, dy, e_star, element)`` keeps it across solves.
+    """
+    if element != "uniform":
+        raise ValueError(f"element must be 'uniform', got {element!r}")
+    key = (tuple(int(s) for s in shape), float(dx), float(dy), float(e_star), element)
+    with _CACHE_LOCK:
+        if key in _CACHE:
+            _CACHE.move_to_end(key)
+            return _CACHE[key]
+    k = _padded_kernel(key[0], key[1], key[2], key[3])
+    spec = sfft.rfft2(k, workers=-1).real / (k.shape[0] * k.shape[1])
+    spec.setflags(write=False)
+    with _CACHE_LOCK:
+        _CACHE[key] = spec
+        _CACHE.move_to_end(key)
+        while len(_CACHE) > _CACHE_SIZE:
+            _CACHE.popitem(last=False)
+    return spec
+
+
+def _default_workers() -> int:
+    env = os.environ.get("OMP_NUM_THREADS")
+    if env and env.isdigit() and int(env) > 0:
+        return int(env)
+    return os.cpu_count() or 1
+
+
+class ElasticHalfSpace:
+    """Linear elastic half-space on a uniform grid with non-periodic (DC-FFT) convolution.
+
+    Parameters
+    ----------
+    shape : (int, int)
+        ``(nx, ny)`` of the pressure grid.
+    dx, dy : float
+        Grid spacing (m) along ``x`` (axis 0) and ``y`` (axis 1).
+    e_star : float
+        Composite modulus (Pa).
+    workers : int, optional
+        FFT threads (default: ``OMP_NUM_THREADS`` if set, else all cores).
+    backend : {"auto", "scipy", "pyfftw"}
+        ``"auto"`` uses pyfftw when importable, else :mod:`scipy.fft` (pocketfft).
+
+    Notes
+    -----
+    ``u = K * p`` (discrete linear convolution of the influence coefficients
+    :func:`influence_coefficients` with the pressure) computed by DC-FFT: zero-pad to
+    ``(2nx, 2ny)``, multiply the spectra, keep the first ``(nx, ny)`` block; exact (no periodic
+    images). Because the pressure only fills one quadrant of the padded array, the transforms
+    skip the all-zero half: the forward transform does the ``y`` pass (rfft of length ``2ny``)
+    on the ``nx`` data rows only, and the inverse does the final ``y`` pass only on the ``nx``
+    rows that are kept.
+    """
+
+    def __init__(self, shape, dx: float, dy: float, e_star: float, *, workers: int | None = None, backend: str = "auto"):
+        if len(shape) != 2 or min(shape) < 1:
+            raise ValueError(f"shape must be (nx, ny) with nx, ny >= 1, got {shape!r}")
+        for name, v in (("dx", dx), ("dy", dy), ("e_star", e_star)):
+            if not (math.isfinite(v) and v > 0):
+                raise ValueError(f"{name} must be a finite number > 0, got {v!r}")
+        self.shape = (int(shape[0]), int(shape[1]))
+        self.dx, self.dy, self.e_star = float(dx), float(dy), float(e_star)
+        self.workers = int(workers) if workers else _default_workers()
+        if backend not in ("auto", "scipy", "pyfftw"):
+            raise ValueError(f"backend must be 'auto', 'scipy' or 'pyfftw', got {backend!r}")
+        if backend == "pyfftw" and not _HAVE_PYFFTW:
+            raise ValueError("backend='pyfftw' but pyfftw is not importable")
+        self.backend = "pyfftw" if (backend in ("auto", "pyfftw") and _HAVE_PYFFTW) else "scipy"
+        self.spectrum = kernel_spectrum(self.shape, self.dx, self.dy, self.e_star)
+        self._plans = None
+
+    # -- FFT backends -------------------------------------------------------------------------
+    def _build_fftw(self):
+        nx, ny = self.shape
+        fl = ("FFTW_MEASURE",)
+        real_in = pyfftw.zeros_aligned((nx, 2 * ny), dtype="float64")
+        half = pyfftw.zeros_aligned((2 * nx, ny + 1), dtype="complex128")
+        full = pyfftw.zeros_aligned((2 * nx, ny + 1), dtype="complex128")
+        real_out = pyfftw.zeros_aligned((nx, 2 * ny), dtype="float64")
+        t = self.workers
+        f_y = pyfftw.FFTW(real_in, half[:nx], axes=(1,), direction="FFTW_FORWARD", flags=fl, threads=t)
+        f_x = pyfftw.FFTW(half, full, axes=(0,), direction="FFTW_FORWARD", flags=fl, threads=t)
+        b_x = pyfftw.FFTW(full, half, axes=(0,), direction="FFTW_BACKWARD", flags=fl, threads=t)
+        b_y = pyfftw.FFTW(half[:nx], real_out, axes=(1,), direction="FFTW_BACKWARD", flags=fl, threads=t)
+        half[:] = 0
+        real_in[:] = 0
+        self._plans = (real_in, half, full, real_out, f_y, f_x, b_x, b_y)
+
+    def displacement(self, pressure: np.ndarray, out: np.ndarray | None = None) -> np.ndarray:
+        """Surface displacement ``u = K * p`` (m) for a pressure field (Pa) of shape ``(nx, ny)``.
+
+        Non-finite pressure is not allowed; the result is a new array unless ``out`` is given.
+        """
+        p = np.asarray(pressure, dtype=float)
+        if p.shape != self.shape:
+            raise ValueError(f"pressure.shape must be {self.shape}, got {p.shape}")
+        nx, ny = self.shape
+        if self.backend == "pyfftw":
+            if self._plans is None:
+                self._build_fftw()
+            real_in, half, full, real_out, f_y, f_x, b_x, b_y = self._plans
+            real_in[:, :ny] = p
+            f_y.execute()  # rows nx.. of `half` stay zero
+            f_x.execute()
+            np.multiply(full, self.spectrum, out=full)
+            b_x.execute()  # overwrites all of half; re-zero the padding rows after b_y
+            b_y.execute()
+            half[nx:] = 0
+            res = real_out[:, :ny]
+        else:
+            w = self.workers
+            a = sfft.rfft(p, n=2 * ny, axis=1, workers=w)
+            a = sfft.fft(a, n=2 * nx, axis=0, workers=w, overwrite_x=True)
+            a *= self.spectrum
+            a = sfft.ifft(a, axis=0, workers=w, overwrite_x=True, norm="forward")[:nx]
+            res = sfft.irfft(a, n=2 * ny, axis=1, workers=w, norm="forward")[:, :ny]
+        if out is None:
+            return np.array(res)
+        out[...] = res
+        return out
+
+    def __repr__(self) -> str:
+        return f"ElasticHalfSpace(shape={self.shape}, dx={self.dx!r}, dy={self.dy!r}, e_star={self.e_star!r}, backend={self.backend!r})"

@@ -1,0 +1,222 @@
+"""Closed-form Hertz solutions: test oracles and grid sizing for the contact solver.
+
+Two smooth, frictionless, linearly elastic bodies whose initial separation near the first point
+of contact is the quadratic
+
+.. math::
+
+    g(x, y) = \\frac{x^2}{2 R_x} + \\frac{y^2}{2 R_y},
+
+pressed together by a normal force ``F``, touch over an ellipse with semi-axes ``a`` (along
+``x``, the rolling direction) and ``b`` (along ``y``, the axial direction) and carry the
+semi-ellipsoidal pressure
+
+.. math::
+
+    p(x, y) = p_0 \\sqrt{1 - (x/a)^2 - (y/b)^2},\\qquad F = \\tfrac{2}{3}\\pi a b\\, p_0 .
+
+``e_star`` is the composite (plane-strain) modulus
+:math:`1/E^* = (1-\\nu_1^2)/E_1 + (1-\\nu_2^2)/E_2`
+(:func:`bearing_envelope.contact.composite_modulus`).
+All quantities SI (N, m, Pa).
+
+References
+----------
+K. L. Johnson, *Contact Mechanics*, Cambridge University Press, 1985, sections 4.1-4.2 (eqs. 4.22,
+4.23 and 4.36-4.41).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from scipy.optimize import brentq
+from scipy.special import ellipe, ellipkm1
+
+__all__ = ["HertzContact", "sphere", "elliptical", "elliptic_ratio"]
+
+
+@dataclass(frozen=True)
+class HertzContact:
+    """Result of a Hertz contact.
+
+    Attributes
+    ----------
+    a : float
+        Semi-axis along ``x`` (rolling direction), m.
+    b : float
+        Semi-axis along ``y`` (axial direction), m. ``a == b`` for a circle.
+    p0 : float
+        Maximum (central) pressure, Pa.
+    approach : float
+        Rigid-body approach (mutual approach of distant points), m.
+    mean_pressure : float
+        ``F / (pi a b)`` = ``2 p0 / 3``, Pa.
+    force : float
+        Normal force, N.
+    """
+
+    a: float
+    b: float
+    p0: float
+    approach: float
+    mean_pressure: float
+    force: float
+
+    @property
+    def area(self) -> float:
+        """Contact area ``pi a b`` (m^2)."""
+        return math.pi * self.a * self.b
+
+    def pressure(self, x, y):
+        """Pressure field ``p0 sqrt(1 - (x/a)^2 - (y/b)^2)`` (zero outside), Pa."""
+        import numpy as np
+
+        s = 1.0 - (np.asarray(x) / self.a) ** 2 - (np.asarray(y) / self.b) ** 2
+        return self.p0 * np.sqrt(np.clip(s, 0.0, None))
+
+
+def _check_positive(name: str, value: float) -> float:
+    value = float(value)
+    if not math.isfinite(value) or value <= 0.0:
+        raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
+    return value
+
+
+def sphere(force: float, radius: float, e_star: float) -> HertzContact:
+    """Hertz contact of a sphere (equivalent radius ``R``) on a flat.
+
+    Parameters
+    ----------
+    force : float
+        Normal force ``F`` (N), > 0.
+    radius : float
+        Equivalent radius ``R`` (m): ``1/R = 1/R_1 + 1/R_2``, > 0.
+    e_star : float
+        Composite modulus ``E*`` (Pa), > 0.
+
+    Returns
+    -------
+    HertzContact
+        With ``a = b``.
+
+    Notes
+    -----
+    .. math::
+
+        a = \\left(\\frac{3 F R}{4 E^*}\\right)^{1/3},\\quad
+        p_0 = \\frac{3F}{2\\pi a^2} = \\frac{2 E^* a}{\\pi R},\\quad
+        \\delta = \\frac{a^2}{R},\\quad \\bar p = \\frac{F}{\\pi a^2}.
+
+    Examples
+    --------
+    >>> c = sphere(100.0, 0.01, 1.15e11)
+    >>> round(c.a * 1e3, 4), round(c.p0 / 1e9, 4)
+    (0.1868, 1.3678)
+    """
+    force = _check_positive("force", force)
+    radius = _check_positive("radius", radius)
+    e_star = _check_positive("e_star", e_star)
+    a = (3.0 * force * radius / (4.0 * e_star)) ** (1.0 / 3.0)
+    p0 = 3.0 * force / (2.0 * math.pi * a * a)
+    return HertzContact(a, a, p0, a * a / radius, force / (math.pi * a * a), force)
+
+
+def _ratio_of_curvatures(k: float) -> float:
+    """``A_minor / A_major`` as a function of the axis ratio ``k = minor/major`` (0 < k < 1).
+
+    With ``m = e^2 = 1 - k^2`` (Johnson eq. 4.39):
+    ``A_minor/A_major = (E(m)/k^2 - K(m)) / (K(m) - E(m))``; it decreases from +inf to 1
+    as ``k`` goes from 0 to 1.
+    """
+    m1 = k * k
+    kk = ellipkm1(m1)  # K(m) with m = 1 - m1, accurate for m -> 1
+    ee = ellipe(1.0 - m1)
+    return (ee / m1 - kk) / (kk - ee)
+
+
+def elliptic_ratio(curvature_ratio: float) -> float:
+    """Axis ratio ``k = minor/major`` of the Hertz ellipse for ``A_minor/A_major >= 1``.
+
+    Solves ``(E(e)/k^2 - K(e)) / (K(e) - E(e)) = A_minor/A_major`` (``e^2 = 1 - k^2``) by
+    Brent's method in ``log k``.
+    """
+    r = float(curvature_ratio)
+    if not math.isfinite(r) or r < 1.0:
+        raise ValueError(f"curvature_ratio must be finite and >= 1, got {r!r}")
+    if r - 1.0 < 1e-9:  # sphere to ~1e-9 relative
+        return 1.0
+    # k ~ r^(-2/3) for moderate ratios; bracket in log k.
+    lo, hi = -40.0, math.log(1.0 - 1e-9)
+    return math.exp(brentq(lambda lk: _ratio_of_curvatures(math.exp(lk)) - r, lo, hi, xtol=1e-15, rtol=1e-15))
+
+
+def elliptical(force: float, rx: float, ry: float, e_star: float) -> HertzContact:
+    """General (elliptical) Hertz contact.
+
+    Parameters
+    ----------
+    force : float
+        Normal force ``F`` (N), > 0.
+    rx, ry : float
+        Equivalent radii of relative curvature in the ``x`` (rolling) and ``y`` (axial)
+        directions (m), > 0: the initial gap is ``x^2/(2 rx) + y^2/(2 ry)``.
+        ``math.inf`` is not allowed (line contact has no finite Hertz ellipse).
+    e_star : float
+        Composite modulus ``E*`` (Pa), > 0.
+
+    Returns
+    -------
+    HertzContact
+        ``a`` along ``x``, ``b`` along ``y``.
+
+    Notes
+    -----
+    Write the gap as ``A_maj s^2 + A_min t^2`` with ``A_maj = min(1/(2 rx), 1/(2 ry))`` the
+    curvature along the major axis (semi-axis ``c``) and ``A_min`` along the minor axis
+    (semi-axis ``d = k c``, ``k <= 1``), ``e^2 = 1 - k^2``. Johnson (eqs. 4.36-4.41):
+
+    .. math::
+
+        \\frac{A_{min}}{A_{maj}} = \\frac{E(e)/k^2 - K(e)}{K(e) - E(e)}
+
+    (solved numerically for ``k``), then
+
+    .. math::
+
+        c^3 = \\frac{3 F\\,[K(e) - E(e)]}{2\\pi E^* e^2 A_{maj}},\\quad d = k c,\\quad
+        p_0 = \\frac{3F}{2\\pi c d},\\quad \\delta = \\frac{p_0\\, d\\, K(e)}{E^*},
+
+    with ``K`` and ``E`` the complete elliptic integrals of the first and second kind
+    (:func:`scipy.special.ellipkm1`, :func:`scipy.special.ellipe`). For ``rx == ry`` this is
+    :func:`sphere`.
+
+    Examples
+    --------
+    Roller on inner race of the source study (design.md): ``rx = 7.68 mm``, ``ry = 4233 mm``,
+    ``E* = 115.4 GPa``, ``F = 26.8 kN`` gives ``a ~ 0.33 mm``, ``b ~ 15.9 mm``, ``p0 ~ 2.5 GPa``:
+
+    >>> c = elliptical(26.8e3, 7.68e-3, 4.233, 115.4e9)
+    >>> round(c.a * 1e3, 2), round(c.b * 1e3, 1), round(c.p0 / 1e9, 2)
+    (0.33, 15.9, 2.46)
+    """
+    force = _check_positive("force", force)
+    rx = _check_positive("rx", rx)
+    ry = _check_positive("ry", ry)
+    e_star = _check_positive("e_star", e_star)
+    ax, ay = 0.5 / rx, 0.5 / ry
+    a_maj, a_min = min(ax, ay), max(ax, ay)
+    k = elliptic_ratio(a_min / a_maj)
+    if k == 1.0:
+        return sphere(force, rx, e_star)
+    m1 = k * k
+    m = 1.0 - m1
+    kk = float(ellipkm1(m1))
+    ee = float(ellipe(m))
+    c = (3.0 * force * (kk - ee) / (2.0 * math.pi * e_star * m * a_maj)) ** (1.0 / 3.0)
+    d = k * c
+    p0 = 3.0 * force / (2.0 * math.pi * c * d)
+    approach = p0 * d * kk / e_star
+    a, b = (d, c) if ax >= ay else (c, d)
+    return HertzContact(a, b, p0, approach, force / (math.pi * a * b), force)

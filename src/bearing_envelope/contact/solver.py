@@ -1,0 +1,425 @@
+"""Frictionless normal contact on an elastic half-space: Polonsky-Keer constrained CG.
+
+See :func:`solve_contact` and ``docs/contact.md``.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .halfspace import ElasticHalfSpace
+
+__all__ = [
+    "ContactSolution",
+    "ContactGridError",
+    "ContactGridWarning",
+    "ContactConvergenceError",
+    "solve_contact",
+]
+
+
+class ContactGridError(ValueError):
+    """Pressure reaches the edge of the grid: the domain is too small for this load."""
+
+    def __init__(self, message: str, fraction: float):
+        super().__init__(message)
+        self.fraction = fraction
+
+
+class ContactGridWarning(UserWarning):
+    """Pressure reaches the edge of the grid (``boundary="warn"``)."""
+
+
+class ContactConvergenceError(RuntimeError):
+    """The solver did not reach ``tol`` within ``max_iter`` iterations."""
+
+    def __init__(self, message: str, residual_history: list[float], solution: "ContactSolution | None" = None):
+        super().__init__(message)
+        self.residual_history = residual_history
+        self.solution = solution
+
+
+@dataclass(frozen=True, eq=False)
+class ContactSolution:
+    """Result of :func:`solve_contact`.
+
+    Attributes
+    ----------
+    pressure : ndarray
+        Contact pressure (Pa), shape of ``gap``; zero outside the contact and on ``+inf`` cells.
+    approach : float
+        Rigid-body approach (m): the deformed gap is ``gap + displacement - approach``.
+    iterations : int
+        Conjugate-gradient iterations done.
+    residual : float
+        Final value of the convergence measure (see :func:`solve_contact`).
+    converged : bool
+        ``residual <= tol``.
+    contact_area : float
+        Area of the cells carrying pressure (m^2).
+    force : float
+        ``sum(pressure) * dx * dy`` (N).
+    residual_history : tuple of float
+        Residual at every iteration (index 0: the initial guess).
+    displacement : ndarray
+        Combined elastic surface displacement ``K * p`` (m) of the returned pressure.
+    """
+
+    pressure: np.ndarray
+    approach: float
+    iterations: int
+    residual: float
+    converged: bool
+    contact_area: float
+    force: float
+    residual_history: tuple = field(repr=False)
+    displacement: np.ndarray = field(repr=False)
+
+    @property
+    def p_max(self) -> float:
+        """Maximum pressure (Pa)."""
+        return float(self.pressure.max())
+
+
+def _check_scalar(name: str, value, allowed: str = "a finite number > 0") -> float:
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be {allowed}, got {value!r}") from None
+    if not math.isfinite(v) or v <= 0:
+        raise ValueError(f"{name} must be {allowed}, got {value!r}")
+    return v
+
+
+def _initial_guess(g: np.ndarray, mat: np.ndarray, force: float, e_star: float, cell: float) -> np.ndarray:
+    """Local-Hertz starting pressure.
+
+    For a paraboloid-like gap, Hertz gives ``F = (4/3) E* d sqrt(A_d / (2 pi))`` where ``d`` is
+    the approach and ``A_d`` the geometric overlap area ``{g - min g < d}``; find ``d`` from the
+    sorted gap, then put ``p ~ sqrt(1 - 2 g'/d)`` on ``{g' < d/2}`` (scaled to the force).
+    """
+    gv = np.sort(g[mat]) - g[mat].min()
+    n = gv.size
+    area = np.arange(1, n + 1) * cell
+    # force estimate if the approach were gv[k] (include the k+1 cells below it)
+    est = (4.0 / 3.0) * e_star * gv * np.sqrt(area / (2.0 * math.pi))
+    k = int(np.searchsorted(est, force))
+    if k >= n:
+        d = gv[-1] if gv[-1] > 0 else 1.0
+    elif k == 0:
+        d = gv[0]
+    else:
+        d = gv[k]
+    gp = np.where(mat, g - g[mat].min(), np.inf)
+    if d <= 0:
+        p = (gp <= 0).astype(float)
+    else:
+        s = 1.0 - 2.0 * gp / d
+        p = np.sqrt(np.clip(s, 0.0, None))
+        if not p.any():
+            p = (gp <= 0).astype(float)
+    if not p.any():  # pragma: no cover - degenerate
+        p = mat.astype(float)
+    return p * (force / (p.sum() * cell))
+
+
+def solve_contact(
+    gap,
+    dx: float,
+    dy: float,
+    force: float | None,
+    e_star: float,
+    *,
+    tol: float = 1e-8,
+    max_iter: int = 1000,
+    p_init=None,
+    approach: float | None = None,
+    boundary: str = "raise",
+    workers: int | None = None,
+    halfspace: ElasticHalfSpace | None = None,
+) -> ContactSolution:
+    """Frictionless normal contact of two elastic half-spaces (Polonsky-Keer CG).
+
+    Parameters
+    ----------
+    gap : (nx, ny) array_like
+        Initial separation ``g`` (m) on the grid (axis 0 = x = rolling, spacing ``dx``; axis 1 =
+        y = axial, spacing ``dy``). ``+inf`` marks cells without material (beyond a roller end):
+        they never carry pressure. NaN is an error.
+    dx, dy : float
+        Grid spacing (m), > 0.
+    force : float or None
+        Normal force (N), > 0 and finite; enforced exactly. Ignored (may be None) when
+        ``approach`` is given.
+    e_star : float
+        Composite modulus (Pa), > 0 (:func:`composite_modulus`).
+    tol : float
+        Convergence tolerance (see Notes).
+    max_iter : int
+        Maximum CG iterations; :class:`ContactConvergenceError` (with ``residual_history``) if
+        ``tol`` is not reached.
+    p_init : (nx, ny) array_like, optional
+        Warm start (Pa), e.g. the solution of a neighbouring load or defect position. Negative
+        values and values on ``+inf`` cells are dropped; under force control it is rescaled to
+        ``force``.
+    approach : float, optional
+        Displacement control: the rigid approach (m) is prescribed and the force follows.
+    boundary : {"raise", "warn", "ignore"}
+        What to do when pressure reaches the outermost finite cells of the grid (the grid is too
+        small): raise :class:`ContactGridError` (a ``ValueError``), warn
+        (:class:`ContactGridWarning`), or ignore. The message gives the fraction of the force
+        carried by the edge cells.
+    workers : int, optional
+        FFT threads (default ``OMP_NUM_THREADS`` or all cores).
+    halfspace : ElasticHalfSpace, optional
+        Reuse a prepared operator (must match shape, dx, dy, e_star).
+
+    Returns
+    -------
+    ContactSolution
+
+    Notes
+    -----
+    Discretisation: uniform pressure on each ``dx x dy`` cell, displacement collocated at the
+    cell centres, ``u = K * p`` by DC-FFT (:class:`ElasticHalfSpace`). The discrete Signorini
+    problem
+
+    .. math::
+
+        h = g + K p - \\alpha,\\quad p \\ge 0,\\quad h \\ge 0,\\quad p\\,h = 0,\\quad
+        \\textstyle\\sum p\\,\\Delta x\\Delta y = F
+
+    is solved by the constrained conjugate gradient of Polonsky & Keer (1999): CG on the current
+    contact set :math:`I_c = \\{p > 0\\}` with the approach :math:`\\alpha = \\overline{g+Kp}|_{I_c}`,
+    negative pressures are cut to zero, cells outside :math:`I_c` with :math:`h < 0` enter
+    the contact (and restart CG), and the pressure is rescaled to ``F`` after every step.
+
+    Convergence criterion, evaluated on the pressure being returned (its gap ``h`` is computed
+    from that pressure):
+
+    .. math::
+
+        r = \\max\\left(\\frac{\\sum|p^{k} - p^{k-1}|}{\\sum p^{k}},\\;
+            \\frac{\\max\\left(\\max_{I_c}|h|,\\ \\max_{\\notin I_c}(-h)^+\\right)}{\\max u}
+            \\right) \\le \\mathrm{tol},
+
+    i.e. the relative pressure change of the last step AND the worst violation of
+    :math:`h = 0` on the contact / :math:`h \\ge 0` outside, relative to the largest elastic
+    displacement. :math:`p \\ge 0` and the force hold exactly at every iterate.
+
+    References
+    ----------
+    I. A. Polonsky, L. M. Keer, A numerical method for solving rough contact problems based on
+    the multi-level multi-summation and conjugate gradient techniques, Wear 231 (1999) 206-219.
+    S. Liu, Q. Wang, G. Liu, A versatile method of discrete convolution and FFT (DC-FFT) for
+    contact analyses, Wear 243 (2000) 101-111.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from bearing_envelope.contact import solve_contact, hertz
+    >>> R, F, E = 0.01, 10.0, 1e11
+    >>> a = hertz.sphere(F, R, E).a
+    >>> n = 64; d = 6 * a / n
+    >>> x = (np.arange(n) - n // 2) * d
+    >>> g = (x[:, None] ** 2 + x[None, :] ** 2) / (2 * R)
+    >>> s = solve_contact(g, d, d, F, E)
+    >>> abs(s.p_max / hertz.sphere(F, R, E).p0 - 1) < 0.01
+    True
+    """
+    # ---- validation ----------------------------------------------------------------------
+    g = np.asarray(gap, dtype=float)
+    if g.ndim != 2:
+        raise ValueError(f"gap must be a 2-D array (nx, ny), got ndim={g.ndim} shape={g.shape}")
+    if g.shape[0] < 2 or g.shape[1] < 2:
+        raise ValueError(f"gap must be at least 2 x 2, got shape={g.shape}")
+    if np.isnan(g).any():
+        raise ValueError(f"gap contains NaN ({int(np.isnan(g).sum())} cells); use +inf for 'no material'")
+    if np.isneginf(g).any():
+        raise ValueError("gap contains -inf; allowed: finite values or +inf (no material)")
+    dx = _check_scalar("dx", dx)
+    dy = _check_scalar("dy", dy)
+    e_star = _check_scalar("e_star", e_star)
+    if not (isinstance(tol, (int, float)) and 0 < tol < 1):
+        raise ValueError(f"tol must be in (0, 1), got {tol!r}")
+    if int(max_iter) < 1:
+        raise ValueError(f"max_iter must be >= 1, got {max_iter!r}")
+    if boundary not in ("raise", "warn", "ignore"):
+        raise ValueError(f"boundary must be 'raise', 'warn' or 'ignore', got {boundary!r}")
+    disp_control = approach is not None
+    if disp_control:
+        try:
+            alpha_fixed = float(approach)
+        except (TypeError, ValueError):
+            raise ValueError(f"approach must be a finite number (m), got {approach!r}") from None
+        if not math.isfinite(alpha_fixed):
+            raise ValueError(f"approach must be a finite number (m), got {approach!r}")
+        force_v = float("nan")
+    else:
+        force_v = _check_scalar("force", force, "a finite number > 0 (N)")
+    mat = np.isfinite(g)
+    if not mat.any():
+        raise ValueError("gap has no finite cell: nothing can carry the load")
+    if halfspace is None:
+        hs = ElasticHalfSpace(g.shape, dx, dy, e_star, workers=workers)
+    else:
+        hs = halfspace
+        if hs.shape != g.shape or (hs.dx, hs.dy, hs.e_star) != (dx, dy, e_star):
+            raise ValueError(f"halfspace {hs!r} does not match gap shape {g.shape}, dx, dy, e_star")
+    cell = dx * dy
+
+    # ---- initial pressure ---------------------------------------------------------------
+    if p_init is not None:
+        p = np.array(p_init, dtype=float)
+        if p.shape != g.shape:
+            raise ValueError(f"p_init.shape must equal gap.shape {g.shape}, got {p.shape}")
+        if not np.isfinite(p).all():
+            raise ValueError("p_init must be finite")
+        p[~mat] = 0.0
+        np.maximum(p, 0.0, out=p)
+        if not p.any():
+            p = None
+    else:
+        p = None
+    if p is None:
+        if disp_control:
+            over = np.where(mat, np.clip(alpha_fixed - np.where(mat, g, 0.0), 0.0, None), 0.0)
+            if not over.any():  # no overlap: no contact
+                z = np.zeros_like(g)
+                return ContactSolution(z, alpha_fixed, 0, 0.0, True, 0.0, 0.0, (0.0,), z.copy())
+            ku = hs.displacement(over)
+            p = over * (np.sum(over * ku) / np.sum(ku * ku))
+        else:
+            p = _initial_guess(g, mat, force_v, e_star, cell)
+    if not disp_control:
+        p *= force_v / (p.sum() * cell)
+
+    # ---- Polonsky-Keer iterations -------------------------------------------------------
+    gz = np.where(mat, g, 0.0)  # finite copy; non-material cells are masked out below
+    nonmat = ~mat
+    has_void = bool(nonmat.any())
+    t = np.zeros_like(g)
+    G_old = 1.0
+    delta = 0.0
+    dp = math.inf
+    history: list[float] = []
+    converged = False
+    it = 0
+    while True:
+        u = hs.displacement(p)
+        h = gz + u
+        ic = p > 0
+        if disp_control:
+            alpha = alpha_fixed
+        else:
+            alpha = float(h[ic].mean())
+        h -= alpha
+        if has_void:
+            h[nonmat] = np.inf
+        umax = float(u.max())
+        scale = umax if umax > 0 else 1.0
+        hc = h[ic]
+        err_in = float(np.abs(hc).max()) if hc.size else 0.0
+        err_out = float(-min(0.0, float(np.where(ic, 0.0, h).min())))
+        res = max(dp, max(err_in, err_out) / scale)
+        history.append(res)
+        if res <= tol:
+            converged = True
+            break
+        if it >= max_iter:
+            break
+        it += 1
+        # CG direction on the contact set
+        G = float(np.dot(hc, hc))
+        if G == 0.0:
+            converged = True
+            break
+        beta = delta * G / G_old
+        t *= beta
+        t += h
+        t[~ic] = 0.0
+        G_old = G
+        r = hs.displacement(t)
+        tc = t[ic]
+        rc = r[ic]
+        if not disp_control:
+            rc = rc - rc.mean()
+        denom = float(np.dot(rc, tc))
+        if denom <= 0:  # pragma: no cover - only with a broken operator
+            break
+        tau = float(np.dot(hc, tc)) / denom
+        p_old = p
+        p = p - tau * t
+        np.maximum(p, 0.0, out=p)
+        iol = (p == 0.0) & (h < 0.0)
+        if iol.any():
+            delta = 0.0 if _RESET else 1.0
+            p[iol] -= tau * h[iol]
+        else:
+            delta = 1.0
+        psum = p.sum()
+        if psum <= 0:
+            if disp_control:  # everything separated
+                p[:] = 0.0
+                dp = 0.0
+                continue
+            raise ContactConvergenceError("all pressure vanished (no contact)", history)  # pragma: no cover
+        if not disp_control:
+            p *= force_v / (psum * cell)
+            psum = force_v / cell
+        dp = float(np.abs(p - p_old).sum()) / float(psum)
+
+    force_out = float(p.sum() * cell)
+    sol = ContactSolution(
+        pressure=p,
+        approach=float(alpha),
+        iterations=it,
+        residual=float(history[-1]),
+        converged=converged,
+        contact_area=float(np.count_nonzero(p > 0) * cell),
+        force=force_out,
+        residual_history=tuple(history),
+        displacement=u,
+    )
+    if not converged:
+        raise ContactConvergenceError(
+            f"contact solver did not converge: residual {history[-1]:.3e} > tol {tol:.1e} after "
+            f"{it} iterations (max_iter={max_iter}); last residuals {history[-5:]}",
+            history,
+            sol,
+        )
+    _check_boundary(p, mat, boundary)
+    return sol
+
+
+_RESET = True
+
+
+def _edge_mask(mat: np.ndarray) -> np.ndarray:
+    e = np.zeros_like(mat)
+    e[0, :] = e[-1, :] = e[:, 0] = e[:, -1] = True
+    return e & mat
+
+
+def _check_boundary(p: np.ndarray, mat: np.ndarray, boundary: str) -> None:
+    if boundary == "ignore":
+        return
+    edge = _edge_mask(mat)
+    loaded = edge & (p > 0)
+    if not loaded.any():
+        return
+    total = float(p.sum())
+    frac = float(p[loaded].sum()) / total if total > 0 else 0.0
+    frac_cells = float(loaded.sum()) / float(edge.sum())
+    msg = (
+        f"pressure reaches the grid boundary: {loaded.sum()} of {edge.sum()} edge cells "
+        f"({frac_cells:.1%}) carry {frac:.3e} of the force (allowed: 0); enlarge the grid "
+        f"or pass boundary='warn'"
+    )
+    if boundary == "raise":
+        raise ContactGridError(msg, frac)
+    warnings.warn(msg, ContactGridWarning, stacklevel=3)

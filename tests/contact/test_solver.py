@@ -1,0 +1,231 @@
+import math
+import warnings
+
+import numpy as np
+import pytest
+
+from bearing_envelope.contact import (
+    ContactConvergenceError,
+    ContactGridError,
+    ContactGridWarning,
+    ElasticHalfSpace,
+    composite_modulus,
+    hertz,
+    influence_coefficients,
+    solve_contact,
+)
+
+
+
+def centred_axis(n: int, d: float) -> np.ndarray:
+    """Node coordinates with node ``n // 2`` exactly at 0."""
+    return (np.arange(n) - n // 2) * d
+
+
+def paraboloid(nx, ny, dx, dy, rx, ry):
+    x = centred_axis(nx, dx)
+    y = centred_axis(ny, dy)
+    return x[:, None] ** 2 / (2 * rx) + y[None, :] ** 2 / (2 * ry)
+
+
+# ---------------------------------------------------------------- half-space operator
+def test_dcfft_equals_direct_sum():
+    nx, ny, dx, dy, E = 9, 14, 1e-5, 3e-5, 1e11
+    p = np.random.default_rng(1).random((nx, ny))
+    u = ElasticHalfSpace((nx, ny), dx, dy, E, backend="scipy").displacement(p)
+    X = np.arange(nx)[:, None] * dx
+    Y = np.arange(ny)[None, :] * dy
+    ref = sum(p[i, j] * influence_coefficients(X - i * dx, Y - j * dy, dx, dy, E) for i in range(nx) for j in range(ny))
+    assert np.abs(u - ref).max() <= 1e-13 * np.abs(ref).max()
+
+
+def test_influence_far_field_is_point_load():
+    k = influence_coefficients(200e-3, -70e-3, 1e-3, 2e-3, 1.0)
+    assert k * math.pi * math.hypot(200e-3, 70e-3) / 2e-6 == pytest.approx(1.0, rel=1e-4)
+
+
+def test_composite_modulus():
+    assert composite_modulus(210e9, 0.3, 210e9, 0.3) == pytest.approx(210e9 / (2 * 0.91))
+    assert composite_modulus(1e9, 0.5, math.inf, 0.3) == pytest.approx(1e9 / 0.75)
+    with pytest.raises(ValueError, match="nu2"):
+        composite_modulus(1e9, 0.3, 1e9, 0.7)
+    with pytest.raises(ValueError, match="E1"):
+        composite_modulus(-1.0, 0.3, 1e9, 0.3)
+
+
+# ---------------------------------------------------------------- Hertz validation
+def test_sphere_against_hertz(sphere_case):
+    c = sphere_case
+    ref, n = c["ref"], c["n"]
+    s = solve_contact(c["gap"], c["d"], c["d"], c["F"], c["E"])
+    assert s.converged
+    p0 = s.pressure[n // 2, n // 2]
+    assert p0 == s.p_max
+    assert p0 / ref.p0 - 1 == pytest.approx(0.0, abs=5e-4)  # measured: 8.5e-5
+    assert math.sqrt(s.contact_area / math.pi) / ref.a == pytest.approx(1.0, rel=0.01)
+    assert s.approach / ref.approach == pytest.approx(1.0, rel=1e-3)
+    assert s.force == pytest.approx(c["F"], rel=1e-9)
+    # the pressure field itself, away from the edge singularity of the derivative
+    x = centred_axis(n, c["d"])
+    pr = ref.pressure(x[:, None], x[None, :])
+    assert np.abs(s.pressure - pr).max() < 0.03 * ref.p0
+
+
+def test_elongated_ellipse_against_hertz():
+    rx, ry, F, E = 0.01, 1.5, 100.0, 1e11  # Ry/Rx = 150
+    ref = hertz.elliptical(F, rx, ry, E)
+    nx, ny = 64, 64
+    dx, dy = 3 * ref.a / (nx // 2), 3 * ref.b / (ny // 2)
+    s = solve_contact(paraboloid(nx, ny, dx, dy, rx, ry), dx, dy, F, E)
+    assert s.p_max / ref.p0 == pytest.approx(1.0, rel=0.02)
+    ic = s.pressure > 0
+    ia = np.nonzero(ic.any(axis=1))[0]
+    ib = np.nonzero(ic.any(axis=0))[0]
+    # half-width of the loaded strip (+ half a cell for the cell extent)
+    a_num = (ia.max() - ia.min() + 1) * dx / 2
+    b_num = (ib.max() - ib.min() + 1) * dy / 2
+    assert a_num / ref.a == pytest.approx(1.0, rel=0.04)
+    assert b_num / ref.b == pytest.approx(1.0, rel=0.04)
+    # area-equivalent semi-axes, sharper than the cell count
+    assert s.contact_area / ref.area == pytest.approx(1.0, rel=0.02)
+    assert s.approach / ref.approach == pytest.approx(1.0, rel=0.02)
+
+
+# ---------------------------------------------------------------- conditions
+def test_force_balance_and_complementarity(sphere_case):
+    c = sphere_case
+    tol = 1e-8
+    s = solve_contact(c["gap"], c["d"], c["d"], c["F"], c["E"], tol=tol)
+    assert abs(s.pressure.sum() * c["d"] ** 2 / c["F"] - 1) < 1e-9
+    assert (s.pressure >= 0).all()
+    h = c["gap"] + s.displacement - s.approach
+    scale = s.displacement.max()
+    on = s.pressure > 0
+    assert np.abs(h[on]).max() <= tol * scale
+    assert h[~on].min() >= -tol * scale
+    assert np.abs(s.pressure * h).max() <= tol * scale * s.p_max
+
+
+def test_symmetry():
+    n, d, R, F, E = 64, 1e-5, 0.01, 5.0, 1e11
+    x = centred_axis(n, d)[1:]  # odd grid, symmetric about the centre node
+    g = (x[:, None] ** 2 / (2 * R)) + (x[None, :] ** 2 / (4 * R))
+    s = solve_contact(g, d, d, F, E)
+    p = s.pressure
+    assert np.abs(p - p[::-1, :]).max() <= 1e-7 * p.max()
+    assert np.abs(p - p[:, ::-1]).max() <= 1e-7 * p.max()
+
+
+def test_tightening_tol_no_longer_changes_solution(sphere_case):
+    c = sphere_case
+    args = (c["gap"], c["d"], c["d"], c["F"], c["E"])
+    s8 = solve_contact(*args, tol=1e-8)
+    s10 = solve_contact(*args, tol=1e-10)
+    s6 = solve_contact(*args, tol=1e-6)
+    assert s10.iterations > s8.iterations
+    d8 = np.abs(s8.pressure - s10.pressure).max() / s10.p_max
+    d6 = np.abs(s6.pressure - s10.pressure).max() / s10.p_max
+    assert d8 < 1e-6  # the solution at the default tol is converged in the pressure
+    assert d8 < d6
+
+
+def test_flat_punch_edge_peak_grows_with_refinement():
+    # rigid flat-ended circular punch (gap 0 inside radius c, +inf outside: no material)
+    c, F, E = 1e-3, 100.0, 1e11
+    pm = F / (math.pi * c * c)
+    peaks = []
+    for n in (16, 32, 64):
+        d = 2.2 * c / n
+        x = centred_axis(n, d) + d / 2
+        r = np.hypot(x[:, None], x[None, :])
+        g = np.where(r <= c, 0.0, np.inf)
+        s = solve_contact(g, d, d, F, E)
+        assert np.abs(s.pressure[r > c]).max() == 0.0
+        peaks.append(s.p_max / pm)
+    assert peaks[0] < peaks[1] < peaks[2]
+    assert peaks[2] > 1.3 * peaks[0]  # ~ sqrt(refinement): singular edge
+
+
+# ---------------------------------------------------------------- options
+def test_warm_start_reduces_iterations(sphere_case):
+    c = sphere_case
+    args = (c["gap"], c["d"], c["d"])
+    s1 = solve_contact(*args, c["F"], c["E"])
+    cold = solve_contact(*args, 1.001 * c["F"], c["E"])
+    warm = solve_contact(*args, 1.001 * c["F"], c["E"], p_init=s1.pressure)
+    assert warm.iterations < cold.iterations
+    assert np.abs(warm.pressure - cold.pressure).max() < 1e-6 * cold.p_max
+
+
+def test_inf_cells_carry_no_pressure(sphere_case):
+    c = sphere_case
+    g = c["gap"].copy()
+    n = c["n"]
+    g[:, n // 2 + 5 :] = np.inf  # cut the sphere: no material beyond
+    s = solve_contact(g, c["d"], c["d"], c["F"], c["E"])
+    assert (s.pressure[np.isinf(g)] == 0).all()
+    assert s.pressure.sum() * c["d"] ** 2 == pytest.approx(c["F"], rel=1e-12)
+    # the truncated body carries an edge peak at the cut
+    assert s.p_max > 1.2 * c["ref"].p0
+
+
+def test_displacement_control_reproduces_force_control(sphere_case):
+    c = sphere_case
+    sf = solve_contact(c["gap"], c["d"], c["d"], c["F"], c["E"])
+    sd = solve_contact(c["gap"], c["d"], c["d"], None, c["E"], approach=sf.approach)
+    assert sd.force == pytest.approx(c["F"], rel=1e-6)
+    assert np.abs(sd.pressure - sf.pressure).max() < 1e-6 * sf.p_max
+    assert sd.approach == sf.approach
+
+
+def test_displacement_control_without_overlap_is_zero(sphere_case):
+    c = sphere_case
+    s = solve_contact(c["gap"], c["d"], c["d"], None, c["E"], approach=-1e-6)
+    assert s.force == 0 and not s.pressure.any()
+
+
+# ---------------------------------------------------------------- errors
+@pytest.mark.parametrize("force", [0.0, -1.0, math.nan, math.inf])
+def test_bad_force(sphere_case, force):
+    c = sphere_case
+    with pytest.raises(ValueError, match=r"force must be a finite number > 0"):
+        solve_contact(c["gap"], c["d"], c["d"], force, c["E"])
+
+
+@pytest.mark.parametrize("name", ["dx", "dy", "e_star"])
+def test_bad_scalars(sphere_case, name):
+    c = sphere_case
+    kw = dict(dx=c["d"], dy=c["d"], e_star=c["E"])
+    kw[name] = 0.0
+    with pytest.raises(ValueError, match=name):
+        solve_contact(c["gap"], kw["dx"], kw["dy"], c["F"], kw["e_star"])
+
+
+def test_bad_gap(sphere_case):
+    c = sphere_case
+    g = c["gap"].copy()
+    g[3, 4] = np.nan
+    with pytest.raises(ValueError, match="NaN"):
+        solve_contact(g, c["d"], c["d"], c["F"], c["E"])
+    with pytest.raises(ValueError, match="2-D"):
+        solve_contact(c["gap"][0], c["d"], c["d"], c["F"], c["E"])
+    with pytest.raises(ValueError, match="boundary must be"):
+        solve_contact(c["gap"], c["d"], c["d"], c["F"], c["E"], boundary="maybe")
+
+
+def test_grid_too_small_raises_or_warns(sphere_case):
+    c = sphere_case
+    small = c["gap"][48:80, 48:80]  # box of side 1.5a: contact spills over the edge
+    with pytest.raises(ContactGridError, match="grid boundary") as ei:
+        solve_contact(small, c["d"], c["d"], c["F"], c["E"])
+    assert isinstance(ei.value, ValueError) and 0 < ei.value.fraction < 1
+    with pytest.warns(ContactGridWarning, match="of the force"):
+        solve_contact(small, c["d"], c["d"], c["F"], c["E"], boundary="warn")
+
+
+def test_non_convergence_reports_history(sphere_case):
+    c = sphere_case
+    with pytest.raises(ContactConvergenceError, match="did not converge") as ei:
+        solve_contact(c["gap"], c["d"], c["d"], c["F"], c["E"], max_iter=3)
+    assert len(ei.value.residual_history) == 4
+    assert ei.value.solution.iterations == 3
