@@ -404,7 +404,10 @@ def mode_sos(mode: Mode, fs: float, method: str = "impulse") -> np.ndarray:
     ``H(z) = T [sum_n h(nT) z^-n - h(0)/2]``; with ``r = exp(-zeta omega_n T)``,
     ``theta = omega_d T``, ``b1 = 2 zeta omega_n g``:
     ``A(z) = 1 - 2 r cos(theta) z^-1 + r^2 z^-2``,
-    ``B(z) ~ b1/2 - (b1 zeta/sqrt(1-zeta^2)) r sin(theta) z^-1 - (b1/2) r^2 z^-2``.
+    ``B(z) ~ b1/2 - (b1 zeta/sqrt(1-zeta^2)) r sin(theta) z^-1 - (b1/2) r^2 z^-2``,
+    then ``B <- B - H(1) A`` so that the DC gain is exactly zero as in the analog resonator
+    (this only changes the first sample of the impulse response; ``h[n], n >= 1`` stay the
+    samples ``T h(nT)``).
     ``bilinear``: the analog resonator with omega_n prewarped to ``2 fs tan(omega_n T/2)``.
     Either way B is then scaled so that ``|H(exp(j omega_n T))| = g``. Poles:
     ``|z| = exp(-zeta omega_n T) < 1`` (impulse) — always stable.
@@ -423,6 +426,9 @@ def mode_sos(mode: Mode, fs: float, method: str = "impulse") -> np.ndarray:
         c = -b1 * sigma / wd  # sin coefficient of h(t) = exp(-sigma t)(b1 cos + c sin)
         b = T * np.array([b1 / 2.0, c * r * math.sin(th), -b1 / 2.0 * r * r])
         a = np.array([1.0, -2.0 * r * math.cos(th), r * r])
+        # aliasing leaves a DC gain (up to 0.3 g at f_n = 0.45 fs, zeta = 0.5); remove it by
+        # subtracting the constant H(1): changes only h[0], keeps h[n >= 1] impulse-invariant
+        b = b - (b.sum() / a.sum()) * a
     elif method == "bilinear":
         wp = 2.0 * fs * math.tan(wn * T / 2.0)
         b, a = sps.bilinear([2.0 * z * wp, 0.0], [1.0, 2.0 * z * wp, wp * wp], fs=fs)
