@@ -141,6 +141,7 @@ def solve_contact(
     boundary: str = "raise",
     workers: int | None = None,
     halfspace: ElasticHalfSpace | None = None,
+    precondition: bool = True,
 ) -> ContactSolution:
     """Frictionless normal contact of two elastic half-spaces (Polonsky-Keer CG).
 
@@ -177,6 +178,9 @@ def solve_contact(
         FFT threads (default ``OMP_NUM_THREADS`` or all cores).
     halfspace : ElasticHalfSpace, optional
         Reuse a prepared operator (must match shape, dx, dy, e_star).
+    precondition : bool
+        Precondition the CG direction with the approximate inverse of the half-space operator,
+        applied in Fourier space on the bounding box of the contact set (see Notes).
 
     Returns
     -------
@@ -197,6 +201,14 @@ def solve_contact(
     contact set :math:`I_c = \\{p > 0\\}` with the approach :math:`\\alpha = \\overline{g+Kp}|_{I_c}`,
     negative pressures are cut to zero, cells outside :math:`I_c` with :math:`h < 0` enter
     the contact (and restart CG), and the pressure is rescaled to ``F`` after every step.
+
+    Preconditioner: the operator :math:`K` has the symbol :math:`2/(E^*|q|)`, so its small
+    eigenvalues are the short wavelengths that plain CG resolves last (contact edges, defects,
+    warm starts). The search direction is :math:`z = P_{I_c} M^{-1} P_{I_c} h` with
+    :math:`\\hat M^{-1} = E^*\\sqrt{|q|^2 + q_0^2}/2` applied by a periodic FFT on the bounding
+    box of :math:`I_c` (plus a margin), :math:`q_0 = 2\\pi/L_{box}`; under force control
+    :math:`z` is projected to zero mean on :math:`I_c`. Its cost is a small fraction of one
+    padded convolution.
 
     Convergence criterion, evaluated on the pressure being returned (its gap ``h`` is computed
     from that pressure):
@@ -299,6 +311,7 @@ def solve_contact(
         p *= force_v / (p.sum() * cell)
 
     # ---- Polonsky-Keer iterations -------------------------------------------------------
+    pre = _FourierPreconditioner(g.shape, dx, dy, e_star, workers=hs.workers) if precondition else None
     gz = np.where(mat, g, 0.0)  # finite copy; non-material cells are masked out below
     nonmat = ~mat
     has_void = bool(nonmat.any())
@@ -333,14 +346,23 @@ def solve_contact(
         if it >= max_iter:
             break
         it += 1
-        # CG direction on the contact set
-        G = float(np.dot(hc, hc))
-        if G == 0.0:
-            converged = True
+        # CG direction on the contact set (preconditioned when `precondition`)
+        if pre is not None:
+            z, diag = pre.apply(h, ic)
+            zc = z[ic]
+            if not disp_control:
+                zc -= zc.mean()
+                z[ic] = zc
+            G = float(np.dot(hc, zc))
+        else:
+            z, diag, zc = h, 1.0, hc
+            G = float(np.dot(hc, hc))
+        if G <= 0.0:
+            converged = res <= tol
             break
         beta = delta * G / G_old
         t *= beta
-        t += h
+        t += z
         t[~ic] = 0.0
         G_old = G
         r = hs.displacement(t)
@@ -357,8 +379,8 @@ def solve_contact(
         np.maximum(p, 0.0, out=p)
         iol = (p == 0.0) & (h < 0.0)
         if iol.any():
-            delta = 0.0 if _RESET else 1.0
-            p[iol] -= tau * h[iol]
+            delta = 0.0
+            p[iol] -= (tau * diag) * h[iol]
         else:
             delta = 1.0
         psum = p.sum()
@@ -396,7 +418,49 @@ def solve_contact(
     return sol
 
 
-_RESET = True
+class _FourierPreconditioner:
+    """Approximate inverse of the half-space operator on the bounding box of the contact set."""
+
+    def __init__(self, shape, dx, dy, e_star, margin: int = 4, workers: int = 1):
+        self.shape, self.dx, self.dy, self.e_star, self.margin = shape, dx, dy, e_star, margin
+        self.workers = workers
+        self._symbols: dict = {}
+
+    def _symbol(self, mx: int, my: int) -> np.ndarray:
+        key = (mx, my)
+        s = self._symbols.get(key)
+        if s is None:
+            qx = 2 * np.pi * np.fft.fftfreq(mx, self.dx)
+            qy = 2 * np.pi * np.fft.rfftfreq(my, self.dy)
+            q0 = 2 * np.pi / max(mx * self.dx, my * self.dy)
+            s = 0.5 * self.e_star * np.sqrt(qx[:, None] ** 2 + qy[None, :] ** 2 + q0 * q0) / (mx * my)
+            self._symbols[key] = s
+        return s
+
+    def apply(self, h: np.ndarray, ic: np.ndarray):
+        """Return ``(z, d)``: ``z = P M^-1 P h`` (zero off ``ic``) and ``d`` the mean diagonal of ``M^-1``."""
+        import scipy.fft as sfft
+
+        rows = np.flatnonzero(ic.any(axis=1))
+        cols = np.flatnonzero(ic.any(axis=0))
+        nx, ny = self.shape
+        m = self.margin
+        i0, i1 = max(rows[0] - m, 0), min(rows[-1] + 1 + m, nx)
+        j0, j1 = max(cols[0] - m, 0), min(cols[-1] + 1 + m, ny)
+        mx = min(sfft.next_fast_len(i1 - i0, real=True), nx) if i1 - i0 < nx else nx
+        my = min(sfft.next_fast_len(j1 - j0, real=True), ny) if j1 - j0 < ny else ny
+        i0 = min(i0, nx - mx)
+        j0 = min(j0, ny - my)
+        sl = (slice(i0, i0 + mx), slice(j0, j0 + my))
+        icb = ic[sl]
+        hb = np.where(icb, h[sl], 0.0)
+        sym = self._symbol(mx, my)
+        w = self.workers
+        zb = sfft.irfft2(sfft.rfft2(hb, workers=w) * sym, s=(mx, my), norm="forward", workers=w)
+        z = np.zeros(self.shape)
+        z[sl] = np.where(icb, zb, 0.0)
+        d = float(sym[:, 1:-1].sum() * 2 + sym[:, 0].sum() + sym[:, -1].sum()) if my > 1 else float(sym.sum())
+        return z, d
 
 
 def _edge_mask(mat: np.ndarray) -> np.ndarray:
