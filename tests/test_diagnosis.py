@@ -1,0 +1,224 @@
+"""Tests of the fault-band metrics and the BPFI detection statistic."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from scipy import signal as sps
+
+from bearing_envelope.diagnosis import (
+    detect,
+    detection_statistic,
+    fault_band_metrics,
+    threshold_db,
+)
+from bearing_envelope.transfer import Mode, NoiseSpec, TransferModel, synthesize_acceleration
+
+FS = 20_000.0
+FR = 15.8
+BPFI = 231.9
+
+
+# ------------------------------------------------------------------ fault-band metrics
+def _line_spectrum():
+    """A spectrum on a 0.1 Hz grid with lines of known amplitude at BPFI harmonics/sidebands."""
+    f = np.round(np.arange(0.0, 1500.0, 0.1), 6)
+    a = np.full_like(f, 1e-4)
+    lines = {}
+    for k, amp in ((1, 1.0), (2, 0.5), (3, 0.25)):
+        for m, rel in ((-1, 0.3), (0, 1.0), (1, 0.2)):
+            c = round(k * BPFI + m * FR, 1)
+            lines[(k, m)] = (c, amp * rel)
+            a[np.argmin(np.abs(f - c))] = amp * rel
+    return f, a, lines
+
+
+def test_metrics_return_known_lines():
+    f, a, lines = _line_spectrum()
+    df = fault_band_metrics(f, a, {"BPFI": BPFI}, fr=FR, harmonics=3, sidebands=1,
+                            bandwidth_hz=2.0, spectrum="envelope")
+    assert list(df.columns[:6]) == ["spectrum", "target", "target_hz", "order", "sideband", "centre_hz"]
+    assert len(df) == 9
+    for row in df.itertuples():
+        c, amp = lines[(row.order, row.sideband)]
+        assert row.peak_hz == pytest.approx(c, abs=1e-9)
+        assert row.peak_amplitude == pytest.approx(amp)
+        assert row.centre_hz == pytest.approx(row.order * BPFI + row.sideband * FR)
+        # band power: the line's A^2/2 plus the floor bins in the band
+        floor = (row.n_bins - 1) * 1e-8 / 2
+        assert row.band_power == pytest.approx(amp**2 / 2 + floor, rel=1e-9)
+        assert row.n_bins == 21  # 2 Hz / 0.1 Hz + 1
+    total = sum(v[1] ** 2 / 2 for v in lines.values()) + 9 * 20 * 1e-8 / 2
+    assert df.total_band_power.iloc[0] == pytest.approx(total, rel=1e-9)
+
+
+def test_metrics_relative_band_and_several_targets():
+    f, a, lines = _line_spectrum()
+    df = fault_band_metrics(f, a, {"BPFI": BPFI, "BPFO": 150.0}, harmonics=2, bandwidth=0.02)
+    assert set(df.target) == {"BPFI", "BPFO"}
+    bp = df[df.target == "BPFI"].set_index("order")
+    assert bp.loc[2, "band_high_hz"] - bp.loc[2, "band_low_hz"] == pytest.approx(0.02 * 2 * BPFI)
+    assert bp.loc[2, "peak_amplitude"] == pytest.approx(0.5)
+    bo = df[df.target == "BPFO"]
+    assert np.all(bo.peak_amplitude < 1e-3)  # nothing at BPFO
+
+
+def test_metrics_on_raw_hann_spectrum_of_sinusoids():
+    """Time-domain sinusoids, Hann window: amplitudes within 1.5 %, power with ENBW = 1.5."""
+    n = 40_000
+    t = np.arange(n) / FS
+    amps = {BPFI: 0.8, 2 * BPFI: 0.3, BPFI + FR: 0.1}
+    x = sum(A * np.cos(2 * np.pi * fq * t + 0.3) for fq, A in amps.items())
+    w = np.hanning(n)
+    a = 2 * np.abs(np.fft.rfft(x * w)) / w.sum()
+    f = np.fft.rfftfreq(n, 1 / FS)
+    df = fault_band_metrics(f, a, {"BPFI": BPFI}, fr=FR, harmonics=2, sidebands=1,
+                            bandwidth_hz=3.0, enbw=1.5, spectrum="raw")
+    got = df.set_index(["order", "sideband"])
+    for (k, m), fq in (((1, 0), BPFI), ((2, 0), 2 * BPFI), ((1, 1), BPFI + FR)):
+        A = amps[fq]
+        assert got.loc[(k, m), "peak_hz"] == pytest.approx(fq, abs=0.5)  # 0.5 Hz bins
+        assert got.loc[(k, m), "peak_amplitude"] == pytest.approx(A, rel=0.16)  # scalloping
+        assert got.loc[(k, m), "band_power"] == pytest.approx(A**2 / 2, rel=0.03)
+    assert (df.spectrum == "raw").all()
+
+
+def test_metrics_bands_outside_spectrum_are_nan():
+    f = np.arange(0.0, 300.0, 0.5)
+    df = fault_band_metrics(f, np.ones_like(f), {"BPFI": BPFI}, harmonics=2)
+    row2 = df[df.order == 2].iloc[0]
+    assert row2.n_bins == 0 and math.isnan(row2.peak_amplitude)
+
+
+@pytest.mark.parametrize(
+    "kwargs, fragment",
+    [
+        ({"targets": {}}, "targets"),
+        ({"targets": {"BPFI": -3.0}}, "targets['BPFI']"),
+        ({"targets": {"BPFI": BPFI}, "harmonics": 0}, "harmonics must be an integer >= 1, got 0"),
+        ({"targets": {"BPFI": BPFI}, "sidebands": 2}, "fr (shaft rate, Hz) is required"),
+        ({"targets": {"BPFI": BPFI}, "bandwidth": 1.5}, "bandwidth (relative) must be in (0, 1), got 1.5"),
+        ({"targets": {"BPFI": BPFI}, "bandwidth_hz": 0}, "bandwidth_hz must be"),
+        ({"targets": {"BPFI": BPFI}, "enbw": -1}, "enbw"),
+    ],
+)
+def test_metrics_bad_inputs_name_the_field(kwargs, fragment):
+    f = np.arange(0.0, 1000.0, 0.5)
+    with pytest.raises(ValueError) as err:
+        fault_band_metrics(f, np.ones_like(f), **kwargs)
+    assert fragment in str(err.value)
+
+
+def test_bad_spectrum_arrays():
+    with pytest.raises(ValueError, match="same length|one length"):
+        fault_band_metrics(np.arange(10.0), np.ones(9), {"BPFI": 2.0})
+    with pytest.raises(ValueError, match="increasing"):
+        detect(np.r_[0.0, 2.0, 1.0, 3.0], np.ones(4), 1.0)
+    with pytest.raises(ValueError, match="beyond the spectrum"):
+        detect(np.arange(0.0, 100.0), np.ones(100), BPFI)
+    with pytest.raises(ValueError, match="background"):
+        detect(np.arange(0.0, 1000.0), np.ones(1000), BPFI, background=(1.2, 2.0))
+    with pytest.raises(ValueError, match="pfa"):
+        threshold_db(0.0, 5)
+
+
+# ------------------------------------------------------------------ threshold and statistic
+def test_threshold_formula():
+    for n in (1, 5, 30):
+        thr = threshold_db(0.01, n)
+        t2 = 10 ** (thr / 10)
+        assert 1 - (1 - 2.0 ** (-t2)) ** n == pytest.approx(0.01, rel=1e-9)
+    assert threshold_db(0.01, 1) < threshold_db(0.01, 10) < threshold_db(0.01, 30)
+    assert threshold_db(0.001, 10) > threshold_db(0.01, 10)
+    assert 9.5 < threshold_db(0.01, 9) < 10.5
+
+
+_BAND_SOS = sps.butter(4, [3000.0, 5000.0], btype="bandpass", fs=FS, output="sos")
+
+
+def _envelope_spectrum(x):
+    """Band-pass 3-5 kHz (zero phase), Hilbert envelope, mean removed, rectangular window."""
+    env = np.abs(sps.hilbert(sps.sosfiltfilt(_BAND_SOS, x)))
+    env -= env.mean()
+    return np.fft.rfftfreq(x.size, 1 / FS), 2 * np.abs(np.fft.rfft(env)) / x.size
+
+
+def test_false_alarm_rate_on_gaussian_noise_envelope_spectra():
+    """Monte Carlo: the default threshold gives about the nominal 1 % false alarms."""
+    rng = np.random.default_rng(12345)
+    trials, alarms = 300, 0
+    stats = []
+    for _ in range(trials):
+        f, a = _envelope_spectrum(rng.standard_normal(20_000))
+        d = detection_statistic(f, a, BPFI, fr=FR)
+        stats.append(d.statistic_db)
+        alarms += d.detected
+    # nominal 1 % -> 3 expected; P(Binomial(300, 0.01) > 9) < 1e-3
+    assert alarms <= 9
+    # the statistic's 95 % quantile sits well below the threshold
+    assert np.quantile(stats, 0.95) < d.threshold_db - 1.0
+
+
+def test_statistic_finds_line_above_median():
+    f = np.arange(0.0, 1000.0, 0.5)
+    a = np.random.default_rng(0).rayleigh(1e-3, f.size)
+    a[np.argmin(np.abs(f - 232.0))] = 0.1
+    a[np.argmin(np.abs(f - 232.0 - FR))] = 0.5  # a strong sideband must not enter the background
+    d = detection_statistic(f, a, BPFI, fr=FR)
+    assert d.peak_hz == 232.0 and d.peak_amplitude == 0.1
+    assert d.statistic_db == pytest.approx(20 * math.log10(0.1 / d.background))
+    assert d.background == pytest.approx(1e-3 * math.sqrt(2 * math.log(2)), rel=0.15)
+    assert d.detected
+    stat, det = detect(f, a, BPFI, fr=FR, threshold=100.0)
+    assert stat == d.statistic_db and not det
+
+
+# ------------------------------------------------------------------ end to end
+N = 20_000
+_T = np.arange(N) / FS
+_BASE = 1e9 * (1 + 0.3 * np.cos(2 * np.pi * FR * _T))  # roller-load modulated p_max, Pa
+
+
+def _defect_excitation(defect=0.05):
+    pulses = np.zeros(N)
+    idx = np.round(np.arange(0, N / FS, 1 / BPFI) * FS).astype(int)
+    pulses[idx[idx < N]] = 1.0
+    pulses = np.convolve(pulses, np.hanning(5), mode="same") * defect * _BASE
+    return _BASE + pulses - np.mean(_BASE + pulses), _BASE - _BASE.mean()
+
+
+MODEL = TransferModel((Mode(4000.0, 0.03, 1e-9), Mode(7000.0, 0.05, 5e-10)))
+
+
+def _statistic(snr, seed, defect=True):
+    e, ref = _defect_excitation()
+    if defect:
+        acc, _ = synthesize_acceleration(e, FS, MODEL.with_snr(snr), reference=ref, seed=seed)
+    else:
+        acc, _ = synthesize_acceleration(ref, FS, MODEL.with_snr(snr), seed=seed)
+    f, a = _envelope_spectrum(acc)
+    return detection_statistic(f, a, BPFI, fr=FR)
+
+
+def test_defect_detected_at_high_snr_and_no_defect_not():
+    d = _statistic(10.0, 0)
+    assert d.detected and d.statistic_db > 30.0
+    assert abs(d.peak_hz - BPFI) < 0.5
+    # no defect: the load-modulated excitation alone, same noise rule (SNR re its own response)
+    for seed in range(5):
+        assert not _statistic(10.0, seed, defect=False).detected
+
+
+def test_detection_rate_decreases_as_snr_drops():
+    snrs = [0.0, -12.0, -16.0, -18.0, -20.0, -22.0, -26.0, -32.0]
+    seeds = range(20)
+    mean_stat, rate = [], []
+    for snr in snrs:
+        ds = [_statistic(snr, s) for s in seeds]
+        mean_stat.append(np.mean([d.statistic_db for d in ds]))
+        rate.append(np.mean([d.detected for d in ds]))
+    assert rate[0] == 1.0 and rate[-1] <= 0.1
+    assert all(r1 >= r2 for r1, r2 in zip(rate, rate[1:])), rate
+    assert all(s1 > s2 for s1, s2 in zip(mean_stat[:-1], mean_stat[1:-1])), mean_stat
