@@ -1,0 +1,180 @@
+"""``bearing-envelope sensor``: synthetic accelerometer signal of a simulated case.
+
+Reads a case file (:func:`bearing_envelope.io.read_case`), takes the contact signal named by the
+``sensor:`` section of the config (``excitation``: ``pressure`` = p_max, ``pressure_defect`` =
+p_max_defect, ``force`` = contact force / roller load), passes it through the structural modes,
+adds noise at the target SNR and the interfering tones (:mod:`bearing_envelope.transfer`), and
+writes the acceleration with its provenance to ``.npz`` or ``.h5``. See ``docs/sensor.md``.
+
+Example::
+
+    bearing-envelope sensor results/cases/F500kN_h50um.h5 --config config.yaml \\
+        --snr-db 0 --reference results/cases/F500kN_h0um.h5 -o results/sensor/F500kN_h50um_snr0.h5
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import os
+import subprocess
+import tempfile
+from pathlib import Path
+from typing import Any
+
+
+def register(subparsers) -> None:
+    """Add the ``sensor`` sub-command."""
+    p = subparsers.add_parser(
+        "sensor",
+        help="synthetic accelerometer signal (modes + noise at an SNR + tones) of a case",
+        description=__doc__.split("\n\n")[1],
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    p.add_argument("case", help="case file (HDF5) written by `bearing-envelope simulate`")
+    p.add_argument("--config", required=True, help="YAML config with a `sensor:` section")
+    p.add_argument("--snr-db", type=float, default=None,
+                   help="target SNR in dB = 10 log10(P_defect/P_noise); overrides the config")
+    p.add_argument("--no-noise", action="store_true", help="add no noise (ignores --snr-db)")
+    p.add_argument("--seed", type=int, default=None, help="seed of the noise (overrides the config)")
+    p.add_argument("--excitation", default=None, choices=("pressure", "pressure_defect", "force"),
+                   help="contact signal used as excitation (overrides the config)")
+    p.add_argument("--reference", default=None,
+                   help="no-defect case file of the same load: P_defect = var(H e - H e_ref)")
+    p.add_argument("-o", "--output", required=True, help="output file, .npz or .h5")
+    p.set_defaults(func=run)
+
+
+def _read_case(path: str):
+    from bearing_envelope.io import read_case  # lazy: io is a separate layer
+
+    return read_case(path)
+
+
+def _case_signals(case) -> dict:
+    signals = dict(getattr(case, "signals", {}) or {})
+    for name in ("p_max", "p_max_defect", "roller_load"):
+        if name not in signals and getattr(case, name, None) is not None:
+            signals[name] = getattr(case, name)
+    return signals
+
+
+def _git_commit() -> str | None:
+    try:
+        out = subprocess.run(["git", "rev-parse", "HEAD"], cwd=Path(__file__).resolve().parent,
+                             capture_output=True, text=True, timeout=5, check=True)
+        return out.stdout.strip() or None
+    except (OSError, subprocess.SubprocessError):
+        return None
+
+
+def load_sensor_config(path: str) -> dict[str, Any]:
+    """The ``sensor:`` section of a YAML config (ValueError if absent)."""
+    import yaml
+
+    with open(path, encoding="utf-8") as fh:
+        cfg = yaml.safe_load(fh) or {}
+    if not isinstance(cfg, dict) or not cfg.get("sensor"):
+        raise ValueError(f"{path}: no `sensor:` section (see docs/sensor.md)")
+    return cfg["sensor"]
+
+
+def _json_default(o):
+    if hasattr(o, "tolist"):
+        return o.tolist()
+    if isinstance(o, float) and not math.isfinite(o):
+        return str(o)
+    raise TypeError(f"not JSON serialisable: {type(o).__name__}")
+
+
+def _write(path: Path, acc, fs: float, case, info: dict[str, Any]) -> None:
+    import numpy as np
+
+    provenance = json.dumps(info, default=_json_default, allow_nan=True, sort_keys=True)
+    meta = {"fs": float(fs)}
+    for key in ("fr", "bpfi", "bpfo", "ftf", "bsf", "load_kN", "depth_um"):
+        v = getattr(case, key, None)
+        if v is not None:
+            meta[key] = float(v)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    suffix = path.suffix.lower()
+    fd, tmp = tempfile.mkstemp(prefix=path.name + ".", suffix=".tmp" + suffix, dir=path.parent)
+    os.close(fd)
+    try:
+        if suffix == ".npz":
+            with open(tmp, "wb") as fh:
+                np.savez(fh, acceleration=acc, time=np.arange(acc.size) / fs,
+                         provenance=np.array(provenance), **{k: np.array(v) for k, v in meta.items()})
+        elif suffix in (".h5", ".hdf5"):
+            import h5py
+
+            with h5py.File(tmp, "w") as h5:
+                d = h5.create_dataset("signals/acceleration", data=acc, compression="gzip")
+                d.attrs["units"] = "excitation units x mode gain (m/s^2 with gains in (m/s^2)/N)"
+                d.attrs["provenance"] = provenance
+                h5.create_dataset("time", data=np.arange(acc.size) / fs, compression="gzip")
+                h5["time"].attrs["units"] = "s"
+                for k, v in meta.items():
+                    h5.attrs[k] = v
+                h5.attrs["provenance"] = provenance
+        else:
+            raise ValueError(f"output must end in .npz or .h5, got {str(path)!r}")
+        os.replace(tmp, path)
+    finally:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+
+
+def run(args: argparse.Namespace) -> int:
+    """Entry point of ``bearing-envelope sensor``."""
+    import numpy as np
+
+    from bearing_envelope import __version__
+    from bearing_envelope.transfer import (
+        TransferModel,
+        excitation_from_history,
+        select_excitation,
+        synthesize_acceleration,
+    )
+
+    out = Path(args.output)
+    if out.suffix.lower() not in (".npz", ".h5", ".hdf5"):
+        raise ValueError(f"output must end in .npz or .h5, got {args.output!r}")
+    section = dict(load_sensor_config(args.config))
+    if args.excitation is not None:
+        section["excitation"] = args.excitation
+    case = _read_case(args.case)
+    fs = float(case.fs)
+    model = TransferModel.from_mapping(section, fs=fs)
+    if args.no_noise:
+        model = model.with_snr(None)
+    elif args.snr_db is not None:
+        model = model.with_snr(args.snr_db)
+
+    name, x = select_excitation(_case_signals(case), model.excitation)
+    e = excitation_from_history(x, scale=model.excitation_scale)
+    ref = None
+    if args.reference:
+        rcase = _read_case(args.reference)
+        if float(rcase.fs) != fs:
+            raise ValueError(f"reference fs {rcase.fs} Hz differs from the case's {fs} Hz")
+        _, xr = select_excitation(_case_signals(rcase), model.excitation)
+        if np.shape(xr) != np.shape(x):
+            raise ValueError(f"reference has {np.size(xr)} samples, the case {np.size(x)}")
+        ref = excitation_from_history(xr, scale=model.excitation_scale)
+    acc, info = synthesize_acceleration(e, fs, model, reference=ref, seed=args.seed,
+                                        fr=getattr(case, "fr", None))
+    info.update(
+        source_case=str(args.case),
+        reference_case=str(args.reference) if args.reference else None,
+        excitation_signal=name,
+        config=str(args.config),
+        package_version=__version__,
+        git_commit=_git_commit(),
+        command="bearing-envelope sensor",
+    )
+    _write(out, acc, fs, case, info)
+    print(f"sensor: {args.case} -> {out} ({acc.size} samples, excitation {name}, "
+          f"SNR {info['snr_db_achieved']:.2f} dB)")
+    return 0
