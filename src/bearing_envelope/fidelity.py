@@ -1,0 +1,169 @@
+"""Fidelity presets: grid spacings, zoom window, solver tolerance and table density.
+
+A :class:`Fidelity` collects every numerical setting of a time-history case that is not part of
+the physical scene. Three presets exist:
+
+``draft``
+    A case in a few seconds: coarse grids, few table nodes. For tests and CI.
+``standard`` (default)
+    Target <= 60 s per case on a 2-core machine (see ``docs/benchmarks.md``).
+``paper``
+    Finer grids and a denser table; minutes per case.
+
+Use :func:`fidelity_from` to build one from a preset name or a mapping (a mapping may name a
+``preset`` and override single fields, e.g. ``{"preset": "standard", "local_dx_um": 3}``).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass
+from typing import Any, Mapping
+
+__all__ = ["Fidelity", "PRESETS", "fidelity_from"]
+
+
+@dataclass(frozen=True)
+class Fidelity:
+    """Numerical settings of one case (no physics here).
+
+    Attributes
+    ----------
+    name : str
+        Preset name (or ``"custom"``).
+    global_dx_um : float
+        Grid spacing across the contact (rolling direction ``x``) of the global no-defect solve
+        over the whole roller length, um.
+    global_dy_um : float
+        Axial grid spacing (``y``) of the global solve, um.
+    global_extent : float
+        Half-extent of the global grid in ``x`` as a multiple of the Hertz semi-axis ``a`` (> 1).
+    local_dx_um, local_dy_um : float
+        Grid spacings of the fine local window around the defect (zoom route), um.
+    window_margin_um : float
+        Axial distance between the defect neighbourhood (where results are read) and the window
+        boundary, um. The window boundary carries a spurious overpressure (design.md section 4), so
+        nothing is read within this margin.
+    neighbourhood_um : float
+        The "defect neighbourhood" is the defect footprint grown by this distance on every
+        side; ``p_max_defect`` is the maximum pressure inside it, um.
+    tol : float
+        Relative tolerance passed to the contact solver.
+    max_iter : int
+        Iteration cap of the contact solver.
+    n_loads : int
+        Number of roller-load nodes of the table (uniform in ``Q**(1/3)``).
+    n_offsets : int
+        Number of defect-offset nodes of the table on ``0 <= xi <= xi_max`` (one side, symmetry).
+    xi_max : float
+        Largest tabulated normalised offset ``xi = |x| / (a(Q) + w_x/2 + neighbourhood)``.
+        Beyond it the defect cannot touch the contact and the no-defect values are exact.
+    n_checks : int
+        Random (Q, x) points at which a direct solve is compared with the interpolated table;
+        the error is stored in the case file.
+    n_snapshot_offsets : int
+        Offsets per load at which the window pressure field is stored.
+    use_symmetry : bool
+        Use ``P(Q, -x) = P(Q, x)`` (symmetric geometry and defect).
+    """
+
+    name: str = "standard"
+    global_dx_um: float = 10.0
+    global_dy_um: float = 150.0
+    global_extent: float = 1.3
+    local_dx_um: float = 4.0
+    local_dy_um: float = 20.0
+    window_margin_um: float = 400.0
+    neighbourhood_um: float = 50.0
+    tol: float = 1e-6
+    max_iter: int = 2000
+    n_loads: int = 5
+    n_offsets: int = 14
+    xi_max: float = 1.02
+    n_checks: int = 6
+    n_snapshot_offsets: int = 3
+    use_symmetry: bool = True
+
+    def __post_init__(self) -> None:
+        for f in ("global_dx_um", "global_dy_um", "local_dx_um", "local_dy_um", "tol"):
+            v = getattr(self, f)
+            if not isinstance(v, (int, float)) or not math.isfinite(v) or v <= 0:
+                raise ValueError(f"fidelity.{f} must be a finite number > 0, got {v!r}")
+        for f in ("window_margin_um", "neighbourhood_um"):
+            v = getattr(self, f)
+            if not isinstance(v, (int, float)) or not math.isfinite(v) or v < 0:
+                raise ValueError(f"fidelity.{f} must be a finite number >= 0, got {v!r}")
+        if not (isinstance(self.global_extent, (int, float)) and self.global_extent > 1.0):
+            raise ValueError(f"fidelity.global_extent must be > 1, got {self.global_extent!r}")
+        if not (isinstance(self.xi_max, (int, float)) and self.xi_max >= 1.0):
+            raise ValueError(f"fidelity.xi_max must be >= 1, got {self.xi_max!r}")
+        for f, lo in (("max_iter", 1), ("n_loads", 2), ("n_offsets", 3), ("n_checks", 0),
+                      ("n_snapshot_offsets", 0)):
+            v = getattr(self, f)
+            if isinstance(v, bool) or not isinstance(v, int) or v < lo:
+                raise ValueError(f"fidelity.{f} must be an integer >= {lo}, got {v!r}")
+        if not isinstance(self.use_symmetry, bool):
+            raise ValueError(f"fidelity.use_symmetry must be true or false, got {self.use_symmetry!r}")
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain dict of all fields (for YAML/JSON/HDF5 attributes)."""
+        return dataclasses.asdict(self)
+
+
+PRESETS: dict[str, Fidelity] = {
+    "draft": Fidelity(
+        name="draft", global_dx_um=25.0, global_dy_um=400.0, global_extent=1.3,
+        local_dx_um=10.0, local_dy_um=50.0, window_margin_um=250.0, neighbourhood_um=50.0,
+        tol=1e-5, max_iter=1000, n_loads=3, n_offsets=7, n_checks=2, n_snapshot_offsets=2,
+    ),
+    "standard": Fidelity(name="standard"),
+    "paper": Fidelity(
+        name="paper", global_dx_um=5.0, global_dy_um=80.0, global_extent=1.3,
+        local_dx_um=2.0, local_dy_um=10.0, window_margin_um=500.0, neighbourhood_um=50.0,
+        tol=1e-8, max_iter=5000, n_loads=8, n_offsets=24, n_checks=12, n_snapshot_offsets=5,
+    ),
+}
+
+
+def fidelity_from(spec: str | Mapping[str, Any] | Fidelity | None = None) -> Fidelity:
+    """Build a :class:`Fidelity` from a preset name, a mapping, or pass one through.
+
+    Parameters
+    ----------
+    spec : str, mapping, Fidelity or None
+        ``None`` -> ``standard``. A string names a preset (``draft``, ``standard``, ``paper``).
+        A mapping may hold ``preset`` (default ``standard``) and any field of :class:`Fidelity`
+        to override; the result is named ``custom`` unless ``name`` is given.
+
+    Raises
+    ------
+    ValueError
+        Unknown preset, unknown key or bad value (the message names ``fidelity.<field>``).
+    """
+    if spec is None:
+        return PRESETS["standard"]
+    if isinstance(spec, Fidelity):
+        return spec
+    if isinstance(spec, str):
+        if spec not in PRESETS:
+            raise ValueError(f"fidelity: unknown preset {spec!r}; allowed: {sorted(PRESETS)}")
+        return PRESETS[spec]
+    if not isinstance(spec, Mapping):
+        raise ValueError(f"fidelity must be a preset name or a mapping, got {spec!r}")
+    spec = dict(spec)
+    preset = spec.pop("preset", "standard")
+    if preset not in PRESETS:
+        raise ValueError(f"fidelity.preset: unknown preset {preset!r}; allowed: {sorted(PRESETS)}")
+    known = {f.name for f in dataclasses.fields(Fidelity)}
+    unknown = sorted(set(spec) - known)
+    if unknown:
+        raise ValueError(f"fidelity: unknown key(s) {unknown}; allowed: {sorted(known | {'preset'})}")
+    base = PRESETS[preset]
+    spec.setdefault("name", "custom" if spec else base.name)
+    # integers given as floats in YAML (e.g. 5.0) are accepted for integer fields
+    for f in dataclasses.fields(Fidelity):
+        if f.name in spec and f.type in ("int",) and isinstance(spec[f.name], float) \
+                and spec[f.name].is_integer():
+            spec[f.name] = int(spec[f.name])
+    return dataclasses.replace(base, **spec)

@@ -1,0 +1,212 @@
+"""Initial gap field of the roller / inner-race contact, with the defect, on a contact grid.
+
+Grid convention (``docs/interfaces.md``): arrays ``[i, j]``, axis 0 = ``x`` = rolling direction,
+axis 1 = ``y`` = roller axis; cell-centred, SI units (m).
+
+The undeformed gap between roller and inner raceway is
+
+.. math::
+
+    g(x, y) = \\frac{x^2}{2R_x} + s(y) + D(x - x_d, y - y_d),
+
+* rolling direction: ``1/R_x = 2/d + 1/R_i`` with ``R_i = (D_pitch - d cos(alpha))/2`` the
+  raceway radius at the contact (7.68 mm for the default scene);
+* axial: ``s(y) = y^2 / (2 R_y)``, ``1/R_y = 1/c_r - 1/c_i`` (roller crown ``c_r`` convex,
+  raceway ``c_i`` concave; 4233 mm), plus the roller end relief
+  (:class:`bearing_envelope.scene.EndRelief`); ``+inf`` beyond the roller ends ``|y| > L/2``.
+  With a measured ``profile_file`` the roller part is the file's deviation (linearly
+  interpolated) instead: ``s(y) = dev(y) - y^2/(2 c_i)``;
+* the defect ``D >= 0`` (a pit in the raceway), centred at ``(x_d, y_d)``
+  (:func:`defect_depth`).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from functools import lru_cache
+
+import numpy as np
+
+__all__ = ["Grid", "make_grid", "read_profile", "axial_separation", "defect_depth", "gap_field",
+           "hertz_estimate", "good_size"]
+
+
+@dataclass(frozen=True)
+class Grid:
+    """Cell-centred rectangular grid.
+
+    Attributes
+    ----------
+    x, y : ndarray
+        Cell-centre coordinates (m) along rolling (axis 0) and axial (axis 1) directions.
+    dx, dy : float
+        Spacings (m).
+    """
+
+    x: np.ndarray
+    y: np.ndarray
+    dx: float
+    dy: float
+
+    @property
+    def shape(self) -> tuple[int, int]:
+        return (self.x.size, self.y.size)
+
+    def mesh(self):
+        """``X, Y`` arrays of shape ``(nx, ny)``."""
+        return np.meshgrid(self.x, self.y, indexing="ij")
+
+
+def good_size(n: int) -> int:
+    """Smallest integer >= n whose only prime factors are 2, 3 and 5 (FFT-friendly)."""
+    n = max(int(n), 1)
+    while True:
+        m = n
+        for p in (2, 3, 5):
+            while m % p == 0:
+                m //= p
+        if m == 1:
+            return n
+        n += 1
+
+
+def make_grid(x_lo: float, x_hi: float, y_lo: float, y_hi: float, dx: float, dy: float,
+              *, x_center: float = 0.0, y_center: float | None = None) -> Grid:
+    """Grid covering ``[x_lo, x_hi] x [y_lo, y_hi]`` with spacings ``dx, dy`` (m).
+
+    The sizes are rounded up to FFT-friendly numbers; the grid is symmetric about ``x_center``
+    (default 0, so that ``x = 0`` is a symmetry line of the cells) and about ``y_center``
+    (default the middle of ``[y_lo, y_hi]``).
+    """
+    if y_center is None:
+        y_center = 0.5 * (y_lo + y_hi)
+    hx = max(x_hi - x_center, x_center - x_lo)
+    hy = max(y_hi - y_center, y_center - y_lo)
+    nx = good_size(2 * math.ceil(hx / dx))
+    ny = good_size(max(2 * math.ceil(hy / dy), 2))
+    x = x_center + (np.arange(nx) - 0.5 * (nx - 1)) * dx
+    y = y_center + (np.arange(ny) - 0.5 * (ny - 1)) * dy
+    return Grid(x, y, float(dx), float(dy))
+
+
+@lru_cache(maxsize=8)
+def _read_profile_cached(path: str, mtime: float):
+    data = np.loadtxt(path, delimiter=None if not path.endswith(".csv") else ",", comments="#",
+                      ndmin=2)
+    if data.shape[1] != 2 or data.shape[0] < 3:
+        raise ValueError(f"expected two columns (y_mm, deviation_um) and >= 3 rows, got shape "
+                         f"{data.shape}")
+    if not np.all(np.isfinite(data)):
+        raise ValueError("non-finite values")
+    y, dev = data[:, 0], data[:, 1]
+    if not np.all(np.diff(y) > 0):
+        raise ValueError("axial positions must increase strictly")
+    return y * 1e-3, dev * 1e-6
+
+
+def read_profile(path: str) -> tuple[np.ndarray, np.ndarray]:
+    """Read a measured roller profile: two columns ``y_mm, deviation_um`` (text or CSV).
+
+    Returns ``(y, deviation)`` in m. ``deviation`` is the drop of the roller surface from its
+    generatrix at the centre (positive = material removed). ``#`` starts a comment.
+    """
+    import os
+
+    return _read_profile_cached(os.fspath(path), os.path.getmtime(path))
+
+
+def axial_separation(bearing, y) -> np.ndarray:
+    """Axial part ``s(y)`` of the gap (m) at axial positions ``y`` (m); ``+inf`` for ``|y| > L/2``.
+
+    Parameters
+    ----------
+    bearing : bearing_envelope.scene.Bearing
+    y : array_like
+        Axial positions from the roller centre (m).
+    """
+    y = np.asarray(y, dtype=float)
+    half = bearing.half_length_m
+    ay = np.abs(y)
+    if bearing.profile_file:
+        yp, dev = read_profile(bearing.profile_file)
+        s = np.interp(y, yp, dev) - y * y / (2e-3 * bearing.raceway_profile_radius_mm)
+        s = s - np.min(s[ay <= half]) if np.any(ay <= half) else s
+    else:
+        s = y * y / (2.0 * bearing.ry_m)
+        rel = bearing.end_relief
+        if rel.kind == "radius":
+            r = 1e-3 * rel.radius_mm
+            u = np.clip(ay - (half - r), 0.0, r)
+            s = s + r - np.sqrt(np.clip(r * r - u * u, 0.0, None))
+        else:
+            ln = 1e-3 * rel.length_mm
+            t = np.clip((ay - (half - ln)) / ln, 0.0, 1.0)
+            s = s - 1e-6 * rel.drop_um * np.log1p(-(1.0 - math.exp(-1.0)) * t * t)
+    return np.where(ay <= half, s, np.inf)
+
+
+def defect_depth(defect, u, v) -> np.ndarray:
+    """Depth (m, >= 0) of the defect at local coordinates ``u = x - x_d``, ``v = y - y_d`` (m).
+
+    ``flat``: flat bottom at depth ``h``; within ``edge_radius`` of the footprint boundary the
+    surface follows a rim arc of that radius, ``r - sqrt(r^2 - d^2)`` (``d`` = distance inside
+    the rectangular footprint), capped at ``h``. ``dent``:
+    ``h cos^2(pi u / (2 h_x)) cos^2(pi v / (2 h_y))`` inside the footprint (smooth).
+    """
+    u = np.asarray(u, dtype=float)
+    v = np.asarray(v, dtype=float)
+    h = 1e-6 * defect.depth_um
+    if h <= 0:
+        return np.zeros(np.broadcast(u, v).shape)
+    hx, hy = 0.5 * defect.extent_x_m, 0.5 * defect.extent_y_m
+    dist = np.minimum(hx - np.abs(u), hy - np.abs(v))
+    inside = dist > 0
+    if defect.shape == "dent":
+        d = h * np.cos(0.5 * np.pi * np.clip(u / hx, -1, 1)) ** 2 \
+            * np.cos(0.5 * np.pi * np.clip(v / hy, -1, 1)) ** 2
+        return np.where(inside, d, 0.0)
+    r = 1e-6 * defect.edge_radius_um
+    if r <= 0:
+        return np.where(inside, h, 0.0)
+    dd = np.clip(dist, 0.0, None)
+    arc = np.where(dd < r, r - np.sqrt(np.clip(r * r - dd * dd, 0.0, None)), np.inf)
+    return np.where(inside, np.minimum(h, arc), 0.0)
+
+
+def gap_field(scene, grid: Grid, x_d: float | None = None) -> np.ndarray:
+    """Initial gap ``g(x, y)`` (m) on ``grid`` with the defect centred at ``x = x_d``.
+
+    Parameters
+    ----------
+    scene : bearing_envelope.scene.Scene
+    grid : Grid
+    x_d : float or None
+        Defect offset from the contact centre along rolling (m); ``None`` = no defect (also when
+        the scene's defect depth is 0).
+
+    Returns
+    -------
+    ndarray, shape ``grid.shape``
+        ``+inf`` beyond the roller ends.
+    """
+    b = scene.bearing
+    gx = grid.x ** 2 / (2.0 * b.rx_m)
+    gy = axial_separation(b, grid.y)
+    g = gx[:, None] + gy[None, :]
+    if x_d is not None and scene.defect.active:
+        yd = 1e-3 * scene.defect.axial_position_mm
+        g = g + defect_depth(scene.defect, grid.x[:, None] - x_d, grid.y[None, :] - yd)
+    return g
+
+
+def hertz_estimate(scene, force: float):
+    """Hertz ellipse of the no-defect contact at roller load ``force`` (N) (unbounded crown).
+
+    Uses :func:`bearing_envelope.contact.hertz.elliptical` with ``R_x``, ``R_y`` of the scene and
+    ``E*`` of its materials. Used to size grids; the roller length is not taken into account.
+    """
+    from .contact import hertz
+
+    b = scene.bearing
+    return hertz.elliptical(force, b.rx_m, b.ry_m, scene.material.e_star_pa)

@@ -1,0 +1,613 @@
+"""Time history of the maximum contact pressure of one load x depth case.
+
+Model only what the scene requires (issue 3, design.md section 2):
+
+1. **Kinematics.** The inner ring (and the defect on it) turns at the shaft rate ``f_r``; the
+   defect's angle from the load direction is ``theta_d = 2 pi f_r t``. The cage turns at ``f_c``;
+   roller ``j`` sits at ``theta_c + 2 pi j / Z``. The defect meets a roller whenever the relative
+   angle ``theta_d - theta_c`` crosses a multiple of ``2 pi / Z``, i.e. at ``Z (f_r - f_c) = BPFI``.
+   The **BPFI override** (the study's 231.9 Hz against the geometric 194.2 Hz) is realised through
+   the implied cage rate ``f_c = f_r - BPFI / Z`` (5.259 Hz instead of FTF = 6.973 Hz): event
+   spacing is exactly ``1/BPFI`` and the load-zone modulation of the defect stays at ``f_r``.
+   Both BPFI values are recorded. Arc-length offset of the defect from the nearest roller's
+   contact centre: ``x = R_i wrap(theta_d - theta_c)`` with ``wrap`` into ``[-pi/Z, pi/Z)`` and
+   ``R_i`` the raceway radius at the contact. With cage slip the cage rate is reduced by a seeded
+   random fraction, piecewise constant over each BPFI period, uniform in ``[0, 2 s]`` (mean ``s``):
+   roller passage times jitter.
+2. **Roller load** at the defect: the load-zone law ``Q(psi)`` of :mod:`bearing_envelope.loads`
+   evaluated at the defect's angle ``psi = theta_d``. (The roller centred on the defect has this
+   load at the event; using the law at the defect angle, not at the nearest roller's, keeps the
+   no-defect signal free of a spurious BPFI-rate step.)
+3. **Table P(Q, x)** instead of a solve per sample (zoom route, design.md section 4): for each
+   roller-load node a global no-defect solve over the whole roller length (coarse grid), then for
+   each offset node a fine local window around the defect under displacement control, with the
+   displacement of the pressure outside the window and the rigid approach taken from the global
+   solve. Nothing is read within ``window_margin_um`` of the window's axial boundaries. Symmetry
+   ``P(Q, -x) = P(Q, x)``; each solve is warm-started from its neighbour.
+   The table is interpolated bilinearly in ``q = Q^(1/3)`` and ``xi = |x| / s(Q)``, with
+   ``s(Q) = kappa a_H(Q) + w_x/2 + r_n`` (``a_H`` Hertz semi-axis ~ ``Q^(1/3)``, ``kappa`` the
+   largest ratio of the solved to the Hertz half-width, ``w_x`` the defect extent along rolling,
+   ``r_n`` the neighbourhood distance), of the ratios ``P/P0(Q)``, which are nearly independent of
+   ``Q`` in these variables; ``P0`` is linear in ``q`` (exact for Hertz). Beyond ``xi_max`` the
+   defect cannot touch the contact: ``P = P0(Q)`` and the defect neighbourhood carries no
+   pressure. The interpolation error is measured against direct solves at random ``(Q, x)``
+   points and stored.
+4. **Signals** per sample: ``p_max`` (maximum over the whole contact) and ``p_max_defect``
+   (maximum in the defect's neighbourhood: footprint grown by ``neighbourhood_um``), roller load
+   and offset. Synthesis over all samples by a numba kernel (:func:`synthesize`) or numpy
+   (:func:`synthesize_numpy`).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import time as _time
+from dataclasses import dataclass, field
+from typing import Any, Callable
+
+import numpy as np
+
+from .fidelity import Fidelity, fidelity_from
+from .geometry import Grid, gap_field, hertz_estimate, make_grid
+from .loads import LoadDistribution, scene_load_distribution
+from .scene import Scene
+
+__all__ = ["SolveStats", "LoadNode", "PressureTable", "History", "build_table", "simulate",
+           "synthesize", "synthesize_numpy", "kinematics", "direct_pressure", "Q_MIN_FRACTION"]
+
+#: Smallest tabulated roller load, as a fraction of the largest; below it ``P0 ~ Q^(1/3)``.
+Q_MIN_FRACTION = 0.05
+
+
+@dataclass
+class SolveStats:
+    """Counters of contact solves (for the benchmark and the case file)."""
+
+    n_solves: int = 0
+    n_iterations: int = 0
+    solver_seconds: float = 0.0
+    callback: Callable[[], None] | None = field(default=None, repr=False)
+
+    def solve(self, *args, **kwargs):
+        from .contact import solve_contact
+
+        t0 = _time.perf_counter()
+        sol = solve_contact(*args, **kwargs)
+        self.solver_seconds += _time.perf_counter() - t0
+        self.n_solves += 1
+        self.n_iterations += sol.iterations
+        if self.callback is not None:
+            self.callback()
+        return sol
+
+
+# ---------------------------------------------------------------------------------------------
+# one roller load: global no-defect solve and the zoom window
+
+
+@dataclass
+class LoadNode:
+    """Global and window no-defect solutions at one roller load (internal, kept for snapshots)."""
+
+    q: float
+    a_hertz: float
+    grid: Grid
+    pressure: np.ndarray
+    approach: float
+    window: Grid
+    u_ext: np.ndarray
+    p_window0: np.ndarray
+    strip: np.ndarray          # window columns read (bool over window y)
+    outside_max: float         # max global pressure outside the read strip
+    p0: float                  # max no-defect pressure of the whole contact
+    half_width: float          # solved contact half-width at y = y_d (m)
+    zoom_consistency: float    # max |p_window0 - p_global interp| / p0 in the read strip
+    halfspace: Any = field(repr=False, default=None)
+
+
+def _bilinear(xg: np.ndarray, yg: np.ndarray, f: np.ndarray, x: np.ndarray, y: np.ndarray,
+              fill: float = 0.0) -> np.ndarray:
+    from scipy.interpolate import RegularGridInterpolator
+
+    it = RegularGridInterpolator((xg, yg), f, bounds_error=False, fill_value=fill)
+    X, Y = np.meshgrid(x, y, indexing="ij")
+    return it((X, Y))
+
+
+def _window_spec(scene: Scene, fid: Fidelity, q_load: float, kappa: float):
+    d = scene.defect
+    a = hertz_estimate(scene, q_load).a
+    ex = d.extent_x_m if d.active else 0.0
+    ey = d.extent_y_m if d.active else 0.0
+    nb = 1e-6 * fid.neighbourhood_um
+    s = kappa * a + 0.5 * ex + nb
+    dx = 1e-6 * fid.local_dx_um
+    if d.active:
+        dx = min(dx, ex / 4.0)
+    dy = 1e-6 * fid.local_dy_um
+    if d.active:
+        dy = min(dy, ey / 6.0)
+    xh = max(fid.global_extent * kappa * a, fid.xi_max * s + 0.5 * ex + nb + 2 * dx)
+    yd = 1e-3 * d.axial_position_mm
+    hy_read = 0.5 * ey + nb
+    hy = hy_read + 1e-6 * fid.window_margin_um
+    return a, s, dx, dy, xh, yd, hy_read, hy
+
+
+def _solve_load(scene: Scene, fid: Fidelity, q_load: float, kappa: float, stats: SolveStats,
+                p_init_global=None) -> LoadNode:
+    from .contact import ElasticHalfSpace
+
+    e_star = scene.material.e_star_pa
+    b = scene.bearing
+    a, s, dxw, dyw, xh, yd, hy_read, hy = _window_spec(scene, fid, q_load, kappa)
+    # global grid: whole roller length plus one +inf cell each side
+    dxg, dyg = 1e-6 * fid.global_dx_um, 1e-6 * fid.global_dy_um
+    half = b.half_length_m
+    xg_half = max(fid.global_extent * kappa * a, xh + dxg)
+    extent = xg_half
+    for _attempt in range(4):
+        grid = make_grid(-extent, extent, -half - 1.01 * dyg, half + 1.01 * dyg, dxg, dyg)
+        gap = gap_field(scene, grid, None)
+        try:
+            sol = stats.solve(gap, dxg, dyg, q_load, e_star, tol=fid.tol, max_iter=fid.max_iter,
+                              p_init=None, boundary="raise")
+            break
+        except ValueError as exc:  # ContactGridError: grid too small
+            if "boundary" not in str(exc):
+                raise
+            extent *= 1.3
+    else:  # pragma: no cover
+        raise RuntimeError("global grid could not be sized")
+    pg = sol.pressure
+    # solved half-width at the defect's axial position
+    jy = int(np.argmin(np.abs(grid.y - yd)))
+    col = pg[:, jy]
+    half_width = float(np.max(np.abs(grid.x[col > 0])) + 0.5 * dxg) if np.any(col > 0) else 0.0
+    # window
+    win = make_grid(-xh, xh, yd - hy, yd + hy, dxw, dyw, y_center=yd)
+    hs = ElasticHalfSpace(win.shape, dxw, dyw, e_star)
+    p_in = _bilinear(grid.x, grid.y, pg, win.x, win.y)
+    p_in[~np.isfinite(gap_field(scene, win, None))] = 0.0
+    u_glob = _bilinear(grid.x, grid.y, sol.displacement, win.x, win.y, fill=np.nan)
+    if np.isnan(u_glob).any():
+        raise RuntimeError("zoom window not inside the global grid")  # pragma: no cover
+    u_ext = u_glob - hs.displacement(p_in)
+    g0 = gap_field(scene, win, None) + u_ext
+    sol0 = stats.solve(g0, dxw, dyw, None, e_star, tol=fid.tol, max_iter=fid.max_iter,
+                       p_init=p_in, approach=sol.approach, boundary="ignore", halfspace=hs)
+    strip = np.abs(win.y - yd) <= hy_read + 1e-12
+    gstrip = np.abs(grid.y - yd) <= hy_read + 1e-12
+    outside = float(pg[:, ~gstrip].max()) if np.any(~gstrip) else 0.0
+    p0 = max(float(sol0.pressure[:, strip].max()), outside)
+    cons = float(np.max(np.abs(sol0.pressure[:, strip] - p_in[:, strip]))) / p0
+    return LoadNode(q_load, a, grid, pg.astype(np.float32), sol.approach, win, u_ext,
+                    sol0.pressure, strip, outside, p0, half_width, cons, hs)
+
+
+def _defect_solve(scene: Scene, fid: Fidelity, node: LoadNode, x_d: float, stats: SolveStats,
+                  p_init=None):
+    """Window solve with the defect at offset ``x_d``; returns (P, Pd, pressure, force change)."""
+    win = node.window
+    g = gap_field(scene, win, x_d) + node.u_ext
+    sol = stats.solve(g, win.dx, win.dy, None, scene.material.e_star_pa, tol=fid.tol,
+                      max_iter=fid.max_iter, p_init=node.p_window0 if p_init is None else p_init,
+                      approach=node.approach, boundary="ignore", halfspace=node.halfspace)
+    p = sol.pressure
+    P = max(float(p[:, node.strip].max()), node.outside_max)
+    Pd = _neighbourhood_max(scene, fid, win, p, x_d)
+    dF = float(node.p_window0.sum() - p.sum()) * win.dx * win.dy
+    return P, Pd, p, dF
+
+
+def _neighbourhood_max(scene: Scene, fid: Fidelity, win: Grid, p: np.ndarray, x_d: float) -> float:
+    d = scene.defect
+    nb = 1e-6 * fid.neighbourhood_um
+    ex = d.extent_x_m if d.active else 0.0
+    ey = d.extent_y_m if d.active else 0.0
+    yd = 1e-3 * d.axial_position_mm
+    mx = np.abs(win.x - x_d) <= 0.5 * ex + nb + 1e-12
+    my = np.abs(win.y - yd) <= 0.5 * ey + nb + 1e-12
+    if not mx.any() or not my.any():
+        return 0.0
+    return float(p[np.ix_(mx, my)].max())
+
+
+# ---------------------------------------------------------------------------------------------
+# the table
+
+
+@dataclass
+class PressureTable:
+    """Tabulated ``P(Q, x)`` and ``P_d(Q, x)`` with their interpolation rule.
+
+    Attributes
+    ----------
+    q_nodes : ndarray (nq,)
+        Roller loads of the nodes (N), uniform in ``Q^(1/3)``.
+    xi_nodes : ndarray (nxi,)
+        Normalised offsets ``xi = |x| / s(Q)``.
+    p0 : ndarray (nq,)
+        No-defect maximum pressure ``P0(Q)`` (Pa).
+    ratio : ndarray (nq, nxi)
+        ``P / P0`` (whole contact).
+    ratio_defect : ndarray (nq, nxi)
+        ``P_d / P0`` (defect neighbourhood).
+    a_coef : float
+        Hertz semi-axis per ``Q^(1/3)`` (m N^-1/3), ``a_H(Q) = a_coef Q^(1/3)``.
+    kappa : float
+        Solved/Hertz half-width ratio used in ``s(Q)``.
+    s_const : float
+        ``w_x/2 + r_n`` (m).
+    info : dict
+        Diagnostics (interpolation error, zoom consistency, grids, ...).
+    """
+
+    q_nodes: np.ndarray
+    xi_nodes: np.ndarray
+    p0: np.ndarray
+    ratio: np.ndarray
+    ratio_defect: np.ndarray
+    a_coef: float
+    kappa: float
+    s_const: float
+    info: dict = field(default_factory=dict)
+
+    def scale(self, Q):
+        """``s(Q) = kappa a_coef Q^(1/3) + s_const`` (m)."""
+        return self.kappa * self.a_coef * np.cbrt(Q) + self.s_const
+
+    def offsets(self) -> np.ndarray:
+        """Offsets ``x = xi s(Q)`` of the nodes (m), shape ``(nq, nxi)``."""
+        return self.xi_nodes[None, :] * self.scale(self.q_nodes)[:, None]
+
+    def evaluate(self, Q, x):
+        """Interpolated ``(P, P_d)`` (Pa) at roller loads ``Q`` (N) and offsets ``x`` (m)."""
+        Q = np.asarray(Q, dtype=float)
+        x = np.asarray(x, dtype=float)
+        return _table_eval_numpy(Q, x, self.q_nodes ** (1.0 / 3.0), self.xi_nodes, self.p0,
+                                 self.ratio, self.ratio_defect, self.kappa * self.a_coef,
+                                 self.s_const)
+
+
+def _table_eval_numpy(Q, x, qn, xin, p0, R, Rd, ka, s0):
+    q = np.cbrt(np.clip(Q, 0.0, None))
+    s = ka * q + s0
+    xi = np.abs(x) / s
+    nq, nx = R.shape
+    # load direction: clamp to the node range; P0 linear in q through 0 below the first node
+    qc = np.clip(q, qn[0], qn[-1])
+    i = np.clip(np.searchsorted(qn, qc, side="right") - 1, 0, nq - 2)
+    tq = (qc - qn[i]) / (qn[i + 1] - qn[i])
+    p0q = np.where(q < qn[0], p0[0] * q / qn[0], p0[i] * (1 - tq) + p0[i + 1] * tq)
+    inside = xi < xin[-1]
+    xc = np.clip(xi, xin[0], xin[-1])
+    j = np.clip(np.searchsorted(xin, xc, side="right") - 1, 0, nx - 2)
+    tx = (xc - xin[j]) / (xin[j + 1] - xin[j])
+
+    def bil(T):
+        return ((1 - tq) * ((1 - tx) * T[i, j] + tx * T[i, j + 1])
+                + tq * ((1 - tx) * T[i + 1, j] + tx * T[i + 1, j + 1]))
+
+    r = np.where(inside, bil(R), 1.0)
+    rd = np.where(inside, bil(Rd), 0.0)
+    return p0q * r, p0q * rd
+
+
+def build_table(scene: Scene, fidelity: Fidelity | str | None = None, *, q_max: float,
+                stats: SolveStats | None = None, progress: bool = False,
+                check_seed: int = 20261122) -> tuple[PressureTable, list[LoadNode], dict]:
+    """Solve the contacts and build the ``P(Q, x)`` table for roller loads up to ``q_max``.
+
+    Returns
+    -------
+    table : PressureTable
+    nodes : list of LoadNode
+        Per-load solutions (for snapshots).
+    snapshots : dict
+        Pressure fields at a few offsets per load (for maps like the study's Fig. 4).
+    """
+    fid = fidelity_from(fidelity)
+    stats = stats or SolveStats()
+    d = scene.defect
+    nq, nxi = fid.n_loads, fid.n_offsets
+    qn = np.linspace((Q_MIN_FRACTION * q_max) ** (1 / 3), q_max ** (1 / 3), nq)
+    q_nodes = qn ** 3
+    xi_nodes = np.linspace(0.0, fid.xi_max, nxi)
+    a_coef = hertz_estimate(scene, q_max).a / q_max ** (1 / 3)
+    ex = d.extent_x_m if d.active else 0.0
+    s_const = 0.5 * ex + 1e-6 * fid.neighbourhood_um
+
+    n_total = nq * 2 + (nq * (nxi + fid.n_snapshot_offsets) + fid.n_checks * 3 if d.active else 0)
+    bar = None
+    if progress is not None:
+        try:
+            from tqdm.auto import tqdm
+            import sys
+
+            bar = tqdm(total=n_total, desc="contact solves", unit="solve",
+                       disable=not (progress and sys.stderr.isatty()))
+            stats.callback = bar.update
+        except ImportError:  # pragma: no cover
+            bar = None
+    try:
+        # kappa: ratio of solved to Hertz half-width, from the largest load (end truncation widens)
+        kappa = 1.0
+        nodes = []
+        for q in q_nodes[::-1]:
+            node = _solve_load(scene, fid, float(q), kappa, stats)
+            nodes.append(node)
+            kappa = max(kappa, 1.02 * node.half_width / node.a_hertz)
+        nodes = nodes[::-1]
+        kappa = max([1.0] + [1.02 * nd.half_width / nd.a_hertz for nd in nodes])
+        p0 = np.array([nd.p0 for nd in nodes])
+        R = np.ones((nq, nxi))
+        Rd = np.zeros((nq, nxi))
+        dF_max = 0.0
+        snapshots: dict[str, Any] = {}
+        snap_xi = np.linspace(0.0, 0.8, fid.n_snapshot_offsets) if fid.n_snapshot_offsets else []
+        for i, nd in enumerate(nodes):
+            s = kappa * a_coef * q_nodes[i] ** (1 / 3) + s_const
+            snap: dict[str, Any] = {
+                "roller_load": q_nodes[i], "global_x": nd.grid.x, "global_y": nd.grid.y,
+                "global_pressure": nd.pressure, "window_x": nd.window.x, "window_y": nd.window.y,
+            }
+            if not d.active:
+                for j, xi in enumerate(xi_nodes):
+                    Rd[i, j] = _neighbourhood_max(scene, fid, nd.window, nd.p_window0, xi * s) / nd.p0
+                snap["offsets"] = np.asarray(snap_xi) * s
+                snap["window_pressure"] = np.repeat(nd.p_window0[None].astype(np.float32),
+                                                    len(snap_xi), axis=0)
+            else:
+                p_prev = None
+                for j in range(nxi - 1, -1, -1):
+                    P, Pd, p_prev, dF = _defect_solve(scene, fid, nd, xi_nodes[j] * s, stats, p_prev)
+                    R[i, j] = P / nd.p0
+                    Rd[i, j] = Pd / nd.p0
+                    dF_max = max(dF_max, abs(dF) / nd.q)
+                fields = []
+                for xi in snap_xi:
+                    fields.append(_defect_solve(scene, fid, nd, xi * s, stats)[2].astype(np.float32))
+                snap["offsets"] = np.asarray(snap_xi) * s
+                snap["window_pressure"] = np.array(fields) if fields else \
+                    np.zeros((0,) + nd.window.shape, np.float32)
+            snapshots[f"load_{i}"] = snap
+        table = PressureTable(q_nodes, xi_nodes, p0, R, Rd, a_coef, kappa, s_const)
+        # interpolation error against direct solves at random (Q, x)
+        checks = []
+        if d.active and fid.n_checks:
+            rng = np.random.default_rng(check_seed)
+            for _ in range(fid.n_checks):
+                qc = float(rng.uniform(qn[0], qn[-1]) ** 3)
+                xi = float(rng.uniform(0.0, fid.xi_max))
+                node = _solve_load(scene, fid, qc, kappa, stats)
+                xd = xi * table.scale(qc)
+                P, Pd, _, _ = _defect_solve(scene, fid, node, float(xd), stats)
+                Pi, Pdi = table.evaluate(qc, xd)
+                checks.append((qc, xd, P, Pd, float(Pi), float(Pdi), node.p0))
+        checks_a = np.array(checks, dtype=float).reshape(-1, 7)
+        err = float(np.max(np.abs(checks_a[:, 4] - checks_a[:, 2]) / checks_a[:, 2])) if len(checks) else 0.0
+        err_d = float(np.max(np.abs(checks_a[:, 5] - checks_a[:, 3]) / checks_a[:, 6])) if len(checks) else 0.0
+        table.info = {
+            "interp_max_rel_error_p_max": err,
+            "interp_max_rel_error_p_max_defect": err_d,
+            "interp_checks": checks_a,
+            "interp_variables": "bilinear in q = Q^(1/3) and xi = |x|/s(Q) of P/P0(Q); P0 linear in q",
+            "zoom_consistency_max": float(max(nd.zoom_consistency for nd in nodes)),
+            "approach_force_change_max": float(dF_max),
+            "global_dx": nodes[0].grid.dx, "global_dy": nodes[0].grid.dy,
+            "window_dx": nodes[0].window.dx, "window_dy": nodes[0].window.dy,
+            "approach": np.array([nd.approach for nd in nodes]),
+            "half_width": np.array([nd.half_width for nd in nodes]),
+            "a_hertz": np.array([nd.a_hertz for nd in nodes]),
+        }
+    finally:
+        if bar is not None:
+            bar.close()
+            stats.callback = None
+    return table, nodes, snapshots
+
+
+def direct_pressure(scene: Scene, fidelity: Fidelity | str | None, q_load: float, x_d: float,
+                    *, kappa: float = 1.0, stats: SolveStats | None = None) -> tuple[float, float]:
+    """``(P, P_d)`` (Pa) from a direct zoom solve at roller load ``q_load`` and offset ``x_d``."""
+    fid = fidelity_from(fidelity)
+    stats = stats or SolveStats()
+    node = _solve_load(scene, fid, q_load, kappa, stats)
+    if not scene.defect.active:
+        return node.p0, _neighbourhood_max(scene, fid, node.window, node.p_window0, x_d)
+    P, Pd, _, _ = _defect_solve(scene, fid, node, x_d, stats)
+    return P, Pd
+
+
+# ---------------------------------------------------------------------------------------------
+# kinematics and synthesis
+
+
+def kinematics(scene: Scene, t: np.ndarray) -> dict[str, np.ndarray]:
+    """Shaft and cage angles, defect offset and roller index at times ``t`` (s).
+
+    Returns a dict with ``theta_shaft`` (rad, the defect's angle from the load direction),
+    ``theta_cage`` (rad), ``offset`` (m) and ``roller`` (index of the nearest roller).
+    """
+    b, op = scene.bearing, scene.operation
+    z = b.rollers_per_row
+    fc = scene.cage_rate_hz
+    theta_d = 2.0 * np.pi * op.shaft_rate_hz * t
+    theta_c = cage_angle(scene, t)
+    pitch = 2.0 * np.pi / z
+    rel = theta_d - theta_c
+    k = np.floor((rel + 0.5 * pitch) / pitch)
+    wrapped = rel - k * pitch
+    _ = fc
+    return {"theta_shaft": theta_d, "theta_cage": theta_c,
+            "offset": b.inner_race_radius_m * wrapped, "roller": np.mod(k, z).astype(np.int64)}
+
+
+def cage_angle(scene: Scene, t: np.ndarray) -> np.ndarray:
+    """Cage angle (rad) at times ``t``; with slip a seeded, piecewise-constant random slip."""
+    op = scene.operation
+    fc = scene.cage_rate_hz
+    if op.cage_slip_percent <= 0:
+        return 2.0 * np.pi * fc * t
+    rng = np.random.default_rng(op.slip_seed)
+    period = 1.0 / scene.bpfi_hz
+    n = int(np.ceil((t[-1] if t.size else 0.0) / period)) + 2
+    s = rng.uniform(0.0, 2e-2 * op.cage_slip_percent, n)
+    rate = 2.0 * np.pi * fc * (1.0 - s)
+    edges = np.concatenate([[0.0], np.cumsum(rate * period)])   # angle at k * period
+    k = np.minimum((t / period).astype(np.int64), n - 1)
+    return edges[k] + rate[k] * (t - k * period)
+
+
+def _law_params(ld: LoadDistribution):
+    return (ld.stiffness, ld.delta_r, ld.clearance, math.cos(ld.contact_angle_rad), ld.exponent)
+
+
+def synthesize_numpy(scene: Scene, table: PressureTable, ld: LoadDistribution, t: np.ndarray):
+    """Per-sample synthesis, numpy version: ``(p_max, p_max_defect, roller_load, offset)``."""
+    kin = kinematics(scene, t)
+    Q = ld.load_at(kin["theta_shaft"])
+    P, Pd = table.evaluate(Q, kin["offset"])
+    return P, Pd, Q, kin["offset"]
+
+
+try:  # pragma: no cover - numba optional at import time
+    import numba
+
+    @numba.njit(cache=True, fastmath=False)
+    def _synth_kernel(t, theta_c, fr, z, ri, K, dr, c, ca, n, qn, xin, p0, R, Rd, ka, s0,
+                      P, Pd, Qo, Xo):
+        pitch = 2.0 * np.pi / z
+        nq = qn.size
+        nx = xin.size
+        for k in range(t.size):
+            th = 2.0 * np.pi * fr * t[k]
+            rel = th - theta_c[k]
+            m = np.floor((rel + 0.5 * pitch) / pitch)
+            x = ri * (rel - m * pitch)
+            d = (dr * np.cos(th) - 0.5 * c) * ca
+            Q = K * d ** n if d > 0.0 else 0.0
+            Qo[k] = Q
+            Xo[k] = x
+            q = np.cbrt(Q)
+            qc = min(max(q, qn[0]), qn[nq - 1])
+            i = 0
+            while i < nq - 2 and qn[i + 1] <= qc:
+                i += 1
+            tq = (qc - qn[i]) / (qn[i + 1] - qn[i])
+            if q < qn[0]:
+                p0q = p0[0] * q / qn[0]
+            else:
+                p0q = p0[i] * (1 - tq) + p0[i + 1] * tq
+            xi = abs(x) / (ka * q + s0)
+            if xi >= xin[nx - 1]:
+                P[k] = p0q
+                Pd[k] = 0.0
+                continue
+            xc = max(xi, xin[0])
+            j = 0
+            while j < nx - 2 and xin[j + 1] <= xc:
+                j += 1
+            tx = (xc - xin[j]) / (xin[j + 1] - xin[j])
+            r = ((1 - tq) * ((1 - tx) * R[i, j] + tx * R[i, j + 1])
+                 + tq * ((1 - tx) * R[i + 1, j] + tx * R[i + 1, j + 1]))
+            rd = ((1 - tq) * ((1 - tx) * Rd[i, j] + tx * Rd[i, j + 1])
+                  + tq * ((1 - tx) * Rd[i + 1, j] + tx * Rd[i + 1, j + 1]))
+            P[k] = p0q * r
+            Pd[k] = p0q * rd
+
+    HAVE_NUMBA = True
+except ImportError:  # pragma: no cover
+    HAVE_NUMBA = False
+
+
+def synthesize(scene: Scene, table: PressureTable, ld: LoadDistribution, t: np.ndarray):
+    """Per-sample synthesis with the numba kernel (falls back to numpy without numba).
+
+    Same outputs as :func:`synthesize_numpy`: ``(p_max, p_max_defect, roller_load, offset)``.
+    """
+    if not HAVE_NUMBA:  # pragma: no cover
+        return synthesize_numpy(scene, table, ld, t)
+    t = np.ascontiguousarray(t, dtype=float)
+    theta_c = np.ascontiguousarray(cage_angle(scene, t))
+    n = t.size
+    P, Pd, Q, X = (np.empty(n) for _ in range(4))
+    K, dr, c, ca, ex = _law_params(ld)
+    _synth_kernel(t, theta_c, scene.operation.shaft_rate_hz, scene.bearing.rollers_per_row,
+                  scene.bearing.inner_race_radius_m, K, dr, c, ca, ex,
+                  np.ascontiguousarray(table.q_nodes ** (1.0 / 3.0)), table.xi_nodes, table.p0,
+                  np.ascontiguousarray(table.ratio), np.ascontiguousarray(table.ratio_defect),
+                  table.kappa * table.a_coef, table.s_const, P, Pd, Q, X)
+    return P, Pd, Q, X
+
+
+# ---------------------------------------------------------------------------------------------
+# the case
+
+
+@dataclass
+class History:
+    """Result of :func:`simulate` (what :func:`bearing_envelope.io.write_case` stores)."""
+
+    scene: Scene
+    fidelity: Fidelity
+    time: np.ndarray
+    p_max: np.ndarray
+    p_max_defect: np.ndarray
+    roller_load: np.ndarray
+    defect_offset: np.ndarray
+    table: PressureTable
+    snapshots: dict
+    load_distribution: LoadDistribution
+    signals: dict
+    stats: dict
+
+
+def add_noise(x: np.ndarray, snr_db: float, seed: int) -> np.ndarray:
+    """``x`` plus white Gaussian noise at ``snr_db`` (signal power = variance of ``x``), seeded."""
+    rng = np.random.default_rng(seed)
+    power = float(np.var(x))
+    sigma = math.sqrt(power / 10.0 ** (snr_db / 10.0)) if power > 0 else 0.0
+    return x + sigma * rng.standard_normal(x.size)
+
+
+def simulate(scene: Scene, fidelity: Fidelity | str | None = None, *, progress: bool = False,
+             use_numba: bool = True) -> History:
+    """Simulate one case: load distribution, contact table, per-sample synthesis, noise.
+
+    Parameters
+    ----------
+    scene : Scene
+    fidelity : Fidelity, preset name or None (``standard``)
+    progress : bool
+        Show a tqdm bar over the contact solves (only on a terminal).
+    use_numba : bool
+        Use the numba synthesis kernel (else numpy).
+    """
+    fid = fidelity_from(fidelity)
+    t_start = _time.perf_counter()
+    ld = scene_load_distribution(scene)
+    stats = SolveStats()
+    table, nodes, snaps = build_table(scene, fid, q_max=ld.q_max, stats=stats, progress=progress)
+    t_table = _time.perf_counter() - t_start
+    op = scene.operation
+    t = np.arange(scene.n_samples) / op.fs_hz
+    t1 = _time.perf_counter()
+    P, Pd, Q, X = (synthesize if use_numba else synthesize_numpy)(scene, table, ld, t)
+    t_synth = _time.perf_counter() - t1
+    signals = {"p_max": P, "p_max_defect": Pd}
+    if op.noise_snr_db is not None:
+        signals = {
+            "p_max": add_noise(P, op.noise_snr_db, op.noise_seed),
+            "p_max_defect": add_noise(Pd, op.noise_snr_db, op.noise_seed + 1),
+            "p_max_clean": P, "p_max_defect_clean": Pd,
+        }
+    stats_d = {
+        "n_solves": stats.n_solves, "n_iterations": stats.n_iterations,
+        "solver_seconds": stats.solver_seconds, "table_seconds": t_table,
+        "synthesis_seconds": t_synth, "wall_seconds": _time.perf_counter() - t_start,
+    }
+    return History(scene, fid, t, signals["p_max"], signals["p_max_defect"], Q, X, table, snaps,
+                   ld, signals, stats_d)

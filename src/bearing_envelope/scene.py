@@ -1,0 +1,649 @@
+"""The bearing scene: small validated, frozen dataclasses built from a plain mapping.
+
+The mapping layout is the ``scene:`` section of the workflow's ``config.yaml`` (documented key by
+key, with units, in ``docs/scene.md``)::
+
+    bearing:
+      bore_mm: 110.0                 # bore d_i
+      outside_diameter_mm: 180.0     # outside diameter D_o
+      roller_diameter_mm: 17.45      # roller (maximum) diameter d
+      rollers_per_row: 22
+      rows: 2
+      pitch_diameter_mm: null        # null -> (bore + OD) / 2
+      contact_angle_deg: 12.82
+      roller_crown_radius_mm: 81.5   # c_r, convex roller profile radius
+      raceway_profile_radius_mm: 83.1  # c_i, concave inner-raceway profile radius
+      roller_length_mm: 36.0         # effective (contacting) roller length
+      end_relief: {kind: radius, radius_mm: 1.0}   # or {kind: log, drop_um: 20, length_mm: 3}
+      radial_clearance_um: 40.0      # radial internal (operating) clearance
+      profile_file: null             # two-column file (y_mm, deviation_um) replacing the crown
+    material:
+      roller: {E_GPa: 210.0, nu: 0.3}
+      race:   {E_GPa: 210.0, nu: 0.3}
+    operation:
+      shaft_rate_hz: 15.8
+      bpfi_override_hz: 231.9        # null -> geometric BPFI (194.2 Hz for the default)
+      fs_hz: 65000.0
+      revolutions: 100
+      cage_slip_percent: 0.0
+      slip_seed: 0
+      noise_snr_db: null             # null -> no noise
+      noise_seed: 0
+    load:
+      mode: bearing                  # bearing | contact
+    defect:
+      length_um: 500.0
+      width_um: null                 # null -> 2 x depth
+      shape: flat                    # flat | dent
+      edge_radius_um: 20.0
+      axial_position_mm: 0.0
+      orientation: axial             # axial | circumferential
+
+Load value and defect depth are not part of the mapping: they are the sweep variables and come in
+as ``Scene.from_mapping(mapping, load_kN=..., depth_um=...)``. Every check runs at construction,
+so a bad scene fails before any contact solve with a :class:`ValueError` naming the dotted field,
+the value and what is allowed. The dataclasses keep the mapping's units (the names carry them);
+properties ending in ``_m``/``_pa``/``_n`` give SI values.
+"""
+
+from __future__ import annotations
+
+import copy
+import dataclasses
+import math
+import os
+from dataclasses import dataclass
+from typing import Any, Mapping
+
+from .kinematics import FaultFrequencies, fault_frequencies
+
+__all__ = [
+    "EndRelief", "Bearing", "MaterialProps", "Material", "Operation", "Load", "Defect", "Scene",
+    "DEFAULT_SCENE", "default_scene_mapping", "MAX_BAND_ORDER",
+]
+
+#: The analysis needs bands up to 13 x BPFI (the study's 10-13 x BPFI band); fs must exceed
+#: twice that so the band lies below Nyquist.
+MAX_BAND_ORDER = 13
+
+DEFAULT_SCENE: dict[str, Any] = {
+    "bearing": {
+        "bore_mm": 110.0,
+        "outside_diameter_mm": 180.0,
+        "roller_diameter_mm": 17.45,
+        "rollers_per_row": 22,
+        "rows": 2,
+        "pitch_diameter_mm": None,
+        "contact_angle_deg": 12.82,
+        "roller_crown_radius_mm": 81.5,
+        "raceway_profile_radius_mm": 83.1,
+        "roller_length_mm": 36.0,
+        "end_relief": {"kind": "radius", "radius_mm": 1.0},
+        "radial_clearance_um": 40.0,
+        "profile_file": None,
+    },
+    "material": {
+        "roller": {"E_GPa": 210.0, "nu": 0.3},
+        "race": {"E_GPa": 210.0, "nu": 0.3},
+    },
+    "operation": {
+        "shaft_rate_hz": 15.8,
+        "bpfi_override_hz": 231.9,
+        "fs_hz": 65000.0,
+        "revolutions": 100.0,
+        "cage_slip_percent": 0.0,
+        "slip_seed": 0,
+        "noise_snr_db": None,
+        "noise_seed": 0,
+    },
+    "load": {"mode": "bearing"},
+    "defect": {
+        "length_um": 500.0,
+        "width_um": None,
+        "shape": "flat",
+        "edge_radius_um": 20.0,
+        "axial_position_mm": 0.0,
+        "orientation": "axial",
+    },
+}
+
+
+def default_scene_mapping() -> dict[str, Any]:
+    """A deep copy of :data:`DEFAULT_SCENE` (the source study's scene)."""
+    return copy.deepcopy(DEFAULT_SCENE)
+
+
+# --------------------------------------------------------------------------------------------
+# validation helpers
+
+
+def _bad(field: str, value: Any, allowed: str) -> ValueError:
+    return ValueError(f"scene.{field}: got {value!r}; allowed: {allowed}")
+
+
+def _num(field: str, value: Any, *, lo: float | None = None, hi: float | None = None,
+         lo_open: bool = False, hi_open: bool = False, allowed: str | None = None) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise _bad(field, value, allowed or "a number")
+    v = float(value)
+    ok = math.isfinite(v)
+    if ok and lo is not None:
+        ok = v > lo if lo_open else v >= lo
+    if ok and hi is not None:
+        ok = v < hi if hi_open else v <= hi
+    if not ok:
+        if allowed is None:
+            parts = []
+            if lo is not None:
+                parts.append(f"{'>' if lo_open else '>='} {lo:g}")
+            if hi is not None:
+                parts.append(f"{'<' if hi_open else '<='} {hi:g}")
+            allowed = "a finite number " + " and ".join(parts)
+        raise _bad(field, value, allowed)
+    return v
+
+
+def _int(field: str, value: Any, *, lo: int) -> int:
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or \
+            (isinstance(value, float) and not value.is_integer()) or int(value) < lo:
+        raise _bad(field, value, f"an integer >= {lo}")
+    return int(value)
+
+
+def _choice(field: str, value: Any, choices: tuple[str, ...]) -> str:
+    if value not in choices:
+        raise _bad(field, value, " | ".join(choices))
+    return value
+
+
+def _check_keys(prefix: str, mapping: Any, allowed: set[str], required: set[str] = frozenset()):
+    if not isinstance(mapping, Mapping):
+        raise ValueError(f"scene.{prefix}: got {mapping!r}; allowed: a mapping with keys "
+                         f"{sorted(allowed)}")
+    unknown = sorted(set(mapping) - allowed)
+    if unknown:
+        raise ValueError(f"scene.{prefix}.{unknown[0]}: unknown key (value {mapping[unknown[0]]!r});"
+                         f" allowed keys of scene.{prefix}: {sorted(allowed)}")
+    missing = sorted(required - set(mapping))
+    if missing:
+        raise ValueError(f"scene.{prefix}.{missing[0]}: missing; required keys of scene.{prefix}: "
+                         f"{sorted(required)}")
+
+
+# --------------------------------------------------------------------------------------------
+# dataclasses
+
+
+@dataclass(frozen=True)
+class EndRelief:
+    """Roller end relief (how the roller profile drops near its ends).
+
+    Attributes
+    ----------
+    kind : {"radius", "log"}
+        ``radius``: a circular corner of radius ``radius_mm`` tangent to the crown at
+        ``|y| = L/2 - radius_mm``; the drop grows as ``r - sqrt(r^2 - u^2)`` with ``u`` the
+        distance into the corner and reaches ``r`` at the end ``|y| = L/2``.
+        ``log``: a logarithmic drop over the last ``length_mm`` of each end,
+        ``drop = -drop_um * ln(1 - (1 - 1/e) s^2)`` with ``s`` in [0, 1] the relative position in the
+        relief zone, reaching ``drop_um`` at the end.
+    radius_mm : float
+        Corner radius (``kind = radius``), mm, 0 < r < L/2.
+    drop_um : float
+        Drop at the roller end (``kind = log``), um, > 0.
+    length_mm : float
+        Length of the logarithmic relief zone at each end (``kind = log``), mm, 0 < l < L/2.
+    """
+
+    kind: str = "radius"
+    radius_mm: float | None = 1.0
+    drop_um: float | None = None
+    length_mm: float | None = None
+
+
+@dataclass(frozen=True)
+class Bearing:
+    """Geometry of the bearing and of the modelled roller / inner-race contact.
+
+    Attributes (mapping keys and units)
+    -----------------------------------
+    bore_mm, outside_diameter_mm : float
+        Bore ``d_i`` and outside diameter ``D_o``, mm.
+    roller_diameter_mm : float
+        Roller (maximum) diameter ``d``, mm.
+    rollers_per_row : int
+        Rollers per row ``Z`` (>= 1).
+    rows : int
+        Number of rows (>= 1). In ``bearing`` load mode the radial load is shared equally.
+    pitch_diameter_mm : float
+        Pitch diameter ``D``, mm; ``None`` in the mapping means ``(bore + OD)/2``.
+    contact_angle_deg : float
+        Contact angle ``alpha``, degrees, in [0, 90).
+    roller_crown_radius_mm : float
+        Roller profile (crown) radius ``c_r`` (convex), mm.
+    raceway_profile_radius_mm : float
+        Inner-raceway profile radius ``c_i`` (concave), mm; must exceed ``c_r`` (the profiles
+        must not cross). Axial equivalent radius ``R_y = 1/(1/c_r - 1/c_i)``.
+    roller_length_mm : float
+        Effective roller length ``L`` (contacting length including the end relief), mm.
+    end_relief : EndRelief
+        End relief of the roller.
+    radial_clearance_um : float
+        Radial internal (operating) clearance ``P_d``, um, >= 0 (load distribution).
+    profile_file : str or None
+        Two-column text/CSV file ``y_mm, deviation_um`` of the measured roller profile (drop from
+        the roller's generatrix at its centre, positive = material removed), replacing the
+        analytic crown and end relief; the raceway keeps its analytic radius ``c_i``.
+    """
+
+    bore_mm: float
+    outside_diameter_mm: float
+    roller_diameter_mm: float
+    rollers_per_row: int
+    rows: int
+    pitch_diameter_mm: float
+    contact_angle_deg: float
+    roller_crown_radius_mm: float
+    raceway_profile_radius_mm: float
+    roller_length_mm: float
+    end_relief: EndRelief
+    radial_clearance_um: float
+    profile_file: str | None
+
+    # SI helpers -------------------------------------------------------------------------
+    @property
+    def roller_radius_m(self) -> float:
+        """Roller radius ``d/2`` (m)."""
+        return 0.5e-3 * self.roller_diameter_mm
+
+    @property
+    def pitch_diameter_m(self) -> float:
+        """Pitch diameter ``D`` (m)."""
+        return 1e-3 * self.pitch_diameter_mm
+
+    @property
+    def contact_angle_rad(self) -> float:
+        return math.radians(self.contact_angle_deg)
+
+    @property
+    def inner_race_radius_m(self) -> float:
+        """Inner-raceway radius at the contact in the rolling plane, ``(D - d cos(alpha))/2`` (m).
+
+        Harris & Kotzalas (2007), section 2: the inner-raceway contact radius of an angular
+        contact roller; 64.0 mm for the default scene (design.md hand numbers).
+        """
+        return 0.5e-3 * (self.pitch_diameter_mm
+                         - self.roller_diameter_mm * math.cos(self.contact_angle_rad))
+
+    @property
+    def rx_m(self) -> float:
+        """Equivalent radius in the rolling direction, ``1/R_x = 2/d + 1/R_i`` (m)."""
+        return 1.0 / (1.0 / self.roller_radius_m + 1.0 / self.inner_race_radius_m)
+
+    @property
+    def ry_m(self) -> float:
+        """Axial equivalent radius ``1/R_y = 1/c_r - 1/c_i`` (m); inf if the profiles are equal."""
+        k = 1.0 / (1e-3 * self.roller_crown_radius_mm) - 1.0 / (1e-3 * self.raceway_profile_radius_mm)
+        return math.inf if k <= 0 else 1.0 / k
+
+    @property
+    def half_length_m(self) -> float:
+        """``L/2`` (m)."""
+        return 0.5e-3 * self.roller_length_mm
+
+
+@dataclass(frozen=True)
+class MaterialProps:
+    """Young's modulus ``E_GPa`` (GPa) and Poisson ratio ``nu`` of one body."""
+
+    E_GPa: float = 210.0
+    nu: float = 0.3
+
+
+@dataclass(frozen=True)
+class Material:
+    """Materials of the roller and the (inner) race."""
+
+    roller: MaterialProps
+    race: MaterialProps
+
+    @property
+    def e_star_pa(self) -> float:
+        """Composite modulus ``1/E* = (1-nu1^2)/E1 + (1-nu2^2)/E2`` (Pa); 115.4 GPa for steel."""
+        r, s = self.roller, self.race
+        return 1.0 / ((1 - r.nu ** 2) / (r.E_GPa * 1e9) + (1 - s.nu ** 2) / (s.E_GPa * 1e9))
+
+
+@dataclass(frozen=True)
+class Operation:
+    """Operating and sampling conditions.
+
+    Attributes
+    ----------
+    shaft_rate_hz : float
+        Shaft (inner-ring) rotation rate ``f_r``, Hz.
+    bpfi_override_hz : float or None
+        BPFI to reproduce, Hz; ``None`` uses the geometric BPFI. The override is realised through
+        the implied cage rate ``f_c = f_r - BPFI/Z`` (see :mod:`bearing_envelope.history`).
+    fs_hz : float
+        Sampling rate, Hz; must be at least ``2 * 13 * BPFI`` (the analysis band 10-13 x BPFI
+        below Nyquist).
+    revolutions : float
+        Duration in shaft revolutions (> 0); samples = ``round(revolutions / f_r * fs)``.
+    cage_slip_percent : float
+        Mean cage slip, percent of the cage rate, in [0, 50). 0 = pure rolling.
+    slip_seed : int
+        Seed of the random slip process.
+    noise_snr_db : float or None
+        Additive white Gaussian noise at this SNR (signal power = variance of the clean signal),
+        dB; ``None`` = no noise.
+    noise_seed : int
+        Seed of the noise.
+    """
+
+    shaft_rate_hz: float
+    bpfi_override_hz: float | None
+    fs_hz: float
+    revolutions: float
+    cage_slip_percent: float
+    slip_seed: int
+    noise_snr_db: float | None
+    noise_seed: int
+
+
+@dataclass(frozen=True)
+class Load:
+    """The load: ``value_N`` and ``mode``.
+
+    ``bearing``: ``value_N`` is the radial load on the whole bearing, shared by the rows and the
+    rollers (:mod:`bearing_envelope.loads`). ``contact``: ``value_N`` is the force on the modelled
+    contact when it sits at the centre of the load zone; the roller load elsewhere follows the same
+    load-zone shape as in ``bearing`` mode.
+    """
+
+    value_N: float
+    mode: str = "bearing"
+
+    @property
+    def load_kN(self) -> float:
+        return self.value_N / 1e3
+
+
+@dataclass(frozen=True)
+class Defect:
+    """Defect on the inner raceway.
+
+    Attributes
+    ----------
+    depth_um : float
+        Depth ``h``, um; 0 means no defect.
+    length_um : float
+        Length ``l`` (500 um in the study), um: along the axis for ``orientation = axial``.
+    width_um : float
+        Width ``w`` (default ``2 h``), um: across the rolling direction's normal, i.e. along the
+        rolling direction for ``orientation = axial``.
+    shape : {"flat", "dent"}
+        ``flat``: flat bottom at depth ``h`` with rims rounded to ``edge_radius_um``; ``dent``: a
+        smooth cos^2 x cos^2 bump of depth ``h`` over the footprint.
+    edge_radius_um : float
+        Rim radius of the flat defect, um (>= 0; 0 = sharp, a pressure singularity).
+    axial_position_mm : float
+        Axial position of the defect centre from the roller centre, mm.
+    orientation : {"axial", "circumferential"}
+        ``axial``: ``l`` along the roller axis (y), ``w`` along rolling (x); ``circumferential``:
+        swapped.
+    """
+
+    depth_um: float
+    length_um: float
+    width_um: float
+    shape: str
+    edge_radius_um: float
+    axial_position_mm: float
+    orientation: str
+
+    @property
+    def extent_x_m(self) -> float:
+        """Footprint size along the rolling direction ``x`` (m)."""
+        return 1e-6 * (self.width_um if self.orientation == "axial" else self.length_um)
+
+    @property
+    def extent_y_m(self) -> float:
+        """Footprint size along the axis ``y`` (m)."""
+        return 1e-6 * (self.length_um if self.orientation == "axial" else self.width_um)
+
+    @property
+    def active(self) -> bool:
+        return self.depth_um > 0.0
+
+
+@dataclass(frozen=True)
+class Scene:
+    """A complete scene: bearing, material, operation, load and defect."""
+
+    bearing: Bearing
+    material: Material
+    operation: Operation
+    load: Load
+    defect: Defect
+
+    # derived -----------------------------------------------------------------------------
+    def frequencies(self) -> FaultFrequencies:
+        """Geometric fault frequencies (:func:`bearing_envelope.kinematics.fault_frequencies`)."""
+        b = self.bearing
+        return fault_frequencies(self.operation.shaft_rate_hz, b.rollers_per_row,
+                                 b.roller_diameter_mm, b.pitch_diameter_mm, b.contact_angle_deg)
+
+    @property
+    def bpfi_hz(self) -> float:
+        """The BPFI used by the time history: the override if given, else geometric (Hz)."""
+        o = self.operation.bpfi_override_hz
+        return float(o) if o is not None else self.frequencies().bpfi
+
+    @property
+    def cage_rate_hz(self) -> float:
+        """Cage rate used by the time history: ``f_r - BPFI/Z`` (= FTF without override), Hz."""
+        return self.operation.shaft_rate_hz - self.bpfi_hz / self.bearing.rollers_per_row
+
+    @property
+    def n_samples(self) -> int:
+        op = self.operation
+        return int(round(op.revolutions / op.shaft_rate_hz * op.fs_hz))
+
+    def to_mapping(self) -> dict[str, Any]:
+        """The mapping layout (as in the config) plus ``load.value_kN`` and ``defect.depth_um``."""
+        b = dataclasses.asdict(self.bearing)
+        b["end_relief"] = {k: v for k, v in b["end_relief"].items() if v is not None}
+        d = dataclasses.asdict(self.defect)
+        return {
+            "bearing": b,
+            "material": dataclasses.asdict(self.material),
+            "operation": dataclasses.asdict(self.operation),
+            "load": {"mode": self.load.mode, "value_kN": self.load.load_kN},
+            "defect": d,
+        }
+
+    # construction ------------------------------------------------------------------------
+    @classmethod
+    def from_mapping(cls, mapping: Mapping[str, Any] | None = None, *, load_kN: float,
+                     depth_um: float) -> "Scene":
+        """Build and validate a scene.
+
+        Parameters
+        ----------
+        mapping : mapping or None
+            The ``scene:`` layout (module docstring / ``docs/scene.md``). Missing keys take the
+            defaults of :data:`DEFAULT_SCENE` (the source study); unknown keys are errors.
+            ``None`` = the default scene.
+        load_kN : float
+            Load value, kN (> 0): radial bearing load or contact force, see ``load.mode``.
+        depth_um : float
+            Defect depth, um (>= 0; 0 = no defect).
+
+        Raises
+        ------
+        ValueError
+            Naming the dotted field (``scene.defect.depth_um`` ...), the value and what is allowed.
+        """
+        m = _merge(DEFAULT_SCENE, mapping or {}, "")
+        bearing = _build_bearing(m["bearing"])
+        material = _build_material(m["material"])
+        load = _build_load(m["load"], load_kN)
+        defect = _build_defect(m["defect"], depth_um, bearing)
+        scene_freq = fault_frequencies(1.0, bearing.rollers_per_row, bearing.roller_diameter_mm,
+                                       bearing.pitch_diameter_mm, bearing.contact_angle_deg)
+        operation = _build_operation(m["operation"], scene_freq.bpfi, bearing.rollers_per_row)
+        return cls(bearing, material, operation, load, defect)
+
+    @classmethod
+    def default(cls, *, load_kN: float = 500.0, depth_um: float = 50.0) -> "Scene":
+        """The source study's scene (:data:`DEFAULT_SCENE`)."""
+        return cls.from_mapping(None, load_kN=load_kN, depth_um=depth_um)
+
+
+def _merge(default: Mapping[str, Any], given: Mapping[str, Any], prefix: str) -> dict[str, Any]:
+    """Recursive merge of ``given`` over ``default``; unknown keys raise naming the dotted path."""
+    name = prefix.rstrip(".") or "(root)"
+    if not isinstance(given, Mapping):
+        raise ValueError(f"scene.{name}: got {given!r}; allowed: a mapping with keys {sorted(default)}")
+    out = copy.deepcopy(dict(default))
+    for k, v in given.items():
+        if k not in default:
+            raise ValueError(f"scene.{prefix}{k}: unknown key (value {v!r}); allowed keys"
+                             f"{' of scene.' + prefix.rstrip('.') if prefix else ''}: {sorted(default)}")
+        if k == "end_relief":
+            # the relief kind decides which keys exist: no merge with the default's keys
+            out[k] = copy.deepcopy(v)
+        elif isinstance(default[k], Mapping):
+            out[k] = _merge(default[k], v, f"{prefix}{k}.")
+        else:
+            out[k] = v
+    return out
+
+
+def _build_bearing(m: Mapping[str, Any]) -> Bearing:
+    p = "bearing."
+    bore = _num(p + "bore_mm", m["bore_mm"], lo=0, lo_open=True)
+    od = _num(p + "outside_diameter_mm", m["outside_diameter_mm"], lo=bore, lo_open=True,
+              allowed=f"a number > bore_mm ({bore:g})")
+    d = _num(p + "roller_diameter_mm", m["roller_diameter_mm"], lo=0, lo_open=True,
+             hi=0.5 * (od - bore), hi_open=True,
+             allowed=f"a number in (0, (OD - bore)/2 = {0.5 * (od - bore):g})")
+    z = _int(p + "rollers_per_row", m["rollers_per_row"], lo=1)
+    rows = _int(p + "rows", m["rows"], lo=1)
+    pd = m["pitch_diameter_mm"]
+    pd = 0.5 * (bore + od) if pd is None else _num(
+        p + "pitch_diameter_mm", pd, lo=bore + d, hi=od - d,
+        allowed=f"null or a number in [bore + d, OD - d] = [{bore + d:g}, {od - d:g}]")
+    alpha = _num(p + "contact_angle_deg", m["contact_angle_deg"], lo=0, hi=90, hi_open=True)
+    if z * d >= math.pi * pd:
+        raise _bad(p + "rollers_per_row", z,
+                   f"rollers that fit on the pitch circle: Z * d < pi * D ({math.pi * pd / d:.1f})")
+    cr = _num(p + "roller_crown_radius_mm", m["roller_crown_radius_mm"], lo=0, lo_open=True)
+    ci = _num(p + "raceway_profile_radius_mm", m["raceway_profile_radius_mm"], lo=cr, lo_open=True,
+              allowed=f"a number > roller_crown_radius_mm ({cr:g}) (profiles must not cross)")
+    length = _num(p + "roller_length_mm", m["roller_length_mm"], lo=0, lo_open=True)
+    relief = _build_relief(m["end_relief"], length)
+    clearance = _num(p + "radial_clearance_um", m["radial_clearance_um"], lo=0)
+    pf = m["profile_file"]
+    if pf is not None:
+        if not isinstance(pf, (str, os.PathLike)):
+            raise _bad(p + "profile_file", pf, "null or a path to a two-column file (y_mm, deviation_um)")
+        pf = os.fspath(pf)
+        from .geometry import read_profile  # local import: geometry imports scene types lazily
+
+        try:
+            read_profile(pf)
+        except (OSError, ValueError) as exc:
+            raise _bad(p + "profile_file", pf, f"a readable two-column file (y_mm, deviation_um): {exc}")
+    return Bearing(bore, od, d, z, rows, pd, alpha, cr, ci, length, relief, clearance, pf)
+
+
+def _build_relief(m: Any, length: float) -> EndRelief:
+    p = "bearing.end_relief"
+    if not isinstance(m, Mapping) or "kind" not in m:
+        raise _bad(p, m, "{kind: radius, radius_mm: ...} or {kind: log, drop_um: ..., length_mm: ...}")
+    kind = _choice(p + ".kind", m["kind"], ("radius", "log"))
+    if kind == "radius":
+        _check_keys("bearing.end_relief", m, {"kind", "radius_mm"}, {"radius_mm"})
+        r = _num(p + ".radius_mm", m["radius_mm"], lo=0, lo_open=True, hi=length / 2, hi_open=True,
+                 allowed=f"a number in (0, roller_length_mm/2 = {length / 2:g})")
+        return EndRelief("radius", r, None, None)
+    _check_keys("bearing.end_relief", m, {"kind", "drop_um", "length_mm"}, {"drop_um", "length_mm"})
+    drop = _num(p + ".drop_um", m["drop_um"], lo=0, lo_open=True)
+    ln = _num(p + ".length_mm", m["length_mm"], lo=0, lo_open=True, hi=length / 2, hi_open=True,
+              allowed=f"a number in (0, roller_length_mm/2 = {length / 2:g})")
+    return EndRelief("log", None, drop, ln)
+
+
+def _build_material(m: Mapping[str, Any]) -> Material:
+    out = []
+    for body in ("roller", "race"):
+        b = m[body]
+        e = _num(f"material.{body}.E_GPa", b["E_GPa"], lo=0, lo_open=True)
+        nu = _num(f"material.{body}.nu", b["nu"], lo=0, hi=0.5, hi_open=True)
+        out.append(MaterialProps(e, nu))
+    return Material(*out)
+
+
+def _build_load(m: Mapping[str, Any], load_kN: float) -> Load:
+    mode = _choice("load.mode", m["mode"], ("bearing", "contact"))
+    v = _num("load.value_kN", load_kN, lo=0, lo_open=True)
+    return Load(v * 1e3, mode)
+
+
+def _build_defect(m: Mapping[str, Any], depth_um: float, bearing: Bearing) -> Defect:
+    p = "defect."
+    depth = _num(p + "depth_um", depth_um, lo=0)
+    length = _num(p + "length_um", m["length_um"], lo=0, lo_open=True)
+    width = m["width_um"]
+    width = 2.0 * depth if width is None else _num(p + "width_um", width, lo=0, lo_open=True)
+    shape = _choice(p + "shape", m["shape"], ("flat", "dent"))
+    edge = _num(p + "edge_radius_um", m["edge_radius_um"], lo=0)
+    ypos = _num(p + "axial_position_mm", m["axial_position_mm"])
+    orient = _choice(p + "orientation", m["orientation"], ("axial", "circumferential"))
+    if depth > 0 and width <= 0:
+        raise _bad(p + "width_um", width, "> 0 when depth_um > 0")
+    d = Defect(depth, length, width, shape, edge, ypos, orient)
+    if depth > 0:
+        half_l = 0.5 * bearing.roller_length_mm
+        ey_mm = d.extent_y_m * 1e3
+        if ey_mm >= bearing.roller_length_mm:
+            field = "length_um" if orient == "axial" else "width_um"
+            raise _bad(p + field, getattr(d, field),
+                       f"an axial extent < roller_length_mm ({bearing.roller_length_mm:g} mm): the "
+                       f"defect must fit on the raceway under the roller")
+        if abs(ypos) + 0.5 * ey_mm > half_l:
+            raise _bad(p + "axial_position_mm", ypos,
+                       f"|y| <= L/2 - axial extent/2 = {half_l - 0.5 * ey_mm:g} mm")
+        circ_mm = math.pi * 2e3 * bearing.inner_race_radius_m / bearing.rollers_per_row
+        if d.extent_x_m * 1e3 >= 0.5 * circ_mm:
+            field = "width_um" if orient == "axial" else "length_um"
+            raise _bad(p + field, getattr(d, field),
+                       f"a rolling-direction extent < half the roller spacing on the raceway "
+                       f"({0.5 * circ_mm:g} mm)")
+    return d
+
+
+def _build_operation(m: Mapping[str, Any], bpfi_per_hz: float, z: int) -> Operation:
+    p = "operation."
+    fr = _num(p + "shaft_rate_hz", m["shaft_rate_hz"], lo=0, lo_open=True)
+    ov = m["bpfi_override_hz"]
+    if ov is not None:
+        # the implied cage rate f_r - BPFI/Z must lie in (0, f_r): BPFI in (0, Z f_r)
+        ov = _num(p + "bpfi_override_hz", ov, lo=0, lo_open=True, hi=z * fr, hi_open=True,
+                  allowed=f"null or a number in (0, Z * shaft_rate_hz = {z * fr:g})")
+    bpfi = ov if ov is not None else bpfi_per_hz * fr
+    fs_min = 2.0 * MAX_BAND_ORDER * bpfi
+    fs = _num(p + "fs_hz", m["fs_hz"], lo=fs_min,
+              allowed=f">= 2 x {MAX_BAND_ORDER} x BPFI = {fs_min:.6g} Hz (the 10-13 x BPFI analysis "
+                      f"band must lie below Nyquist)")
+    rev = _num(p + "revolutions", m["revolutions"], lo=0, lo_open=True)
+    if rev / fr * fs < 16:
+        raise _bad(p + "revolutions", m["revolutions"], "a duration of at least 16 samples")
+    slip = _num(p + "cage_slip_percent", m["cage_slip_percent"], lo=0, hi=50, hi_open=True)
+    sseed = _int(p + "slip_seed", m["slip_seed"], lo=0)
+    snr = m["noise_snr_db"]
+    snr = None if snr is None else _num(p + "noise_snr_db", snr, allowed="null or a finite number (dB)")
+    nseed = _int(p + "noise_seed", m["noise_seed"], lo=0)
+    return Operation(fr, ov, fs, rev, slip, sseed, snr, nseed)
