@@ -268,6 +268,25 @@ def _fake_case(defect=0.05):
                            roller_load=np.full(p.size, 8e4))
 
 
+def _write_minimal_case(path, case):
+    """A case file in the layout of bearing_envelope.io (format version 1), written by hand."""
+    import h5py
+
+    with h5py.File(path, "w") as h5:
+        h5.attrs["format"] = "bearing_envelope.case"
+        h5.attrs["format_version"] = 1
+        for k in ("fs", "fr", "bpfi", "bpfo", "ftf", "bsf", "load_kN", "depth_um"):
+            h5.attrs[k] = getattr(case, k)
+        h5.attrs["bpfi_geometry"] = case.bpfi
+        n = case.signals["p_max"].size
+        h5["time"] = np.arange(n) / case.fs
+        h5["signals/p_max"] = case.signals["p_max"]
+        h5["signals/p_max_defect"] = case.signals["p_max_defect"]
+        h5["signals/roller_load"] = case.roller_load
+        h5["signals/defect_offset"] = np.zeros(n)
+    return str(path)
+
+
 @pytest.mark.parametrize("suffix", [".npz", ".h5"])
 def test_cli_sensor_writes_acceleration_with_provenance(tmp_path, monkeypatch, suffix):
     import json
@@ -276,10 +295,11 @@ def test_cli_sensor_writes_acceleration_with_provenance(tmp_path, monkeypatch, s
     from bearing_envelope.commands import sensor
 
     cases = {"case.h5": _fake_case(), "ref.h5": _fake_case(defect=0.0)}
+    case_path = _write_minimal_case(tmp_path / "case.h5", cases["case.h5"])
     monkeypatch.setattr(sensor, "_read_case", lambda path: cases[path.split("/")[-1]])
     cfg = _write_config(tmp_path)
     out = tmp_path / f"out{suffix}"
-    rc = cli.main(["sensor", "case.h5", "--config", str(cfg), "--snr-db", "-3",
+    rc = cli.main(["sensor", case_path, "--config", str(cfg), "--snr-db", "-3",
                    "--reference", "ref.h5", "-o", str(out)])
     assert rc == 0 and out.exists()
     if suffix == ".npz":
@@ -291,13 +311,13 @@ def test_cli_sensor_writes_acceleration_with_provenance(tmp_path, monkeypatch, s
 
         with h5py.File(out) as h5:
             acc = h5["signals/acceleration"][...]
-            info = json.loads(h5.attrs["provenance"])
-            assert h5.attrs["fs"] == FS
+            info = json.loads(h5["signals/acceleration"].attrs["provenance"])
+            assert h5.attrs["fs"] == FS and "p_max" in h5["signals"]  # the case is kept
     assert acc.shape == (8000,)
     assert info["snr_db_target"] == -3.0 and info["snr_db_achieved"] == pytest.approx(-3.0)
     assert info["seed"] == 3 and info["excitation_signal"] == "p_max"
     assert info["defect_definition"] == "var(H e - H e_ref)"
-    assert info["source_case"] == "case.h5" and info["model"]["modes"][0]["f_n_hz"] == 4000.0
+    assert info["source_case"] == case_path and info["model"]["modes"][0]["f_n_hz"] == 4000.0
 
 
 def test_cli_sensor_bad_config_reports_field(tmp_path, monkeypatch, capsys):
@@ -314,9 +334,22 @@ def test_cli_sensor_bad_config_reports_field(tmp_path, monkeypatch, capsys):
 
 
 def test_cli_sensor_on_real_case_file(tmp_path):
-    """End to end through bearing_envelope.io, once that module exists."""
+    """End to end through bearing_envelope.io.read_case: the output is a case with a 2nd signal."""
     io = pytest.importorskip("bearing_envelope.io", reason="bearing_envelope.io not written yet")
-    if not hasattr(io, "write_case"):
-        pytest.skip("bearing_envelope.io has no write_case")
-    pytest.skip("write_case's signature is not fixed by docs/interfaces.md; covered by the "
-                "monkeypatched CLI tests above")
+    from bearing_envelope import cli
+    from bearing_envelope.diagnosis import detect
+
+    case_path = _write_minimal_case(tmp_path / "F500kN_h50um.h5", _fake_case())
+    cfg = _write_config(tmp_path, snr=0.0)
+    out = tmp_path / "sensor" / "F500kN_h50um.h5"
+    assert cli.main(["sensor", case_path, "--config", str(cfg), "-o", str(out)]) == 0
+    case = io.read_case(out)
+    acc = case.signals["acceleration"]
+    assert acc.shape == case.p_max.shape and case.bpfi == 231.9
+    # the envelope spectrum of the synthetic acceleration shows BPFI
+    sos = sps.butter(4, [3000, 5000], btype="bandpass", fs=case.fs, output="sos")
+    env = np.abs(sps.hilbert(sps.sosfiltfilt(sos, acc)))
+    env -= env.mean()
+    f = np.fft.rfftfreq(env.size, 1 / case.fs)
+    stat, detected = detect(f, 2 * np.abs(np.fft.rfft(env)) / env.size, case.bpfi, fr=case.fr)
+    assert detected, stat

@@ -198,7 +198,7 @@ def threshold_db(pfa: float = DEFAULT_PFA, n_bins: int = 1) -> float:
     Examples
     --------
     >>> round(threshold_db(0.01, 1), 2), round(threshold_db(0.01, 10), 2)
-    (8.22, 9.99)
+    (8.22, 9.98)
     """
     pfa = float(pfa)
     if not 0.0 < pfa < 1.0:

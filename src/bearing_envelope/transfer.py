@@ -63,8 +63,8 @@ __all__ = [
 
 #: Excitation kinds and the case signals they are taken from (first one present wins).
 EXCITATION_KINDS: dict[str, tuple[str, ...]] = {
-    "pressure": ("p_max",),
-    "pressure_defect": ("p_max_defect",),
+    "pressure": ("p_max_clean", "p_max"),
+    "pressure_defect": ("p_max_defect_clean", "p_max_defect"),
     "force": ("force", "contact_force", "roller_load"),
 }
 
@@ -358,7 +358,9 @@ def select_excitation(signals: Mapping[str, np.ndarray], kind: str = "pressure")
     """Pick the contact signal for an excitation kind.
 
     ``pressure`` -> ``p_max`` (Pa, max over the whole contact: the roller-load-related signal
-    that the contact history always carries); ``pressure_defect`` -> ``p_max_defect``;
+    that the contact history always carries); ``pressure_defect`` -> ``p_max_defect``; the
+    noise-free ``*_clean`` versions are preferred when the case has them (the case's own
+    measurement noise is not part of the physical excitation);
     ``force`` -> the first of ``force``, ``contact_force``, ``roller_load`` (N). Returns
     ``(name, array)``; raises KeyError naming what is missing.
     """

@@ -4,7 +4,9 @@ Reads a case file (:func:`bearing_envelope.io.read_case`), takes the contact sig
 ``sensor:`` section of the config (``excitation``: ``pressure`` = p_max, ``pressure_defect`` =
 p_max_defect, ``force`` = contact force / roller load), passes it through the structural modes,
 adds noise at the target SNR and the interfering tones (:mod:`bearing_envelope.transfer`), and
-writes the acceleration with its provenance to ``.npz`` or ``.h5``. See ``docs/sensor.md``.
+writes the acceleration with its provenance: ``.h5`` = a copy of the case file with the
+acceleration added as ``signals/acceleration`` (readable by ``read_case`` like any case), ``.npz`` =
+the acceleration, time, frequencies and provenance alone. See ``docs/sensor.md``.
 
 Example::
 
@@ -18,6 +20,7 @@ import argparse
 import json
 import math
 import os
+import shutil
 import subprocess
 import tempfile
 from pathlib import Path
@@ -62,6 +65,12 @@ def _case_signals(case) -> dict:
 
 def _git_commit() -> str | None:
     try:
+        from bearing_envelope.io import git_commit
+
+        return git_commit()
+    except ImportError:
+        pass
+    try:
         out = subprocess.run(["git", "rev-parse", "HEAD"], cwd=Path(__file__).resolve().parent,
                              capture_output=True, text=True, timeout=5, check=True)
         return out.stdout.strip() or None
@@ -88,7 +97,7 @@ def _json_default(o):
     raise TypeError(f"not JSON serialisable: {type(o).__name__}")
 
 
-def _write(path: Path, acc, fs: float, case, info: dict[str, Any]) -> None:
+def _write(path: Path, acc, fs: float, case, info: dict[str, Any], source: str) -> None:
     import numpy as np
 
     provenance = json.dumps(info, default=_json_default, allow_nan=True, sort_keys=True)
@@ -109,15 +118,21 @@ def _write(path: Path, acc, fs: float, case, info: dict[str, Any]) -> None:
         elif suffix in (".h5", ".hdf5"):
             import h5py
 
-            with h5py.File(tmp, "w") as h5:
-                d = h5.create_dataset("signals/acceleration", data=acc, compression="gzip")
-                d.attrs["units"] = "excitation units x mode gain (m/s^2 with gains in (m/s^2)/N)"
+            # a copy of the case file plus the acceleration as a second signal, so that
+            # read_case(OUT).signals["acceleration"] feeds every analysis like p_max does
+            shutil.copyfile(source, tmp)
+            with h5py.File(tmp, "a") as h5:
+                sg = h5.require_group("signals")
+                if "acceleration" in sg:
+                    del sg["acceleration"]
+                d = sg.create_dataset("acceleration", data=acc, compression="gzip",
+                                      compression_opts=4, shuffle=True)
+                d.attrs["units"] = "excitation units x mode gain (m/s^2 for gains in (m/s^2)/Pa)"
+                d.attrs["description"] = "synthetic accelerometer signal (bearing-envelope sensor)"
                 d.attrs["provenance"] = provenance
-                h5.create_dataset("time", data=np.arange(acc.size) / fs, compression="gzip")
-                h5["time"].attrs["units"] = "s"
-                for k, v in meta.items():
-                    h5.attrs[k] = v
-                h5.attrs["provenance"] = provenance
+                if "time" not in h5:
+                    h5.create_dataset("time", data=np.arange(acc.size) / fs)
+                h5.attrs["sensor_json"] = provenance
         else:
             raise ValueError(f"output must end in .npz or .h5, got {str(path)!r}")
         os.replace(tmp, path)
@@ -174,7 +189,7 @@ def run(args: argparse.Namespace) -> int:
         git_commit=_git_commit(),
         command="bearing-envelope sensor",
     )
-    _write(out, acc, fs, case, info)
+    _write(out, acc, fs, case, info, args.case)
     print(f"sensor: {args.case} -> {out} ({acc.size} samples, excitation {name}, "
           f"SNR {info['snr_db_achieved']:.2f} dB)")
     return 0
