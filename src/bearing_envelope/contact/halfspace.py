@@ -22,6 +22,7 @@ __all__ = [
     "influence_coefficients",
     "kernel_spectrum",
     "ElasticHalfSpace",
+    "get_halfspace",
 ]
 
 try:  # optional, faster FFTs; never required
@@ -123,6 +124,8 @@ def _padded_kernel(shape: tuple[int, int], dx: float, dy: float, e_star: float) 
     return influence_coefficients(ix[:, None] * dx, iy[None, :] * dy, dx, dy, e_star)
 
 
+_PYFFTW_MIN_CELLS = 512 * 256
+
 _CACHE: "OrderedDict[tuple, np.ndarray]" = OrderedDict()
 _CACHE_LOCK = Lock()
 _CACHE_SIZE = 8
@@ -174,7 +177,8 @@ class ElasticHalfSpace:
     workers : int, optional
         FFT threads (default: ``OMP_NUM_THREADS`` if set, else all cores).
     backend : {"auto", "scipy", "pyfftw"}
-        ``"auto"`` uses pyfftw when importable, else :mod:`scipy.fft` (pocketfft).
+        ``"auto"`` uses pyfftw when importable and the grid has at least 512 x 256 cells, else
+        :mod:`scipy.fft` (pocketfft).
 
     Notes
     -----
@@ -200,7 +204,11 @@ class ElasticHalfSpace:
             raise ValueError(f"backend must be 'auto', 'scipy' or 'pyfftw', got {backend!r}")
         if backend == "pyfftw" and not _HAVE_PYFFTW:
             raise ValueError("backend='pyfftw' but pyfftw is not importable")
-        self.backend = "pyfftw" if (backend in ("auto", "pyfftw") and _HAVE_PYFFTW) else "scipy"
+        if backend == "auto":
+            # FFTW planning (FFTW_MEASURE) pays off only on large grids; pocketfft is as fast below
+            big = self.shape[0] * self.shape[1] >= _PYFFTW_MIN_CELLS
+            backend = "pyfftw" if (_HAVE_PYFFTW and big) else "scipy"
+        self.backend = backend
         self.spectrum = kernel_spectrum(self.shape, self.dx, self.dy, self.e_star)
         self._plans = None
 
@@ -256,3 +264,27 @@ class ElasticHalfSpace:
 
     def __repr__(self) -> str:
         return f"ElasticHalfSpace(shape={self.shape}, dx={self.dx!r}, dy={self.dy!r}, e_star={self.e_star!r}, backend={self.backend!r})"
+
+
+_OPS: "OrderedDict[tuple, ElasticHalfSpace]" = OrderedDict()
+
+
+def get_halfspace(shape, dx: float, dy: float, e_star: float, *, workers: int | None = None, backend: str = "auto") -> ElasticHalfSpace:
+    """Return a cached :class:`ElasticHalfSpace` (with its FFT plans and buffers) for this grid.
+
+    Small LRU (4 operators); the same object is returned for the same arguments. Not
+    thread-safe for concurrent :meth:`ElasticHalfSpace.displacement` calls on one operator.
+    """
+    w = int(workers) if workers else _default_workers()
+    key = (tuple(int(s) for s in shape), float(dx), float(dy), float(e_star), w, backend)
+    with _CACHE_LOCK:
+        op = _OPS.get(key)
+        if op is not None:
+            _OPS.move_to_end(key)
+            return op
+    op = ElasticHalfSpace(shape, dx, dy, e_star, workers=w, backend=backend)
+    with _CACHE_LOCK:
+        _OPS[key] = op
+        while len(_OPS) > 4:
+            _OPS.popitem(last=False)
+    return op

@@ -11,7 +11,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .halfspace import ElasticHalfSpace
+from .halfspace import ElasticHalfSpace, get_halfspace
 
 __all__ = [
     "ContactSolution",
@@ -142,6 +142,7 @@ def solve_contact(
     workers: int | None = None,
     halfspace: ElasticHalfSpace | None = None,
     precondition: bool = True,
+    fft_backend: str = "auto",
 ) -> ContactSolution:
     """Frictionless normal contact of two elastic half-spaces (Polonsky-Keer CG).
 
@@ -178,6 +179,8 @@ def solve_contact(
         FFT threads (default ``OMP_NUM_THREADS`` or all cores).
     halfspace : ElasticHalfSpace, optional
         Reuse a prepared operator (must match shape, dx, dy, e_star).
+    fft_backend : {"auto", "scipy", "pyfftw"}
+        FFT library (:class:`ElasticHalfSpace`); ``"auto"`` uses pyfftw when importable.
     precondition : bool
         Precondition the CG direction with the approximate inverse of the half-space operator,
         applied in Fourier space on the bounding box of the contact set (see Notes).
@@ -277,7 +280,7 @@ def solve_contact(
     if not mat.any():
         raise ValueError("gap has no finite cell: nothing can carry the load")
     if halfspace is None:
-        hs = ElasticHalfSpace(g.shape, dx, dy, e_star, workers=workers)
+        hs = get_halfspace(g.shape, dx, dy, e_star, workers=workers, backend=fft_backend)
     else:
         hs = halfspace
         if hs.shape != g.shape or (hs.dx, hs.dy, hs.e_star) != (dx, dy, e_star):
