@@ -11,6 +11,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from . import _kernels
 from .halfspace import ElasticHalfSpace, get_halfspace
 
 __all__ = [
@@ -143,6 +144,7 @@ def solve_contact(
     halfspace: ElasticHalfSpace | None = None,
     precondition: bool = True,
     fft_backend: str = "auto",
+    kernels: dict | None = None,
 ) -> ContactSolution:
     """Frictionless normal contact of two elastic half-spaces (Polonsky-Keer CG).
 
@@ -181,6 +183,8 @@ def solve_contact(
         Reuse a prepared operator (must match shape, dx, dy, e_star).
     fft_backend : {"auto", "scipy", "pyfftw"}
         FFT library (:class:`ElasticHalfSpace`); ``"auto"`` uses pyfftw when importable.
+    kernels : dict, optional
+        Element-wise passes to use (testing): ``_kernels.NUMPY`` or the default numba ones.
     precondition : bool
         Precondition the CG direction with the approximate inverse of the half-space operator,
         applied in Fourier space on the bounding box of the contact set (see Notes).
@@ -314,89 +318,74 @@ def solve_contact(
         p *= force_v / (p.sum() * cell)
 
     # ---- Polonsky-Keer iterations -------------------------------------------------------
+    kn = _kernels.KERNELS if kernels is None else kernels
+    gap_stats, gap_eval, dir_stats, dir_update = kn["gap_stats"], kn["gap_eval"], kn["dir_stats"], kn["dir_update"]
+    step_dots, update, rescale = kn["step_dots"], kn["update"], kn["rescale"]
     pre = _FourierPreconditioner(g.shape, dx, dy, e_star, workers=hs.workers) if precondition else None
-    gz = np.where(mat, g, 0.0)  # finite copy; non-material cells are masked out below
-    nonmat = ~mat
-    has_void = bool(nonmat.any())
-    t = np.zeros_like(g)
+    gz = np.ascontiguousarray(np.where(mat, g, 0.0))  # finite copy; non-material cells masked
+    matf = np.ascontiguousarray(mat).ravel()
+    gzf = gz.ravel()
+    p = np.ascontiguousarray(p)
+    u = np.empty_like(p)
+    h = np.empty_like(p)
+    r = np.empty_like(p)
+    t = np.zeros_like(p)
+    pnew = np.empty_like(p)
+    uf, hf, rf, tf = u.ravel(), h.ravel(), r.ravel(), t.ravel()
+    ny = p.shape[1]
     G_old = 1.0
     delta = 0.0
     dp = math.inf
     history: list[float] = []
     converged = False
     it = 0
+    alpha = alpha_fixed if disp_control else 0.0
     while True:
-        u = hs.displacement(p)
-        h = gz + u
-        ic = p > 0
-        if disp_control:
-            alpha = alpha_fixed
-        else:
-            alpha = float(h[ic].mean())
-        h -= alpha
-        if has_void:
-            h[nonmat] = np.inf
-        umax = float(u.max())
+        pf = p.ravel()
+        hs.displacement(p, out=u)
+        s_gu, n_c, umax, *bbox = gap_stats(gzf, uf, pf, ny)
+        if not disp_control:
+            alpha = s_gu / n_c
+        err_in, err_out, Gh = gap_eval(gzf, uf, pf, matf, alpha, hf)
         scale = umax if umax > 0 else 1.0
-        hc = h[ic]
-        err_in = float(np.abs(hc).max()) if hc.size else 0.0
-        err_out = float(-min(0.0, float(np.where(ic, 0.0, h).min())))
         res = max(dp, max(err_in, err_out) / scale)
         history.append(res)
         if res <= tol:
             converged = True
             break
-        if it >= max_iter:
+        if it >= max_iter or n_c == 0:
             break
         it += 1
         # CG direction on the contact set (preconditioned when `precondition`)
         if pre is not None:
-            z, diag = pre.apply(h, ic)
-            zc = z[ic]
-            if not disp_control:
-                zc -= zc.mean()
-                z[ic] = zc
-            G = float(np.dot(hc, zc))
+            z, diag = pre.apply(h, p, bbox)
+            sz, n_c, shz, sh = dir_stats(z.ravel(), hf, pf)
+            zbar = sz / n_c if not disp_control else 0.0
+            G = shz - zbar * sh
         else:
-            z, diag, zc = h, 1.0, hc
-            G = float(np.dot(hc, hc))
+            z, diag, zbar, G = h, 1.0, 0.0, Gh
         if G <= 0.0:
-            converged = res <= tol
             break
         beta = delta * G / G_old
-        t *= beta
-        t += z
-        t[~ic] = 0.0
+        dir_update(z.ravel(), pf, tf, zbar, beta)
         G_old = G
-        r = hs.displacement(t)
-        tc = t[ic]
-        rc = r[ic]
-        if not disp_control:
-            rc = rc - rc.mean()
-        denom = float(np.dot(rc, tc))
+        hs.displacement(t, out=r)
+        sr, st, srt, sht, n_c = step_dots(rf, tf, hf, pf)
+        denom = srt - (sr / n_c) * st if not disp_control else srt
         if denom <= 0:  # pragma: no cover - only with a broken operator
             break
-        tau = float(np.dot(hc, tc)) / denom
-        p_old = p
-        p = p - tau * t
-        np.maximum(p, 0.0, out=p)
-        iol = (p == 0.0) & (h < 0.0)
-        if iol.any():
-            delta = 0.0
-            p[iol] -= (tau * diag) * h[iol]
-        else:
-            delta = 1.0
-        psum = p.sum()
+        tau = sht / denom
+        entered, psum = update(pf, tf, hf, tau, tau * diag, pnew.ravel())
+        delta = 0.0 if entered else 1.0
         if psum <= 0:
             if disp_control:  # everything separated
-                p[:] = 0.0
+                p = np.zeros_like(p)
                 dp = 0.0
                 continue
             raise ContactConvergenceError("all pressure vanished (no contact)", history)  # pragma: no cover
-        if not disp_control:
-            p *= force_v / (psum * cell)
-            psum = force_v / cell
-        dp = float(np.abs(p - p_old).sum()) / float(psum)
+        sc = force_v / (psum * cell) if not disp_control else 1.0
+        dp = rescale(pnew.ravel(), pf, sc) / (psum * sc)
+        p, pnew = pnew, p
 
     force_out = float(p.sum() * cell)
     sol = ContactSolution(
@@ -428,42 +417,53 @@ class _FourierPreconditioner:
         self.shape, self.dx, self.dy, self.e_star, self.margin = shape, dx, dy, e_star, margin
         self.workers = workers
         self._symbols: dict = {}
+        self._z = np.zeros(shape)
+        self._prev = None
 
-    def _symbol(self, mx: int, my: int) -> np.ndarray:
+    def _symbol(self, mx: int, my: int):
         key = (mx, my)
         s = self._symbols.get(key)
         if s is None:
             qx = 2 * np.pi * np.fft.fftfreq(mx, self.dx)
             qy = 2 * np.pi * np.fft.rfftfreq(my, self.dy)
             q0 = 2 * np.pi / max(mx * self.dx, my * self.dy)
-            s = 0.5 * self.e_star * np.sqrt(qx[:, None] ** 2 + qy[None, :] ** 2 + q0 * q0) / (mx * my)
+            sym = 0.5 * self.e_star * np.sqrt(qx[:, None] ** 2 + qy[None, :] ** 2 + q0 * q0)
+            # mean of the full (two-sided) symbol = the diagonal of the periodic operator
+            w = np.full(sym.shape[1], 2.0)
+            w[0] = 1.0
+            if my % 2 == 0:
+                w[-1] = 1.0
+            diag = float((sym * w).sum()) / (mx * my)
+            s = (sym / (mx * my), diag)
             self._symbols[key] = s
         return s
 
-    def apply(self, h: np.ndarray, ic: np.ndarray):
-        """Return ``(z, d)``: ``z = P M^-1 P h`` (zero off ``ic``) and ``d`` the mean diagonal of ``M^-1``."""
+    def apply(self, h: np.ndarray, p: np.ndarray, bbox):
+        """Return ``(z, d)``: ``z = P M^-1 P h`` (zero off ``p > 0``; a reused buffer) and ``d``,
+        the diagonal of ``M^-1``. ``bbox = (i0, i1, j0, j1)`` bounds ``p > 0`` (inclusive)."""
         import scipy.fft as sfft
 
-        rows = np.flatnonzero(ic.any(axis=1))
-        cols = np.flatnonzero(ic.any(axis=0))
         nx, ny = self.shape
         m = self.margin
-        i0, i1 = max(rows[0] - m, 0), min(rows[-1] + 1 + m, nx)
-        j0, j1 = max(cols[0] - m, 0), min(cols[-1] + 1 + m, ny)
-        mx = min(sfft.next_fast_len(i1 - i0, real=True), nx) if i1 - i0 < nx else nx
-        my = min(sfft.next_fast_len(j1 - j0, real=True), ny) if j1 - j0 < ny else ny
+        i0, i1, j0, j1 = bbox
+        i0, i1 = max(i0 - m, 0), min(i1 + 1 + m, nx)
+        j0, j1 = max(j0 - m, 0), min(j1 + 1 + m, ny)
+        mx = min(sfft.next_fast_len(i1 - i0, real=True), nx)
+        my = min(sfft.next_fast_len(j1 - j0, real=True), ny)
         i0 = min(i0, nx - mx)
         j0 = min(j0, ny - my)
         sl = (slice(i0, i0 + mx), slice(j0, j0 + my))
-        icb = ic[sl]
+        icb = p[sl] > 0
         hb = np.where(icb, h[sl], 0.0)
-        sym = self._symbol(mx, my)
+        sym, diag = self._symbol(mx, my)
         w = self.workers
         zb = sfft.irfft2(sfft.rfft2(hb, workers=w) * sym, s=(mx, my), norm="forward", workers=w)
-        z = np.zeros(self.shape)
+        z = self._z
+        if self._prev is not None:
+            z[self._prev] = 0.0
         z[sl] = np.where(icb, zb, 0.0)
-        d = float(sym[:, 1:-1].sum() * 2 + sym[:, 0].sum() + sym[:, -1].sum()) if my > 1 else float(sym.sum())
-        return z, d
+        self._prev = sl
+        return z, diag
 
 
 def _edge_mask(mat: np.ndarray) -> np.ndarray:

@@ -1,0 +1,222 @@
+"""Fused element-wise passes of the Polonsky-Keer iteration (numba, with a numpy reference).
+
+One CG iteration needs about thirty masked numpy passes over the grid (means and dot products on
+the contact set, clipping, the entering cells, rescaling); fused into five loops they cost a
+fraction of that (see ``docs/benchmarks.md``). Every function works on flat (raveled,
+C-contiguous) float64 arrays; ``mat`` is a bool array (material cells). The contact set is
+``p > 0``. The numpy versions define the semantics and are used when numba is unavailable or
+``BEARING_ENVELOPE_NO_NUMBA=1``.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+
+import numpy as np
+
+__all__ = ["KERNELS", "NUMPY", "HAVE_NUMBA"]
+
+
+# ----------------------------------------------------------------------------------- numpy
+def np_gap_stats(gz, u, p, ny):
+    """Return ``(sum_{p>0}(g+u), count_{p>0}, max u, i0, i1, j0, j1)``; the last four bound the
+    contact set ``p > 0`` on the ``(-1, ny)`` grid (rows ``i0..i1``, columns ``j0..j1``, inclusive;
+    ``-1`` if empty)."""
+    ic = p > 0
+    n = int(ic.sum())
+    if n == 0:
+        return 0.0, 0, float(u.max()), -1, -1, -1, -1
+    ic2 = ic.reshape(-1, ny)
+    rows = np.flatnonzero(ic2.any(axis=1))
+    cols = np.flatnonzero(ic2.any(axis=0))
+    return float((gz[ic] + u[ic]).sum()), n, float(u.max()), int(rows[0]), int(rows[-1]), int(cols[0]), int(cols[-1])
+
+
+def np_gap_eval(gz, u, p, mat, alpha, h):
+    """``h = g + u - alpha`` (``+inf`` off material); return ``(max_{p>0}|h|, max_{p=0}(-h)+, sum_{p>0} h^2)``."""
+    np.add(gz, u, out=h)
+    h -= alpha
+    h[~mat] = np.inf
+    ic = p > 0
+    hc = h[ic]
+    err_in = float(np.abs(hc).max()) if hc.size else 0.0
+    off = h[~ic]
+    err_out = float(max(0.0, -off.min())) if off.size else 0.0
+    return err_in, err_out, float(np.dot(hc, hc))
+
+
+def np_dir_stats(z, h, p):
+    """Return ``(sum z, count, sum h z, sum h)`` over ``p > 0``."""
+    ic = p > 0
+    zc, hc = z[ic], h[ic]
+    return float(zc.sum()), int(ic.sum()), float(np.dot(hc, zc)), float(hc.sum())
+
+
+def np_dir_update(z, p, t, zbar, beta):
+    """``t = (z - zbar) + beta t`` on ``p > 0``, 0 elsewhere."""
+    ic = p > 0
+    t *= beta
+    t[ic] += z[ic] - zbar
+    t[~ic] = 0.0
+
+
+def np_step_dots(r, t, h, p):
+    """Return ``(sum r, sum t, sum r t, sum h t, count)`` over ``p > 0``."""
+    ic = p > 0
+    rc, tc = r[ic], t[ic]
+    return float(rc.sum()), float(tc.sum()), float(np.dot(rc, tc)), float(np.dot(h[ic], tc)), int(ic.sum())
+
+
+def np_update(p, t, h, tau, seed, pnew):
+    """``pnew = max(p - tau t, 0)``; cells with ``pnew == 0`` and ``h < 0`` get ``-seed h``. Return ``(entered?, sum pnew)``."""
+    np.subtract(p, tau * t, out=pnew)
+    np.maximum(pnew, 0.0, out=pnew)
+    iol = (pnew == 0.0) & (h < 0.0)
+    entered = bool(iol.any())
+    if entered:
+        pnew[iol] = -seed * h[iol]
+    return entered, float(pnew.sum())
+
+
+def np_rescale(pnew, p, s):
+    """``pnew *= s``; return ``sum |pnew - p|``."""
+    pnew *= s
+    return float(np.abs(pnew - p).sum())
+
+
+HAVE_NUMBA = False
+NUMPY = dict(
+    gap_stats=np_gap_stats, gap_eval=np_gap_eval, dir_stats=np_dir_stats, dir_update=np_dir_update,
+    step_dots=np_step_dots, update=np_update, rescale=np_rescale,
+)
+KERNELS = NUMPY
+
+if os.environ.get("BEARING_ENVELOPE_NO_NUMBA", "") not in ("1", "true", "yes"):
+    try:
+        import numba
+    except Exception:  # pragma: no cover - numba is a dependency, but stay usable without it
+        numba = None
+    if numba is not None:
+        _jit = numba.njit(cache=True, nogil=True, fastmath=False)
+
+        @_jit
+        def nb_gap_stats(gz, u, p, ny):  # pragma: no cover - compiled
+            s = 0.0
+            n = 0
+            umax = -math.inf
+            nx = p.size // ny
+            i0 = nx
+            i1 = -1
+            j0 = ny
+            j1 = -1
+            for ii in range(nx):
+                base = ii * ny
+                for jj in range(ny):
+                    k = base + jj
+                    uk = u[k]
+                    if uk > umax:
+                        umax = uk
+                    if p[k] > 0.0:
+                        s += gz[k] + uk
+                        n += 1
+                        if ii < i0:
+                            i0 = ii
+                        i1 = ii
+                        if jj < j0:
+                            j0 = jj
+                        if jj > j1:
+                            j1 = jj
+            if n == 0:
+                return s, n, umax, -1, -1, -1, -1
+            return s, n, umax, i0, i1, j0, j1
+
+        @_jit
+        def nb_gap_eval(gz, u, p, mat, alpha, h):  # pragma: no cover - compiled
+            err_in = 0.0
+            err_out = 0.0
+            G = 0.0
+            for i in range(p.size):
+                if mat[i]:
+                    hi = gz[i] + u[i] - alpha
+                    h[i] = hi
+                    if p[i] > 0.0:
+                        a = abs(hi)
+                        if a > err_in:
+                            err_in = a
+                        G += hi * hi
+                    elif -hi > err_out:
+                        err_out = -hi
+                else:
+                    h[i] = math.inf
+            return err_in, err_out, G
+
+        @_jit
+        def nb_dir_stats(z, h, p):  # pragma: no cover - compiled
+            sz = 0.0
+            shz = 0.0
+            sh = 0.0
+            n = 0
+            for i in range(p.size):
+                if p[i] > 0.0:
+                    sz += z[i]
+                    shz += h[i] * z[i]
+                    sh += h[i]
+                    n += 1
+            return sz, n, shz, sh
+
+        @_jit
+        def nb_dir_update(z, p, t, zbar, beta):  # pragma: no cover - compiled
+            for i in range(p.size):
+                if p[i] > 0.0:
+                    t[i] = (z[i] - zbar) + beta * t[i]
+                else:
+                    t[i] = 0.0
+
+        @_jit
+        def nb_step_dots(r, t, h, p):  # pragma: no cover - compiled
+            sr = 0.0
+            st = 0.0
+            srt = 0.0
+            sht = 0.0
+            n = 0
+            for i in range(p.size):
+                if p[i] > 0.0:
+                    ti = t[i]
+                    sr += r[i]
+                    st += ti
+                    srt += r[i] * ti
+                    sht += h[i] * ti
+                    n += 1
+            return sr, st, srt, sht, n
+
+        @_jit
+        def nb_update(p, t, h, tau, seed, pnew):  # pragma: no cover - compiled
+            entered = False
+            s = 0.0
+            for i in range(p.size):
+                v = p[i] - tau * t[i]
+                if v <= 0.0:
+                    v = 0.0
+                    if h[i] < 0.0:
+                        v = -seed * h[i]
+                        entered = True
+                pnew[i] = v
+                s += v
+            return entered, s
+
+        @_jit
+        def nb_rescale(pnew, p, s):  # pragma: no cover - compiled
+            d = 0.0
+            for i in range(p.size):
+                v = pnew[i] * s
+                pnew[i] = v
+                d += abs(v - p[i])
+            return d
+
+        HAVE_NUMBA = True
+        NUMBA = dict(
+            gap_stats=nb_gap_stats, gap_eval=nb_gap_eval, dir_stats=nb_dir_stats, dir_update=nb_dir_update,
+            step_dots=nb_step_dots, update=nb_update, rescale=nb_rescale,
+        )
+        KERNELS = NUMBA
