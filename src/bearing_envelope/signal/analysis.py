@@ -1,0 +1,271 @@
+"""The whole diagnosis chain on one signal, as tidy records."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+
+import numpy as np
+
+from ._validation import check_fs, check_positive, check_signal
+from .bands import DEFAULT_BANDS, NYQUIST_MARGIN, resolve_band
+from .envelope import envelope_spectrum, harmonic_amplitudes, peak_value
+from .kurtogram import fast_kurtogram, max_kurtogram_level
+from .spectrum import amplitude_at, amplitude_spectrum, default_tolerance
+
+__all__ = ["COLUMNS", "analyze_signal", "fault_frequency_map"]
+
+#: Columns of the table returned by :func:`analyze_signal`, in order.
+COLUMNS = [
+    "band_strategy",
+    "band_kind",
+    "band_low_hz",
+    "band_high_hz",
+    "clamped",
+    "quantity",
+    "base",
+    "order",
+    "sideband",
+    "target_hz",
+    "frequency_hz",
+    "amplitude",
+    "scaling",
+]
+
+
+def fault_frequency_map(bpfi=None, fault_frequencies=None) -> dict[str, float]:
+    """Named fault frequencies (Hz) from ``bpfi`` and/or ``fault_frequencies``.
+
+    ``fault_frequencies`` may be a mapping ``name -> Hz`` or an object with attributes
+    ``bpfo``, ``bpfi``, ``ftf``, ``bsf`` (:class:`bearing_envelope.kinematics.FaultFrequencies`).
+    ``bpfi`` overrides the mapping's ``"bpfi"``.
+    """
+    out: dict[str, float] = {}
+    if fault_frequencies is not None:
+        if isinstance(fault_frequencies, Mapping):
+            items = dict(fault_frequencies).items()
+        else:
+            items = [(k, getattr(fault_frequencies, k)) for k in ("bpfo", "bpfi", "ftf", "bsf")
+                     if hasattr(fault_frequencies, k)]
+        for k, v in items:
+            out[str(k)] = check_positive(v, f"fault_frequencies[{k!r}]")
+    if bpfi is not None:
+        out["bpfi"] = check_positive(bpfi, "bpfi")
+    if not out:
+        raise ValueError("give bpfi or fault_frequencies (at least one fault frequency in Hz)")
+    return out
+
+
+def analyze_signal(
+    x,
+    fs: float,
+    *,
+    fr: float,
+    bpfi: float | None = None,
+    fault_frequencies=None,
+    bands: Sequence[Mapping] | None = None,
+    n_harmonics: int = 2,
+    n_sidebands: int = 1,
+    n_raw_harmonics: int = 1,
+    nlevel: int | None = 8,
+    max_level: float | None = None,
+    min_bandwidth: float | None = None,
+    filter_order: int = 4,
+    squared: bool = False,
+    window="hann",
+    tolerance_hz: float | None = None,
+    interpolate: bool = False,
+    nyquist_margin: float = NYQUIST_MARGIN,
+    demean: bool = True,
+    full_output: bool = False,
+):
+    r"""Run the envelope-analysis chain on one signal and return tidy records.
+
+    Steps: raw amplitude spectrum (0 Hz, k x fr, k x fault frequency); fast kurtogram (only
+    when a ``kurtogram`` band is requested); for every band: zero-phase Butterworth band-pass,
+    peak of the band-passed signal, Hilbert envelope, envelope spectrum and the amplitudes at
+    k x f_fault (k = 1..K) with sidebands k x f_fault +- m x fr (m = 1..M).
+
+    Parameters
+    ----------
+    x : array_like, 1-D
+        Real signal (unit ``U``: Pa for the pressure histories, m/s^2 for an accelerometer).
+    fs : float
+        Sampling frequency (Hz).
+    fr : float
+        Shaft rate (Hz): raw-spectrum orders and sideband spacing.
+    bpfi : float, optional
+        Inner-race fault frequency (Hz). Shorthand for ``fault_frequencies={"bpfi": bpfi}``.
+    fault_frequencies : mapping or FaultFrequencies, optional
+        Named fault frequencies (Hz); envelope harmonics are read for each of them, and an
+        ``orders`` band's ``base`` refers to them (or to ``"fr"``).
+    bands : sequence of mapping, optional
+        Band specifications, plain mappings as a YAML config carries them; default
+        :data:`DEFAULT_BANDS` (kurtogram, fs/4-3fs/8, 3-6 x BPFI, 10-13 x BPFI)::
+
+            [{"name": "kurtogram", "strategy": "kurtogram"},
+             {"name": "fs4_3fs8", "strategy": "fraction", "low": 0.25, "high": 0.375},
+             {"name": "bpfi_3_6", "strategy": "orders", "low": 3, "high": 6, "base": "bpfi"},
+             {"name": "fixed", "strategy": "fixed", "low_hz": 5000.0, "high_hz": 9000.0}]
+
+        Keys: ``name`` (label, unique; default the strategy), ``strategy`` (``kurtogram``,
+        ``fraction``: fractions of fs, ``orders``: multiples of ``base``, ``fixed``: Hz),
+        ``clamp`` (clamp an upper edge at or above Nyquist instead of raising; always on for
+        ``kurtogram``), and for ``kurtogram`` the guards ``max_level``/``min_bandwidth``
+        (override the arguments of the same name). See :mod:`bearing_envelope.signal.bands`.
+    n_harmonics : int, default 2
+        Envelope harmonics k = 1..K.
+    n_sidebands : int, default 1
+        Sidebands m = 1..M on each side of each harmonic (0: none).
+    n_raw_harmonics : int, default 1
+        Orders of fr and of each fault frequency read in the raw spectrum.
+    nlevel : int or None, default 8
+        Kurtogram depth; reduced to ``floor(log2(n)) - 7`` for short signals. ``None``: the
+        default of :func:`fast_kurtogram`.
+    max_level, min_bandwidth : float, optional
+        Guards of the kurtogram's best cell (see :func:`fast_kurtogram`).
+    filter_order : int, default 4
+        Butterworth order of the band-pass (applied forward and backward).
+    squared : bool, default False
+        Use the squared envelope (amplitudes in ``U^2``).
+    window : str or tuple, default "hann"
+        Window of the raw and envelope spectra.
+    tolerance_hz : float, optional
+        Search half-width around each target; default ``max(2 df, 0.002 f)`` capped at fr/4.
+    interpolate : bool, default False
+        Scalloping-corrected, interpolated peaks (see :func:`amplitude_at`); default: the
+        largest bin.
+    nyquist_margin : float, default 0.98
+        Clamped upper edges are set to ``nyquist_margin * fs/2``.
+    demean : bool, default True
+        De-mean before the kurtogram (the raw 0 Hz term always uses the original signal).
+    full_output : bool, default False
+        Also return a dict with the kurtogram, the bands with provenance and every spectrum
+        (for plots): ``{"kurtogram", "bands": {name: {"band", "provenance", "f",
+        "amplitude", "peak"}}, "raw": (f, amplitude), "frequencies", "fr", "fs"}``.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per number, columns :data:`COLUMNS`:
+
+        - ``band_strategy``: the band's name (``"raw"`` for the raw spectrum);
+          ``band_kind``: its strategy; ``band_low_hz``, ``band_high_hz``: the band used
+          (0 .. fs/2 for raw); ``clamped``: upper edge clamped below Nyquist.
+        - ``quantity``: ``"raw_spectrum"`` (amplitude of the sinusoid at the target, one-sided,
+          window-corrected, unit ``U``; for ``base == "dc"`` the signal mean),
+          ``"envelope_spectrum"`` (amplitude of the envelope's component at the target, unit
+          ``U``, or ``U^2`` if ``squared``), ``"bandpass_peak"`` (max |band-passed signal|,
+          ``U``), ``"kurtogram_kurtosis"`` (kurtosis of the best cell, dimensionless,
+          ``frequency_hz`` = its centre).
+        - ``base``: ``"dc"``, ``"fr"`` or a fault-frequency name; ``order``: k;
+          ``sideband``: signed m (0: the harmonic itself); ``target_hz``: k f + m fr;
+          ``frequency_hz``: where the peak was found; ``amplitude``; ``scaling``: a short
+          statement of the unit and scaling of ``amplitude``.
+
+    (DataFrame, dict)
+        With ``full_output``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from bearing_envelope.signal import analyze_signal
+    >>> fs = 20000.0
+    >>> t = np.arange(2**16) / fs
+    >>> x = (1 + 0.5 * np.cos(2 * np.pi * 100.0 * t)) * np.cos(2 * np.pi * 6000.0 * t)
+    >>> df = analyze_signal(x, fs, fr=25.0, bpfi=100.0, bands=[
+    ...     {"name": "fixed", "strategy": "fixed", "low_hz": 4000, "high_hz": 8000}])
+    >>> row = df[(df.quantity == "envelope_spectrum") & (df.order == 1) & (df.sideband == 0)]
+    >>> round(float(row.amplitude.iloc[0]), 2)
+    0.5
+    """
+    import pandas as pd
+
+    fs = check_fs(fs)
+    x = check_signal(x, "x", min_length=16)
+    fr = check_positive(fr, "fr")
+    faults = fault_frequency_map(bpfi, fault_frequencies)
+    freqs = {"fr": fr, **faults}
+    bands = list(DEFAULT_BANDS if bands is None else bands)
+    names = [str(b.get("name", b.get("strategy"))) if isinstance(b, Mapping) else None
+             for b in bands]
+    dup = {n for n in names if names.count(n) > 1}
+    if dup:
+        raise ValueError(f"bands: duplicate band name(s) {sorted(dup)}")
+    nyq = fs / 2.0
+    unit = "U^2" if squared else "U"
+    records: list[dict] = []
+
+    def rec(**kw):
+        base = {c: None for c in COLUMNS}
+        base.update(kw)
+        records.append(base)
+
+    # raw spectrum ---------------------------------------------------------------------------
+    f_raw, a_raw = amplitude_spectrum(x, fs, window=window)
+    df_raw = f_raw[1] - f_raw[0]
+    raw_common = dict(band_strategy="raw", band_kind="raw", band_low_hz=0.0, band_high_hz=nyq,
+                      clamped=False, quantity="raw_spectrum", sideband=0)
+    rec(**raw_common, base="dc", order=0, target_hz=0.0, frequency_hz=0.0,
+        amplitude=float(np.mean(x)), scaling="mean of the signal (U)")
+    for name, base_hz in freqs.items():
+        for k in range(1, int(n_raw_harmonics) + 1):
+            target = k * base_hz
+            if target >= nyq:
+                continue
+            tol = default_tolerance(target, df_raw, fr) if tolerance_hz is None else tolerance_hz
+            ff, aa = amplitude_at(f_raw, a_raw, target, tol, interpolate=interpolate,
+                                  window=window, n=x.size)
+            rec(**raw_common, base=name, order=k, target_hz=target, frequency_hz=ff,
+                amplitude=aa, scaling="one-sided sinusoid amplitude, window-corrected (U)")
+
+    # kurtogram (once, only if needed) -------------------------------------------------------
+    kg = None
+    if any(isinstance(b, Mapping) and b.get("strategy") == "kurtogram" for b in bands):
+        nl = nlevel
+        if nl is not None:
+            nl = max(1, min(int(nl), max_kurtogram_level(x.size)))
+        kg = fast_kurtogram(x, fs, nl, max_level=max_level, min_bandwidth=min_bandwidth,
+                            demean=demean)
+
+    def kg_for(ml, mb):
+        if ml is None and mb is None:
+            return kg
+        return kg.restrict(max_level if ml is None else ml,
+                           min_bandwidth if mb is None else mb)
+
+    # bands ----------------------------------------------------------------------------------
+    details: dict = {"kurtogram": kg, "bands": {}, "raw": (f_raw, a_raw), "frequencies": freqs,
+                     "fr": fr, "fs": fs, "squared": squared}
+    env_scaling = (f"one-sided amplitude of the {'squared ' if squared else ''}envelope "
+                   f"component, mean removed, {window} window ({unit})")
+    for spec in bands:
+        band, prov = resolve_band(spec, fs, kurtogram=kg_for, frequencies=freqs,
+                                  margin=nyquist_margin)
+        low, high = band
+        common = dict(band_strategy=prov["name"], band_kind=prov["strategy"], band_low_hz=low,
+                      band_high_hz=high, clamped=bool(prov.get("clamped", False)))
+        f_env, a_env, y, _ = envelope_spectrum(x, fs, band, squared=squared, window=window,
+                                               order=filter_order, return_signal=True)
+        pk = peak_value(y)
+        if prov["strategy"] == "kurtogram":
+            rec(**common, quantity="kurtogram_kurtosis", base=None, order=None, sideband=None,
+                target_hz=prov["fc_hz"], frequency_hz=prov["fc_hz"], amplitude=prov["kurtosis"],
+                scaling=f"complex sub-band kurtosis (-), level {prov['level']:.3f}")
+        rec(**common, quantity="bandpass_peak", base=None, order=0, sideband=0,
+            target_hz=math.nan, frequency_hz=math.nan, amplitude=pk,
+            scaling=f"max |band-passed signal| (U), Butterworth order {filter_order} x2")
+        for name, base_hz in faults.items():
+            for r in harmonic_amplitudes(f_env, a_env, base_hz, fr=fr, n_harmonics=n_harmonics,
+                                         n_sidebands=n_sidebands, tolerance=tolerance_hz,
+                                         interpolate=interpolate, window=window, n=x.size):
+                rec(**common, quantity="envelope_spectrum", base=name, scaling=env_scaling, **r)
+        details["bands"][prov["name"]] = {"band": band, "provenance": prov, "f": f_env,
+                                          "amplitude": a_env, "peak": pk}
+
+    table = pd.DataFrame.from_records(records, columns=COLUMNS)
+    table["order"] = table["order"].astype("Int64")
+    table["sideband"] = table["sideband"].astype("Int64")
+    if full_output:
+        return table, details
+    return table

@@ -1,0 +1,118 @@
+import numpy as np
+import pytest
+
+from bearing_envelope.signal import (
+    amplitude_at,
+    bandpass,
+    envelope,
+    envelope_spectrum,
+    fast_kurtogram,
+    harmonic_amplitudes,
+    peak_value,
+)
+
+
+def am(fs=20000.0, n=40000, fc=5000.0, fm=50.0, m=0.4, a=2.0):
+    t = np.arange(n) / fs
+    return a * (1 + m * np.cos(2 * np.pi * fm * t)) * np.cos(2 * np.pi * fc * t)
+
+
+@pytest.mark.parametrize("window", ["hann", "flattop", "boxcar"])
+def test_am_carrier_envelope_line(window):
+    fs, fm, m, a = 20000.0, 50.0, 0.4, 2.0
+    x = am(fs=fs, fm=fm, m=m, a=a)
+    f, amp = envelope_spectrum(x, fs, (3000.0, 7000.0), window=window)
+    i = np.argmax(amp)
+    assert f[i] == pytest.approx(fm)
+    assert amp[i] == pytest.approx(a * m, rel=0.01)
+    assert amp[0] < 1e-3 * a  # mean removed
+
+
+def test_am_carrier_squared_envelope():
+    fs, fm, m, a = 20000.0, 50.0, 0.4, 2.0
+    x = am(fs=fs, fm=fm, m=m, a=a)
+    f, amp = envelope_spectrum(x, fs, (3000.0, 7000.0), squared=True)
+    assert amplitude_at(f, amp, fm, 1.0)[1] == pytest.approx(2 * m * a**2, rel=0.01)
+    assert amplitude_at(f, amp, 2 * fm, 1.0)[1] == pytest.approx(m**2 / 2 * a**2, rel=0.01)
+
+
+def test_bandpass_zero_phase_and_selective():
+    fs, n = 10000.0, 20000
+    t = np.arange(n) / fs
+    inband = np.cos(2 * np.pi * 1000 * t)  # samples hit the crests
+    x = inband + np.sin(2 * np.pi * 50 * t) + np.sin(2 * np.pi * 4000 * t)
+    y = bandpass(x, fs, (700.0, 1400.0), order=4)
+    core = slice(2000, -2000)
+    np.testing.assert_allclose(y[core], inband[core], atol=0.02)  # no delay, no leakage
+    assert peak_value(y[core]) == pytest.approx(1.0, abs=0.02)
+    lp = bandpass(x, fs, (0.0, 200.0))  # low = 0: low-pass
+    assert np.std(lp[core] - np.sin(2 * np.pi * 50 * t)[core]) < 0.02
+
+
+def test_envelope_of_pure_tone_is_flat():
+    t = np.arange(10000) / 1000.0
+    e = envelope(3.0 * np.cos(2 * np.pi * 100 * t))
+    np.testing.assert_allclose(e[100:-100], 3.0, rtol=1e-3)
+    e2 = envelope(3.0 * np.cos(2 * np.pi * 100 * t), squared=True)
+    np.testing.assert_allclose(e2[100:-100], 9.0, rtol=2e-3)
+
+
+def test_fault_signal_bpfi_line_and_sidebands(fault):
+    x, fs, fr, bpfi, fn = fault["x"], fault["fs"], fault["fr"], fault["bpfi"], fault["fn"]
+    kg = fast_kurtogram(x, fs, 8)
+    lo, hi = kg.band
+    assert lo <= fn <= hi
+    f, amp = envelope_spectrum(x, fs, (lo, min(hi, 0.98 * fs / 2)))
+    df = f[1] - f[0]
+    sel = (f > fr / 2) & (f < 3 * bpfi)
+    peak = f[sel][np.argmax(amp[sel])]
+    assert abs(peak - bpfi) <= df  # dominant line is BPFI within one bin
+    recs = harmonic_amplitudes(f, amp, bpfi, fr=fr, n_harmonics=2, n_sidebands=1)
+    byk = {(r["order"], r["sideband"]): r for r in recs}
+    floor = np.median(amp[(f > 100) & (f < 1000)])
+    for m in (-1, 1):
+        sb = byk[(1, m)]
+        assert abs(sb["frequency_hz"] - (bpfi + m * fr)) <= 2 * df
+        assert sb["amplitude"] > 5 * floor  # sidebands at +-fr present
+        assert sb["amplitude"] < byk[(1, 0)]["amplitude"]
+    assert byk[(2, 0)]["amplitude"] > 5 * floor
+
+
+def test_harmonic_amplitudes_records():
+    f = np.arange(0, 1000.5, 0.5)
+    amp = np.zeros_like(f)
+    for fr_, a_ in ((100.0, 1.0), (90.0, 0.3), (110.0, 0.2), (200.0, 0.5)):
+        amp[int(fr_ / 0.5)] = a_
+    recs = harmonic_amplitudes(f, amp, 100.0, fr=10.0, n_harmonics=2, n_sidebands=1)
+    got = {(r["order"], r["sideband"]): r["amplitude"] for r in recs}
+    assert got == {(1, -1): 0.3, (1, 0): 1.0, (1, 1): 0.2, (2, -1): 0.0, (2, 0): 0.5, (2, 1): 0.0}
+    with pytest.raises(ValueError, match="fr"):
+        harmonic_amplitudes(f, amp, 100.0, fr=None, n_sidebands=1)
+
+
+@pytest.mark.parametrize(
+    "band, match",
+    [
+        ((3000.0, 12000.0), "band: high edge 12000 Hz is at or above the Nyquist"),
+        ((3000.0, 10000.0), "band: high edge 10000 Hz is at or above the Nyquist"),
+        ((5000.0, 4000.0), "band: high edge 4000 Hz must be above"),
+        ((-1.0, 4000.0), "band: low edge -1 Hz is negative"),
+        ((np.nan, 4000.0), "finite"),
+        ((11000.0, 12000.0), "low edge"),
+        ("abc", "pair"),
+    ],
+)
+def test_bad_band(band, match):
+    with pytest.raises(ValueError, match=match):
+        envelope_spectrum(am(), 20000.0, band)
+
+
+def test_bad_signal_and_fs():
+    with pytest.raises(ValueError, match="non-finite"):
+        envelope_spectrum(np.r_[am()[:100], np.inf], 20000.0, (1000, 2000))
+    with pytest.raises(ValueError, match="fs must be"):
+        envelope_spectrum(am(), -1.0, (1000, 2000))
+    with pytest.raises(ValueError, match="x is empty"):
+        bandpass([], 1000.0, (10, 20))
+    with pytest.raises(ValueError, match="order"):
+        bandpass(am(), 20000.0, (1000, 2000), order=0)

@@ -1,0 +1,73 @@
+import numpy as np
+import pytest
+
+from bearing_envelope.signal import amplitude_at, amplitude_spectrum, raw_terms
+
+
+@pytest.mark.parametrize("window", ["hann", "boxcar", "flattop", ("tukey", 0.25), "hamming"])
+def test_sine_amplitude_exact_on_bin(window):
+    fs, n = 1000.0, 4000
+    t = np.arange(n) / fs
+    x = 3.0 + 2.5 * np.cos(2 * np.pi * 50.0 * t + 0.3)
+    f, a = amplitude_spectrum(x, fs, window=window)
+    assert f[1] == pytest.approx(fs / n)
+    assert a[200] == pytest.approx(2.5, rel=1e-9)
+    assert a[0] == pytest.approx(3.0, rel=1e-9)
+
+
+def test_nyquist_and_dc_bins_not_doubled():
+    fs, n = 8.0, 64
+    x = np.cos(np.pi * np.arange(n))  # exactly at fs/2, amplitude 1
+    f, a = amplitude_spectrum(x, fs, window=None)
+    assert f[-1] == 4.0 and a[-1] == pytest.approx(1.0)
+
+
+@pytest.mark.parametrize("window", ["hann", "boxcar", "hamming", "blackmanharris"])
+def test_off_bin_interpolation_corrects_scalloping(window):
+    fs, n = 1000.0, 1000
+    t = np.arange(n) / fs
+    x = 1.7 * np.sin(2 * np.pi * 123.4 * t)  # 0.4 bin off
+    f, a = amplitude_spectrum(x, fs, window=window)
+    f0, a0 = amplitude_at(f, a, 123.4, 2.0)
+    assert a0 < 1.7 * 0.99  # scalloping loss without interpolation
+    f1, a1 = amplitude_at(f, a, 123.4, 2.0, interpolate=True, window=window, n=n)
+    assert f1 == pytest.approx(123.4, abs=0.1)
+    assert a1 == pytest.approx(1.7, rel=0.01)
+
+
+def test_amplitude_at_picks_largest_bin_within_tolerance():
+    f = np.arange(11.0)
+    a = np.array([0, 1, 5, 1, 0, 0, 9, 0, 0, 0, 0.0])
+    assert amplitude_at(f, a, 3.0, 1.0) == (2.0, 5.0)
+    assert amplitude_at(f, a, 3.0, 3.0) == (6.0, 9.0)
+    assert amplitude_at(f, a, 3.2, 0.0) == (3.0, 1.0)
+    with pytest.raises(ValueError, match="beyond"):
+        amplitude_at(f, a, 20.0, 1.0)
+    with pytest.raises(ValueError, match="tolerance"):
+        amplitude_at(f, a, 2.0, -1.0)
+
+
+def test_raw_terms_dc_fr_bpfi():
+    fs, n, fr, bpfi = 2000.0, 20000, 10.0, 53.0
+    t = np.arange(n) / fs
+    x = 5.0 + 2.0 * np.cos(2 * np.pi * fr * t) + 0.5 * np.cos(2 * np.pi * bpfi * t)
+    r = {(d["base"], d["order"]): d for d in raw_terms(x, fs, fr=fr, bpfi=bpfi)}
+    assert r[("dc", 0)]["amplitude"] == pytest.approx(5.0)
+    assert r[("fr", 1)]["amplitude"] == pytest.approx(2.0, rel=1e-6)
+    assert r[("bpfi", 1)]["amplitude"] == pytest.approx(0.5, rel=1e-6)
+
+
+@pytest.mark.parametrize(
+    "x, fs, match",
+    [
+        (np.array([]), 1.0, "x is empty"),
+        (np.array([1.0, np.nan, 2.0]), 1.0, "non-finite"),
+        (np.ones(10), 0.0, "fs must be"),
+        (np.ones(10), -5.0, "fs must be"),
+        (np.ones(10), np.inf, "fs must be"),
+        (np.ones((3, 4)), 1.0, "1-D"),
+    ],
+)
+def test_bad_inputs(x, fs, match):
+    with pytest.raises(ValueError, match=match):
+        amplitude_spectrum(x, fs)
