@@ -101,7 +101,7 @@ def check_config(config: Mapping[str, Any]) -> None:
     if dup:
         raise ValueError(f"analysis.bands: names must be unique; repeated: {dup}")
     scene = scenes[0]
-    fs = scene.operation.fs_hz if hasattr(scene.operation, "fs_hz") else scene.operation.fs
+    fs = float(scene.operation.fs_hz)
     freqs = scene_frequencies(scene)
     for band in analysis["bands"]:
         band_limits_static(band, fs, freqs)
@@ -113,8 +113,8 @@ def check_config(config: Mapping[str, Any]) -> None:
 
 def scene_frequencies(scene) -> dict[str, float]:
     """Base frequencies (Hz) of a scene by name: fr, bpfi (the one used), bpfo, ftf, bsf."""
-    ff = scene.fault_frequencies()
-    return {"fr": ff.fr, "bpfi": ff.bpfi, "bpfo": ff.bpfo, "ftf": ff.ftf, "bsf": ff.bsf}
+    ff = scene.frequencies()
+    return {"fr": ff.fr, "bpfi": scene.bpfi_hz, "bpfo": ff.bpfo, "ftf": ff.ftf, "bsf": ff.bsf}
 
 
 def load_config(path: str | Path, schema: str | Path | None = None) -> dict[str, Any]:

@@ -42,9 +42,19 @@ def analysis_params(wildcards):
     return json.dumps(config["analysis"], sort_keys=True)
 
 
+def example_cases(wildcards=None):
+    """Cases drawn alone (Figs 4, 5, 7, 9, 11): the deepest defect and the healthy race
+    (or the shallowest depth) at the highest load."""
+    load = max(LOADS)
+    return {
+        "defect": case_name(load, max(DEPTHS)),
+        "healthy": case_name(load, min(DEPTHS)),
+    }
+
+
 def all_targets():
     return [
         "results/tables/harmonics.csv",
         "results/tables/cases.csv",
-        "results/figures/.done",
+        "results/figures",
     ]

@@ -1,0 +1,32 @@
+# Sweep-level tables: tidy harmonics, per-case summary and load x depth pivots.
+
+
+rule aggregate:
+    input:
+        harmonics=expand("results/harmonics/{case}.csv", case=CASES),
+        bands=expand("results/bands/{case}.json", case=CASES),
+        cases=expand("results/cases/{case}.h5", case=CASES),
+    output:
+        harmonics=report(
+            "results/tables/harmonics.csv",
+            caption="../report/harmonics.rst",
+            category="Tables",
+        ),
+        cases=report(
+            "results/tables/cases.csv", caption="../report/cases.rst", category="Tables"
+        ),
+        bands="results/tables/bands.csv",
+        pivots=report(
+            directory("results/tables/pivots"),
+            patterns=["{name}.csv"],
+            caption="../report/pivots.rst",
+            category="Pivot tables",
+        ),
+    log:
+        "logs/aggregate.log",
+    threads: 1
+    resources:
+        mem_mb=2000,
+        runtime=10,
+    script:
+        "../scripts/aggregate.py"

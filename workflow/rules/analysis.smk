@@ -1,0 +1,45 @@
+# Per-case analysis: demodulation bands (kurtogram + fixed) and envelope harmonics.
+# Analysis settings reach the jobs through params, so changing them reruns these jobs only.
+
+
+rule bands:
+    input:
+        case="results/cases/{case}.h5",
+        code=SIGNAL_CODE,
+    output:
+        bands="results/bands/{case}.json",
+        kurtogram="results/bands/{case}_kurtogram.npz",
+    params:
+        analysis=analysis_params,
+    log:
+        "logs/bands/{case}.log",
+    benchmark:
+        "logs/benchmarks/bands/{case}.tsv"
+    threads: 1
+    resources:
+        mem_mb=1500,
+        runtime=10,
+    script:
+        "../scripts/bands.py"
+
+
+rule envelope:
+    input:
+        case="results/cases/{case}.h5",
+        bands="results/bands/{case}.json",
+        code=SIGNAL_CODE,
+    output:
+        harmonics="results/harmonics/{case}.csv",
+        spectra="results/spectra/{case}.npz",
+    params:
+        analysis=analysis_params,
+    log:
+        "logs/envelope/{case}.log",
+    benchmark:
+        "logs/benchmarks/envelope/{case}.tsv"
+    threads: 1
+    resources:
+        mem_mb=1500,
+        runtime=10,
+    script:
+        "../scripts/envelope.py"

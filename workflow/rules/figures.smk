@@ -1,0 +1,29 @@
+# Figures of the sweep (PNG), numbered after the source study, collected in the report.
+
+
+rule figures:
+    input:
+        harmonics="results/tables/harmonics.csv",
+        cases="results/tables/cases.csv",
+        bands="results/tables/bands.csv",
+        case_files=expand("results/cases/{case}.h5", case=CASES),
+        kurtograms=expand("results/bands/{case}_kurtogram.npz", case=CASES),
+        spectra=expand("results/spectra/{case}.npz", case=CASES),
+    output:
+        report(
+            directory("results/figures"),
+            patterns=["{name}.png"],
+            caption="../report/figures.rst",
+            category="Figures",
+        ),
+    params:
+        analysis=analysis_params,
+        example=example_cases,
+    log:
+        "logs/figures.log",
+    threads: 1
+    resources:
+        mem_mb=3000,
+        runtime=15,
+    script:
+        "../scripts/figures.py"
