@@ -55,7 +55,14 @@ class Fidelity:
     n_loads : int
         Number of roller-load nodes of the table (uniform in ``Q**(1/3)``).
     n_offsets : int
-        Number of defect-offset nodes of the table on ``0 <= xi <= xi_max`` (one side, symmetry).
+        Smallest number of defect-offset nodes of the table on ``0 <= xi <= xi_max`` (one side,
+        symmetry).
+    offsets_per_width : float
+        Offset nodes per defect extent along rolling ``w_x``: node spacing ``<= w_x /
+        offsets_per_width`` (the pressure peak oscillates with the offset on the scale of
+        ``w_x``), which raises the node count above ``n_offsets`` for narrow defects.
+    max_offsets : int
+        Cap on the number of offset nodes.
     xi_max : float
         Largest tabulated normalised offset ``xi = |x| / (a(Q) + w_x/2 + neighbourhood)``.
         Beyond it the defect cannot touch the contact and the no-defect values are exact.
@@ -80,6 +87,8 @@ class Fidelity:
     max_iter: int = 2000
     n_loads: int = 5
     n_offsets: int = 14
+    offsets_per_width: float = 4.0
+    max_offsets: int = 120
     xi_max: float = 1.02
     n_checks: int = 6
     n_snapshot_offsets: int = 3
@@ -96,9 +105,11 @@ class Fidelity:
                 raise ValueError(f"fidelity.{f} must be a finite number >= 0, got {v!r}")
         if not (isinstance(self.global_extent, (int, float)) and self.global_extent > 1.0):
             raise ValueError(f"fidelity.global_extent must be > 1, got {self.global_extent!r}")
+        if not (isinstance(self.offsets_per_width, (int, float)) and self.offsets_per_width > 0):
+            raise ValueError(f"fidelity.offsets_per_width must be > 0, got {self.offsets_per_width!r}")
         if not (isinstance(self.xi_max, (int, float)) and self.xi_max >= 1.0):
             raise ValueError(f"fidelity.xi_max must be >= 1, got {self.xi_max!r}")
-        for f, lo in (("max_iter", 1), ("n_loads", 2), ("n_offsets", 3), ("n_checks", 0),
+        for f, lo in (("max_iter", 1), ("n_loads", 2), ("n_offsets", 3), ("max_offsets", 3), ("n_checks", 0),
                       ("n_snapshot_offsets", 0)):
             v = getattr(self, f)
             if isinstance(v, bool) or not isinstance(v, int) or v < lo:
@@ -115,13 +126,15 @@ PRESETS: dict[str, Fidelity] = {
     "draft": Fidelity(
         name="draft", global_dx_um=25.0, global_dy_um=400.0, global_extent=1.3,
         local_dx_um=10.0, local_dy_um=50.0, window_margin_um=250.0, neighbourhood_um=50.0,
-        tol=1e-5, max_iter=1000, n_loads=3, n_offsets=7, n_checks=2, n_snapshot_offsets=2,
+        tol=1e-5, max_iter=1000, n_loads=3, n_offsets=7, offsets_per_width=2.0, max_offsets=40,
+        n_checks=2, n_snapshot_offsets=2,
     ),
     "standard": Fidelity(name="standard"),
     "paper": Fidelity(
         name="paper", global_dx_um=5.0, global_dy_um=80.0, global_extent=1.3,
         local_dx_um=2.0, local_dy_um=10.0, window_margin_um=500.0, neighbourhood_um=50.0,
-        tol=1e-8, max_iter=5000, n_loads=8, n_offsets=24, n_checks=12, n_snapshot_offsets=5,
+        tol=1e-8, max_iter=5000, n_loads=8, n_offsets=24, offsets_per_width=8.0, max_offsets=400,
+        n_checks=12, n_snapshot_offsets=5,
     ),
 }
 

@@ -102,7 +102,7 @@ class LoadNode:
     outside_max: float         # max global pressure outside the read strip
     p0: float                  # max no-defect pressure of the whole contact
     half_width: float          # solved contact half-width at y = y_d (m)
-    zoom_consistency: float    # max |p_window0 - p_global interp| / p0 in the read strip
+    zoom_consistency: float    # |max p_window0 - max p_global| / p0 in the read strip
     halfspace: Any = field(repr=False, default=None)
 
 
@@ -113,6 +113,16 @@ def _bilinear(xg: np.ndarray, yg: np.ndarray, f: np.ndarray, x: np.ndarray, y: n
     it = RegularGridInterpolator((xg, yg), f, bounds_error=False, fill_value=fill)
     X, Y = np.meshgrid(x, y, indexing="ij")
     return it((X, Y))
+
+
+def _halfspace(grid: Grid, e_star: float, backend: str):
+    """Single-threaded half-space operator: the sweep runs one case per core, and threaded FFTs
+    on a shared 2-core machine were measured 10-100x slower. ``auto`` (pyfftw if present) pays a
+    planning cost once per grid and is worth it for the many window solves; the single global
+    solve per load uses pocketfft (no planning)."""
+    from .contact import ElasticHalfSpace
+
+    return ElasticHalfSpace(grid.shape, grid.dx, grid.dy, e_star, workers=1, backend=backend)
 
 
 def _window_spec(scene: Scene, fid: Fidelity, q_load: float, kappa: float):
@@ -137,22 +147,21 @@ def _window_spec(scene: Scene, fid: Fidelity, q_load: float, kappa: float):
 
 def _solve_load(scene: Scene, fid: Fidelity, q_load: float, kappa: float, stats: SolveStats,
                 p_init_global=None) -> LoadNode:
-    from .contact import ElasticHalfSpace
-
     e_star = scene.material.e_star_pa
     b = scene.bearing
     a, s, dxw, dyw, xh, yd, hy_read, hy = _window_spec(scene, fid, q_load, kappa)
     # global grid: whole roller length plus one +inf cell each side
     dxg, dyg = 1e-6 * fid.global_dx_um, 1e-6 * fid.global_dy_um
     half = b.half_length_m
-    xg_half = max(fid.global_extent * kappa * a, xh + dxg)
-    extent = xg_half
+    xw = make_grid(-xh, xh, 0.0, 1.0, dxw, 1.0).x
+    extent = max(fid.global_extent * kappa * a, float(np.max(np.abs(xw))) + dxg)
     for _attempt in range(4):
         grid = make_grid(-extent, extent, -half - 1.01 * dyg, half + 1.01 * dyg, dxg, dyg)
         gap = gap_field(scene, grid, None)
+        hs_g = _halfspace(grid, e_star, "scipy")
         try:
             sol = stats.solve(gap, dxg, dyg, q_load, e_star, tol=fid.tol, max_iter=fid.max_iter,
-                              p_init=None, boundary="raise")
+                              p_init=p_init_global, boundary="raise", halfspace=hs_g)
             break
         except ValueError as exc:  # ContactGridError: grid too small
             if "boundary" not in str(exc):
@@ -165,24 +174,47 @@ def _solve_load(scene: Scene, fid: Fidelity, q_load: float, kappa: float, stats:
     jy = int(np.argmin(np.abs(grid.y - yd)))
     col = pg[:, jy]
     half_width = float(np.max(np.abs(grid.x[col > 0])) + 0.5 * dxg) if np.any(col > 0) else 0.0
-    # window
-    win = make_grid(-xh, xh, yd - hy, yd + hy, dxw, dyw, y_center=yd)
-    hs = ElasticHalfSpace(win.shape, dxw, dyw, e_star)
-    p_in = _bilinear(grid.x, grid.y, pg, win.x, win.y)
-    p_in[~np.isfinite(gap_field(scene, win, None))] = 0.0
-    u_glob = _bilinear(grid.x, grid.y, sol.displacement, win.x, win.y, fill=np.nan)
-    if np.isnan(u_glob).any():
+    # window: its axial edges coincide with global cell edges and dy_global = m dy_window, so the
+    # global cells outside the window are exactly the far field (no overlap, no gap)
+    j_lo = int(np.clip(np.floor((yd - hy - grid.y[0]) / dyg + 0.5), 0, grid.y.size - 1))
+    j_hi = int(np.clip(np.floor((yd + hy - grid.y[0]) / dyg + 0.5), 0, grid.y.size - 1))
+    m = max(1, int(math.ceil(dyg / dyw - 1e-9)))
+    ny_w = (j_hi - j_lo + 1) * m
+    y0 = grid.y[j_lo] - 0.5 * dyg
+    win = Grid(xw, y0 + (np.arange(ny_w) + 0.5) * (dyg / m), dxw, dyg / m)
+    hs = _halfspace(win, e_star, "auto")
+    # far field: the global pressure outside the window, each coarse cell split into m axial
+    # sub-cells (the same load), convolved on the global x grid at the window's axial spacing,
+    # so u_ext is exact in y at the window's columns and only interpolated (linearly) in x
+    p_out = pg.astype(float).copy()
+    p_out[:, j_lo:j_hi + 1] = 0.0
+    if m > 1:
+        p_out = np.repeat(p_out, m, axis=1)
+    hs_f = _halfspace(Grid(grid.x, np.zeros(p_out.shape[1]), dxg, dyg / m), e_star, "scipy")
+    u_cols = hs_f.displacement(p_out)[:, j_lo * m:(j_hi + 1) * m]
+    u_ext = np.empty(win.shape)
+    for k in range(win.shape[1]):
+        u_ext[:, k] = np.interp(win.x, grid.x, u_cols[:, k], left=np.nan, right=np.nan)
+    gwin = gap_field(scene, win, None)
+    void = ~np.isfinite(gwin)
+    u_ext[void] = 0.0
+    if np.isnan(u_ext).any():
         raise RuntimeError("zoom window not inside the global grid")  # pragma: no cover
-    u_ext = u_glob - hs.displacement(p_in)
-    g0 = gap_field(scene, win, None) + u_ext
-    sol0 = stats.solve(g0, dxw, dyw, None, e_star, tol=fid.tol, max_iter=fid.max_iter,
-                       p_init=p_in, approach=sol.approach, boundary="ignore", halfspace=hs)
+    p_in = _bilinear(grid.x, grid.y, pg, win.x, win.y)
+    p_in[void] = 0.0
+    g0 = gwin + u_ext
+    # the window's no-defect solve carries the force the global solve put on the same cells;
+    # its approach (not the coarse global one, which differs by the coarse grid's discretisation
+    # error) then drives the defect solves under displacement control
+    f_win = float(pg[:, j_lo:j_hi + 1].sum()) * dxg * dyg
+    sol0 = stats.solve(g0, win.dx, win.dy, f_win, e_star, tol=fid.tol, max_iter=fid.max_iter,
+                       p_init=p_in, boundary="ignore", halfspace=hs)
     strip = np.abs(win.y - yd) <= hy_read + 1e-12
     gstrip = np.abs(grid.y - yd) <= hy_read + 1e-12
     outside = float(pg[:, ~gstrip].max()) if np.any(~gstrip) else 0.0
     p0 = max(float(sol0.pressure[:, strip].max()), outside)
-    cons = float(np.max(np.abs(sol0.pressure[:, strip] - p_in[:, strip]))) / p0
-    return LoadNode(q_load, a, grid, pg.astype(np.float32), sol.approach, win, u_ext,
+    cons = abs(float(sol0.pressure[:, strip].max()) - float(p_in[:, strip].max())) / p0
+    return LoadNode(q_load, a, grid, pg.astype(np.float32), sol0.approach, win, u_ext,
                     sol0.pressure, strip, outside, p0, half_width, cons, hs)
 
 
@@ -311,14 +343,20 @@ def build_table(scene: Scene, fidelity: Fidelity | str | None = None, *, q_max: 
     fid = fidelity_from(fidelity)
     stats = stats or SolveStats()
     d = scene.defect
-    nq, nxi = fid.n_loads, fid.n_offsets
+    nq = fid.n_loads
     qn = np.linspace((Q_MIN_FRACTION * q_max) ** (1 / 3), q_max ** (1 / 3), nq)
     q_nodes = qn ** 3
-    xi_nodes = np.linspace(0.0, fid.xi_max, nxi)
     a_coef = hertz_estimate(scene, q_max).a / q_max ** (1 / 3)
     ex = d.extent_x_m if d.active else 0.0
     s_const = 0.5 * ex + 1e-6 * fid.neighbourhood_um
-
+    # offsets in absolute x: normalised by the largest load's s(Q) only (the pressure peak
+    # oscillates with the offset on the scale of the defect width, fixed in x, not in x/a)
+    s_guess = 1.1 * a_coef * q_max ** (1 / 3) + s_const
+    nxi = fid.n_offsets
+    if d.active:
+        nxi = max(nxi, int(math.ceil(fid.xi_max * s_guess / (ex / fid.offsets_per_width))) + 1)
+        nxi = min(nxi, fid.max_offsets)
+    xi_nodes = np.linspace(0.0, fid.xi_max, nxi)
     n_total = nq * 2 + (nq * (nxi + fid.n_snapshot_offsets) + fid.n_checks * 3 if d.active else 0)
     bar = None
     if progress is not None:
@@ -341,6 +379,8 @@ def build_table(scene: Scene, fidelity: Fidelity | str | None = None, *, q_max: 
             kappa = max(kappa, 1.02 * node.half_width / node.a_hertz)
         nodes = nodes[::-1]
         kappa = max([1.0] + [1.02 * nd.half_width / nd.a_hertz for nd in nodes])
+        s_max = kappa * a_coef * q_max ** (1 / 3) + s_const
+        x_nodes = xi_nodes * s_max
         p0 = np.array([nd.p0 for nd in nodes])
         R = np.ones((nq, nxi))
         Rd = np.zeros((nq, nxi))
@@ -348,32 +388,37 @@ def build_table(scene: Scene, fidelity: Fidelity | str | None = None, *, q_max: 
         snapshots: dict[str, Any] = {}
         snap_xi = np.linspace(0.0, 0.8, fid.n_snapshot_offsets) if fid.n_snapshot_offsets else []
         for i, nd in enumerate(nodes):
-            s = kappa * a_coef * q_nodes[i] ** (1 / 3) + s_const
+            s_i = kappa * a_coef * q_nodes[i] ** (1 / 3) + s_const
+            reach = fid.xi_max * s_i          # beyond: the defect cannot touch the contact
             snap: dict[str, Any] = {
                 "roller_load": q_nodes[i], "global_x": nd.grid.x, "global_y": nd.grid.y,
                 "global_pressure": nd.pressure, "window_x": nd.window.x, "window_y": nd.window.y,
             }
             if not d.active:
-                for j, xi in enumerate(xi_nodes):
-                    Rd[i, j] = _neighbourhood_max(scene, fid, nd.window, nd.p_window0, xi * s) / nd.p0
-                snap["offsets"] = np.asarray(snap_xi) * s
+                for j, xj in enumerate(x_nodes):
+                    Rd[i, j] = _neighbourhood_max(scene, fid, nd.window, nd.p_window0, xj) / nd.p0
+                snap["offsets"] = np.asarray(snap_xi) * s_i
                 snap["window_pressure"] = np.repeat(nd.p_window0[None].astype(np.float32),
                                                     len(snap_xi), axis=0)
             else:
                 p_prev = None
                 for j in range(nxi - 1, -1, -1):
-                    P, Pd, p_prev, dF = _defect_solve(scene, fid, nd, xi_nodes[j] * s, stats, p_prev)
+                    if x_nodes[j] > reach:
+                        if bar is not None:
+                            bar.update()
+                        continue
+                    P, Pd, p_prev, dF = _defect_solve(scene, fid, nd, x_nodes[j], stats, p_prev)
                     R[i, j] = P / nd.p0
                     Rd[i, j] = Pd / nd.p0
                     dF_max = max(dF_max, abs(dF) / nd.q)
                 fields = []
                 for xi in snap_xi:
-                    fields.append(_defect_solve(scene, fid, nd, xi * s, stats)[2].astype(np.float32))
-                snap["offsets"] = np.asarray(snap_xi) * s
+                    fields.append(_defect_solve(scene, fid, nd, xi * s_i, stats)[2].astype(np.float32))
+                snap["offsets"] = np.asarray(snap_xi) * s_i
                 snap["window_pressure"] = np.array(fields) if fields else \
                     np.zeros((0,) + nd.window.shape, np.float32)
             snapshots[f"load_{i}"] = snap
-        table = PressureTable(q_nodes, xi_nodes, p0, R, Rd, a_coef, kappa, s_const)
+        table = PressureTable(q_nodes, xi_nodes, p0, R, Rd, a_coef, 0.0, s_max)
         # interpolation error against direct solves at random (Q, x)
         checks = []
         if d.active and fid.n_checks:
@@ -382,7 +427,7 @@ def build_table(scene: Scene, fidelity: Fidelity | str | None = None, *, q_max: 
                 qc = float(rng.uniform(qn[0], qn[-1]) ** 3)
                 xi = float(rng.uniform(0.0, fid.xi_max))
                 node = _solve_load(scene, fid, qc, kappa, stats)
-                xd = xi * table.scale(qc)
+                xd = xi * (kappa * a_coef * qc ** (1 / 3) + s_const)
                 P, Pd, _, _ = _defect_solve(scene, fid, node, float(xd), stats)
                 Pi, Pdi = table.evaluate(qc, xd)
                 checks.append((qc, xd, P, Pd, float(Pi), float(Pdi), node.p0))
