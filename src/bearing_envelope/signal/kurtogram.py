@@ -5,6 +5,7 @@ The filter bank is written from the equations of the paper; the inner loops run 
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass, field, replace
 
@@ -130,18 +131,29 @@ def max_kurtogram_level(n: int) -> int:
     return int(math.floor(math.log2(max(int(n), 1)))) - 7
 
 
+#: Outputs per block of the filter-bank kernel; ``dec * _BLOCK`` is a multiple of the phasor
+#: period 24 for dec = 2 and 3, so one phasor table serves every block.
+_BLOCK = 960
+#: Every demodulation frequency (cycles/sample) is a multiple of 1/24.
+_PERIOD = 24
+
+
 @njit(cache=True, fastmath=True)
-def _bank_step(xr, xi, cosb, sinb, w, dec, drop, store):  # pragma: no cover - compiled
-    """One split of every node of a level into ``C`` children.
+def _bank_step(xr, xi, has_imag, tabc, tabs, w, dec, drop, store):  # pragma: no cover - jit
+    """Split every node of a level into ``C`` children, block by block.
 
     Child ``c`` of node ``p`` (row ``p * C + c``) is ``y[m] = sum_n w[n] z[dec*m + dec-1 - n]``
-    with ``z = x * exp(-2j*pi*f_c*t)`` (``cosb[c] - 1j*sinb[c]``). Returns the children (if
-    ``store``) and the sums of ``|y|^2`` and ``|y|^4`` over ``m >= drop``.
+    with ``z[t] = x[t] * exp(-2j*pi*f_c*t)``; ``tabc``/``tabs`` hold ``cos``/``sin`` of
+    ``2 pi f_c t`` for ``t = t_rel - dec*Q`` (period 24). The demodulated input of one block
+    is written to small polyphase buffers (cache-resident) and filtered four taps at a time.
+    Returns the children (if ``store``) and the sums of ``|y|^2`` and ``|y|^4`` over
+    ``m >= drop``. ``w`` has a multiple of 4 taps (zero-padded).
     """
     n_nodes, m_in = xr.shape
-    n_child = cosb.shape[0]
+    n_child = tabc.shape[0]
     m_out = m_in // dec
     n_taps = w.shape[0]
+    q_hist = (n_taps + dec - 1) // dec
     n_task = n_nodes * n_child
     if store:
         yr = np.empty((n_task, m_out))
@@ -151,61 +163,99 @@ def _bank_step(xr, xi, cosb, sinb, w, dec, drop, store):  # pragma: no cover - c
         yi = np.empty((1, 1))
     s2 = np.zeros(n_task)
     s4 = np.zeros(n_task)
-    block = 1024
-    for task in range(n_task):
-        p = task // n_child
-        c = task - p * n_child
-        phr = np.empty((dec, m_out))
-        phi = np.empty((dec, m_out))
-        accr = np.zeros(m_out)
-        acci = np.zeros(m_out)
-        # demodulate and split into polyphase components
-        for d in range(dec):
-            for j in range(m_out):
-                t = dec * j + d
-                a = xr[p, t]
-                b = xi[p, t]
-                cc = cosb[c, t]
-                ss = sinb[c, t]
-                phr[d, j] = a * cc + b * ss
-                phi[d, j] = b * cc - a * ss
-        for m0 in range(0, m_out, block):
-            m1 = min(m0 + block, m_out)
-            for n in range(n_taps):
-                q = n // dec
-                d = dec - 1 - (n - q * dec)
-                wn = w[n]
-                start = max(m0, q)
-                for m in range(start, m1):
-                    accr[m] += wn * phr[d, m - q]
-                    acci[m] += wn * phi[d, m - q]
-        a2s = 0.0
-        a4s = 0.0
-        for m in range(drop, m_out):
-            a2 = accr[m] * accr[m] + acci[m] * acci[m]
-            a2s += a2
-            a4s += a2 * a2
-        s2[task] = a2s
-        s4[task] = a4s
-        if store:
-            for m in range(m_out):
-                yr[task, m] = accr[m]
-                yi[task, m] = acci[m]
+    blk = _BLOCK
+    phr = np.zeros((dec, q_hist + blk))
+    phi = np.zeros((dec, q_hist + blk))
+    accr = np.empty(blk)
+    acci = np.empty(blk)
+    for p in range(n_nodes):
+        for m0 in range(0, m_out, blk):
+            m1 = min(m0 + blk, m_out)
+            nb = m1 - m0
+            tbase = dec * (m0 - q_hist)
+            for c in range(n_child):
+                for d in range(dec):
+                    for jj in range(q_hist + nb):
+                        trel = dec * jj + d
+                        t = tbase + trel
+                        if t < 0:
+                            phr[d, jj] = 0.0
+                            phi[d, jj] = 0.0
+                        else:
+                            a = xr[p, t]
+                            cc = tabc[c, trel]
+                            ss = tabs[c, trel]
+                            if has_imag:
+                                b = xi[p, t]
+                                phr[d, jj] = a * cc + b * ss
+                                phi[d, jj] = b * cc - a * ss
+                            else:
+                                phr[d, jj] = a * cc
+                                phi[d, jj] = -a * ss
+                for m in range(nb):
+                    accr[m] = 0.0
+                    acci[m] = 0.0
+                for g in range(0, n_taps, 4):
+                    q0 = g // dec
+                    d0 = dec - 1 - (g - q0 * dec)
+                    q1 = (g + 1) // dec
+                    d1 = dec - 1 - (g + 1 - q1 * dec)
+                    q2 = (g + 2) // dec
+                    d2 = dec - 1 - (g + 2 - q2 * dec)
+                    q3 = (g + 3) // dec
+                    d3 = dec - 1 - (g + 3 - q3 * dec)
+                    w0 = w[g]
+                    w1 = w[g + 1]
+                    w2 = w[g + 2]
+                    w3 = w[g + 3]
+                    r0 = phr[d0, q_hist - q0 :]
+                    r1 = phr[d1, q_hist - q1 :]
+                    r2 = phr[d2, q_hist - q2 :]
+                    r3 = phr[d3, q_hist - q3 :]
+                    i0 = phi[d0, q_hist - q0 :]
+                    i1 = phi[d1, q_hist - q1 :]
+                    i2 = phi[d2, q_hist - q2 :]
+                    i3 = phi[d3, q_hist - q3 :]
+                    for m in range(nb):
+                        accr[m] += w0 * r0[m] + w1 * r1[m] + w2 * r2[m] + w3 * r3[m]
+                        acci[m] += w0 * i0[m] + w1 * i1[m] + w2 * i2[m] + w3 * i3[m]
+                task = p * n_child + c
+                a2s = 0.0
+                a4s = 0.0
+                for m in range(max(drop - m0, 0), nb):
+                    a2 = accr[m] * accr[m] + acci[m] * acci[m]
+                    a2s += a2
+                    a4s += a2 * a2
+                s2[task] += a2s
+                s4[task] += a4s
+                if store:
+                    for m in range(nb):
+                        yr[task, m0 + m] = accr[m]
+                        yi[task, m0 + m] = acci[m]
     return yr, yi, s2, s4
 
 
 def _prototypes():
-    w2 = sp_signal.firwin(BINARY_TAPS, BINARY_CUTOFF)  # Hamming-windowed sinc
-    w3 = sp_signal.firwin(TERNARY_TAPS, TERNARY_CUTOFF)
-    return w2, w3
+    """Binary and ternary prototype low-pass filters (Hamming-windowed sinc, published
+    lengths and cut-offs), zero-padded to a multiple of 4 taps for the kernel."""
+    out = []
+    for taps, cut in ((BINARY_TAPS, BINARY_CUTOFF), (TERNARY_TAPS, TERNARY_CUTOFF)):
+        w = sp_signal.firwin(taps, cut)
+        out.append(np.concatenate([w, np.zeros(-taps % 4)]))
+    return out[0], out[1]
 
 
-def _phasors(freqs, m, period=24):
-    """cos/sin of 2 pi f t for t = 0..m-1; every f is a multiple of 1/period (periodic table)."""
-    t = np.arange(period, dtype=np.float64)
-    ang = 2.0 * np.pi * np.outer(np.asarray(freqs, dtype=np.float64), t)
-    reps = -(-m // period)
-    return np.tile(np.cos(ang), reps)[:, :m].copy(), np.tile(np.sin(ang), reps)[:, :m].copy()
+@functools.lru_cache(maxsize=16)
+def _tables(freqs, dec, n_taps):
+    """cos/sin of ``2 pi f t`` for the kernel's block-relative time ``t = t_rel - dec*Q``
+    (cached: treat as read-only)."""
+    q_hist = (n_taps + dec - 1) // dec
+    t = np.arange(dec * (_BLOCK + q_hist)) - dec * q_hist
+    f = np.asarray(freqs, dtype=np.float64)
+    # exact phases: reduce t f modulo 1 with integers
+    k = np.round(f * _PERIOD).astype(np.int64)
+    ang = 2.0 * np.pi * (np.mod(np.outer(k, t), _PERIOD) / _PERIOD)
+    return np.cos(ang), np.sin(ang)
 
 
 def _best_cell(rows, levels, bandwidths, max_level, min_bandwidth):
@@ -383,41 +433,44 @@ def fast_kurtogram(
     nsamp = np.zeros(len(levels), dtype=int)
 
     # level 0: analytic signal of the whole band
+    # level 0: |analytic signal|^2 = x^2 + (Hx)^2, Hx by FFT in single precision (the
+    # kurtosis needs ~6 digits; this halves the cost of the largest transform)
     nfft = sp_fft.next_fast_len(n, real=True)
-    spec = sp_fft.rfft(x, nfft, workers=-1)
-    spec *= -1j  # Hilbert transform: -i sign(f); DC and Nyquist set to 0
+    scale = 1.0 / np.std(x)
+    spec = sp_fft.rfft((x * scale).astype(np.float32), nfft, workers=-1)
+    spec *= np.complex64(-1j)  # Hilbert transform: -i sign(f); DC and Nyquist set to 0
     spec[0] = 0.0
     if nfft % 2 == 0:
         spec[-1] = 0.0
-    hx = sp_fft.irfft(spec, nfft, workers=-1)[:n]
-    a2 = x * x + hx * hx  # |analytic signal|^2
+    hx = sp_fft.irfft(spec, nfft, workers=-1)[:n].astype(np.float64)
+    xs = x * scale
+    a2 = xs * xs + hx * hx
     rows[0] = _kurt_from_sums([a2.sum()], [np.dot(a2, a2)], n)
     nsamp[0] = n
 
-    xr = x[None, :].copy()
-    xi = np.zeros_like(xr)
+    xr = x[None, :]
+    xi = np.zeros((1, 1))
     centre = 0.25  # the band of the real input is [0, 1/2] cycles/sample, centred on 1/4
     drop = 0
-    row_of_binary = {k: (0 if k == 0 else 2 * k - 1) for k in range(nlevel + 1)}
     for k in range(nlevel):
         m_in = xr.shape[1]
         # ternary split of binary level k -> row of level k + 1.585 (leaves: moments only)
-        d3 = _drop_after(drop, TERNARY_TAPS, 3)
-        cb, sb = _phasors([centre - 1.0 / 6.0, centre, centre + 1.0 / 6.0], m_in)
-        _, _, s2, s4 = _bank_step(xr, xi, cb, sb, w3, 3, d3, False)
-        cnt = m_in // 3 - d3
         r3 = 2 * k + 2
-        if r3 < len(levels):
+        if r3 < len(levels):  # the split of the deepest binary level is not part of the map
+            d3 = _drop_after(drop, TERNARY_TAPS, 3)
+            cb, sb = _tables((centre - 1.0 / 6.0, centre, centre + 1.0 / 6.0), 3, w3.size)
+            _, _, s2, s4 = _bank_step(xr, xi, k > 0, cb, sb, w3, 3, d3, False)
+            cnt = m_in // 3 - d3
             rows[r3] = _kurt_from_sums(s2, s4, cnt)
             dropped[r3] = d3
             nsamp[r3] = cnt
         # binary split -> level k + 1
         d2 = _drop_after(drop, BINARY_TAPS, 2)
-        cb, sb = _phasors([centre - 0.125, centre + 0.125], m_in)
+        cb, sb = _tables((centre - 0.125, centre + 0.125), 2, w2.size)
         store = k + 1 < nlevel
-        yr, yi, s2, s4 = _bank_step(xr, xi, cb, sb, w2, 2, d2, store)
+        yr, yi, s2, s4 = _bank_step(xr, xi, k > 0, cb, sb, w2, 2, d2, store)
         cnt = m_in // 2 - d2
-        r2 = row_of_binary[k + 1]
+        r2 = 2 * k + 1
         rows[r2] = _kurt_from_sums(s2, s4, cnt)
         dropped[r2] = d2
         nsamp[r2] = cnt
