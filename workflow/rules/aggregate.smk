@@ -24,6 +24,8 @@ rule aggregate:
         ),
     log:
         "logs/aggregate.log",
+    conda:
+        ENV
     threads: 1
     resources:
         mem_mb=2000,

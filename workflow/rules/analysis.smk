@@ -15,6 +15,8 @@ rule bands:
         "logs/bands/{case}.log",
     benchmark:
         "logs/benchmarks/bands/{case}.tsv"
+    conda:
+        ENV
     threads: 1
     resources:
         mem_mb=1500,
@@ -37,6 +39,8 @@ rule envelope:
         "logs/envelope/{case}.log",
     benchmark:
         "logs/benchmarks/envelope/{case}.tsv"
+    conda:
+        ENV
     threads: 1
     resources:
         mem_mb=1500,

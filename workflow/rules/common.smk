@@ -18,6 +18,7 @@ SIM_CODE = sorted(
                     "io.py", "fidelity.py", "kinematics.py")
     for p in SRC.glob(pattern)
 )
+ENV = "../envs/bearing_envelope.yaml"
 SIGNAL_CODE = sorted(str(p) for p in SRC.glob("signal/*.py"))
 
 LOADS = config["sweep"]["loads_kN"]

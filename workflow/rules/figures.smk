@@ -21,6 +21,8 @@ rule figures:
         example=example_cases,
     log:
         "logs/figures.log",
+    conda:
+        ENV
     threads: 1
     resources:
         mem_mb=3000,

@@ -12,6 +12,8 @@ rule simulate:
         "logs/simulate/F{load}kN_h{depth}um.log",
     benchmark:
         "logs/benchmarks/simulate/F{load}kN_h{depth}um.tsv"
+    conda:
+        ENV
     threads: 1
     resources:
         mem_mb=2000,
