@@ -12,7 +12,14 @@ SI units. See ``docs/contact.md``.
 """
 
 from . import hertz
-from .halfspace import ElasticHalfSpace, composite_modulus, influence_coefficients, kernel_spectrum
+from .halfspace import (
+    ElasticHalfSpace,
+    composite_modulus,
+    get_halfspace,
+    influence_coefficients,
+    influence_coefficients_linear,
+    kernel_spectrum,
+)
 from .solver import (
     ContactConvergenceError,
     ContactGridError,
@@ -30,6 +37,8 @@ __all__ = [
     "ElasticHalfSpace",
     "composite_modulus",
     "influence_coefficients",
+    "influence_coefficients_linear",
+    "get_halfspace",
     "kernel_spectrum",
     "hertz",
 ]

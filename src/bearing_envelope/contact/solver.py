@@ -145,6 +145,7 @@ def solve_contact(
     precondition: bool = True,
     fft_backend: str = "auto",
     kernels: dict | None = None,
+    element: str = "uniform",
 ) -> ContactSolution:
     """Frictionless normal contact of two elastic half-spaces (Polonsky-Keer CG).
 
@@ -181,6 +182,11 @@ def solve_contact(
         FFT threads (default ``OMP_NUM_THREADS`` or all cores).
     halfspace : ElasticHalfSpace, optional
         Reuse a prepared operator (must match shape, dx, dy, e_star).
+    element : {"uniform", "linear"}
+        Pressure discretisation: ``"uniform"`` pressure on each cell (collocation at the cell
+        centre; the default, same as tamaas' ``dcfft``) or ``"linear"``: nodal values with
+        piecewise-bilinear (pyramidal) interpolation between nodes, as in the source study.
+        Both converge to the same continuum solution (see ``docs/contact.md``).
     fft_backend : {"auto", "scipy", "pyfftw"}
         FFT library (:class:`ElasticHalfSpace`); ``"auto"`` uses pyfftw when importable.
     kernels : dict, optional
@@ -284,11 +290,11 @@ def solve_contact(
     if not mat.any():
         raise ValueError("gap has no finite cell: nothing can carry the load")
     if halfspace is None:
-        hs = get_halfspace(g.shape, dx, dy, e_star, workers=workers, backend=fft_backend)
+        hs = get_halfspace(g.shape, dx, dy, e_star, workers=workers, backend=fft_backend, element=element)
     else:
         hs = halfspace
-        if hs.shape != g.shape or (hs.dx, hs.dy, hs.e_star) != (dx, dy, e_star):
-            raise ValueError(f"halfspace {hs!r} does not match gap shape {g.shape}, dx, dy, e_star")
+        if hs.shape != g.shape or (hs.dx, hs.dy, hs.e_star, hs.element) != (dx, dy, e_star, element):
+            raise ValueError(f"halfspace {hs!r} does not match gap shape {g.shape}, dx, dy, e_star, element")
     cell = dx * dy
 
     # ---- initial pressure ---------------------------------------------------------------
