@@ -108,19 +108,32 @@ def test_contact_and_bearing_modes_agree(defect_case):
     np.testing.assert_allclose(hc.p_max, h.p_max, rtol=1e-5)
 
 
-def test_interpolated_table_within_stated_error(defect_case):
-    s, h = defect_case
-    t = h.table
-    stated = t.info["interp_max_rel_error_p_max"]
-    assert t.info["interp_checks"].shape[0] == fidelity_from("draft").n_checks
-    # fresh random points inside the window at tabulated loads (the Q direction is smooth)
+def test_interpolated_table_within_stated_error():
+    # a little denser than draft (draft's offset spacing w/3 under-resolves the steep exit of the
+    # defect from small contacts; its stated error is then an underestimate)
+    fid = fidelity_from({"preset": "draft", "offsets_per_width": 6.0, "n_loads": 4})
+    s = _scene(50.0, revolutions=0.1)
+    t = simulate(s, fid).table
+    info = t.info
+    assert info["interp_checks"].shape[0] == 3 * fid.n_checks
+    stated = info["interp_max_rel_error_p_max"]          # offsets on the window grid
+    stated_any = info["any_offset_max_rel_error_p_max"]  # adds the sub-cell jitter
+    # the stated errors are maxima over random points: an estimate, hence the factor 2 for fresh
+    # random points of the same distribution (Q uniform in Q^(1/3), x over the contact overlap)
+    dx = info["window_dx"]
     rng = np.random.default_rng(7)
-    for i in rng.choice(len(t.q_nodes), 2, replace=False):
-        q = float(t.q_nodes[i])
-        x = float(rng.uniform(0, 0.9) * (t.info["half_width"][i] + 0.05e-3))
-        P, Pd = direct_pressure(s, "draft", q, x, kappa=1.0)
-        Pi, Pdi = t.evaluate(q, x)
-        assert abs(Pi - P) / P <= max(stated, 0.02) * 1.5 + 0.05
+    q_lo, q_hi = np.cbrt(t.q_nodes[[0, -1]])
+    for _ in range(3):
+        q = float(rng.uniform(q_lo, q_hi) ** 3)
+        reach = t.kappa * t.a_coef * np.cbrt(q) + 50e-6
+        x = round(float(rng.uniform(0, reach)) / dx) * dx
+        P, _ = direct_pressure(s, fid, q, x, kappa=t.kappa)
+        Pi, _ = t.evaluate(q, x)
+        assert abs(Pi - P) / P <= 2 * stated + 0.02
+        x = float(rng.uniform(0, reach))
+        P, _ = direct_pressure(s, fid, q, x, kappa=t.kappa)
+        Pi, _ = t.evaluate(q, x)
+        assert abs(Pi - P) / P <= 2 * stated_any + 0.02
 
 
 def test_numba_matches_numpy(defect_case):

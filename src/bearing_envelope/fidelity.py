@@ -126,8 +126,8 @@ PRESETS: dict[str, Fidelity] = {
     "draft": Fidelity(
         name="draft", global_dx_um=25.0, global_dy_um=400.0, global_extent=1.3,
         local_dx_um=10.0, local_dy_um=50.0, window_margin_um=250.0, neighbourhood_um=50.0,
-        tol=1e-5, max_iter=1000, n_loads=3, n_offsets=7, offsets_per_width=2.0, max_offsets=40,
-        n_checks=2, n_snapshot_offsets=2,
+        tol=1e-5, max_iter=1000, n_loads=3, n_offsets=7, offsets_per_width=3.0, max_offsets=40,
+        n_checks=6, n_snapshot_offsets=2,
     ),
     "standard": Fidelity(name="standard"),
     "paper": Fidelity(

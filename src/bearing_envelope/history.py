@@ -56,6 +56,9 @@ from .scene import Scene
 __all__ = ["SolveStats", "LoadNode", "PressureTable", "History", "build_table", "simulate",
            "synthesize", "synthesize_numpy", "kinematics", "direct_pressure", "Q_MIN_FRACTION"]
 
+#: Random offsets checked per random roller load (each kind: on the grid / anywhere).
+CHECK_OFFSETS_PER_LOAD = 3
+
 #: Smallest tabulated roller load, as a fraction of the largest; below it ``P0 ~ Q^(1/3)``.
 Q_MIN_FRACTION = 0.05
 
@@ -254,26 +257,35 @@ def _neighbourhood_max(scene: Scene, fid: Fidelity, win: Grid, p: np.ndarray, x_
 class PressureTable:
     """Tabulated ``P(Q, x)`` and ``P_d(Q, x)`` with their interpolation rule.
 
+    Nodes: roller loads ``q_nodes`` uniform in ``Q^(1/3)``; offsets ``x_nodes = xi_nodes * s_max``
+    (absolute, multiples of the window spacing, shared by all loads). Interpolation of the
+    ratios ``P/P0`` and ``P_d/P0``: at a load ``Q`` between rows ``i`` and ``i+1``, each row is read
+    (linearly in ``x``) at the offset scaled to that row's contact size,
+    ``x_i = x s(Q_i)/s(Q)`` with ``s(Q) = kappa a_H(Q) + w_x/2 + r_n``, and the two values are
+    blended linearly in ``q = Q^(1/3)``; the defect therefore sits at the same place relative to
+    each row's contact edge. ``P0`` is linear in ``q`` (exact for Hertz) and goes to 0 with ``q``
+    below the first node. Beyond the last node ``P = P0`` and ``P_d = 0`` exactly.
+
     Attributes
     ----------
     q_nodes : ndarray (nq,)
-        Roller loads of the nodes (N), uniform in ``Q^(1/3)``.
-    xi_nodes : ndarray (nxi,)
-        Normalised offsets ``xi = |x| / s(Q)``.
+        Roller loads of the nodes (N).
+    xi_nodes : ndarray (nx,)
+        Offsets of the nodes divided by ``s_max``.
     p0 : ndarray (nq,)
         No-defect maximum pressure ``P0(Q)`` (Pa).
-    ratio : ndarray (nq, nxi)
-        ``P / P0`` (whole contact).
-    ratio_defect : ndarray (nq, nxi)
-        ``P_d / P0`` (defect neighbourhood).
+    ratio, ratio_defect : ndarray (nq, nx)
+        ``P / P0`` (whole contact) and ``P_d / P0`` (defect neighbourhood).
     a_coef : float
-        Hertz semi-axis per ``Q^(1/3)`` (m N^-1/3), ``a_H(Q) = a_coef Q^(1/3)``.
+        Hertz semi-axis per ``Q^(1/3)`` (m N^-1/3).
     kappa : float
         Solved/Hertz half-width ratio used in ``s(Q)``.
     s_const : float
         ``w_x/2 + r_n`` (m).
+    s_max : float
+        ``s`` at the largest load (m).
     info : dict
-        Diagnostics (interpolation error, zoom consistency, grids, ...).
+        Diagnostics (interpolation errors, zoom consistency, grids, ...).
     """
 
     q_nodes: np.ndarray
@@ -284,6 +296,7 @@ class PressureTable:
     a_coef: float
     kappa: float
     s_const: float
+    s_max: float
     info: dict = field(default_factory=dict)
 
     def scale(self, Q):
@@ -291,39 +304,40 @@ class PressureTable:
         return self.kappa * self.a_coef * np.cbrt(Q) + self.s_const
 
     def offsets(self) -> np.ndarray:
-        """Offsets ``x = xi s(Q)`` of the nodes (m), shape ``(nq, nxi)``."""
-        return self.xi_nodes[None, :] * self.scale(self.q_nodes)[:, None]
+        """Offsets of the nodes (m)."""
+        return self.xi_nodes * self.s_max
+
+    def args(self):
+        """Arrays and scalars of the interpolation (for the kernels)."""
+        return (np.ascontiguousarray(np.cbrt(self.q_nodes)), np.ascontiguousarray(self.offsets()),
+                self.p0, np.ascontiguousarray(self.ratio), np.ascontiguousarray(self.ratio_defect),
+                self.kappa * self.a_coef, self.s_const)
 
     def evaluate(self, Q, x):
         """Interpolated ``(P, P_d)`` (Pa) at roller loads ``Q`` (N) and offsets ``x`` (m)."""
         Q = np.asarray(Q, dtype=float)
         x = np.asarray(x, dtype=float)
-        return _table_eval_numpy(Q, x, self.q_nodes ** (1.0 / 3.0), self.xi_nodes, self.p0,
-                                 self.ratio, self.ratio_defect, self.kappa * self.a_coef,
-                                 self.s_const)
+        return _table_eval_numpy(Q, x, *self.args())
 
 
-def _table_eval_numpy(Q, x, qn, xin, p0, R, Rd, ka, s0):
+def _table_eval_numpy(Q, x, qn, xn, p0, R, Rd, ka, s0):
     q = np.cbrt(np.clip(Q, 0.0, None))
-    s = ka * q + s0
-    xi = np.abs(x) / s
     nq, nx = R.shape
-    # load direction: clamp to the node range; P0 linear in q through 0 below the first node
     qc = np.clip(q, qn[0], qn[-1])
     i = np.clip(np.searchsorted(qn, qc, side="right") - 1, 0, nq - 2)
     tq = (qc - qn[i]) / (qn[i + 1] - qn[i])
     p0q = np.where(q < qn[0], p0[0] * q / qn[0], p0[i] * (1 - tq) + p0[i + 1] * tq)
-    inside = xi < xin[-1]
-    xc = np.clip(xi, xin[0], xin[-1])
-    j = np.clip(np.searchsorted(xin, xc, side="right") - 1, 0, nx - 2)
-    tx = (xc - xin[j]) / (xin[j + 1] - xin[j])
+    rel = np.abs(x) / (ka * q + s0)           # offset relative to the contact size s(Q)
 
-    def bil(T):
-        return ((1 - tq) * ((1 - tx) * T[i, j] + tx * T[i, j + 1])
-                + tq * ((1 - tx) * T[i + 1, j] + tx * T[i + 1, j + 1]))
+    def row(T, ii, fill):
+        xr = rel * (ka * qn[ii] + s0)
+        j = np.clip(np.searchsorted(xn, xr, side="right") - 1, 0, nx - 2)
+        tx = np.clip((xr - xn[j]) / (xn[j + 1] - xn[j]), 0.0, 1.0)
+        v = (1 - tx) * T[ii, j] + tx * T[ii, j + 1]
+        return np.where(xr >= xn[-1], fill, v)
 
-    r = np.where(inside, bil(R), 1.0)
-    rd = np.where(inside, bil(Rd), 0.0)
+    r = (1 - tq) * row(R, i, 1.0) + tq * row(R, i + 1, 1.0)
+    rd = (1 - tq) * row(Rd, i, 0.0) + tq * row(Rd, i + 1, 0.0)
     return p0q * r, p0q * rd
 
 
@@ -352,12 +366,22 @@ def build_table(scene: Scene, fidelity: Fidelity | str | None = None, *, q_max: 
     # offsets in absolute x: normalised by the largest load's s(Q) only (the pressure peak
     # oscillates with the offset on the scale of the defect width, fixed in x, not in x/a)
     s_guess = 1.1 * a_coef * q_max ** (1 / 3) + s_const
-    nxi = fid.n_offsets
-    if d.active:
-        nxi = max(nxi, int(math.ceil(fid.xi_max * s_guess / (ex / fid.offsets_per_width))) + 1)
-        nxi = min(nxi, fid.max_offsets)
-    xi_nodes = np.linspace(0.0, fid.xi_max, nxi)
-    n_total = nq * 2 + (nq * (nxi + fid.n_snapshot_offsets) + fid.n_checks * 3 if d.active else 0)
+    # offset nodes: multiples of the window spacing (every node sees the defect at the same
+    # sub-cell position: the peak over cells jitters by up to ~10 % with the sub-cell position of
+    # an under-resolved rim; that part is measured separately, see the checks below)
+    dxw = _window_spec(scene, fid, q_max, 1.0)[2]
+
+    def offset_nodes(s_reach):
+        n = fid.n_offsets
+        if d.active:
+            n = max(n, int(math.ceil(fid.xi_max * s_reach / (ex / fid.offsets_per_width))) + 1)
+            n = min(n, fid.max_offsets)
+        step = max(1, int(math.ceil(fid.xi_max * s_reach / (n - 1) / dxw - 1e-9))) * dxw
+        n = int(math.ceil(fid.xi_max * s_reach / step - 1e-9)) + 1
+        return step * np.arange(n)
+
+    nxi = offset_nodes(s_guess).size
+    n_total = nq * 2 + (nq * (nxi + fid.n_snapshot_offsets) + fid.n_checks * (2 + 2 * CHECK_OFFSETS_PER_LOAD) if d.active else 0)
     bar = None
     if progress is not None:
         try:
@@ -380,7 +404,9 @@ def build_table(scene: Scene, fidelity: Fidelity | str | None = None, *, q_max: 
         nodes = nodes[::-1]
         kappa = max([1.0] + [1.02 * nd.half_width / nd.a_hertz for nd in nodes])
         s_max = kappa * a_coef * q_max ** (1 / 3) + s_const
-        x_nodes = xi_nodes * s_max
+        x_nodes = offset_nodes(s_max)
+        nxi = x_nodes.size
+        xi_nodes = x_nodes / s_max
         p0 = np.array([nd.p0 for nd in nodes])
         R = np.ones((nq, nxi))
         Rd = np.zeros((nq, nxi))
@@ -418,27 +444,45 @@ def build_table(scene: Scene, fidelity: Fidelity | str | None = None, *, q_max: 
                 snap["window_pressure"] = np.array(fields) if fields else \
                     np.zeros((0,) + nd.window.shape, np.float32)
             snapshots[f"load_{i}"] = snap
-        table = PressureTable(q_nodes, xi_nodes, p0, R, Rd, a_coef, 0.0, s_max)
+        table = PressureTable(q_nodes, xi_nodes, p0, R, Rd, a_coef, kappa, s_const, s_max)
         # interpolation error against direct solves at random (Q, x)
-        checks = []
+        # interpolation error against direct solves at random (Q, x): x on the window grid
+        # (pure table error) and x anywhere (adds the sub-cell discretisation jitter)
+        checks, checks_any = [], []
         if d.active and fid.n_checks:
             rng = np.random.default_rng(check_seed)
             for _ in range(fid.n_checks):
                 qc = float(rng.uniform(qn[0], qn[-1]) ** 3)
-                xi = float(rng.uniform(0.0, fid.xi_max))
+                # offsets where the defect overlaps the contact (beyond, the table is exact)
+                reach = kappa * a_coef * qc ** (1 / 3) + 0.5 * ex
                 node = _solve_load(scene, fid, qc, kappa, stats)
-                xd = xi * (kappa * a_coef * qc ** (1 / 3) + s_const)
-                P, Pd, _, _ = _defect_solve(scene, fid, node, float(xd), stats)
-                Pi, Pdi = table.evaluate(qc, xd)
-                checks.append((qc, xd, P, Pd, float(Pi), float(Pdi), node.p0))
-        checks_a = np.array(checks, dtype=float).reshape(-1, 7)
-        err = float(np.max(np.abs(checks_a[:, 4] - checks_a[:, 2]) / checks_a[:, 2])) if len(checks) else 0.0
-        err_d = float(np.max(np.abs(checks_a[:, 5] - checks_a[:, 3]) / checks_a[:, 6])) if len(checks) else 0.0
+                pairs = []
+                for _k in range(CHECK_OFFSETS_PER_LOAD):
+                    pairs.append((round(float(rng.uniform(0.0, reach)) / dxw) * dxw, checks))
+                    pairs.append((float(rng.uniform(0.0, reach)), checks_any))
+                for xd, out in pairs:
+                    P, Pd, _, _ = _defect_solve(scene, fid, node, xd, stats)
+                    Pi, Pdi = table.evaluate(qc, xd)
+                    out.append((qc, xd, P, Pd, float(Pi), float(Pdi), node.p0))
+
+        def errors(rows):
+            a = np.array(rows, dtype=float).reshape(-1, 7)
+            if not len(a):
+                return a, 0.0, 0.0
+            return (a, float(np.max(np.abs(a[:, 4] - a[:, 2]) / a[:, 2])),
+                    float(np.max(np.abs(a[:, 5] - a[:, 3]) / a[:, 6])))
+
+        checks_a, err, err_d = errors(checks)
+        checks_b, err_any, err_d_any = errors(checks_any)
         table.info = {
             "interp_max_rel_error_p_max": err,
             "interp_max_rel_error_p_max_defect": err_d,
             "interp_checks": checks_a,
-            "interp_variables": "bilinear in q = Q^(1/3) and xi = |x|/s(Q) of P/P0(Q); P0 linear in q",
+            "any_offset_max_rel_error_p_max": err_any,
+            "any_offset_max_rel_error_p_max_defect": err_d_any,
+            "any_offset_checks": checks_b,
+            "interp_variables": "bilinear in q = Q^(1/3) and x of P/P0(Q); P0 linear in q; "
+                                "offset nodes on multiples of the window spacing",
             "zoom_consistency_max": float(max(nd.zoom_consistency for nd in nodes)),
             "approach_force_change_max": float(dF_max),
             "global_dx": nodes[0].grid.dx, "global_dy": nodes[0].grid.dy,
@@ -522,11 +566,27 @@ try:  # pragma: no cover - numba optional at import time
     import numba
 
     @numba.njit(cache=True, fastmath=False)
-    def _synth_kernel(t, theta_c, fr, z, ri, K, dr, c, ca, n, qn, xin, p0, R, Rd, ka, s0,
+    def _row(T, i, xn, xr, fill):
+        nx = xn.size
+        if xr >= xn[nx - 1]:
+            return fill
+        # uniform offset nodes: direct index
+        step = xn[1] - xn[0]
+        j = int(xr / step)
+        if j > nx - 2:
+            j = nx - 2
+        tx = (xr - xn[j]) / step
+        if tx < 0.0:
+            tx = 0.0
+        elif tx > 1.0:
+            tx = 1.0
+        return (1.0 - tx) * T[i, j] + tx * T[i, j + 1]
+
+    @numba.njit(cache=True, fastmath=False)
+    def _synth_kernel(t, theta_c, fr, z, ri, K, dr, c, ca, n, qn, xn, p0, R, Rd, ka, s0,
                       P, Pd, Qo, Xo):
         pitch = 2.0 * np.pi / z
         nq = qn.size
-        nx = xin.size
         for k in range(t.size):
             th = 2.0 * np.pi * fr * t[k]
             rel = th - theta_c[k]
@@ -546,22 +606,11 @@ try:  # pragma: no cover - numba optional at import time
                 p0q = p0[0] * q / qn[0]
             else:
                 p0q = p0[i] * (1 - tq) + p0[i + 1] * tq
-            xi = abs(x) / (ka * q + s0)
-            if xi >= xin[nx - 1]:
-                P[k] = p0q
-                Pd[k] = 0.0
-                continue
-            xc = max(xi, xin[0])
-            j = 0
-            while j < nx - 2 and xin[j + 1] <= xc:
-                j += 1
-            tx = (xc - xin[j]) / (xin[j + 1] - xin[j])
-            r = ((1 - tq) * ((1 - tx) * R[i, j] + tx * R[i, j + 1])
-                 + tq * ((1 - tx) * R[i + 1, j] + tx * R[i + 1, j + 1]))
-            rd = ((1 - tq) * ((1 - tx) * Rd[i, j] + tx * Rd[i, j + 1])
-                  + tq * ((1 - tx) * Rd[i + 1, j] + tx * Rd[i + 1, j + 1]))
-            P[k] = p0q * r
-            Pd[k] = p0q * rd
+            r = abs(x) / (ka * q + s0)
+            x0 = r * (ka * qn[i] + s0)
+            x1 = r * (ka * qn[i + 1] + s0)
+            P[k] = p0q * ((1 - tq) * _row(R, i, xn, x0, 1.0) + tq * _row(R, i + 1, xn, x1, 1.0))
+            Pd[k] = p0q * ((1 - tq) * _row(Rd, i, xn, x0, 0.0) + tq * _row(Rd, i + 1, xn, x1, 0.0))
 
     HAVE_NUMBA = True
 except ImportError:  # pragma: no cover
@@ -581,10 +630,7 @@ def synthesize(scene: Scene, table: PressureTable, ld: LoadDistribution, t: np.n
     P, Pd, Q, X = (np.empty(n) for _ in range(4))
     K, dr, c, ca, ex = _law_params(ld)
     _synth_kernel(t, theta_c, scene.operation.shaft_rate_hz, scene.bearing.rollers_per_row,
-                  scene.bearing.inner_race_radius_m, K, dr, c, ca, ex,
-                  np.ascontiguousarray(table.q_nodes ** (1.0 / 3.0)), table.xi_nodes, table.p0,
-                  np.ascontiguousarray(table.ratio), np.ascontiguousarray(table.ratio_defect),
-                  table.kappa * table.a_coef, table.s_const, P, Pd, Q, X)
+                  scene.bearing.inner_race_radius_m, K, dr, c, ca, ex, *table.args(), P, Pd, Q, X)
     return P, Pd, Q, X
 
 
