@@ -90,6 +90,23 @@ def test_draft_sweep_tables(draft_run):
         assert any(f.startswith(n) for f in figs), n
 
 
+def test_diagnosability_map(draft_run):
+    d = pd.read_csv(draft_run / "results" / "tables" / "diagnosability.csv")
+    cfg = yaml.safe_load(DRAFT.read_text())
+    snrs = sorted(cfg["diagnosability"]["snr_db"])
+    assert len(d) == 4 * len(snrs) * len(cfg["analysis"]["bands"])
+    assert np.isfinite(d["statistic_db"]).all()
+    # The healthy race is never "detected"; the defect is, at the highest SNR, in every band.
+    assert not d[d["depth_um"] == 0]["detected"].any()
+    top = d[(d["depth_um"] > 0) & (d["snr_db"] == snrs[-1])]
+    assert top["detected"].all()
+    # Detection does not improve as the noise grows (rate over cases and bands).
+    rate = d[d["depth_um"] > 0].groupby("snr_db")["detected"].mean().sort_index()
+    assert (np.diff(rate.to_numpy()) >= 0).all(), rate
+    maps = sorted(p.name for p in (draft_run / "results" / "figures_diagnosability").glob("*.png"))
+    assert len(maps) == len(cfg["analysis"]["bands"])
+
+
 def test_report_is_self_contained(draft_run):
     smk(draft_run, "--report", "report.zip")
     assert (draft_run / "report.zip").stat().st_size > 10_000

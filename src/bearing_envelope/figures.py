@@ -30,6 +30,7 @@ __all__ = [
     "fig_envelope_spectrum",
     "fig_harmonics_vs_depth",
     "make_figures",
+    "fig_diagnosability_maps",
 ]
 
 
@@ -303,3 +304,43 @@ def _fig_raw_terms(raw: pd.DataFrame, path) -> Path:
         ax.set_title(title)
     fig.suptitle("Raw-spectrum terms vs load and depth (cf. study Fig. 8)")
     return save_figure(fig, path)
+
+
+def fig_diagnosability_maps(df: pd.DataFrame, outdir) -> list[Path]:
+    """Heat maps of the BPFI detection statistic: one figure per band, one panel per load,
+    depth x SNR cells coloured by the statistic (dB) and marked where detected.
+
+    Written to a temporary folder, then renamed to ``outdir``.
+    """
+    import shutil
+
+    outdir = Path(outdir)
+    tmp = outdir.with_name(outdir.name + ".tmp")
+    shutil.rmtree(tmp, ignore_errors=True)
+    tmp.mkdir(parents=True)
+    written = []
+    vmax = float(np.nanmax(df["statistic_db"])) if len(df) else 1.0
+    for band, g in df.groupby("band", sort=False):
+        loads = sorted(g["load_kN"].unique())
+        fig, axes = plt.subplots(1, len(loads), figsize=(4.2 * len(loads), 3.8), squeeze=False)
+        for ax, load in zip(axes[0], loads):
+            s = g[g["load_kN"] == load]
+            stat = s.pivot_table(index="snr_db", columns="depth_um", values="statistic_db")
+            det = s.pivot_table(index="snr_db", columns="depth_um", values="detected")
+            im = ax.imshow(stat.to_numpy(), origin="lower", aspect="auto", cmap="magma",
+                           vmin=0.0, vmax=vmax)
+            ax.set_xticks(range(stat.shape[1]), [f"{d:g}" for d in stat.columns])
+            ax.set_yticks(range(stat.shape[0]), [f"{v:g}" for v in stat.index])
+            for i in range(stat.shape[0]):
+                for j in range(stat.shape[1]):
+                    if bool(det.to_numpy()[i, j]):
+                        ax.text(j, i, "✓", ha="center", va="center", color="cyan", fontsize=11)
+            ax.set_xlabel("defect depth (µm)")
+            ax.set_ylabel("SNR (dB)")
+            ax.set_title(f"{load:g} kN")
+        fig.colorbar(im, ax=axes[0].tolist(), label="BPFI line / background (dB)")
+        fig.suptitle(f"BPFI detection in the synthetic acceleration, band '{band}' (✓ = detected)")
+        written.append(save_figure(fig, tmp / f"diagnosability_{band}.png"))
+    shutil.rmtree(outdir, ignore_errors=True)
+    tmp.rename(outdir)
+    return [outdir / p.name for p in written]

@@ -5,6 +5,7 @@ from pathlib import Path
 from snakemake.utils import validate
 
 from bearing_envelope.config import case_name, check_config
+from bearing_envelope.tables import parse_case_name
 
 
 validate(config, workflow.source_path("../schemas/config.schema.yaml"))
@@ -19,7 +20,8 @@ SIM_CODE = sorted(
     for p in SRC.glob(pattern)
 )
 ENV = "../envs/bearing_envelope.yaml"
-SIGNAL_CODE = sorted(str(p) for p in SRC.glob("signal/*.py"))
+SIGNAL_CODE = sorted(str(p) for p in SRC.glob("signal/*.py")) + [str(SRC / "pipeline.py")]
+SENSOR_CODE = [str(SRC / "transfer.py"), str(SRC / "diagnosis.py")]
 
 LOADS = config["sweep"]["loads_kN"]
 DEPTHS = config["sweep"]["depths_um"]
@@ -58,4 +60,8 @@ def all_targets():
         "results/tables/harmonics.csv",
         "results/tables/cases.csv",
         "results/figures",
-    ]
+    ] + (
+        ["results/tables/diagnosability.csv", "results/figures_diagnosability"]
+        if config.get("sensor") and config.get("diagnosability", {}).get("enabled", True)
+        else []
+    )
