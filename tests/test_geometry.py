@@ -105,3 +105,28 @@ def test_global_no_defect_solve_matches_hertz():
     # axial extent: Hertz b < relief start, so pressure vanishes before the roller ends
     jy = np.abs(node.grid.y) > s.bearing.half_length_m - s.bearing.end_relief.radius_mm * 1e-3
     assert node.pressure[:, jy].max() == 0
+
+
+@pytest.mark.parametrize("load_kN, ends_loaded", [(250, False), (500, True), (750, True)])
+def test_default_roller_length_pattern(load_kN, ends_loaded):
+    # issue 3: Hertzian pattern at 250 kN, overpressure at the roller ends at 500 and 750 kN
+    # (bearing mode, default scene; docs/scene.md gives the half-lengths)
+    from bearing_envelope.history import SolveStats, _solve_load
+    from bearing_envelope.loads import scene_load_distribution
+
+    s = Scene.default(load_kN=load_kN, depth_um=0)
+    q = scene_load_distribution(s).q_max
+    node = _solve_load(s, fidelity_from("draft"), q, 1.0, SolveStats())
+    prof = node.pressure.max(axis=0)
+    y = node.grid.y
+    centre = prof[np.argmin(np.abs(y))]
+    end_zone = prof[np.abs(y) > s.bearing.half_length_m - 2e-3].max()
+    hz = hertz.elliptical(q, s.bearing.rx_m, s.bearing.ry_m, s.material.e_star_pa)
+    relief_start = s.bearing.half_length_m - s.bearing.end_relief.radius_mm * 1e-3
+    if ends_loaded:
+        assert hz.b > relief_start
+        assert end_zone > 1.05 * centre
+    else:
+        assert hz.b < relief_start
+        assert end_zone < 0.7 * centre
+        assert prof.max() == pytest.approx(hz.p0, rel=0.01)

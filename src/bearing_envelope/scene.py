@@ -13,7 +13,7 @@ key, with units, in ``docs/scene.md``)::
       contact_angle_deg: 12.82
       roller_crown_radius_mm: 81.5   # c_r, convex roller profile radius
       raceway_profile_radius_mm: 83.1  # c_i, concave inner-raceway profile radius
-      roller_length_mm: 36.0         # effective (contacting) roller length
+      roller_length_mm: 34.0         # effective (contacting) roller length
       end_relief: {kind: radius, radius_mm: 1.0}   # or {kind: log, drop_um: 20, length_mm: 3}
       radial_clearance_um: 40.0      # radial internal (operating) clearance
       profile_file: null             # two-column file (y_mm, deviation_um) replacing the crown
@@ -77,7 +77,7 @@ DEFAULT_SCENE: dict[str, Any] = {
         "contact_angle_deg": 12.82,
         "roller_crown_radius_mm": 81.5,
         "raceway_profile_radius_mm": 83.1,
-        "roller_length_mm": 36.0,
+        "roller_length_mm": 34.0,
         "end_relief": {"kind": "radius", "radius_mm": 1.0},
         "radial_clearance_um": 40.0,
         "profile_file": None,
