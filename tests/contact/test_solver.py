@@ -260,6 +260,8 @@ def test_preconditioner_cuts_iterations_same_answer(sphere_case):
     plain = solve_contact(*args, precondition=False)
     pre = solve_contact(*args)
     assert pre.iterations * 2 <= plain.iterations  # measured 8 vs 21
+    # incremental displacement updates while the contact set is unchanged save convolutions
+    assert pre.convolutions < 2 * pre.iterations + 1
     assert np.abs(plain.pressure - pre.pressure).max() < 1e-6 * pre.p_max
 
 

@@ -69,14 +69,24 @@ def np_step_dots(r, t, h, p):
 
 
 def np_update(p, t, h, tau, seed, pnew):
-    """``pnew = max(p - tau t, 0)``; cells with ``pnew == 0`` and ``h < 0`` get ``-seed h``. Return ``(entered?, sum pnew)``."""
+    """``pnew = max(p - tau t, 0)``; cells with ``pnew == 0`` and ``h < 0`` get ``-seed h``.
+
+    Return ``(entered, sum pnew, modified)``: ``entered`` if any cell entered the contact,
+    ``modified`` if ``pnew != p - tau t`` anywhere (a cell clipped or entered)."""
     np.subtract(p, tau * t, out=pnew)
+    clipped = bool((pnew < 0.0).any())
     np.maximum(pnew, 0.0, out=pnew)
     iol = (pnew == 0.0) & (h < 0.0)
     entered = bool(iol.any())
     if entered:
         pnew[iol] = -seed * h[iol]
-    return entered, float(pnew.sum())
+    return entered, float(pnew.sum()), entered or clipped
+
+
+def np_axpy_scale(u, r, tau, s):
+    """``u = s (u - tau r)`` in place."""
+    u -= tau * r
+    u *= s
 
 
 def np_rescale(pnew, p, s):
@@ -88,7 +98,7 @@ def np_rescale(pnew, p, s):
 HAVE_NUMBA = False
 NUMPY = dict(
     gap_stats=np_gap_stats, gap_eval=np_gap_eval, dir_stats=np_dir_stats, dir_update=np_dir_update,
-    step_dots=np_step_dots, update=np_update, rescale=np_rescale,
+    step_dots=np_step_dots, update=np_update, rescale=np_rescale, axpy_scale=np_axpy_scale,
 )
 KERNELS = NUMPY
 
@@ -193,17 +203,25 @@ if os.environ.get("BEARING_ENVELOPE_NO_NUMBA", "") not in ("1", "true", "yes"):
         @_jit
         def nb_update(p, t, h, tau, seed, pnew):  # pragma: no cover - compiled
             entered = False
+            clipped = False
             s = 0.0
             for i in range(p.size):
                 v = p[i] - tau * t[i]
                 if v <= 0.0:
+                    if v < 0.0:
+                        clipped = True
                     v = 0.0
                     if h[i] < 0.0:
                         v = -seed * h[i]
                         entered = True
                 pnew[i] = v
                 s += v
-            return entered, s
+            return entered, s, entered or clipped
+
+        @_jit
+        def nb_axpy_scale(u, r, tau, s):  # pragma: no cover - compiled
+            for i in range(u.size):
+                u[i] = s * (u[i] - tau * r[i])
 
         @_jit
         def nb_rescale(pnew, p, s):  # pragma: no cover - compiled
@@ -217,6 +235,6 @@ if os.environ.get("BEARING_ENVELOPE_NO_NUMBA", "") not in ("1", "true", "yes"):
         HAVE_NUMBA = True
         NUMBA = dict(
             gap_stats=nb_gap_stats, gap_eval=nb_gap_eval, dir_stats=nb_dir_stats, dir_update=nb_dir_update,
-            step_dots=nb_step_dots, update=nb_update, rescale=nb_rescale,
+            step_dots=nb_step_dots, update=nb_update, rescale=nb_rescale, axpy_scale=nb_axpy_scale,
         )
         KERNELS = NUMBA

@@ -201,7 +201,7 @@ def _padded_kernel(shape: tuple[int, int], dx: float, dy: float, e_star: float, 
     return fn(ix[:, None] * dx, iy[None, :] * dy, dx, dy, e_star)
 
 
-_PYFFTW_MIN_CELLS = 512 * 256
+_PYFFTW_MEASURE_CELLS = 512 * 256
 ELEMENTS = ("uniform", "linear")
 
 _CACHE: "OrderedDict[tuple, np.ndarray]" = OrderedDict()
@@ -255,8 +255,10 @@ class ElasticHalfSpace:
     workers : int, optional
         FFT threads (default: ``OMP_NUM_THREADS`` if set, else all cores).
     backend : {"auto", "scipy", "pyfftw"}
-        ``"auto"`` uses pyfftw when importable and the grid has at least 512 x 256 cells, else
-        :mod:`scipy.fft` (pocketfft).
+        ``"auto"`` uses pyfftw when importable (FFTW_MEASURE plans from 512 x 256 cells up,
+        FFTW_ESTIMATE below), else :mod:`scipy.fft` (pocketfft). Both reuse their work arrays:
+        fresh multi-MB arrays per call cost page faults that doubled the in-solver convolution
+        time at 256^2.
     element : {"uniform", "linear"}
         Pressure element: uniform over each ``dx x dy`` cell (:func:`influence_coefficients`)
         or piecewise bilinear between nodes (pyramidal elements,
@@ -290,18 +292,18 @@ class ElasticHalfSpace:
         if backend == "pyfftw" and not _HAVE_PYFFTW:
             raise ValueError("backend='pyfftw' but pyfftw is not importable")
         if backend == "auto":
-            # FFTW planning (FFTW_MEASURE) pays off only on large grids; pocketfft is as fast below
-            big = self.shape[0] * self.shape[1] >= _PYFFTW_MIN_CELLS
-            backend = "pyfftw" if (_HAVE_PYFFTW and big) else "scipy"
+            backend = "pyfftw" if _HAVE_PYFFTW else "scipy"
         self.backend = backend
         self.element = element
         self.spectrum = kernel_spectrum(self.shape, self.dx, self.dy, self.e_star, element)
         self._plans = None
+        self._buf = None
 
     # -- FFT backends -------------------------------------------------------------------------
     def _build_fftw(self):
         nx, ny = self.shape
-        fl = ("FFTW_MEASURE",)
+        # FFTW_MEASURE planning (~0.1-1 s per grid) pays off only on large grids
+        fl = ("FFTW_MEASURE",) if nx * ny >= _PYFFTW_MEASURE_CELLS else ("FFTW_ESTIMATE",)
         real_in = pyfftw.zeros_aligned((nx, 2 * ny), dtype="float64")
         half = pyfftw.zeros_aligned((2 * nx, ny + 1), dtype="complex128")
         full = pyfftw.zeros_aligned((2 * nx, ny + 1), dtype="complex128")
@@ -338,11 +340,15 @@ class ElasticHalfSpace:
             res = real_out[:, :ny]
         else:
             w = self.workers
-            a = sfft.rfft(p, n=2 * ny, axis=1, workers=w)
-            a = sfft.fft(a, n=2 * nx, axis=0, workers=w, overwrite_x=True)
+            buf = self._buf
+            if buf is None:
+                buf = self._buf = np.zeros((2 * nx, ny + 1), dtype=complex)
+            buf[:nx] = sfft.rfft(p, n=2 * ny, axis=1, workers=w)
+            buf[nx:] = 0.0
+            a = sfft.fft(buf, axis=0, workers=w, overwrite_x=True)
             a *= self.spectrum
-            a = sfft.ifft(a, axis=0, workers=w, overwrite_x=True, norm="forward")[:nx]
-            res = sfft.irfft(a, n=2 * ny, axis=1, workers=w, norm="forward")[:, :ny]
+            a = sfft.ifft(a, axis=0, workers=w, overwrite_x=True, norm="forward")
+            res = sfft.irfft(a[:nx], n=2 * ny, axis=1, workers=w, norm="forward")[:, :ny]
         if out is None:
             return np.array(res)
         out[...] = res
