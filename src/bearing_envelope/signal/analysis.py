@@ -173,10 +173,10 @@ def analyze_signal(
     >>> fs = 20000.0
     >>> t = np.arange(2**16) / fs
     >>> x = (1 + 0.5 * np.cos(2 * np.pi * 100.0 * t)) * np.cos(2 * np.pi * 6000.0 * t)
-    >>> df = analyze_signal(x, fs, fr=25.0, bpfi=100.0, bands=[
+    >>> df = analyze_signal(x, fs, fr=25.0, bpfi=100.0, interpolate=True, bands=[
     ...     {"name": "fixed", "strategy": "fixed", "low_hz": 4000, "high_hz": 8000}])
     >>> row = df[(df.quantity == "envelope_spectrum") & (df.order == 1) & (df.sideband == 0)]
-    >>> round(float(row.amplitude.iloc[0]), 2)
+    >>> round(float(row.amplitude.iloc[0]), 2)  # 100 Hz is off-bin: interpolated
     0.5
     """
     import pandas as pd
