@@ -61,6 +61,9 @@ class Fidelity:
         Offset nodes per defect extent along rolling ``w_x``: node spacing ``<= w_x /
         offsets_per_width`` (the pressure peak oscillates with the offset on the scale of
         ``w_x``), which raises the node count above ``n_offsets`` for narrow defects.
+    offset_step_um : float
+        Largest spacing of the offset nodes, um (wide defects need it: the pressure changes on the
+        scale of the rim radius, not of the width).
     max_offsets : int
         Cap on the number of offset nodes.
     xi_max : float
@@ -85,9 +88,10 @@ class Fidelity:
     neighbourhood_um: float = 50.0
     tol: float = 1e-6
     max_iter: int = 2000
-    n_loads: int = 5
+    n_loads: int = 7
     n_offsets: int = 14
     offsets_per_width: float = 4.0
+    offset_step_um: float = 12.0
     max_offsets: int = 120
     xi_max: float = 1.02
     n_checks: int = 6
@@ -105,6 +109,8 @@ class Fidelity:
                 raise ValueError(f"fidelity.{f} must be a finite number >= 0, got {v!r}")
         if not (isinstance(self.global_extent, (int, float)) and self.global_extent > 1.0):
             raise ValueError(f"fidelity.global_extent must be > 1, got {self.global_extent!r}")
+        if not (isinstance(self.offset_step_um, (int, float)) and self.offset_step_um > 0):
+            raise ValueError(f"fidelity.offset_step_um must be > 0, got {self.offset_step_um!r}")
         if not (isinstance(self.offsets_per_width, (int, float)) and self.offsets_per_width > 0):
             raise ValueError(f"fidelity.offsets_per_width must be > 0, got {self.offsets_per_width!r}")
         if not (isinstance(self.xi_max, (int, float)) and self.xi_max >= 1.0):
@@ -126,14 +132,16 @@ PRESETS: dict[str, Fidelity] = {
     "draft": Fidelity(
         name="draft", global_dx_um=25.0, global_dy_um=400.0, global_extent=1.3,
         local_dx_um=10.0, local_dy_um=50.0, window_margin_um=250.0, neighbourhood_um=50.0,
-        tol=1e-5, max_iter=1000, n_loads=3, n_offsets=7, offsets_per_width=3.0, max_offsets=40,
+        tol=1e-5, max_iter=1000, n_loads=3, n_offsets=7, offsets_per_width=3.0, offset_step_um=40.0,
+        max_offsets=40,
         n_checks=6, n_snapshot_offsets=2,
     ),
     "standard": Fidelity(name="standard"),
     "paper": Fidelity(
         name="paper", global_dx_um=5.0, global_dy_um=80.0, global_extent=1.3,
         local_dx_um=2.0, local_dy_um=10.0, window_margin_um=500.0, neighbourhood_um=50.0,
-        tol=1e-8, max_iter=5000, n_loads=8, n_offsets=24, offsets_per_width=8.0, max_offsets=400,
+        tol=1e-8, max_iter=5000, n_loads=8, n_offsets=24, offsets_per_width=8.0, offset_step_um=4.0,
+        max_offsets=400,
         n_checks=12, n_snapshot_offsets=5,
     ),
 }

@@ -374,7 +374,8 @@ def build_table(scene: Scene, fidelity: Fidelity | str | None = None, *, q_max: 
     def offset_nodes(s_reach):
         n = fid.n_offsets
         if d.active:
-            n = max(n, int(math.ceil(fid.xi_max * s_reach / (ex / fid.offsets_per_width))) + 1)
+            step_max = min(ex / fid.offsets_per_width, 1e-6 * fid.offset_step_um)
+            n = max(n, int(math.ceil(fid.xi_max * s_reach / step_max)) + 1)
             n = min(n, fid.max_offsets)
         step = max(1, int(math.ceil(fid.xi_max * s_reach / (n - 1) / dxw - 1e-9))) * dxw
         n = int(math.ceil(fid.xi_max * s_reach / step - 1e-9)) + 1
@@ -468,17 +469,20 @@ def build_table(scene: Scene, fidelity: Fidelity | str | None = None, *, q_max: 
         def errors(rows):
             a = np.array(rows, dtype=float).reshape(-1, 7)
             if not len(a):
-                return a, 0.0, 0.0
-            return (a, float(np.max(np.abs(a[:, 4] - a[:, 2]) / a[:, 2])),
-                    float(np.max(np.abs(a[:, 5] - a[:, 3]) / a[:, 6])))
+                return a, 0.0, 0.0, 0.0
+            e = np.abs(a[:, 4] - a[:, 2]) / a[:, 2]
+            return (a, float(e.max()), float(np.max(np.abs(a[:, 5] - a[:, 3]) / a[:, 6])),
+                    float(np.sqrt(np.mean(e ** 2))))
 
-        checks_a, err, err_d = errors(checks)
-        checks_b, err_any, err_d_any = errors(checks_any)
+        checks_a, err, err_d, err_rms = errors(checks)
+        checks_b, err_any, err_d_any, err_any_rms = errors(checks_any)
         table.info = {
             "interp_max_rel_error_p_max": err,
             "interp_max_rel_error_p_max_defect": err_d,
             "interp_checks": checks_a,
+            "interp_rms_rel_error_p_max": err_rms,
             "any_offset_max_rel_error_p_max": err_any,
+            "any_offset_rms_rel_error_p_max": err_any_rms,
             "any_offset_max_rel_error_p_max_defect": err_d_any,
             "any_offset_checks": checks_b,
             "interp_variables": "bilinear in q = Q^(1/3) and x of P/P0(Q); P0 linear in q; "
