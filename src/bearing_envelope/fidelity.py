@@ -76,6 +76,9 @@ class Fidelity:
         Offsets per load at which the window pressure field is stored.
     use_symmetry : bool
         Use ``P(Q, -x) = P(Q, x)`` (symmetric geometry and defect).
+    element : {"uniform", "linear"}
+        Pressure element of every contact solve: uniform patches or piecewise-bilinear
+        (pyramidal) elements (``bearing_envelope.contact.solve_contact(element=...)``).
     """
 
     name: str = "standard"
@@ -97,6 +100,7 @@ class Fidelity:
     n_checks: int = 6
     n_snapshot_offsets: int = 3
     use_symmetry: bool = True
+    element: str = "uniform"
 
     def __post_init__(self) -> None:
         for f in ("global_dx_um", "global_dy_um", "local_dx_um", "local_dy_um", "tol"):
@@ -122,6 +126,8 @@ class Fidelity:
                 raise ValueError(f"fidelity.{f} must be an integer >= {lo}, got {v!r}")
         if not isinstance(self.use_symmetry, bool):
             raise ValueError(f"fidelity.use_symmetry must be true or false, got {self.use_symmetry!r}")
+        if self.element not in ("uniform", "linear"):
+            raise ValueError(f"fidelity.element must be 'uniform' or 'linear', got {self.element!r}")
 
     def to_dict(self) -> dict[str, Any]:
         """Plain dict of all fields (for YAML/JSON/HDF5 attributes)."""
@@ -140,7 +146,7 @@ PRESETS: dict[str, Fidelity] = {
     "paper": Fidelity(
         name="paper", global_dx_um=5.0, global_dy_um=80.0, global_extent=1.3,
         local_dx_um=2.0, local_dy_um=10.0, window_margin_um=500.0, neighbourhood_um=50.0,
-        tol=1e-8, max_iter=5000, n_loads=8, n_offsets=24, offsets_per_width=8.0, offset_step_um=4.0,
+        tol=1e-7, max_iter=5000, n_loads=9, n_offsets=24, offsets_per_width=8.0, offset_step_um=4.0,
         max_offsets=400,
         n_checks=12, n_snapshot_offsets=5,
     ),

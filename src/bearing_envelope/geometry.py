@@ -75,7 +75,7 @@ def make_grid(x_lo: float, x_hi: float, y_lo: float, y_hi: float, dx: float, dy:
               *, x_center: float = 0.0, y_center: float | None = None) -> Grid:
     """Grid covering ``[x_lo, x_hi] x [y_lo, y_hi]`` with spacings ``dx, dy`` (m).
 
-    The sizes are rounded up to FFT-friendly numbers; the grid is symmetric about ``x_center``
+    The sizes are even and rounded up to FFT-friendly numbers; the grid is symmetric about ``x_center``
     (default 0, so that ``x = 0`` is a symmetry line of the cells) and about ``y_center``
     (default the middle of ``[y_lo, y_hi]``).
     """
@@ -83,8 +83,10 @@ def make_grid(x_lo: float, x_hi: float, y_lo: float, y_hi: float, dx: float, dy:
         y_center = 0.5 * (y_lo + y_hi)
     hx = max(x_hi - x_center, x_center - x_lo)
     hy = max(y_hi - y_center, y_center - y_lo)
-    nx = good_size(2 * math.ceil(hx / dx))
-    ny = good_size(max(2 * math.ceil(hy / dy), 2))
+    # even sizes: cell centres at +-d/2, +-3d/2, ... about the centre for every grid, so a
+    # defect at an offset that is a multiple of d sits the same way on every grid
+    nx = 2 * good_size(math.ceil(hx / dx))
+    ny = 2 * good_size(max(math.ceil(hy / dy), 1))
     x = x_center + (np.arange(nx) - 0.5 * (nx - 1)) * dx
     y = y_center + (np.arange(ny) - 0.5 * (ny - 1)) * dy
     return Grid(x, y, float(dx), float(dy))

@@ -118,14 +118,15 @@ def _bilinear(xg: np.ndarray, yg: np.ndarray, f: np.ndarray, x: np.ndarray, y: n
     return it((X, Y))
 
 
-def _halfspace(grid: Grid, e_star: float, backend: str):
+def _halfspace(grid: Grid, e_star: float, backend: str, element: str = "uniform"):
     """Single-threaded half-space operator: the sweep runs one case per core, and threaded FFTs
     on a shared 2-core machine were measured 10-100x slower. ``auto`` (pyfftw if present) pays a
     planning cost once per grid and is worth it for the many window solves; the single global
     solve per load uses pocketfft (no planning)."""
     from .contact import ElasticHalfSpace
 
-    return ElasticHalfSpace(grid.shape, grid.dx, grid.dy, e_star, workers=1, backend=backend)
+    return ElasticHalfSpace(grid.shape, grid.dx, grid.dy, e_star, workers=1, backend=backend,
+                            element=element)
 
 
 def _window_spec(scene: Scene, fid: Fidelity, q_load: float, kappa: float):
@@ -161,10 +162,11 @@ def _solve_load(scene: Scene, fid: Fidelity, q_load: float, kappa: float, stats:
     for _attempt in range(4):
         grid = make_grid(-extent, extent, -half - 1.01 * dyg, half + 1.01 * dyg, dxg, dyg)
         gap = gap_field(scene, grid, None)
-        hs_g = _halfspace(grid, e_star, "scipy")
+        hs_g = _halfspace(grid, e_star, "scipy", fid.element)
         try:
             sol = stats.solve(gap, dxg, dyg, q_load, e_star, tol=fid.tol, max_iter=fid.max_iter,
-                              p_init=p_init_global, boundary="raise", halfspace=hs_g)
+                              p_init=p_init_global, boundary="raise", halfspace=hs_g,
+                              element=fid.element)
             break
         except ValueError as exc:  # ContactGridError: grid too small
             if "boundary" not in str(exc):
@@ -185,7 +187,7 @@ def _solve_load(scene: Scene, fid: Fidelity, q_load: float, kappa: float, stats:
     ny_w = (j_hi - j_lo + 1) * m
     y0 = grid.y[j_lo] - 0.5 * dyg
     win = Grid(xw, y0 + (np.arange(ny_w) + 0.5) * (dyg / m), dxw, dyg / m)
-    hs = _halfspace(win, e_star, "auto")
+    hs = _halfspace(win, e_star, "auto", fid.element)
     # far field: the global pressure outside the window, each coarse cell split into m axial
     # sub-cells (the same load), convolved on the global x grid at the window's axial spacing,
     # so u_ext is exact in y at the window's columns and only interpolated (linearly) in x
@@ -193,7 +195,8 @@ def _solve_load(scene: Scene, fid: Fidelity, q_load: float, kappa: float, stats:
     p_out[:, j_lo:j_hi + 1] = 0.0
     if m > 1:
         p_out = np.repeat(p_out, m, axis=1)
-    hs_f = _halfspace(Grid(grid.x, np.zeros(p_out.shape[1]), dxg, dyg / m), e_star, "scipy")
+    hs_f = _halfspace(Grid(grid.x, np.zeros(p_out.shape[1]), dxg, dyg / m), e_star, "scipy",
+                      fid.element)
     u_cols = hs_f.displacement(p_out)[:, j_lo * m:(j_hi + 1) * m]
     u_ext = np.empty(win.shape)
     for k in range(win.shape[1]):
@@ -211,7 +214,7 @@ def _solve_load(scene: Scene, fid: Fidelity, q_load: float, kappa: float, stats:
     # error) then drives the defect solves under displacement control
     f_win = float(pg[:, j_lo:j_hi + 1].sum()) * dxg * dyg
     sol0 = stats.solve(g0, win.dx, win.dy, f_win, e_star, tol=fid.tol, max_iter=fid.max_iter,
-                       p_init=p_in, boundary="ignore", halfspace=hs)
+                       p_init=p_in, boundary="ignore", halfspace=hs, element=fid.element)
     strip = np.abs(win.y - yd) <= hy_read + 1e-12
     gstrip = np.abs(grid.y - yd) <= hy_read + 1e-12
     outside = float(pg[:, ~gstrip].max()) if np.any(~gstrip) else 0.0
@@ -224,11 +227,23 @@ def _solve_load(scene: Scene, fid: Fidelity, q_load: float, kappa: float, stats:
 def _defect_solve(scene: Scene, fid: Fidelity, node: LoadNode, x_d: float, stats: SolveStats,
                   p_init=None):
     """Window solve with the defect at offset ``x_d``; returns (P, Pd, pressure, force change)."""
+    from .contact import ContactConvergenceError
+
     win = node.window
     g = gap_field(scene, win, x_d) + node.u_ext
-    sol = stats.solve(g, win.dx, win.dy, None, scene.material.e_star_pa, tol=fid.tol,
-                      max_iter=fid.max_iter, p_init=node.p_window0 if p_init is None else p_init,
-                      approach=node.approach, boundary="ignore", halfspace=node.halfspace)
+    kw = dict(tol=fid.tol, max_iter=fid.max_iter, approach=node.approach, boundary="ignore",
+              halfspace=node.halfspace, element=fid.element)
+    e_star = scene.material.e_star_pa
+    try:
+        sol = stats.solve(g, win.dx, win.dy, None, e_star,
+                          p_init=node.p_window0 if p_init is None else p_init, **kw)
+    except ContactConvergenceError:
+        # a warm start from a neighbour with another contact set can stall Polonsky-Keer:
+        # retry from the no-defect window solution, then cold
+        try:
+            sol = stats.solve(g, win.dx, win.dy, None, e_star, p_init=node.p_window0, **kw)
+        except ContactConvergenceError:
+            sol = stats.solve(g, win.dx, win.dy, None, e_star, p_init=None, **kw)
     p = sol.pressure
     P = max(float(p[:, node.strip].max()), node.outside_max)
     Pd = _neighbourhood_max(scene, fid, win, p, x_d)
