@@ -19,19 +19,23 @@ Model only what the scene requires (issue 3, design.md section 2):
    load at the event; using the law at the defect angle, not at the nearest roller's, keeps the
    no-defect signal free of a spurious BPFI-rate step.)
 3. **Table P(Q, x)** instead of a solve per sample (zoom route, design.md section 4): for each
-   roller-load node a global no-defect solve over the whole roller length (coarse grid), then for
-   each offset node a fine local window around the defect under displacement control, with the
-   displacement of the pressure outside the window and the rigid approach taken from the global
-   solve. Nothing is read within ``window_margin_um`` of the window's axial boundaries. Symmetry
-   ``P(Q, -x) = P(Q, x)``; each solve is warm-started from its neighbour.
-   The table is interpolated bilinearly in ``q = Q^(1/3)`` and ``xi = |x| / s(Q)``, with
-   ``s(Q) = kappa a_H(Q) + w_x/2 + r_n`` (``a_H`` Hertz semi-axis ~ ``Q^(1/3)``, ``kappa`` the
-   largest ratio of the solved to the Hertz half-width, ``w_x`` the defect extent along rolling,
-   ``r_n`` the neighbourhood distance), of the ratios ``P/P0(Q)``, which are nearly independent of
-   ``Q`` in these variables; ``P0`` is linear in ``q`` (exact for Hertz). Beyond ``xi_max`` the
-   defect cannot touch the contact: ``P = P0(Q)`` and the defect neighbourhood carries no
-   pressure. The interpolation error is measured against direct solves at random ``(Q, x)``
-   points and stored.
+   roller-load node a global no-defect solve over the whole roller length (coarse grid), then a
+   fine local window around the defect spanning the whole contact width and a short axial
+   stretch. The window's axial edges coincide with global cell edges; the displacement of the
+   global pressure outside the window is computed exactly at the window's axial spacing (each
+   coarse cell split into sub-cells of the same pressure) and interpolated linearly across
+   rolling only. The window's no-defect solve carries the force the global solve put on the same
+   cells; its approach then drives the defect solves under displacement control (the force the
+   defect removes, ~0.1-1 % of Q, is recorded). Results are read only ``window_margin_um`` inside
+   the window's axial edges. Symmetry ``P(Q, -x) = P(Q, x)``; each offset is warm-started from
+   its neighbour (a stalled warm start is retried from the no-defect window solution, then cold).
+   Offset nodes are multiples of the window spacing (every node sees the defect at the same
+   sub-cell position). Interpolation (:class:`PressureTable`): ratios ``P/P0(Q)``, rows read at
+   the offset scaled to each row's contact size ``s(Q) = kappa a_H(Q) + w_x/2 + r_n``, blended
+   linearly in ``q = Q^(1/3)``; ``P0`` linear in ``q``. Beyond the last node the defect cannot
+   touch the contact: ``P = P0(Q)`` and the neighbourhood carries no pressure. The interpolation
+   error is measured against direct solves at random ``(Q, x)`` (x on the window grid: pure table
+   error; x anywhere: plus the sub-cell discretisation jitter of an under-resolved rim) and stored.
 4. **Signals** per sample: ``p_max`` (maximum over the whole contact) and ``p_max_defect``
    (maximum in the defect's neighbourhood: footprint grown by ``neighbourhood_um``), roller load
    and offset. Synthesis over all samples by a numba kernel (:func:`synthesize`) or numpy
