@@ -310,3 +310,29 @@ def test_element_name_checked(sphere_case):
     c = sphere_case
     with pytest.raises(ValueError, match="element must be one of"):
         solve_contact(c["gap"], c["d"], c["d"], c["F"], c["E"], element="quadratic")
+
+
+def test_halfspace_displacement_of_hertz_pressure():
+    # Johnson eq. 3.41: under p0 sqrt(1 - r^2/a^2), u = pi p0 (2 a^2 - r^2) / (4 a E*) for r <= a
+    E, a, p0 = 1e11, 1e-4, 1e9
+    n = 128
+    d = 4 * a / n
+    x = centred_axis(n, d)
+    r2 = x[:, None] ** 2 + x[None, :] ** 2
+    p = p0 * np.sqrt(np.clip(1 - r2 / a**2, 0, None))
+    u = ElasticHalfSpace((n, n), d, d, E).displacement(p)
+    inside = r2 <= (0.8 * a) ** 2
+    ref = math.pi * p0 * (2 * a * a - r2) / (4 * a * E)
+    assert np.abs(u - ref)[inside].max() < 2e-3 * ref.max()
+
+
+def test_concurrent_solves_in_threads(sphere_case):
+    from concurrent.futures import ThreadPoolExecutor
+
+    c = sphere_case
+    forces = [c["F"] * k for k in (0.8, 1.0, 1.2, 1.4)]
+    ref = [solve_contact(c["gap"], c["d"], c["d"], f, c["E"]).pressure for f in forces]
+    with ThreadPoolExecutor(4) as ex:
+        got = list(ex.map(lambda f: solve_contact(c["gap"], c["d"], c["d"], f, c["E"]).pressure, forces))
+    for a, b in zip(ref, got):
+        assert np.array_equal(a, b)

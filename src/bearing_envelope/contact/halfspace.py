@@ -12,7 +12,7 @@ from __future__ import annotations
 import math
 import os
 from collections import OrderedDict
-from threading import Lock
+from threading import Lock, get_ident
 
 import numpy as np
 import scipy.fft as sfft
@@ -370,11 +370,12 @@ def get_halfspace(
 ) -> ElasticHalfSpace:
     """Return a cached :class:`ElasticHalfSpace` (with its FFT plans and buffers) for this grid.
 
-    Small LRU (4 operators); the same object is returned for the same arguments. Not
-    thread-safe for concurrent :meth:`ElasticHalfSpace.displacement` calls on one operator.
+    Small LRU (4 operators); the same object is returned for the same arguments in the same
+    thread (operators hold work arrays, so each thread gets its own; the kernel spectrum itself
+    is shared).
     """
     w = int(workers) if workers else _default_workers()
-    key = (tuple(int(s) for s in shape), float(dx), float(dy), float(e_star), w, backend, element)
+    key = (tuple(int(s) for s in shape), float(dx), float(dy), float(e_star), w, backend, element, get_ident())
     with _CACHE_LOCK:
         op = _OPS.get(key)
         if op is not None:
