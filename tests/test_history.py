@@ -42,12 +42,19 @@ def test_no_defect_equals_p0_of_load_and_spectrum():
                    palmgren_stiffness(b.roller_length_mm * 1e-3))
     q = ld.load_at(2 * np.pi * FR * h.time)
     np.testing.assert_allclose(h.roller_load, q, rtol=1e-9, atol=1e-6)
-    # P0(Q): linear in Q^(1/3) between the solved nodes (exact for Hertz)
+    # P0(Q) = max(W0(Q), P_out(Q)): the no-defect maxima inside and outside the read strip,
+    # each linear in Q^(1/3) between solved nodes (exact for Hertz), through 0 below the first
     t = h.table
-    p0 = np.interp(np.cbrt(q), np.cbrt(t.q_nodes), t.p0, left=np.nan)
-    below = np.cbrt(q) < np.cbrt(t.q_nodes[0])
-    p0[below] = t.p0[0] * np.cbrt(q[below]) / np.cbrt(t.q_nodes[0])
+
+    def lin(qn, v):
+        out = np.interp(np.cbrt(q), np.cbrt(qn), v)
+        below = np.cbrt(q) < np.cbrt(qn[0])
+        out[below] = v[0] * np.cbrt(q[below]) / np.cbrt(qn[0])
+        return out
+
+    p0 = np.maximum(lin(t.q_nodes, t.w0), lin(t.q_out, t.p_out))
     np.testing.assert_allclose(h.p_max, p0, rtol=1e-12, atol=1.0)
+    np.testing.assert_allclose(t.p0, np.maximum(t.w0, t.p_out[::3]), rtol=1e-12)
     # 250 kN is Hertzian: P0 at the largest node is the Hertz p0 within 1 %
     from bearing_envelope.contact import hertz
 

@@ -108,6 +108,7 @@ class LoadNode:
     strip: np.ndarray          # window columns read (bool over window y)
     outside_max: float         # max global pressure outside the read strip
     p0: float                  # max no-defect pressure of the whole contact
+    w0: float                  # max no-defect pressure in the window's read strip
     half_width: float          # solved contact half-width at y = y_d (m)
     zoom_consistency: float    # |max p_window0 - max p_global| / p0 in the read strip
     halfspace: Any = field(repr=False, default=None)
@@ -225,7 +226,33 @@ def _solve_load(scene: Scene, fid: Fidelity, q_load: float, kappa: float, stats:
     p0 = max(float(sol0.pressure[:, strip].max()), outside)
     cons = abs(float(sol0.pressure[:, strip].max()) - float(p_in[:, strip].max())) / p0
     return LoadNode(q_load, a, grid, pg.astype(np.float32), sol0.approach, win, u_ext,
-                    sol0.pressure, strip, outside, p0, half_width, cons, hs)
+                    sol0.pressure, strip, outside, p0, float(sol0.pressure[:, strip].max()),
+                    half_width, cons, hs)
+
+
+def _outside_max(scene: Scene, fid: Fidelity, q_load: float, kappa: float,
+                 stats: SolveStats) -> float:
+    """Maximum no-defect pressure outside the read strip from a global solve only (Pa)."""
+    e_star = scene.material.e_star_pa
+    a, s, dxw, dyw, xh, yd, hy_read, hy = _window_spec(scene, fid, q_load, kappa)
+    dxg, dyg = 1e-6 * fid.global_dx_um, 1e-6 * fid.global_dy_um
+    half = scene.bearing.half_length_m
+    extent = max(fid.global_extent * kappa * a, xh + dxg)
+    for _attempt in range(4):
+        grid = make_grid(-extent, extent, -half - 1.01 * dyg, half + 1.01 * dyg, dxg, dyg)
+        try:
+            sol = stats.solve(gap_field(scene, grid, None), dxg, dyg, q_load, e_star, tol=fid.tol,
+                              max_iter=fid.max_iter, boundary="raise", element=fid.element,
+                              halfspace=_halfspace(grid, e_star, "scipy", fid.element))
+            break
+        except ValueError as exc:
+            if "boundary" not in str(exc):
+                raise
+            extent *= 1.3
+    else:  # pragma: no cover
+        raise RuntimeError("global grid could not be sized")
+    gstrip = np.abs(grid.y - yd) <= hy_read + 1e-12
+    return float(sol.pressure[:, ~gstrip].max()) if np.any(~gstrip) else 0.0
 
 
 def _defect_solve(scene: Scene, fid: Fidelity, node: LoadNode, x_d: float, stats: SolveStats,
@@ -292,9 +319,16 @@ class PressureTable:
     xi_nodes : ndarray (nx,)
         Offsets of the nodes divided by ``s_max``.
     p0 : ndarray (nq,)
-        No-defect maximum pressure ``P0(Q)`` (Pa).
+        No-defect maximum pressure ``P0(Q)`` of the whole contact at the nodes (Pa).
+    w0 : ndarray (nq,)
+        No-defect maximum pressure in the window's read strip ``W0(Q)`` (Pa).
     ratio, ratio_defect : ndarray (nq, nx)
-        ``P / P0`` (whole contact) and ``P_d / P0`` (defect neighbourhood).
+        ``W / W0`` (maximum in the read strip, around the defect) and ``P_d / W0`` (defect
+        neighbourhood).
+    q_out, p_out : ndarray (nout,)
+        Dense roller loads (N, uniform in ``Q^(1/3)``, global solves only) and the maximum no-defect
+        pressure outside the read strip there (Pa): the roller-end peaks, which grow faster
+        than ``Q^(1/3)`` once the contact reaches the end relief. ``P = max(W, P_out)``.
     a_coef : float
         Hertz semi-axis per ``Q^(1/3)`` (m N^-1/3).
     kappa : float
@@ -310,12 +344,15 @@ class PressureTable:
     q_nodes: np.ndarray
     xi_nodes: np.ndarray
     p0: np.ndarray
+    w0: np.ndarray
     ratio: np.ndarray
     ratio_defect: np.ndarray
     a_coef: float
     kappa: float
     s_const: float
     s_max: float
+    q_out: np.ndarray
+    p_out: np.ndarray
     info: dict = field(default_factory=dict)
 
     def scale(self, Q):
@@ -329,8 +366,9 @@ class PressureTable:
     def args(self):
         """Arrays and scalars of the interpolation (for the kernels)."""
         return (np.ascontiguousarray(np.cbrt(self.q_nodes)), np.ascontiguousarray(self.offsets()),
-                self.p0, np.ascontiguousarray(self.ratio), np.ascontiguousarray(self.ratio_defect),
-                self.kappa * self.a_coef, self.s_const)
+                np.ascontiguousarray(self.w0), np.ascontiguousarray(self.ratio),
+                np.ascontiguousarray(self.ratio_defect), self.kappa * self.a_coef, self.s_const,
+                np.ascontiguousarray(np.cbrt(self.q_out)), np.ascontiguousarray(self.p_out))
 
     def evaluate(self, Q, x):
         """Interpolated ``(P, P_d)`` (Pa) at roller loads ``Q`` (N) and offsets ``x`` (m)."""
@@ -339,13 +377,14 @@ class PressureTable:
         return _table_eval_numpy(Q, x, *self.args())
 
 
-def _table_eval_numpy(Q, x, qn, xn, p0, R, Rd, ka, s0):
+def _table_eval_numpy(Q, x, qn, xn, p0, R, Rd, ka, s0, qo, po):
     q = np.cbrt(np.clip(Q, 0.0, None))
     nq, nx = R.shape
     qc = np.clip(q, qn[0], qn[-1])
     i = np.clip(np.searchsorted(qn, qc, side="right") - 1, 0, nq - 2)
     tq = (qc - qn[i]) / (qn[i + 1] - qn[i])
     p0q = np.where(q < qn[0], p0[0] * q / qn[0], p0[i] * (1 - tq) + p0[i + 1] * tq)
+    pout = np.where(q < qo[0], po[0] * q / qo[0], np.interp(q, qo, po))
     rel = np.abs(x) / (ka * q + s0)           # offset relative to the contact size s(Q)
 
     def row(T, ii, fill):
@@ -357,7 +396,7 @@ def _table_eval_numpy(Q, x, qn, xn, p0, R, Rd, ka, s0):
 
     r = (1 - tq) * row(R, i, 1.0) + tq * row(R, i + 1, 1.0)
     rd = (1 - tq) * row(Rd, i, 0.0) + tq * row(Rd, i + 1, 0.0)
-    return p0q * r, p0q * rd
+    return np.maximum(p0q * r, pout), p0q * rd
 
 
 def build_table(scene: Scene, fidelity: Fidelity | str | None = None, *, q_max: float,
@@ -401,7 +440,7 @@ def build_table(scene: Scene, fidelity: Fidelity | str | None = None, *, q_max: 
         return step * np.arange(n)
 
     nxi = offset_nodes(s_guess).size
-    n_total = nq * 2 + (nq * (nxi + fid.n_snapshot_offsets) + fid.n_checks * (2 + 2 * CHECK_OFFSETS_PER_LOAD) if d.active else 0)
+    n_total = nq * 2 + 2 * (nq - 1) + (nq * (nxi + fid.n_snapshot_offsets) + fid.n_checks * (2 + 2 * CHECK_OFFSETS_PER_LOAD) if d.active else 0)
     bar = None
     if progress is not None:
         try:
@@ -442,7 +481,7 @@ def build_table(scene: Scene, fidelity: Fidelity | str | None = None, *, q_max: 
             }
             if not d.active:
                 for j, xj in enumerate(x_nodes):
-                    Rd[i, j] = _neighbourhood_max(scene, fid, nd.window, nd.p_window0, xj) / nd.p0
+                    Rd[i, j] = _neighbourhood_max(scene, fid, nd.window, nd.p_window0, xj) / nd.w0
                 snap["offsets"] = np.asarray(snap_xi) * s_i
                 snap["window_pressure"] = np.repeat(nd.p_window0[None].astype(np.float32),
                                                     len(snap_xi), axis=0)
@@ -454,8 +493,8 @@ def build_table(scene: Scene, fidelity: Fidelity | str | None = None, *, q_max: 
                             bar.update()
                         continue
                     P, Pd, p_prev, dF = _defect_solve(scene, fid, nd, x_nodes[j], stats, p_prev)
-                    R[i, j] = P / nd.p0
-                    Rd[i, j] = Pd / nd.p0
+                    R[i, j] = float(p_prev[:, nd.strip].max()) / nd.w0
+                    Rd[i, j] = Pd / nd.w0
                     dF_max = max(dF_max, abs(dF) / nd.q)
                 fields = []
                 for xi in snap_xi:
@@ -464,7 +503,19 @@ def build_table(scene: Scene, fidelity: Fidelity | str | None = None, *, q_max: 
                 snap["window_pressure"] = np.array(fields) if fields else \
                     np.zeros((0,) + nd.window.shape, np.float32)
             snapshots[f"load_{i}"] = snap
-        table = PressureTable(q_nodes, xi_nodes, p0, R, Rd, a_coef, kappa, s_const, s_max)
+        # the no-defect maximum outside the read strip (roller ends) on a 3x denser load grid:
+        # global solves only
+        nout = 3 * (nq - 1) + 1
+        q_out = np.linspace(qn[0], qn[-1], nout) ** 3
+        p_out = np.empty(nout)
+        for k, qo in enumerate(q_out):
+            if k % 3 == 0:
+                p_out[k] = nodes[k // 3].outside_max
+            else:
+                p_out[k] = _outside_max(scene, fid, float(qo), kappa, stats)
+        w0 = np.array([nd.w0 for nd in nodes])
+        table = PressureTable(q_nodes, xi_nodes, p0, w0, R, Rd, a_coef, kappa, s_const, s_max,
+                              q_out, p_out)
         # interpolation error against direct solves at random (Q, x)
         # interpolation error against direct solves at random (Q, x): x on the window grid
         # (pure table error) and x anywhere (adds the sub-cell discretisation jitter)
@@ -606,7 +657,7 @@ try:  # pragma: no cover - numba optional at import time
         return (1.0 - tx) * T[i, j] + tx * T[i, j + 1]
 
     @numba.njit(cache=True, fastmath=False)
-    def _synth_kernel(t, theta_c, fr, z, ri, K, dr, c, ca, n, qn, xn, p0, R, Rd, ka, s0,
+    def _synth_kernel(t, theta_c, fr, z, ri, K, dr, c, ca, n, qn, xn, p0, R, Rd, ka, s0, qo, po,
                       P, Pd, Qo, Xo):
         pitch = 2.0 * np.pi / z
         nq = qn.size
@@ -632,7 +683,17 @@ try:  # pragma: no cover - numba optional at import time
             r = abs(x) / (ka * q + s0)
             x0 = r * (ka * qn[i] + s0)
             x1 = r * (ka * qn[i + 1] + s0)
-            P[k] = p0q * ((1 - tq) * _row(R, i, xn, x0, 1.0) + tq * _row(R, i + 1, xn, x1, 1.0))
+            if q < qo[0]:
+                pout = po[0] * q / qo[0]
+            elif q >= qo[qo.size - 1]:
+                pout = po[qo.size - 1]
+            else:
+                u = (q - qo[0]) / (qo[1] - qo[0])      # uniform in q
+                m2 = min(int(u), qo.size - 2)
+                f = (q - qo[m2]) / (qo[m2 + 1] - qo[m2])
+                pout = (1.0 - f) * po[m2] + f * po[m2 + 1]
+            w = p0q * ((1 - tq) * _row(R, i, xn, x0, 1.0) + tq * _row(R, i + 1, xn, x1, 1.0))
+            P[k] = w if w > pout else pout
             Pd[k] = p0q * ((1 - tq) * _row(Rd, i, xn, x0, 0.0) + tq * _row(Rd, i + 1, xn, x1, 0.0))
 
     HAVE_NUMBA = True

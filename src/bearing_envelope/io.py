@@ -213,12 +213,17 @@ def write_case(path: str | os.PathLike, history, *, extra_attrs: dict | None = N
             _dset(tg, "xi", tb.xi_nodes, "1", "normalised offset nodes |x|/s(Q)")
             _dset(tg, "offset", tb.offsets(), "m", "offset nodes x = xi s(Q), (load, xi)")
             _dset(tg, "p0", tb.p0, "Pa", "no-defect maximum pressure P0(Q)")
-            _dset(tg, "p_max", tb.p0[:, None] * tb.ratio, "Pa", "P(Q, x), whole contact")
-            _dset(tg, "p_max_defect", tb.p0[:, None] * tb.ratio_defect, "Pa",
+            _dset(tg, "w0", tb.w0, "Pa", "no-defect maximum in the window's read strip W0(Q)")
+            _dset(tg, "q_out", tb.q_out, "N", "dense roller loads of p_out")
+            _dset(tg, "p_out", tb.p_out, "Pa", "no-defect maximum outside the read strip (ends)")
+            _dset(tg, "p_max", np.maximum(tb.w0[:, None] * tb.ratio, tb.p_out[::3][:, None]), "Pa",
+                  "P(Q, x), whole contact")
+            _dset(tg, "p_max_defect", tb.w0[:, None] * tb.ratio_defect, "Pa",
                   "P_d(Q, x), defect neighbourhood")
             tg.attrs["a_coef"] = tb.a_coef
             tg.attrs["kappa"] = tb.kappa
             tg.attrs["s_const"] = tb.s_const
+            tg.attrs["s_max"] = tb.s_max
             for k, v in tb.info.items():
                 if isinstance(v, np.ndarray):
                     _dset(tg, k, v, "", "")
