@@ -75,7 +75,8 @@ class Fidelity:
     n_snapshot_offsets : int
         Offsets per load at which the window pressure field is stored.
     use_symmetry : bool
-        Use ``P(Q, -x) = P(Q, x)`` (symmetric geometry and defect).
+        Use ``P(Q, -x) = P(Q, x)`` (the gap is even in x and both defect shapes are symmetric);
+        only ``True`` is implemented.
     element : {"uniform", "linear"}
         Pressure element of every contact solve: uniform patches or piecewise-bilinear
         (pyramidal) elements (``bearing_envelope.contact.solve_contact(element=...)``).
@@ -124,8 +125,9 @@ class Fidelity:
             v = getattr(self, f)
             if isinstance(v, bool) or not isinstance(v, int) or v < lo:
                 raise ValueError(f"fidelity.{f} must be an integer >= {lo}, got {v!r}")
-        if not isinstance(self.use_symmetry, bool):
-            raise ValueError(f"fidelity.use_symmetry must be true or false, got {self.use_symmetry!r}")
+        if self.use_symmetry is not True:
+            raise ValueError(f"fidelity.use_symmetry: got {self.use_symmetry!r}; allowed: true (the "
+                             f"scene is symmetric in x; the asymmetric table is not implemented)")
         if self.element not in ("uniform", "linear"):
             raise ValueError(f"fidelity.element must be 'uniform' or 'linear', got {self.element!r}")
 
