@@ -1,0 +1,105 @@
+"""Speed-accuracy study of the fidelity knobs, by hand (issue 6). Results: docs/benchmarks.md.
+
+    python benchmarks/tradeoff.py --loads 250 --out results/tradeoff/bench_250   # one process
+    python benchmarks/tradeoff.py --loads 750 --out results/tradeoff/bench_750   # the other core
+    python benchmarks/tradeoff.py --merge results/tradeoff/bench_250 results/tradeoff/bench_750 \
+        --out results/tradeoff/bench
+
+Each process runs its loads x DEPTHS with every knob of KNOBS varied around BASE (standard
+without the interpolation checks and snapshot solves, which do not change the history),
+against the common reference REFERENCE (the paper preset, same exclusions), plus the
+presets as they are (with their checks), all at the full 100 revolutions so that the preset
+rows are full-case times. Writes tradeoff.csv, pareto.csv, tradeoff.png and the reference
+runs (refs.pkl, reused by --presets-only to evaluate further presets without rerunning them).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import pickle
+import platform
+import sys
+import time
+from pathlib import Path
+
+import pandas as pd
+
+from bearing_envelope.tradeoff import pareto_points, plot_tradeoff, tradeoff_study
+
+DEPTHS = (0.0, 15.0, 100.0)
+NO_CHECKS = {"n_checks": 0, "n_snapshot_offsets": 0}
+BASE = {"preset": "standard", **NO_CHECKS}
+REFERENCE = {"preset": "paper", **NO_CHECKS}
+KNOBS = {
+    "global_dx_um": [20.0, 10.0, 5.0],
+    "global_dy_um": [300.0, 150.0, 80.0],
+    "local_dx_um": [8.0, 4.0, 2.0],
+    "local_dy_um": [40.0, 20.0, 10.0],
+    "tol": [1e-4, 1e-6, 1e-8],
+    "n_loads": [4, 7, 10],
+    "offset_density": [0.5, 1.0, 2.0],
+    "element": ["uniform", "linear"],
+    "edge_radius_um": [40.0, 20.0, 10.0],
+}
+PRESETS = {"draft": "draft", "standard": "standard"}
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--loads", type=float, nargs="+", default=[250.0, 750.0])
+    ap.add_argument("--depths", type=float, nargs="+", default=list(DEPTHS))
+    ap.add_argument("--revolutions", type=float, default=100.0)
+    ap.add_argument("--out", type=Path, required=True)
+    ap.add_argument("--merge", type=Path, nargs="*", help="merge the CSVs of these output dirs")
+    ap.add_argument("--presets-only", type=str, default=None,
+                    help="JSON mapping name -> fidelity: evaluate only these presets against the "
+                         "reference runs of --out (refs are recomputed if missing)")
+    args = ap.parse_args(argv)
+    args.out.mkdir(parents=True, exist_ok=True)
+    if args.merge:
+        df = pd.concat([pd.read_csv(d / "tradeoff.csv", keep_default_na=False,
+                                    na_values=["", "nan", "NaN"]) for d in args.merge],
+                       ignore_index=True)
+        df["band"] = df["band"].fillna("")
+        return finish(df, args.out)
+    cases = [(f, h) for f in args.loads for h in args.depths]
+    t0 = time.time()
+    meta = {"started_utc": time.strftime("%Y-%m-%d %H:%M:%S", time.gmtime()),
+            "python": sys.version.split()[0], "machine": platform.processor() or platform.machine(),
+            "cases": cases, "revolutions": args.revolutions, "base": BASE, "reference": REFERENCE}
+    if args.presets_only:
+        presets = json.loads(args.presets_only)
+        refs = args.out / "refs.pkl"
+        cache = pickle.loads(refs.read_bytes()) if refs.exists() else {}
+        df = tradeoff_study(cases, knobs={}, base=BASE, reference=REFERENCE, element_series=(),
+                            presets=presets, revolutions=args.revolutions, progress=log,
+                            cache=cache)
+        df.to_csv(args.out / "presets.csv", index=False)
+        return df
+    cache: dict = {}
+    df = tradeoff_study(cases, knobs=KNOBS, base=BASE, reference=REFERENCE,
+                        element_series=("local_dx_um",), presets=PRESETS,
+                        revolutions=args.revolutions, progress=log, cache=cache)
+    refs = {c: {k: cache[c][k]} for c, k in df.attrs["reference_keys"].items()}
+    (args.out / "refs.pkl").write_bytes(pickle.dumps(refs))
+    meta["seconds"] = time.time() - t0
+    (args.out / "meta.json").write_text(json.dumps(meta, indent=1))
+    return finish(df, args.out)
+
+
+def log(msg):
+    print(time.strftime("%H:%M:%S"), msg, flush=True)
+
+
+def finish(df, out: Path):
+    df["band"] = df["band"].fillna("")
+    df.to_csv(out / "tradeoff.csv", index=False)
+    pts = pareto_points(df)
+    pts.to_csv(out / "pareto.csv", index=False)
+    plot_tradeoff(df, out / "tradeoff.png")
+    return df
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,621 @@
+"""Speed-accuracy trade of the fidelity knobs (issue 6).
+
+For a few representative load x depth cases, :func:`tradeoff_study` varies **one knob at a
+time** around a base fidelity (the ``standard`` preset by default), simulates each variant
+(:func:`bearing_envelope.history.simulate`), runs the signal chain on it
+(:func:`bearing_envelope.pipeline.case_bands` and :func:`~bearing_envelope.pipeline.case_harmonics`
+on in-memory data) and compares every metric with a converged reference:
+
+========================  ===========================================================================
+metric                    estimate (error: ``|estimate - reference| / |reference|`` unless stated)
+========================  ===========================================================================
+``peak_pressure``         ``max_t p_max(t)`` (Pa)
+``p_max_rms``             ``rms(p_max)`` (Pa); error ``rms(p_max - p_max_ref) / rms(p_max_ref)``
+``raw_bpfi_1``            raw amplitude spectrum at 1 x BPFI (Pa)
+``envelope_bpfi_1``       envelope spectrum at 1 x BPFI, one row per band strategy (Pa)
+``envelope_bpfi_2``       envelope spectrum at 2 x BPFI, one row per band strategy (Pa)
+========================  ===========================================================================
+
+The BPFI metrics of a healthy case (depth 0) carry no defect signature (the reference value is
+numerical leakage): their error is NaN there. Every band keeps its strategy per variant (the
+kurtogram band is chosen again on each variant's signal), so the kurtogram rows include the
+effect of a different band choice.
+
+**Reference.** ``reference="finest"`` (default): one *common* fine reference per case, every
+numeric knob at its finest listed value at once (grid spacings, tolerance, table densities),
+``reference_element`` and the scene's nominal edge radius. Rows carry ``error`` (against it) and
+``error_knob`` (against the finest value of the same knob, everything else at the base: the
+knob's own contribution). ``reference="per_knob"`` uses the latter as ``error`` and skips the
+common reference run. A :class:`~bearing_envelope.fidelity.Fidelity` or mapping gives an
+explicit common reference.
+
+**Knobs** (``knobs`` argument, name -> values listed from coarse to fine): any numeric field of
+:class:`~bearing_envelope.fidelity.Fidelity` (``global_dx_um``, ``global_dy_um``,
+``local_dx_um``, ``local_dy_um``, ``tol``, ``n_loads``, ...), ``offset_density`` (a factor ``f`` on
+``n_offsets``, ``offsets_per_width``, ``max_offsets`` and ``1/offset_step_um`` together: the
+table density in offset),
+``element`` (``uniform`` / ``linear``) and ``edge_radius_um`` (a *scene* parameter: its rows
+measure how much the metrics depend on the unknown rim radius, at the base fidelity, and what a
+sharper rim costs; its ``error_knob`` is against the nominal radius). ``element_series`` repeats
+the listed grid knobs with ``element="linear"`` (knob name ``local_dx_um[linear]``), so the two
+element types can be compared at equal error.
+
+**Cost.** ``cpu_s`` (process CPU time of the simulation: single-threaded, less sensitive to
+other users of a shared machine than ``wall_s``), ``wall_s``, ``n_solves`` and ``n_iterations``
+of the contact solves. Every run starts from an empty kernel cache (a case runs in a fresh
+process in the workflow). Identical runs (the base point of every knob) are computed once.
+
+:func:`pareto_front` reduces the tidy table to one point per (knob, value) per metric (CPU time
+per case averaged, error the worst over the cases) and marks the non-dominated points;
+:func:`plot_tradeoff` draws error against time with the front.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import math
+import time
+from collections.abc import Mapping, Sequence
+from types import SimpleNamespace
+from typing import Any
+
+import numpy as np
+import pandas as pd
+
+from .fidelity import Fidelity, fidelity_from
+
+__all__ = ["DEFAULT_CASES", "DEFAULT_KNOBS", "DEFAULT_BANDS", "COLUMNS", "tradeoff_study",
+           "study_from_config", "pareto_front", "pareto_table", "pareto_points", "plot_tradeoff",
+           "metric_labels", "run_variant"]
+
+#: (load_kN, depth_um) of the representative cases.
+DEFAULT_CASES: tuple[tuple[float, float], ...] = (
+    (250.0, 0.0), (250.0, 15.0), (250.0, 100.0), (750.0, 0.0), (750.0, 15.0), (750.0, 100.0))
+
+#: Knob values, coarse to fine (the base value of each knob is added if missing).
+DEFAULT_KNOBS: dict[str, list] = {
+    "global_dx_um": [20.0, 10.0, 5.0],
+    "global_dy_um": [300.0, 150.0, 75.0],
+    "local_dx_um": [8.0, 4.0, 2.0],
+    "local_dy_um": [40.0, 20.0, 10.0],
+    "tol": [1e-4, 1e-5, 1e-6, 1e-8],
+    "n_loads": [3, 5, 8],
+    "offset_density": [0.5, 1.0, 2.0],
+    "element": ["uniform", "linear"],
+    "edge_radius_um": [40.0, 20.0, 10.0],
+}
+
+#: The band strategies of the workflow's default ``analysis.bands``.
+DEFAULT_BANDS: list[dict[str, Any]] = [
+    {"name": "kurtogram", "strategy": "kurtogram"},
+    {"name": "fs4_3fs8", "strategy": "fraction", "low": 0.25, "high": 0.375},
+    {"name": "bpfi_3_6", "strategy": "orders", "low": 3, "high": 6, "base": "bpfi"},
+    {"name": "bpfi_10_13", "strategy": "orders", "low": 10, "high": 13, "base": "bpfi"},
+    {"name": "fixed", "strategy": "fixed", "low_hz": 8125.0, "high_hz": 16250.0},
+]
+
+COLUMNS = ["case", "load_kN", "depth_um", "knob", "value", "is_base", "is_reference",
+           "element", "edge_radius_um", "fidelity", "cpu_s", "wall_s", "n_solves", "n_iterations",
+           "metric", "band", "estimate", "reference_value", "error", "error_knob"]
+
+_SCENE_KNOBS = ("edge_radius_um",)
+_OFFSET_FIELDS = ("n_offsets", "offsets_per_width", "max_offsets")
+
+
+# ---------------------------------------------------------------------------------------------
+# knobs
+
+
+def _apply_knob(base: Fidelity, knob: str, value) -> tuple[Fidelity, dict]:
+    """The fidelity of one knob value and the scene overrides it implies."""
+    if knob in _SCENE_KNOBS:
+        return base, {"defect": {knob: float(value)}}
+    if knob == "offset_density":
+        f = float(value)
+        if not f > 0:
+            raise ValueError(f"tradeoff.knobs.offset_density: factors must be > 0, got {value!r}")
+        return dataclasses.replace(
+            base, n_offsets=max(3, int(round(base.n_offsets * f))),
+            offsets_per_width=base.offsets_per_width * f,
+            max_offsets=max(3, int(round(base.max_offsets * f))),
+            offset_step_um=base.offset_step_um / f), {}
+    if knob.endswith("[linear]"):
+        fid, sc = _apply_knob(base, knob[:-len("[linear]")], value)
+        return dataclasses.replace(fid, element="linear"), sc
+    names = {f.name for f in dataclasses.fields(Fidelity)}
+    if knob not in names or knob in ("name",):
+        raise ValueError(f"tradeoff.knobs: unknown knob {knob!r}; allowed: fidelity fields "
+                         f"{sorted(names - {'name'})}, offset_density, edge_radius_um")
+    ftype = type(getattr(base, knob))
+    v = value
+    if ftype is int and isinstance(v, float) and v.is_integer():
+        v = int(v)
+    elif ftype is float and isinstance(v, int):
+        v = float(v)
+    return dataclasses.replace(base, **{knob: v}), {}
+
+
+def _base_value(base: Fidelity, scene_map: Mapping, knob: str):
+    k = knob[:-len("[linear]")] if knob.endswith("[linear]") else knob
+    if k in _SCENE_KNOBS:
+        from .scene import DEFAULT_SCENE
+
+        return float((scene_map.get("defect", {}) or {}).get(k, DEFAULT_SCENE["defect"][k]))
+    if k == "offset_density":
+        return 1.0
+    return getattr(base, k)
+
+
+def _merge(a: Mapping, b: Mapping) -> dict:
+    out = json.loads(json.dumps(dict(a)))
+    for k, v in b.items():
+        if isinstance(v, Mapping) and isinstance(out.get(k), Mapping):
+            out[k] = _merge(out[k], v)
+        else:
+            out[k] = v
+    return out
+
+
+# ---------------------------------------------------------------------------------------------
+# one run
+
+
+def _clear_kernel_cache() -> None:
+    try:
+        from .contact import halfspace as _hs
+
+        with _hs._CACHE_LOCK:
+            _hs._CACHE.clear()
+    except (ImportError, AttributeError):  # pragma: no cover - cache layout changed
+        pass
+
+
+def run_variant(scene, fidelity: Fidelity, analysis: Mapping[str, Any]) -> dict[str, Any]:
+    """Simulate one variant and evaluate the metrics.
+
+    Returns a dict with ``cpu_s``, ``wall_s``, ``n_solves``, ``n_iterations``, ``p_max``
+    (the history, Pa), and ``metrics``: ``{(metric, band): estimate}``.
+    """
+    from .history import simulate
+    from .pipeline import case_bands, case_harmonics
+
+    _clear_kernel_cache()
+    c0, w0 = time.process_time(), time.perf_counter()
+    hist = simulate(scene, fidelity)
+    cpu, wall = time.process_time() - c0, time.perf_counter() - w0
+    ff = scene.frequencies()
+    case = SimpleNamespace(
+        signals={"p_max": hist.p_max, "p_max_defect": hist.p_max_defect}, fs=scene.operation.fs_hz,
+        fr=scene.operation.shaft_rate_hz, bpfi=scene.bpfi_hz, bpfo=ff.bpfo, ftf=ff.ftf, bsf=ff.bsf,
+        load_kN=scene.load.load_kN, depth_um=scene.defect.depth_um)
+    sig = analysis.get("signal", "p_max")
+    x = np.asarray(case.signals[sig], float)
+    metrics: dict[tuple[str, str], float] = {("peak_pressure", ""): float(x.max()),
+                                             ("p_max_rms", ""): float(np.sqrt(np.mean(x ** 2)))}
+    doc, _ = case_bands(case, analysis)
+    h = case_harmonics(case, analysis, doc)
+    raw = h[(h["quantity"] == "raw_bpfi") & (h["order"] == 1)]
+    metrics[("raw_bpfi_1", "")] = float(raw["amplitude"].iloc[0]) if len(raw) else math.nan
+    env = h[(h["quantity"] == "envelope_bpfi") & (h["sideband"] == 0)]
+    for _, r in env.iterrows():
+        if int(r["order"]) in (1, 2):
+            metrics[(f"envelope_bpfi_{int(r['order'])}", str(r["band"]))] = float(r["amplitude"])
+    return {"cpu_s": cpu, "wall_s": wall, "n_solves": int(hist.stats["n_solves"]),
+            "n_iterations": int(hist.stats["n_iterations"]), "p_max": x, "metrics": metrics,
+            "bands": doc["bands"]}
+
+
+def _error(metric: str, est: float, ref: float, x=None, xref=None, depth: float = 1.0) -> float:
+    if metric == "p_max_rms":
+        if x is None or xref is None or x.size != xref.size:
+            return math.nan
+        return float(np.sqrt(np.mean((x - xref) ** 2)) / np.sqrt(np.mean(xref ** 2)))
+    if metric != "peak_pressure" and depth <= 0:
+        return math.nan   # no defect signature in a healthy case
+    if not (math.isfinite(est) and math.isfinite(ref)) or ref == 0:
+        return math.nan
+    return abs(est - ref) / abs(ref)
+
+
+# ---------------------------------------------------------------------------------------------
+# the study
+
+
+def tradeoff_study(
+    cases: Sequence[Sequence[float]] = DEFAULT_CASES,
+    *,
+    knobs: Mapping[str, Sequence] | None = None,
+    base: str | Mapping | Fidelity = "standard",
+    reference: str | Mapping | Fidelity = "finest",
+    reference_element: str = "uniform",
+    element_series: Sequence[str] = ("local_dx_um",),
+    presets: Mapping[str, Any] | None = None,
+    revolutions: float = 4.0,
+    scene: Mapping[str, Any] | None = None,
+    analysis: Mapping[str, Any] | None = None,
+    progress=None,
+    cache: dict | None = None,
+) -> pd.DataFrame:
+    """Cost and error of one-knob-at-a-time fidelity variants against a converged reference.
+
+    Parameters
+    ----------
+    cases : sequence of (load_kN, depth_um)
+        Representative cases (default :data:`DEFAULT_CASES`: 0, 15, 100 um at 250 and 750 kN).
+    knobs : mapping, optional
+        Knob name -> values from coarse to fine (default :data:`DEFAULT_KNOBS`). The base value
+        of each knob is added when missing.
+    base : preset name, mapping or Fidelity
+        The point the knobs vary around (``standard``).
+    reference : ``"finest"``, ``"per_knob"``, mapping or Fidelity
+        The converged reference (module docstring).
+    reference_element : {"uniform", "linear"}
+        Element of the ``finest`` reference.
+    element_series : sequence of str
+        Grid knobs repeated with linear elements (empty: none).
+    presets : mapping, optional
+        Extra fidelities evaluated against the same reference: name -> preset name / mapping /
+        Fidelity; their rows have ``knob = "preset"`` and ``value`` = the name.
+    revolutions : float
+        Shaft revolutions of each history (> 0). The contact table, i.e. almost all of the
+        cost, does not depend on it; a few revolutions cover many BPFI events.
+    scene : mapping, optional
+        The ``scene:`` mapping (default scene if None); ``operation.revolutions`` is replaced.
+    analysis : mapping, optional
+        The ``analysis:`` mapping (``signal``, ``nlevel``, ``bands``, ``filter_order``, ...);
+        default: :data:`DEFAULT_BANDS`, nlevel 8, p_max, envelope (not squared).
+    progress : callable, optional
+        Called with a one-line message after every run (e.g. ``print``).
+    cache : dict, optional
+        Run results by case name and run key (fidelity and scene overrides), filled by the
+        study and read before running: pass the same dict to a second call (e.g. with other
+        presets) to reuse the reference runs. Entries hold the ``p_max`` history.
+
+    Returns
+    -------
+    pandas.DataFrame
+        Tidy, columns :data:`COLUMNS`: one row per case x (knob, value) x metric x band.
+        ``value`` is stored as text (``"4"``, ``"1e-06"``, ``"linear"``); ``is_base`` marks the
+        base point of each knob (repeated under every knob), ``knob = "reference"`` the
+        reference run (error 0).
+    """
+    from .scene import Scene
+
+    if not (isinstance(revolutions, (int, float)) and revolutions > 0):
+        raise ValueError(f"tradeoff.revolutions must be > 0, got {revolutions!r}")
+    base_f = fidelity_from(base)
+    knobs = dict(DEFAULT_KNOBS if knobs is None else knobs)
+    scene_map = _merge(scene or {}, {"operation": {"revolutions": float(revolutions)}})
+    an = {"signal": "p_max", "nlevel": 8, "filter_order": 4, "squared_envelope": False,
+          "harmonics": 2, "sidebands": 0, "raw_orders_fr": 1, "bands": DEFAULT_BANDS}
+    if analysis:
+        an.update({k: v for k, v in analysis.items() if k in an or k in ("max_level", "min_bandwidth_hz")})
+        an["harmonics"], an["sidebands"], an["raw_orders_fr"] = 2, 0, 1
+    if reference_element not in ("uniform", "linear"):
+        raise ValueError(f"tradeoff.reference_element must be uniform or linear, got {reference_element!r}")
+    for k in element_series:
+        if k not in knobs:
+            raise ValueError(f"tradeoff.element_series: {k!r} is not one of the knobs {sorted(knobs)}")
+    all_knobs: dict[str, list] = {}
+    for k, vals in knobs.items():
+        vals = list(vals)
+        if not vals:
+            raise ValueError(f"tradeoff.knobs.{k}: give at least one value")
+        _apply_knob(base_f, k, vals[0])  # validates the knob name and value early
+        bv = _base_value(base_f, scene_map, k)
+        if k == "element":
+            if any(v not in ("uniform", "linear") for v in vals):
+                raise ValueError(f"tradeoff.knobs.element: values must be uniform | linear, got {vals}")
+        if not any(_same(v, bv) for v in vals):
+            vals = _insert_sorted(vals, bv)
+        all_knobs[k] = vals
+    for k in element_series:
+        if base_f.element != "linear":
+            all_knobs[f"{k}[linear]"] = list(all_knobs[k])
+
+    # the common reference
+    ref_f, ref_scene = None, {}
+    if isinstance(reference, str) and reference == "finest":
+        ref_f = dataclasses.replace(base_f, name="reference", element=reference_element)
+        for k, vals in all_knobs.items():
+            if k in ("element",) or k in _SCENE_KNOBS or k.endswith("[linear]"):
+                continue
+            fine = vals[-1]
+            ref_f, _ = _apply_knob(ref_f, k, fine)
+        ref_f = dataclasses.replace(ref_f, name="reference")
+    elif isinstance(reference, str) and reference == "per_knob":
+        ref_f = None
+    elif isinstance(reference, (Mapping, Fidelity)) or reference in ("draft", "standard", "paper"):
+        ref_f = dataclasses.replace(fidelity_from(reference), name="reference")
+    else:
+        raise ValueError(f"tradeoff.reference: got {reference!r}; allowed: finest | per_knob | "
+                         f"a preset name | a fidelity mapping")
+
+    preset_f = {str(n): fidelity_from(s) for n, s in (presets or {}).items()}
+
+    rows: list[dict] = []
+    ref_keys: dict[str, str] = {}
+    last_key = [""]
+    for load_kN, depth_um in cases:
+        load_kN, depth_um = float(load_kN), float(depth_um)
+        cache_c: dict[str, dict] = (cache.setdefault(f"F{load_kN:g}kN_h{depth_um:g}um", {})
+                                    if cache is not None else {})
+
+        def run(fid: Fidelity, sc_over: dict):
+            key = json.dumps([{k: v for k, v in fid.to_dict().items() if k != "name"}, sc_over],
+                             sort_keys=True, default=str)
+            key = json.dumps([key, an, scene_map], sort_keys=True, default=str)
+            if key not in cache_c:
+                sc = Scene.from_mapping(_merge(scene_map, sc_over), load_kN=load_kN, depth_um=depth_um)
+                cache_c[key] = run_variant(sc, fid, an)
+                if progress:
+                    r = cache_c[key]
+                    progress(f"F{load_kN:g}kN_h{depth_um:g}um {fid.name} {sc_over or ''}: "
+                             f"{r['cpu_s']:.1f} s cpu, {r['wall_s']:.1f} s wall, {r['n_solves']} solves")
+            last_key[0] = key
+            return cache_c[key]
+
+        ref = run(ref_f, {}) if ref_f is not None else None
+        if ref is not None:
+            ref_keys[f"F{load_kN:g}kN_h{depth_um:g}um"] = last_key[0]
+        variants: list[tuple[str, str, Fidelity, dict, Any]] = []
+        for k, vals in all_knobs.items():
+            for v in vals:
+                fid, sc_over = _apply_knob(base_f, k, v)
+                fid = dataclasses.replace(fid, name=f"{k}={v}")
+                variants.append((k, _fmt(v), fid, sc_over, v))
+        for n, f in preset_f.items():
+            variants.append(("preset", n, f, {}, n))
+        results = [(k, vs, fid, sc, v, run(fid, sc)) for k, vs, fid, sc, v in variants]
+        finest = {}
+        for k, vals in all_knobs.items():
+            kk = k[:-len("[linear]")] if k.endswith("[linear]") else k
+            fv = _base_value(base_f, scene_map, kk) if (kk in _SCENE_KNOBS or kk == "element") \
+                else vals[-1]
+            if k.endswith("[linear]"):
+                fv = vals[-1]
+            finest[k] = next(r for kk2, vs, fid, sc, v, r in results if kk2 == k and _same(v, fv))
+
+        def emit(knob, vstr, fid, sc_over, res, is_base, is_ref, kref):
+            common = ref if ref is not None else kref
+            for (metric, band), est in res["metrics"].items():
+                rv = common["metrics"].get((metric, band), math.nan) if common is not None else math.nan
+                e = _error(metric, est, rv, res["p_max"], common["p_max"] if common else None, depth_um)
+                if kref is not None:
+                    rk = kref["metrics"].get((metric, band), math.nan)
+                    ek = _error(metric, est, rk, res["p_max"], kref["p_max"], depth_um)
+                else:
+                    ek = math.nan
+                if is_ref:
+                    e = 0.0 if not math.isnan(e) else e
+                rows.append({
+                    "case": f"F{load_kN:g}kN_h{depth_um:g}um", "load_kN": load_kN, "depth_um": depth_um,
+                    "knob": knob, "value": vstr, "is_base": is_base, "is_reference": is_ref,
+                    "element": fid.element,
+                    "edge_radius_um": float(_merge(scene_map, sc_over).get("defect", {}).get(
+                        "edge_radius_um", _base_value(base_f, scene_map, "edge_radius_um"))),
+                    "fidelity": json.dumps({k: v for k, v in fid.to_dict().items() if k != "name"},
+                                           sort_keys=True),
+                    "cpu_s": res["cpu_s"], "wall_s": res["wall_s"], "n_solves": res["n_solves"],
+                    "n_iterations": res["n_iterations"], "metric": metric, "band": band,
+                    "estimate": est, "reference_value": rv, "error": e, "error_knob": ek,
+                })
+
+        if ref is not None:
+            emit("reference", "reference", ref_f, {}, ref, False, True, None)
+        for k, vs, fid, sc, v, res in results:
+            is_base = k != "preset" and _same(v, _base_value(base_f, scene_map, k)) and \
+                not k.endswith("[linear]")
+            kref = finest.get(k) if k != "preset" else None
+            emit(k, vs, fid, sc, res, bool(is_base), False, kref)
+    df = pd.DataFrame(rows, columns=COLUMNS)
+    if ref_f is None:
+        df["error"] = df["error_knob"]
+    df.attrs["reference_keys"] = ref_keys   # case -> key of the reference run in ``cache``
+    return df
+
+
+def _same(a, b) -> bool:
+    if isinstance(a, str) or isinstance(b, str):
+        return a == b
+    return math.isclose(float(a), float(b), rel_tol=1e-9, abs_tol=0.0)
+
+
+def _insert_sorted(vals: list, v) -> list:
+    """Insert the base value keeping the coarse-to-fine order (numbers: by monotone order)."""
+    if isinstance(v, str):
+        return [v] + vals
+    nums = [float(x) for x in vals]
+    dec = len(nums) < 2 or nums[0] > nums[-1]   # grid spacings, tol: decreasing = finer
+    out = list(vals)
+    for i, x in enumerate(nums):
+        if (dec and float(v) > x) or (not dec and float(v) < x):
+            out.insert(i, v)
+            return out
+    out.append(v)
+    return out
+
+
+def _fmt(v) -> str:
+    if isinstance(v, str):
+        return v
+    return f"{float(v):g}"
+
+
+# ---------------------------------------------------------------------------------------------
+# Pareto front
+
+
+def metric_labels(df: pd.DataFrame) -> list[tuple[str, str]]:
+    """The (metric, band) pairs of a tradeoff table, in a stable order."""
+    order = {"peak_pressure": 0, "p_max_rms": 1, "raw_bpfi_1": 2, "envelope_bpfi_1": 3,
+             "envelope_bpfi_2": 4}
+    pairs = df[["metric", "band"]].drop_duplicates().itertuples(index=False)
+    return sorted(((m, b) for m, b in pairs), key=lambda p: (order.get(p[0], 9), p[1]))
+
+
+def pareto_table(df: pd.DataFrame, metric: str, band: str = "", *, error: str = "error",
+                 time: str = "cpu_s") -> pd.DataFrame:
+    """One point per (knob, value) for one metric: mean time per case, worst error over cases.
+
+    Cases where the error is undefined (NaN: BPFI metrics of a healthy case) are left out of
+    the worst error but not of the time. Columns: ``knob, value, time_s, error, n_cases,
+    is_base, is_reference, pareto``.
+    """
+    d = df[(df["metric"] == metric) & (df["band"] == band)]
+    if d.empty:
+        raise ValueError(f"no rows for metric {metric!r} band {band!r}")
+    g = d.groupby(["knob", "value"], sort=False)
+    out = pd.DataFrame({
+        "time_s": g[time].mean(),
+        "error": g[error].max(),   # NaN-skipping
+        "n_cases": g[error].count(),
+        "is_base": g["is_base"].any(),
+        "is_reference": g["is_reference"].any(),
+    }).reset_index()
+    # the base point appears under every knob: keep it once
+    base = out[out["is_base"]]
+    if len(base) > 1:
+        out = pd.concat([out[~out["is_base"]], base.iloc[[0]].assign(knob="base")],
+                        ignore_index=True)
+    out["pareto"] = pareto_front(out["time_s"].to_numpy(), out["error"].to_numpy())
+    return out
+
+
+def pareto_front(time_s, error) -> np.ndarray:
+    """Boolean mask of the non-dominated points (minimise both time and error).
+
+    A point is dominated when another point is no slower and no less accurate, and strictly
+    better in one of the two. NaN errors are never on the front.
+    """
+    t = np.asarray(time_s, float)
+    e = np.asarray(error, float)
+    ok = np.isfinite(t) & np.isfinite(e)
+    mask = np.zeros(t.size, bool)
+    for i in np.flatnonzero(ok):
+        dom = ok & (t <= t[i]) & (e <= e[i]) & ((t < t[i]) | (e < e[i]))
+        mask[i] = not dom.any()
+    return mask
+
+
+# ---------------------------------------------------------------------------------------------
+# plot
+
+
+def plot_tradeoff(df: pd.DataFrame, path=None, *, metrics: Sequence[tuple[str, str]] | None = None,
+                  error: str = "error", time: str = "cpu_s", ncols: int = 4):
+    """Error against CPU time per case, one panel per metric, Pareto front marked.
+
+    Each knob is a line through its values (coarse to fine), the base point a black square, the
+    reference (zero error, drawn at the bottom edge) a black star, presets labelled diamonds;
+    uniform and linear elements along ``local_dx_um`` are drawn solid and dashed in the same
+    colour, so the element that reaches a given error sooner is the curve further left. The
+    front is the grey step line through the circled points.
+
+    Returns the matplotlib ``Figure`` (saved to ``path`` when given).
+    """
+    from matplotlib.figure import Figure
+
+    metrics = list(metrics) if metrics is not None else metric_labels(df)
+    n = len(metrics)
+    ncols = min(ncols, n)
+    nrows = int(math.ceil(n / ncols))
+    fig = Figure(figsize=(4.2 * ncols, 3.4 * nrows), layout="constrained")
+    axes = fig.subplots(nrows, ncols, squeeze=False).ravel()
+    knobs = [k for k in dict.fromkeys(df["knob"]) if k not in ("reference", "preset")]
+    base_knobs = [k for k in knobs if not k.endswith("[linear]")]
+    import matplotlib
+
+    cmap = matplotlib.colormaps["tab10"]
+    colour = {k: cmap(i % 10) for i, k in enumerate(base_knobs)}
+    for k in knobs:
+        if k.endswith("[linear]"):
+            colour[k] = colour.get(k[:-len("[linear]")], "k")
+    for ax, (metric, band) in zip(axes, metrics):
+        pt = pareto_table(df, metric, band, error=error, time=time)
+        pos = pt["error"][pt["error"] > 0]
+        floor = float(pos.min()) / 3 if len(pos) else 1e-6
+        for k in knobs:
+            d = pt[pt["knob"] == k]
+            if not len(d):
+                continue
+            # add the base point to each knob's line
+            b = pt[pt["knob"] == "base"]
+            kb = df[(df["knob"] == k) & df["is_base"]]["value"]
+            if len(kb) and len(b) and not (d["value"] == kb.iloc[0]).any():
+                vals = df[(df["knob"] == k)]["value"].drop_duplicates().tolist()
+                d = pd.concat([d, b.assign(knob=k, value=kb.iloc[0])]).set_index("value").reindex(
+                    [v for v in vals if v in set(d["value"]) | {kb.iloc[0]}]).reset_index()
+            ax.plot(d["time_s"], d["error"].clip(lower=floor), "-" if not k.endswith("]") else "--",
+                    marker="o" if not k.endswith("]") else "^", ms=4, color=colour[k], label=k)
+        b = pt[pt["knob"] == "base"]
+        ax.plot(b["time_s"], b["error"].clip(lower=floor), "s", color="k", ms=6, label="base")
+        r = pt[pt["is_reference"]]
+        ax.plot(r["time_s"], np.full(len(r), floor), "*", color="k", ms=10, label="reference (error 0)")
+        p = pt[pt["knob"] == "preset"]
+        for _, row in p.iterrows():
+            ax.plot(row["time_s"], max(row["error"], floor), "D", color="m", ms=6)
+            ax.annotate(row["value"], (row["time_s"], max(row["error"], floor)), fontsize=7,
+                        xytext=(3, 3), textcoords="offset points", color="m")
+        front = pt[pt["pareto"]].sort_values("time_s")
+        if len(front):
+            ax.step(front["time_s"], front["error"].clip(lower=floor), where="post", color="0.5",
+                    lw=3, alpha=0.4, zorder=0)
+            ax.plot(front["time_s"], front["error"].clip(lower=floor), "o", mfc="none", mec="k",
+                    ms=9, label="Pareto front")
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_title(f"{metric}" + (f" [{band}]" if band else ""), fontsize=9)
+        ax.set_xlabel(f"{'CPU' if time == 'cpu_s' else 'wall'} time per case (s)")
+        ax.set_ylabel("relative error (worst case)")
+        ax.grid(True, which="both", alpha=0.3)
+    for ax in axes[n:]:
+        ax.set_visible(False)
+    h, lab = axes[0].get_legend_handles_labels()
+    fig.legend(h, lab, loc="outside lower center", ncols=min(6, len(lab)), fontsize=8)
+    if path is not None:
+        fig.savefig(path, dpi=110)
+    return fig
+
+
+def pareto_points(df: pd.DataFrame, *, error: str = "error", time: str = "cpu_s") -> pd.DataFrame:
+    """:func:`pareto_table` of every metric of a tradeoff table, stacked (columns ``metric``,
+    ``band`` first)."""
+    parts = []
+    for metric, band in metric_labels(df):
+        pt = pareto_table(df, metric, band, error=error, time=time)
+        pt.insert(0, "band", band)
+        pt.insert(0, "metric", metric)
+        parts.append(pt)
+    return pd.concat(parts, ignore_index=True)
+
+
+def study_from_config(section: Mapping[str, Any] | None, *, scene: Mapping[str, Any] | None = None,
+                      analysis: Mapping[str, Any] | None = None, progress=None) -> pd.DataFrame:
+    """:func:`tradeoff_study` configured by the workflow's ``tradeoff:`` section.
+
+    Keys (all optional): ``cases`` (list of ``[load_kN, depth_um]``), ``revolutions``, ``base``,
+    ``reference``, ``reference_element``, ``element_series``, ``knobs`` (name -> values, coarse
+    to fine; replaces the default set), ``presets`` (list of preset names or mapping name ->
+    fidelity mapping). See ``workflow/schemas/config.schema.yaml``.
+    """
+    s = dict(section or {})
+    allowed = {"cases", "revolutions", "base", "reference", "reference_element", "element_series",
+               "knobs", "presets"}
+    unknown = sorted(set(s) - allowed)
+    if unknown:
+        raise ValueError(f"tradeoff: unknown key(s) {unknown}; allowed: {sorted(allowed)}")
+    cases = s.get("cases", DEFAULT_CASES)
+    for c in cases:
+        if len(c) != 2:
+            raise ValueError(f"tradeoff.cases: each case is [load_kN, depth_um], got {c!r}")
+    presets = s.get("presets", ["draft", "standard", "paper"])
+    if isinstance(presets, Sequence) and not isinstance(presets, str):
+        presets = {str(p): p for p in presets}
+    return tradeoff_study(
+        [tuple(c) for c in cases], knobs=s.get("knobs"), base=s.get("base", "standard"),
+        reference=s.get("reference", "finest"), reference_element=s.get("reference_element", "uniform"),
+        element_series=s.get("element_series", ("local_dx_um",)), presets=presets,
+        revolutions=float(s.get("revolutions", 4.0)), scene=scene, analysis=analysis,
+        progress=progress)

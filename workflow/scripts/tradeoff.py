@@ -1,0 +1,14 @@
+"""Rule tradeoff: the speed-accuracy study (bearing_envelope.tradeoff) -> CSV, Pareto CSV, PNG."""
+import json
+
+from bearing_envelope.pipeline import log_to
+from bearing_envelope.tables import write_csv_atomic
+from bearing_envelope.tradeoff import pareto_points, plot_tradeoff, study_from_config
+
+with log_to(snakemake.log[0]) as log:  # noqa: F821
+    setup = json.loads(snakemake.params.setup)  # noqa: F821
+    df = study_from_config(setup["tradeoff"], scene=setup["scene"], analysis=setup["analysis"],
+                           progress=lambda msg: print(msg, file=log, flush=True))
+    write_csv_atomic(df, snakemake.output.table)  # noqa: F821
+    write_csv_atomic(pareto_points(df), snakemake.output.pareto)  # noqa: F821
+    plot_tradeoff(df, snakemake.output.plot)  # noqa: F821
