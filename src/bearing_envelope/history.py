@@ -218,16 +218,22 @@ def _solve_load(scene: Scene, fid: Fidelity, q_load: float, kappa: float, stats:
     # its approach (not the coarse global one, which differs by the coarse grid's discretisation
     # error) then drives the defect solves under displacement control
     f_win = float(pg[:, j_lo:j_hi + 1].sum()) * dxg * dyg
-    sol0 = stats.solve(g0, win.dx, win.dy, f_win, e_star, tol=fid.tol, max_iter=fid.max_iter,
-                       p_init=p_in, boundary="ignore", halfspace=hs, element=fid.element)
+    if f_win > 0:
+        sol0 = stats.solve(g0, win.dx, win.dy, f_win, e_star, tol=fid.tol, max_iter=fid.max_iter,
+                           p_init=p_in, boundary="ignore", halfspace=hs, element=fid.element)
+        approach0, pw0 = sol0.approach, sol0.pressure
+    else:
+        # the contact does not reach the defect's axial position at this load (e.g. a defect
+        # near a roller end at a small load): nothing to zoom into
+        approach0, pw0 = sol.approach, np.zeros(win.shape)
     strip = np.abs(win.y - yd) <= hy_read + 1e-12
     gstrip = np.abs(grid.y - yd) <= hy_read + 1e-12
     outside = float(pg[:, ~gstrip].max()) if np.any(~gstrip) else 0.0
-    p0 = max(float(sol0.pressure[:, strip].max()), outside)
-    cons = abs(float(sol0.pressure[:, strip].max()) - float(p_in[:, strip].max())) / p0
-    return LoadNode(q_load, a, grid, pg.astype(np.float32), sol0.approach, win, u_ext,
-                    sol0.pressure, strip, outside, p0, float(sol0.pressure[:, strip].max()),
-                    half_width, cons, hs)
+    w0 = float(pw0[:, strip].max())
+    p0 = max(w0, outside)
+    cons = abs(w0 - float(p_in[:, strip].max())) / p0
+    return LoadNode(q_load, a, grid, pg.astype(np.float32), approach0, win, u_ext,
+                    pw0, strip, outside, p0, w0, half_width, cons, hs)
 
 
 def _outside_max(scene: Scene, fid: Fidelity, q_load: float, kappa: float,
@@ -481,14 +487,15 @@ def build_table(scene: Scene, fidelity: Fidelity | str | None = None, *, q_max: 
             }
             if not d.active:
                 for j, xj in enumerate(x_nodes):
-                    Rd[i, j] = _neighbourhood_max(scene, fid, nd.window, nd.p_window0, xj) / nd.w0
+                    if nd.w0 > 0:
+                        Rd[i, j] = _neighbourhood_max(scene, fid, nd.window, nd.p_window0, xj) / nd.w0
                 snap["offsets"] = np.asarray(snap_xi) * s_i
                 snap["window_pressure"] = np.repeat(nd.p_window0[None].astype(np.float32),
                                                     len(snap_xi), axis=0)
             else:
                 p_prev = None
                 for j in range(nxi - 1, -1, -1):
-                    if x_nodes[j] > reach:
+                    if x_nodes[j] > reach or nd.w0 <= 0:
                         if bar is not None:
                             bar.update()
                         continue
@@ -555,7 +562,7 @@ def build_table(scene: Scene, fidelity: Fidelity | str | None = None, *, q_max: 
             "any_offset_rms_rel_error_p_max": err_any_rms,
             "any_offset_max_rel_error_p_max_defect": err_d_any,
             "any_offset_checks": checks_b,
-            "interp_variables": "bilinear in q = Q^(1/3) and x of P/P0(Q); P0 linear in q; "
+            "interp_variables": "W/W0 bilinear in q = Q^(1/3) and x scaled by s(Q); W0, P_out linear in q; P = max(W, P_out); "
                                 "offset nodes on multiples of the window spacing",
             "zoom_consistency_max": float(max(nd.zoom_consistency for nd in nodes)),
             "approach_force_change_max": float(dF_max),
