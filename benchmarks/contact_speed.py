@@ -131,7 +131,7 @@ def run_worker(threads, cases, repeat, with_tamaas, tol, backend="auto"):
 def _fmt(rows):
     out = [
         "| case | threads | FFT | solve (s) | first solve (s) | CG its (convs) | time/it (ms) | 2 conv (ms) | it / 2 conv (CPU) |"
-        " no-precond its / s | tamaas (s) | ours / tamaas | max|dp|/p0 vs tamaas | p0 err vs Hertz |",
+        " no-precond its / s | tamaas (s) | ours / tamaas | max\\|dp\\|/p0 vs tamaas | p0 err vs Hertz |",
         "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     for r in rows:

@@ -336,3 +336,50 @@ def test_concurrent_solves_in_threads(sphere_case):
         got = list(ex.map(lambda f: solve_contact(c["gap"], c["d"], c["d"], f, c["E"]).pressure, forces))
     for a, b in zip(ref, got):
         assert np.array_equal(a, b)
+
+
+# ---------------------------------------------------------------- property tests (hypothesis)
+from hypothesis import given, settings, strategies as st  # noqa: E402
+
+
+def _sphere_fixed_grid(n=64):
+    R, E, Fmax = 0.01, 1e11, 40.0
+    d = 8 * hertz.sphere(Fmax, R, E).a / n
+    x = centred_axis(n, d)
+    return (x[:, None] ** 2 + x[None, :] ** 2) / (2 * R), d, E
+
+
+@settings(max_examples=12, deadline=None)
+@given(f1=st.floats(1.0, 20.0), k=st.floats(1.05, 2.0))
+def test_property_approach_increases_with_force(f1, k):
+    g, d, E = _sphere_fixed_grid()
+    s1 = solve_contact(g, d, d, f1, E)
+    s2 = solve_contact(g, d, d, k * f1, E)
+    assert s2.approach > s1.approach
+    assert s2.contact_area >= s1.contact_area
+
+
+@settings(max_examples=12, deadline=None)
+@given(f1=st.floats(2.0, 10.0), k=st.floats(1.5, 4.0))
+def test_property_p0_scales_as_cube_root_of_force(f1, k):
+    # fixed grid (the contact spans >= ~10 cells): discretisation error < 1 %
+    g, d, E = _sphere_fixed_grid()
+    s1 = solve_contact(g, d, d, f1, E)
+    s2 = solve_contact(g, d, d, k * f1, E)
+    assert s2.p_max / s1.p_max == pytest.approx(k ** (1 / 3), rel=0.01)
+
+
+@settings(max_examples=8, deadline=None)
+@given(k=st.floats(0.3, 3.0))
+def test_property_self_similar_grid_scales_exactly(k):
+    # grid scaled with the Hertz radius (box 6a(F)): the discrete problems are exactly similar
+    R, E, F = 0.01, 1e11, 10.0
+    n = 48
+    out = []
+    for f in (F, k * F):
+        d = 6 * hertz.sphere(f, R, E).a / n
+        x = centred_axis(n, d)
+        s = solve_contact((x[:, None] ** 2 + x[None, :] ** 2) / (2 * R), d, d, f, E)
+        out.append(s)
+    assert out[1].p_max / out[0].p_max == pytest.approx(k ** (1 / 3), rel=1e-6)
+    assert out[1].approach / out[0].approach == pytest.approx(k ** (2 / 3), rel=1e-6)
