@@ -344,13 +344,13 @@ from hypothesis import given, settings, strategies as st  # noqa: E402
 
 def _sphere_fixed_grid(n=64):
     R, E, Fmax = 0.01, 1e11, 40.0
-    d = 8 * hertz.sphere(Fmax, R, E).a / n
+    d = 3 * hertz.sphere(Fmax, R, E).a / n  # box 3a at the largest force
     x = centred_axis(n, d)
     return (x[:, None] ** 2 + x[None, :] ** 2) / (2 * R), d, E
 
 
 @settings(max_examples=12, deadline=None)
-@given(f1=st.floats(1.0, 20.0), k=st.floats(1.05, 2.0))
+@given(f1=st.floats(1.0, 20.0), k=st.floats(1.01, 2.0))
 def test_property_approach_increases_with_force(f1, k):
     g, d, E = _sphere_fixed_grid()
     s1 = solve_contact(g, d, d, f1, E)
@@ -360,9 +360,9 @@ def test_property_approach_increases_with_force(f1, k):
 
 
 @settings(max_examples=12, deadline=None)
-@given(f1=st.floats(2.0, 10.0), k=st.floats(1.5, 4.0))
+@given(f1=st.floats(5.0, 10.0), k=st.floats(1.5, 4.0))
 def test_property_p0_scales_as_cube_root_of_force(f1, k):
-    # fixed grid (the contact spans >= ~10 cells): discretisation error < 1 %
+    # fixed grid (contact radius >= 10 cells): discretisation error < 1 %
     g, d, E = _sphere_fixed_grid()
     s1 = solve_contact(g, d, d, f1, E)
     s2 = solve_contact(g, d, d, k * f1, E)

@@ -296,6 +296,8 @@ class ElasticHalfSpace:
         self.backend = backend
         self.element = element
         self.spectrum = kernel_spectrum(self.shape, self.dx, self.dy, self.e_star, element)
+        fn = influence_coefficients if element == "uniform" else influence_coefficients_linear
+        self.k0 = float(fn(0.0, 0.0, self.dx, self.dy, self.e_star))  # self-influence (m/Pa)
         self._plans = None
         self._buf = None
 

@@ -363,7 +363,8 @@ def solve_contact(
             alpha = s_gu / n_c
         err_in, err_out, Gh = gap_eval(gzf, uf, pf, matf, alpha, hf)
         scale = umax if umax > 0 else 1.0
-        res = max(dp, max(err_in, err_out) / scale)
+        gap_res = max(err_in, err_out) / scale
+        res = max(dp, gap_res)
         if res <= tol and n_incr:
             u_exact = False  # confirm with an exact displacement before accepting
             continue
@@ -383,18 +384,31 @@ def solve_contact(
         else:
             z, diag, zbar, G = h, 1.0, 0.0, Gh
         if G <= 0.0:
-            break
-        beta = delta * G / G_old
-        dir_update(z.ravel(), pf, tf, zbar, beta)
-        G_old = G
-        hs.displacement(t, out=r)
-        n_conv += 1
-        sr, st, srt, sht, n_c = step_dots(rf, tf, hf, pf)
-        denom = srt - (sr / n_c) * st if not disp_control else srt
-        if denom <= 0:  # pragma: no cover - only with a broken operator
-            break
-        tau = sht / denom
-        entered, psum, modified = update(pf, tf, hf, tau, tau * diag, pnew.ravel())
+            # h vanishes on the contact set (to rounding): CG has nothing left to do there
+            if gap_res <= tol:
+                history[-1] = gap_res
+                converged = True
+                break
+            # ... but cells outside still interpenetrate (e.g. a one-cell contact): let them enter
+            # with the pressure that would lift them alone, p = -h / K(0, 0)
+            tau, seed = 0.0, 1.0 / hs.k0
+            t.fill(0.0)
+        else:
+            beta = delta * G / G_old
+            dir_update(z.ravel(), pf, tf, zbar, beta)
+            G_old = G
+            hs.displacement(t, out=r)
+            n_conv += 1
+            sr, st, srt, sht, n_c = step_dots(rf, tf, hf, pf)
+            denom = srt - (sr / n_c) * st if not disp_control else srt
+            if denom <= 0:  # only with t ~ 0 to rounding
+                if gap_res <= tol:
+                    history[-1] = gap_res
+                    converged = True
+                break
+            tau = sht / denom
+            seed = tau * diag
+        entered, psum, modified = update(pf, tf, hf, tau, seed, pnew.ravel())
         delta = 0.0 if entered else 1.0
         if psum <= 0:
             if disp_control:  # everything separated
