@@ -383,3 +383,17 @@ def test_property_self_similar_grid_scales_exactly(k):
         out.append(s)
     assert out[1].p_max / out[0].p_max == pytest.approx(k ** (1 / 3), rel=1e-6)
     assert out[1].approach / out[0].approach == pytest.approx(k ** (2 / 3), rel=1e-6)
+
+
+def test_tiny_contacts_converge():
+    # a contact of one or a few cells: CG runs out of directions before neighbours enter
+    R, E = 0.01, 1e11
+    n = 16
+    d = 8 * hertz.sphere(40.0, R, E).a / n
+    x = centred_axis(n, d)
+    g = (x[:, None] ** 2 + x[None, :] ** 2) / (2 * R)
+    for f in (0.05, 0.59, 0.75, 3.44, 4.29):
+        s = solve_contact(g, d, d, f, E)
+        assert s.converged and s.force == pytest.approx(f, rel=1e-12)
+        h = g + s.displacement - s.approach
+        assert h.min() >= -1e-8 * s.displacement.max()
