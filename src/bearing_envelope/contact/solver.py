@@ -330,7 +330,7 @@ def solve_contact(
     kn = _kernels.KERNELS if kernels is None else kernels
     gap_stats, gap_eval, dir_stats, dir_update = kn["gap_stats"], kn["gap_eval"], kn["dir_stats"], kn["dir_update"]
     step_dots, update, rescale, axpy_scale = kn["step_dots"], kn["update"], kn["rescale"], kn["axpy_scale"]
-    pre = _FourierPreconditioner(g.shape, dx, dy, e_star, workers=hs.workers) if precondition else None
+    pre = _get_preconditioner(g.shape, dx, dy, e_star, hs.workers) if precondition else None
     gz = np.ascontiguousarray(np.where(mat, g, 0.0))  # finite copy; non-material cells masked
     matf = np.ascontiguousarray(mat).ravel()
     gzf = gz.ravel()
@@ -508,6 +508,29 @@ class _FourierPreconditioner:
         z[sl] = np.where(icb, zb, 0.0)
         self._prev = sl
         return z, diag
+
+    def reset(self) -> None:
+        """Zero the work array (start of a solve)."""
+        if self._prev is not None:
+            self._z[self._prev] = 0.0
+            self._prev = None
+
+
+_PRE_CACHE: dict = {}
+
+
+def _get_preconditioner(shape, dx, dy, e_star, workers):
+    """Preconditioner per grid and thread (it caches symbols and holds a work array)."""
+    from threading import get_ident
+
+    key = (tuple(shape), dx, dy, e_star, workers, get_ident())
+    pre = _PRE_CACHE.get(key)
+    if pre is None:
+        if len(_PRE_CACHE) >= 4:
+            _PRE_CACHE.pop(next(iter(_PRE_CACHE)))
+        pre = _PRE_CACHE[key] = _FourierPreconditioner(shape, dx, dy, e_star, workers=workers)
+    pre.reset()
+    return pre
 
 
 def _edge_mask(mat: np.ndarray) -> np.ndarray:
