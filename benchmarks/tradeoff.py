@@ -98,7 +98,51 @@ def finish(df, out: Path):
     pts = pareto_points(df)
     pts.to_csv(out / "pareto.csv", index=False)
     plot_tradeoff(df, out / "tradeoff.png")
+    (out / "summary.md").write_text(markdown(df, pts))
     return df
+
+
+FIXED_BANDS = ("fs4_3fs8", "bpfi_3_6", "bpfi_10_13", "fixed")
+
+
+def _pct(x):
+    return "-" if pd.isna(x) else (f"{100 * x:.2g}" if x < 0.1 else f"{100 * x:.0f}")
+
+
+def markdown(df, pts) -> str:
+    """The trade table (worst error over the cases, %), the Pareto points and the element
+    comparison as markdown."""
+    cols = [("peak_pressure", None), ("p_max_rms", None), ("raw_bpfi_1", None),
+            ("envelope_bpfi_1", FIXED_BANDS), ("envelope_bpfi_1", ("kurtogram",)),
+            ("envelope_bpfi_2", FIXED_BANDS), ("envelope_bpfi_2", ("kurtogram",))]
+    names = ["peak p", "rms p_max(t)", "raw 1xBPFI", "env 1x (4 fixed bands)", "env 1x (kurtogram)",
+             "env 2x (4 fixed bands)", "env 2x (kurtogram)"]
+    keys = df[["knob", "value"]].drop_duplicates().itertuples(index=False)
+    lines = ["| knob | value | CPU s/case (mean) | CPU s, 750 kN 100 um | solves/case | "
+             + " | ".join(names) + " |", "|" + "---|" * (5 + len(names))]
+    seen_base = False
+    for knob, value in keys:
+        d = df[(df["knob"] == knob) & (df["value"] == value)]
+        if d["is_base"].any():
+            if seen_base:
+                continue
+            seen_base, knob, value = True, "base", "standard (no checks)"
+        one = d.drop_duplicates("case")
+        big = one[one["case"] == "F750kN_h100um"]["cpu_s"]
+        row = [knob, value, f"{one['cpu_s'].mean():.1f}", f"{big.iloc[0]:.1f}" if len(big) else "-",
+               f"{one['n_solves'].mean():.0f}"]
+        for m, bands in cols:
+            e = d[(d["metric"] == m) & (d["band"].isin(bands) if bands else True)]["error"]
+            row.append(_pct(e.max()))
+        lines.append("| " + " | ".join(row) + " |")
+    out = ["Errors in % (worst over the cases; BPFI metrics over the defect cases).", ""] + lines
+    out += ["", "Pareto points (mean CPU s per case, worst error %):", ""]
+    for (m, b), g in pts.groupby(["metric", "band"], sort=False):
+        f = g[g["pareto"]].sort_values("time_s")
+        pp = ", ".join(f"{k}={v} ({t:.1f} s, {_pct(e)} %)" for k, v, t, e in
+                       zip(f["knob"], f["value"], f["time_s"], f["error"]))
+        out.append(f"- {m}{' [' + b + ']' if b else ''}: {pp}")
+    return "\n".join(out) + "\n"
 
 
 if __name__ == "__main__":

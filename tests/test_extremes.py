@@ -136,15 +136,14 @@ def test_small_load_resolved_is_hertzian():
     assert h.table.p0[-1] < h.p_max.max() < 10 * h.table.p0[-1]   # the rim raises it, finitely
 
 
-@pytest.mark.xfail(strict=True, reason="contact solver: a contact smaller than one cell stops with "
-                   "ContactConvergenceError (residual inf after 1 iteration); see test_subcell_contact")
 def test_load_near_zero():
+    # 10 N on the bearing: ~1 N on the most loaded roller, a contact smaller than one cell of
+    # the draft grids. The grid averages the pressure over the cell: finite, below Hertz p0.
     h = run(scene(0.01, 15.0))
-    assert h.p_max.max() > 0
+    assert 0 < h.table.p0[-1] <= 1.01 * hertz_p0(h)
+    assert 0 < h.p_max.max() < 10 * hertz_p0(h)
 
 
-@pytest.mark.xfail(strict=True, reason="contact/solver.py: single-cell contact set under force control "
-                   "gives a zero projected direction, denom <= 0 -> break with residual inf")
 def test_subcell_contact():
     # sphere whose Hertz contact is much smaller than a cell: the exact discrete answer is the
     # whole force on the centre cell(s)
@@ -195,13 +194,14 @@ def test_defect_wider_than_the_contact():
     assert np.isfinite(h.table.ratio_defect).all()
 
 
-@pytest.mark.xfail(strict=True, reason="history.py _solve_load: at a table load node whose contact "
-                   "does not reach the defect's axial position the window force f_win is 0 and "
-                   "solve_contact(force=0) raises ValueError")
 def test_defect_at_the_roller_end():
-    sc = scene(750.0, 100.0, defect__axial_position_mm=16.75)   # touches the end of a 34 mm roller
+    # touches the end of the 34 mm roller; at the low table loads the contact does not reach it
+    sc = scene(750.0, 100.0, defect__axial_position_mm=16.75)
     h = run(sc)
-    assert h.p_max.max() > 0
+    h0 = run(scene(750.0, 0.0))
+    # the pit sits in the end relief, under the roller-end overpressure: finite, the same order
+    assert h.p_max.max() == pytest.approx(h0.p_max.max(), rel=0.5)
+    assert np.median(h.p_max) == pytest.approx(np.median(h0.p_max), rel=0.02)
 
 
 # ------------------------------------------------------------------------------------ edges
