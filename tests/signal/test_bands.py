@@ -53,6 +53,23 @@ def test_kurtogram_band_clamped_below_nyquist():
     assert prov["level"] == kg.level and prov["kurtosis"] == kg.kurtosis
 
 
+def test_deep_kurtogram_cell_next_to_nyquist_keeps_its_bandwidth():
+    """A deep top cell lies wholly above the clamp: the band keeps its width, ends at the clamp."""
+    from dataclasses import replace
+
+    fs = 65000.0
+    x = fault_signal(fs=fs, n=2**16, fn=0.495 * fs, damping=800.0, snr_db=10.0, tone_ratio=1.0,
+                     bpfi=231.9, seed=1)
+    kg = fast_kurtogram(x, fs, 8)
+    bw = fs * 2.0 ** -9  # level 8: 63.5 Hz wide
+    top_cell = replace(kg, level=8.0, bandwidth=bw, fc=fs / 2 - bw / 2)
+    assert top_cell.band[0] > NYQUIST_MARGIN * fs / 2  # nothing left after a plain clamp
+    band, prov = resolve_band({"name": "kurtogram", "strategy": "kurtogram"}, fs, kurtogram=top_cell)
+    assert band[1] == pytest.approx(NYQUIST_MARGIN * fs / 2)
+    assert band[1] - band[0] == pytest.approx(bw)
+    assert prov["clamped"] and prov["shifted_from_low_hz"] == pytest.approx(fs / 2 - bw)
+
+
 def test_explicit_band_above_nyquist_raises_or_clamps():
     with pytest.raises(ValueError, match=r"fixed band: high edge 40000 Hz is at or above the Nyquist"):
         resolve_band({"strategy": "fixed", "low_hz": 20000, "high_hz": 40000}, 65000.0)

@@ -94,7 +94,10 @@ def band_from_kurtogram(kurtogram, *, margin: float = NYQUIST_MARGIN):
         Result of :func:`fast_kurtogram`.
     margin : float, default 0.98
         An upper edge above ``margin * fs/2`` is lowered to it (the topmost kurtogram band ends
-        exactly at Nyquist, where no band-pass filter can end); ``clamped`` records it.
+        exactly at Nyquist, where no band-pass filter can end); ``clamped`` records it. When the
+        clamp would keep less than half the cell (a deep cell next to Nyquist), the band keeps
+        the cell's bandwidth and ends at the clamp; ``shifted_from_low_hz`` records the cell's
+        own lower edge.
 
     Returns
     -------
@@ -106,7 +109,16 @@ def band_from_kurtogram(kurtogram, *, margin: float = NYQUIST_MARGIN):
     """
     kg = kurtogram
     low, high = kg.band
+    top = margin * kg.fs / 2.0
+    shifted = None
+    if min(high, top) - low < 0.5 * kg.bandwidth:
+        # A deep cell at the very top of the spectrum: clamping its upper edge would leave less
+        # than half of it (or nothing). Keep its bandwidth and end it at the clamp instead.
+        shifted = low
+        low = max(0.0, top - kg.bandwidth)
     low, high, info = clamp_band(low, high, kg.fs, margin=margin, clamp=True, field="kurtogram")
+    if shifted is not None:
+        info["shifted_from_low_hz"] = shifted
     prov = {
         "strategy": "kurtogram",
         "level": kg.level,
