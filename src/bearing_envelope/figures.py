@@ -19,6 +19,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
 
+from .tables import _public_mode  # noqa: E402
+
 __all__ = [
     "save_figure",
     "fig_pressure_maps",
@@ -42,6 +44,7 @@ def save_figure(fig, path: str | os.PathLike, dpi: int = 120) -> Path:
     os.close(fd)
     try:
         fig.savefig(tmp, dpi=dpi, bbox_inches="tight")
+        _public_mode(tmp)
         os.replace(tmp, path)
     finally:
         plt.close(fig)

@@ -50,6 +50,13 @@ def parse_case_name(name: str) -> tuple[float, float]:
     return float(m["load"]), float(m["depth"])
 
 
+def _public_mode(path) -> None:
+    """Give a file made by ``mkstemp`` (mode 0600) the mode a plain ``open`` would give."""
+    umask = os.umask(0)
+    os.umask(umask)
+    os.chmod(path, 0o666 & ~umask)
+
+
 def write_csv_atomic(df: pd.DataFrame, path: str | os.PathLike, **kwargs) -> None:
     """Write ``df`` to CSV through a temporary file in the same directory, then rename."""
     path = Path(path)
@@ -58,6 +65,7 @@ def write_csv_atomic(df: pd.DataFrame, path: str | os.PathLike, **kwargs) -> Non
     os.close(fd)
     try:
         df.to_csv(tmp, index=kwargs.pop("index", False), **kwargs)
+        _public_mode(tmp)
         os.replace(tmp, path)
     except BaseException:
         if os.path.exists(tmp):
