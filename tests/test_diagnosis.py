@@ -175,6 +175,24 @@ def test_statistic_finds_line_above_median():
     assert stat == d.statistic_db and not det
 
 
+def test_skirt_of_a_neighbouring_line_is_not_a_detection():
+    """A strong shaft harmonic just outside the tolerance band leaks into it (short record,
+    Hann window): the band's largest bin sits on the line's rising skirt, not on a line."""
+    fs, n = 1000.0, 600  # 1.67 Hz bins: 15 x fr = 237 Hz is 3 bins from the tolerance band
+    t = np.arange(n) / fs
+    x = np.cos(2 * np.pi * 15 * FR * t) + 1e-4 * np.random.default_rng(1).standard_normal(n)
+    w = np.hanning(n)
+    a = 2 * np.abs(np.fft.rfft(x * w)) / w.sum()
+    f = np.fft.rfftfreq(n, 1 / fs)
+    d = detection_statistic(f, a, BPFI, fr=None)
+    assert d.statistic_db > d.threshold_db  # the skirt alone would pass the level test...
+    assert not d.detected  # ...but it is not a local maximum
+    # The same skirt with a real line at BPFI on top is detected.
+    x2 = x + 0.3 * np.cos(2 * np.pi * f[np.argmin(np.abs(f - BPFI))] * t)
+    a2 = 2 * np.abs(np.fft.rfft(x2 * w)) / w.sum()
+    assert detection_statistic(f, a2, BPFI, fr=None).detected
+
+
 # ------------------------------------------------------------------ end to end
 N = 20_000
 _T = np.arange(N) / FS

@@ -225,7 +225,8 @@ class Detection:
     threshold_db : float
         Threshold used by :func:`detect`.
     detected : bool
-        ``statistic_db > threshold_db``.
+        ``statistic_db > threshold_db`` and the peak is a local maximum of the spectrum (not the
+        rising skirt of a neighbouring line at the edge of the tolerance band).
     """
 
     statistic_db: float
@@ -316,8 +317,13 @@ def detection_statistic(
     stat = 20.0 * math.log10(peak / level) if level > 0 and peak > 0 else \
         (math.inf if peak > 0 else -math.inf)
     thr = threshold_db(pfa, int(tol_sel.sum())) if threshold is None else float(threshold)
+    # A line must be a local maximum: a "peak" on the edge of the tolerance band that keeps
+    # rising outside it is the skirt of a neighbouring line (e.g. a shaft harmonic leaking into
+    # the band of a short record), not a line at line_hz.
+    skirt = (j == idx[0] and j > 0 and a[j - 1] > peak) or \
+        (j == idx[-1] and j + 1 < a.size and a[j + 1] > peak)
     return Detection(stat, peak, float(f[j]), level, int(tol_sel.sum()), int(bg.sum()), thr,
-                     bool(stat > thr))
+                     bool(stat > thr and not skirt))
 
 
 def detect(f, amplitude, line_hz: float, **kwargs) -> tuple[float, bool]:

@@ -55,6 +55,14 @@ def example_cases(wildcards=None):
     }
 
 
+def reference_case(wildcards):
+    """The healthy case of the same load, when the sweep has one (defines the defect part)."""
+    load, _ = parse_case_name(wildcards.case)
+    if 0 in [float(d) for d in DEPTHS]:
+        return f"results/cases/{case_name(load, 0)}.h5"
+    return []
+
+
 def all_targets():
     return [
         "results/tables/harmonics.csv",

@@ -2,14 +2,6 @@
 # (modes, noise at each SNR, tones) -> envelope chain per band -> is BPFI detected?
 
 
-def reference_case(wildcards):
-    """The healthy case of the same load, when the sweep has one (defines the defect part)."""
-    load, _ = parse_case_name(wildcards.case)
-    if 0 in [float(d) for d in DEPTHS]:
-        return f"results/cases/{case_name(load, 0)}.h5"
-    return []
-
-
 rule diagnose:
     input:
         case="results/cases/{case}.h5",
