@@ -74,13 +74,26 @@ class SolveStats:
     n_solves: int = 0
     n_iterations: int = 0
     solver_seconds: float = 0.0
+    n_failed: int = 0
+    failed_seconds: float = 0.0
     callback: Callable[[], None] | None = field(default=None, repr=False)
 
     def solve(self, *args, **kwargs):
-        from .contact import solve_contact
+        """:func:`solve_contact` with its cost counted, also when it raises (stalled solves
+        that a caller retries are part of the cost: ``n_failed``, ``failed_seconds``)."""
+        from .contact import ContactConvergenceError, solve_contact
 
         t0 = _time.perf_counter()
-        sol = solve_contact(*args, **kwargs)
+        try:
+            sol = solve_contact(*args, **kwargs)
+        except ContactConvergenceError as exc:
+            dt = _time.perf_counter() - t0
+            self.solver_seconds += dt
+            self.failed_seconds += dt
+            self.n_solves += 1
+            self.n_failed += 1
+            self.n_iterations += len(exc.residual_history)
+            raise
         self.solver_seconds += _time.perf_counter() - t0
         self.n_solves += 1
         self.n_iterations += sol.iterations
@@ -261,6 +274,11 @@ def _outside_max(scene: Scene, fid: Fidelity, q_load: float, kappa: float,
     return float(sol.pressure[:, ~gstrip].max()) if np.any(~gstrip) else 0.0
 
 
+#: Iteration budget of a warm-started window solve before it is retried from the no-defect
+#: window solution (then cold) with the full ``fidelity.max_iter``.
+WARM_START_MAX_ITER = 300
+
+
 def _defect_solve(scene: Scene, fid: Fidelity, node: LoadNode, x_d: float, stats: SolveStats,
                   p_init=None):
     """Window solve with the defect at offset ``x_d``; returns (P, Pd, pressure, force change)."""
@@ -272,8 +290,12 @@ def _defect_solve(scene: Scene, fid: Fidelity, node: LoadNode, x_d: float, stats
               halfspace=node.halfspace, element=fid.element)
     e_star = scene.material.e_star_pa
     try:
+        # A warm start that converges does so in tens of iterations; one that stalls would use
+        # all of max_iter (measured: 4 stalled solves took 73 % of a fine case's solver time),
+        # so the warm attempt gets a short budget before the retries below.
+        warm = dict(kw, max_iter=min(fid.max_iter, WARM_START_MAX_ITER))
         sol = stats.solve(g, win.dx, win.dy, None, e_star,
-                          p_init=node.p_window0 if p_init is None else p_init, **kw)
+                          p_init=node.p_window0 if p_init is None else p_init, **warm)
     except ContactConvergenceError:
         # a warm start from a neighbour with another contact set can stall Polonsky-Keer:
         # retry from the no-defect window solution, then cold
@@ -788,6 +810,7 @@ def simulate(scene: Scene, fidelity: Fidelity | str | None = None, *, progress: 
         }
     stats_d = {
         "n_solves": stats.n_solves, "n_iterations": stats.n_iterations,
+        "n_failed_solves": stats.n_failed, "failed_solver_seconds": stats.failed_seconds,
         "solver_seconds": stats.solver_seconds, "table_seconds": t_table,
         "synthesis_seconds": t_synth, "wall_seconds": _time.perf_counter() - t_start,
     }
