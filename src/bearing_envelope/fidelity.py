@@ -6,9 +6,11 @@ the physical scene. Three presets exist:
 ``draft``
     A case in a few seconds: coarse grids, few table nodes. For tests and CI.
 ``standard`` (default)
-    Target <= 60 s per case on a 2-core machine (see ``docs/benchmarks.md``).
+    2 um x 40 um defect window, 80 um axial global spacing: 3-33 s per 100-revolution case on a
+    2-core machine, worst error 14 % on the BPFI amplitudes against a paper-like reference
+    (``docs/benchmarks.md``, "Speed-accuracy trade").
 ``paper``
-    Finer grids and a denser table; minutes per case.
+    1 um window, finer global grid, denser table, tighter tolerance; minutes per case.
 
 Use :func:`fidelity_from` to build one from a preset name or a mapping (a mapping may name a
 ``preset`` and override single fields, e.g. ``{"preset": "standard", "local_dx_um": 3}``).
