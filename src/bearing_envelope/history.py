@@ -47,6 +47,7 @@ from __future__ import annotations
 import dataclasses
 import math
 import time as _time
+import warnings
 from dataclasses import dataclass, field
 from typing import Any, Callable
 
@@ -548,7 +549,9 @@ def build_table(scene: Scene, fidelity: Fidelity | str | None = None, *, q_max: 
         # interpolation error against direct solves at random (Q, x)
         # interpolation error against direct solves at random (Q, x): x on the window grid
         # (pure table error) and x anywhere (adds the sub-cell discretisation jitter)
-        checks, checks_any = [], []
+        from .contact import ContactConvergenceError
+
+        checks, checks_any, checks_any_failed = [], [], []
         if d.active and fid.n_checks:
             rng = np.random.default_rng(check_seed)
             for _ in range(fid.n_checks):
@@ -561,7 +564,20 @@ def build_table(scene: Scene, fidelity: Fidelity | str | None = None, *, q_max: 
                     pairs.append((round(float(rng.uniform(0.0, reach)) / dxw) * dxw, checks))
                     pairs.append((float(rng.uniform(0.0, reach)), checks_any))
                 for xd, out in pairs:
-                    P, Pd, _, _ = _defect_solve(scene, fid, node, xd, stats)
+                    try:
+                        P, Pd, _, _ = _defect_solve(scene, fid, node, xd, stats)
+                    except ContactConvergenceError as exc:
+                        if out is checks:
+                            raise  # on-grid offsets are the table's own kind of solve
+                        # Off-grid offsets put the defect rim a fraction of a cell off the grid;
+                        # at fine windows Polonsky-Keer can cycle there (residual ~0.6 after
+                        # max_iter). Such a check measures sub-cell jitter only, so it is counted
+                        # and reported instead of failing the case.
+                        checks_any_failed.append((qc, xd, float(exc.residual_history[-1])))
+                        warnings.warn(f"off-grid interpolation check at Q = {qc:.4g} N, "
+                                      f"x = {xd:.4g} m did not converge: {exc}", RuntimeWarning,
+                                      stacklevel=2)
+                        continue
                     Pi, Pdi = table.evaluate(qc, xd)
                     out.append((qc, xd, P, Pd, float(Pi), float(Pdi), node.p0))
 
@@ -584,6 +600,7 @@ def build_table(scene: Scene, fidelity: Fidelity | str | None = None, *, q_max: 
             "any_offset_rms_rel_error_p_max": err_any_rms,
             "any_offset_max_rel_error_p_max_defect": err_d_any,
             "any_offset_checks": checks_b,
+            "any_offset_checks_failed": len(checks_any_failed),
             "interp_variables": "W/W0 bilinear in q = Q^(1/3) and x scaled by s(Q); W0, P_out linear in q; P = max(W, P_out); "
                                 "offset nodes on multiples of the window spacing",
             "zoom_consistency_max": float(max(nd.zoom_consistency for nd in nodes)),
