@@ -397,3 +397,53 @@ def test_tiny_contacts_converge():
         assert s.converged and s.force == pytest.approx(f, rel=1e-12)
         h = g + s.displacement - s.approach
         assert h.min() >= -1e-8 * s.displacement.max()
+
+
+# ---------------------------------------------------------------- warm starts and the stall guard
+def _stall_case():
+    """A real defect-window solve (default scene, 750 kN, 100 um pit, 2 um x 40 um window) that
+    cycled in the preconditioned iteration: the warm start (the neighbouring offset's pressure)
+    carried pressure over the pit, whose gap is 100 um, far above the approach."""
+    from pathlib import Path
+
+    d = np.load(Path(__file__).parents[1] / "data" / "window_warm_start_stall.npz")
+    return {k: d[k] if d[k].ndim else float(d[k]) for k in d.files}
+
+
+def test_warm_start_over_an_opened_pit_converges_like_a_cold_start():
+    c = _stall_case()
+    kw = dict(tol=c["tol"], approach=c["approach"], boundary="ignore", max_iter=300)
+    cold = solve_contact(c["gap"], c["dx"], c["dy"], None, c["e_star"], **kw)
+    warm = solve_contact(c["gap"], c["dx"], c["dy"], None, c["e_star"], p_init=c["p_init"], **kw)
+    # before the fix this solve ran 3,000 iterations at a residual of order 1
+    assert warm.iterations <= 60
+    pit = c["gap"] > c["approach"]
+    assert np.all(warm.pressure[pit] == 0) and pit.sum() > 1000
+    assert np.abs(warm.pressure - cold.pressure).max() <= 1e-3 * cold.p_max
+    assert warm.force == pytest.approx(cold.force, rel=1e-4)
+    # complementarity of the warm solution: h >= 0 off contact, h ~ 0 on it
+    h = c["gap"] + warm.displacement - warm.approach
+    on = warm.pressure > 0
+    assert np.abs(h[on]).max() <= 10 * c["tol"] * warm.displacement.max()
+    assert h[~on].min() >= -10 * c["tol"] * warm.displacement.max()
+
+
+def test_stall_guard_switches_to_plain_cg_and_keeps_the_answer(sphere_case):
+    c = sphere_case
+    # a rough sphere: the residual does not halve at every iteration
+    gap = c["gap"] + 2e-8 * np.random.default_rng(0).standard_normal(c["gap"].shape)
+    ref = solve_contact(gap, c["d"], c["d"], c["F"], c["E"])
+    assert ref.preconditioner_dropped_at is None
+    # a window of one iteration trips the guard early: the plain-CG continuation must reach
+    # the same solution
+    s = solve_contact(gap, c["d"], c["d"], c["F"], c["E"], stall_window=1)
+    assert s.preconditioner_dropped_at is not None and s.converged
+    assert np.abs(s.pressure - ref.pressure).max() <= 1e-5 * ref.p_max
+    assert s.force == pytest.approx(c["F"], rel=1e-12)
+
+
+@pytest.mark.parametrize("bad", [0, -3, 2.5, True])
+def test_stall_window_validated(sphere_case, bad):
+    c = sphere_case
+    with pytest.raises(ValueError, match="stall_window"):
+        solve_contact(c["gap"], c["d"], c["d"], c["F"], c["E"], stall_window=bad)

@@ -70,6 +70,9 @@ class ContactSolution:
         Combined elastic surface displacement ``K * p`` (m) of the returned pressure.
     convolutions : int
         Number of DC-FFT convolutions done (cost measure).
+    preconditioner_dropped_at : int or None
+        Iteration at which the stall guard switched the Fourier preconditioner off (see
+        :func:`solve_contact`, Notes), or None.
     """
 
     pressure: np.ndarray
@@ -82,6 +85,7 @@ class ContactSolution:
     residual_history: tuple = field(repr=False)
     displacement: np.ndarray = field(repr=False)
     convolutions: int = 0
+    preconditioner_dropped_at: int | None = None
 
     @property
     def p_max(self) -> float:
@@ -149,6 +153,7 @@ def solve_contact(
     fft_backend: str = "auto",
     kernels: dict | None = None,
     element: str = "uniform",
+    stall_window: int = 40,
 ) -> ContactSolution:
     """Frictionless normal contact of two elastic half-spaces (Polonsky-Keer CG).
 
@@ -172,8 +177,9 @@ def solve_contact(
         ``tol`` is not reached.
     p_init : (nx, ny) array_like, optional
         Warm start (Pa), e.g. the solution of a neighbouring load or defect position. Negative
-        values and values on ``+inf`` cells are dropped; under force control it is rescaled to
-        ``force``.
+        values and values on ``+inf`` cells are dropped, and under displacement control also the
+        values on cells with ``gap > approach`` (they can never touch); under force control it
+        is rescaled to ``force``.
     approach : float, optional
         Displacement control: the rigid approach (m) is prescribed and the force follows.
     boundary : {"raise", "warn", "ignore"}
@@ -197,6 +203,9 @@ def solve_contact(
     precondition : bool
         Precondition the CG direction with the approximate inverse of the half-space operator,
         applied in Fourier space on the bounding box of the contact set (see Notes).
+    stall_window : int
+        Stall guard of the preconditioned iteration: if the residual has not halved within this
+        many iterations, continue without the preconditioner (see Notes). >= 1.
 
     Returns
     -------
@@ -276,6 +285,8 @@ def solve_contact(
         raise ValueError(f"tol must be in (0, 1), got {tol!r}")
     if int(max_iter) < 1:
         raise ValueError(f"max_iter must be >= 1, got {max_iter!r}")
+    if isinstance(stall_window, bool) or not isinstance(stall_window, int) or stall_window < 1:
+        raise ValueError(f"stall_window must be an integer >= 1, got {stall_window!r}")
     if boundary not in ("raise", "warn", "ignore"):
         raise ValueError(f"boundary must be 'raise', 'warn' or 'ignore', got {boundary!r}")
     disp_control = approach is not None
@@ -309,6 +320,10 @@ def solve_contact(
             raise ValueError("p_init must be finite")
         p[~mat] = 0.0
         np.maximum(p, 0.0, out=p)
+        if disp_control:
+            # h = g + K p - alpha with K p >= 0: a cell with g > alpha can never touch, so warm
+            # pressure there (e.g. where a defect has moved in) is dropped before the first step
+            p[g > alpha_fixed] = 0.0
         if not p.any():
             p = None
     else:
@@ -352,6 +367,8 @@ def solve_contact(
     u_exact = False  # u == K p computed by a convolution (else updated as s (u - tau K t))
     n_incr = 0
     n_conv = 1 if (p_init is None and disp_control) else 0
+    anchor, it_anchor = math.inf, 0  # stall guard: last residual that halved the one before
+    dropped_at = None
     while True:
         pf = p.ravel()
         if not u_exact:
@@ -374,6 +391,11 @@ def solve_contact(
             break
         if it >= max_iter or n_c == 0:
             break
+        if res <= 0.5 * anchor:
+            anchor, it_anchor = res, it
+        elif pre is not None and it - it_anchor >= stall_window:
+            pre, delta, dropped_at = None, 0.0, it  # cycling: plain CG from here, restarted
+            anchor, it_anchor = res, it
         it += 1
         # CG direction on the contact set (preconditioned when `precondition`)
         if pre is not None:
@@ -439,6 +461,7 @@ def solve_contact(
         residual_history=tuple(history),
         displacement=u,
         convolutions=n_conv,
+        preconditioner_dropped_at=dropped_at,
     )
     if not converged:
         raise ContactConvergenceError(
