@@ -18,6 +18,7 @@ include: "workflow/rules/analysis.smk"
 include: "workflow/rules/aggregate.smk"
 include: "workflow/rules/figures.smk"
 include: "workflow/rules/diagnosability.smk"
+include: "workflow/rules/sensor.smk"
 include: "workflow/rules/tradeoff.smk"
 
 

@@ -176,8 +176,11 @@ def _bad(tmp_path, mutate):
             {"name": "too_high", "strategy": "fixed", "low_hz": 30000.0, "high_hz": 40000.0}),
          r"too_high.*Nyquist"),
         (lambda c: c["scene"]["bearing"].update(rollers_per_row=0), r"rollers_per_row"),
+        (lambda c: (c["analysis"].update(signal="acceleration"), c.pop("sensor")),
+         r"analysis.signal.*sensor"),
     ],
-    ids=["unknown-key", "negative-depth", "band-above-nyquist", "zero-rollers"],
+    ids=["unknown-key", "negative-depth", "band-above-nyquist", "zero-rollers",
+         "acceleration-without-sensor"],
 )
 def test_invalid_config_fails_before_any_job(tmp_path, mutate, expected):
     text = _bad(tmp_path, mutate)
@@ -190,3 +193,29 @@ def test_config_yaml_scene_matches_library_defaults():
 
     cfg = yaml.safe_load((ROOT / "config.yaml").read_text())
     assert cfg["scene"] == DEFAULT_SCENE
+
+
+def test_analysis_of_the_synthetic_acceleration(draft_run, tmp_path):
+    """`analysis.signal: acceleration` runs the whole analysis on the sensor signal: a `sensor`
+    job per case (no new simulation), tables that say which signal they hold, and the defect's
+    BPFI line stronger than the healthy case's in the resonance band."""
+    wd = tmp_path / "acc"
+    shutil.copytree(draft_run, wd, symlinks=True)
+    cfg = yaml.safe_load(DRAFT.read_text())
+    cfg["analysis"]["signal"] = "acceleration"
+    cfg["sensor"]["snr_db"] = 10.0
+    new = tmp_path / "config.yaml"
+    new.write_text(yaml.safe_dump(cfg))
+    target = "results/tables/harmonics.csv"
+    counts = job_counts((lambda o: o.stderr + o.stdout)(smk(wd, "-n", target, configfile=new)))
+    assert counts.get("sensor") == 4 and counts.get("simulate", 0) == 0
+    smk(wd, target, configfile=new)
+    from bearing_envelope.io import read_case
+
+    case = read_case(wd / "results" / "sensor" / "F750kN_h50um.h5")
+    assert {"p_max", "acceleration"} <= set(case.signals)
+    h = pd.read_csv(wd / target)
+    assert set(h["signal"]) == {"acceleration"} and np.isfinite(h["amplitude"]).all()
+    env = h[(h["quantity"] == "envelope_bpfi") & (h["band"] == "fixed") & (h["order"] == 1)
+            & (h["sideband"] == 0)].set_index("case")["amplitude"]
+    assert env["F750kN_h50um"] > 3 * env["F750kN_h0um"]

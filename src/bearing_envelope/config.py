@@ -96,6 +96,9 @@ def check_config(config: Mapping[str, Any]) -> None:
         for h in sweep["depths_um"]
     ]
     analysis = config["analysis"]
+    if analysis.get("signal", "p_max") == "acceleration" and not config.get("sensor"):
+        raise ValueError("analysis.signal = 'acceleration' needs a `sensor:` section (the transfer "
+                         "path that makes the acceleration); allowed without it: p_max, p_max_defect")
     names = [b["name"] for b in analysis["bands"]]
     dup = sorted({n for n in names if names.count(n) > 1})
     if dup:

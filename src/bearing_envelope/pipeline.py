@@ -11,7 +11,8 @@
 Quantity names in the tidy table: ``raw_dc`` (signal mean), ``raw_fr`` (k x fr), ``raw_bpfi``
 (k x BPFI) from the raw amplitude spectrum; ``envelope_bpfi`` from the envelope spectrum;
 ``bandpass_peak`` (max |band-passed signal|); ``kurtogram_kurtosis`` (best cell). Units: those
-of the signal (Pa for the pressure histories; Pa^2 for a squared envelope).
+of the signal named in the ``signal`` column (Pa for the pressure histories ``p_max`` and
+``p_max_defect``, the sensor's units for ``acceleration``; squared for a squared envelope).
 """
 
 from __future__ import annotations
@@ -154,6 +155,7 @@ def case_harmonics(case, analysis: Mapping[str, Any], bands_doc: Mapping[str, An
     df["case"] = case_name(case.load_kN, case.depth_um)
     df["load_kN"] = float(case.load_kN)
     df["depth_um"] = float(case.depth_um)
+    df["signal"] = analysis.get("signal", "p_max")
     if bands_doc.get("kurtogram"):
         kgd = bands_doc["kurtogram"]
         lo = next(b for b in bands_doc["bands"] if b["strategy"] == "kurtogram")
@@ -163,9 +165,10 @@ def case_harmonics(case, analysis: Mapping[str, Any], bands_doc: Mapping[str, An
             "band_low_hz": lo["low_hz"], "band_high_hz": lo["high_hz"],
             "quantity": "kurtogram_kurtosis", "order": kgd["level"], "sideband": 0,
             "frequency_hz": kgd["fc"], "amplitude": kgd["kurtosis"], "clamped": lo["clamped"],
-            "scaling": "kurtosis of the best kurtogram cell (order = level)"}])],
+            "scaling": "kurtosis of the best kurtogram cell (order = level)",
+            "signal": analysis.get("signal", "p_max")}])],
             ignore_index=True)
-    keep = TIDY_COLUMNS + [c for c in ("base", "target_hz", "clamped", "scaling") if c in df]
+    keep = TIDY_COLUMNS + [c for c in ("base", "target_hz", "clamped", "scaling", "signal") if c in df]
     df = df[keep].reset_index(drop=True)
     return (df, extra) if full_output else df
 

@@ -4,7 +4,7 @@
 
 rule bands:
     input:
-        case="results/cases/{case}.h5",
+        case=analysis_case,
         code=SIGNAL_CODE,
     output:
         bands="results/bands/{case}.json",
@@ -27,7 +27,7 @@ rule bands:
 
 rule envelope:
     input:
-        case="results/cases/{case}.h5",
+        case=analysis_case,
         bands="results/bands/{case}.json",
         code=SIGNAL_CODE,
     output:

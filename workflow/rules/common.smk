@@ -56,11 +56,25 @@ def example_cases(wildcards=None):
 
 
 def reference_case(wildcards):
-    """The healthy case of the same load, when the sweep has one (defines the defect part)."""
-    load, _ = parse_case_name(wildcards.case)
-    if 0 in [float(d) for d in DEPTHS]:
+    """The healthy case of the same load, when the sweep has one (defines the defect part);
+    none for a healthy case itself (its SNR is that of its whole response)."""
+    load, depth = parse_case_name(wildcards.case)
+    if float(depth) > 0 and 0 in [float(d) for d in DEPTHS]:
         return f"results/cases/{case_name(load, 0)}.h5"
     return []
+
+
+def analysis_case(wildcards):
+    """The file the analysis reads: the simulated case, or its copy with the synthetic
+    acceleration (rule `sensor`) when `analysis.signal` is `acceleration`."""
+    if config["analysis"].get("signal", "p_max") == "acceleration":
+        return f"results/sensor/{wildcards.case}.h5"
+    return f"results/cases/{wildcards.case}.h5"
+
+
+def analysis_cases():
+    stage = "sensor" if config["analysis"].get("signal", "p_max") == "acceleration" else "cases"
+    return [f"results/{stage}/{case}.h5" for case in CASES]
 
 
 def all_targets():

@@ -6,7 +6,7 @@ rule figures:
         harmonics="results/tables/harmonics.csv",
         cases="results/tables/cases.csv",
         bands="results/tables/bands.csv",
-        case_files=expand("results/cases/{case}.h5", case=CASES),
+        case_files=analysis_cases(),
         kurtograms=expand("results/bands/{case}_kurtogram.npz", case=CASES),
         spectra=expand("results/spectra/{case}.npz", case=CASES),
     output:

@@ -141,8 +141,34 @@ def _write(path: Path, acc, fs: float, case, info: dict[str, Any], source: str) 
             os.unlink(tmp)
 
 
-def run(args: argparse.Namespace) -> int:
-    """Entry point of ``bearing-envelope sensor``."""
+def write_sensor_case(case_path, section, output, *, snr_db="model", seed=None, excitation=None,
+                      reference=None, config_label=None) -> dict[str, Any]:
+    """Synthesise the acceleration of a case file and write it with its provenance.
+
+    Parameters
+    ----------
+    case_path : str or Path
+        Case file written by ``bearing-envelope simulate``.
+    section : mapping
+        The config's ``sensor:`` section (:meth:`bearing_envelope.transfer.TransferModel.from_mapping`).
+    output : str or Path
+        ``.h5`` (a copy of the case with ``signals/acceleration``) or ``.npz``; written atomically.
+    snr_db : float, None or "model"
+        Noise level: the section's own (``"model"``), none (``None``) or this SNR in dB.
+    seed : int, optional
+        Noise seed (default: the section's ``seed``).
+    excitation : str, optional
+        Overrides the section's ``excitation``.
+    reference : str or Path, optional
+        No-defect case of the same load: the defect part is ``H e - H e_ref``.
+    config_label : str, optional
+        Where the section came from (recorded in the provenance).
+
+    Returns
+    -------
+    dict
+        The provenance written with the signal (achieved SNR in ``snr_db_achieved``).
+    """
     import numpy as np
 
     from bearing_envelope import __version__
@@ -153,43 +179,55 @@ def run(args: argparse.Namespace) -> int:
         synthesize_acceleration,
     )
 
-    out = Path(args.output)
+    out = Path(output)
     if out.suffix.lower() not in (".npz", ".h5", ".hdf5"):
-        raise ValueError(f"output must end in .npz or .h5, got {args.output!r}")
-    section = dict(load_sensor_config(args.config))
-    if args.excitation is not None:
-        section["excitation"] = args.excitation
-    case = _read_case(args.case)
+        raise ValueError(f"output must end in .npz or .h5, got {str(output)!r}")
+    section = dict(section)
+    if excitation is not None:
+        section["excitation"] = excitation
+    case = _read_case(str(case_path))
     fs = float(case.fs)
     model = TransferModel.from_mapping(section, fs=fs)
-    if args.no_noise:
-        model = model.with_snr(None)
-    elif args.snr_db is not None:
-        model = model.with_snr(args.snr_db)
+    if snr_db != "model":
+        model = model.with_snr(snr_db)
 
     name, x = select_excitation(_case_signals(case), model.excitation)
     e = excitation_from_history(x, scale=model.excitation_scale)
     ref = None
-    if args.reference:
-        rcase = _read_case(args.reference)
+    if reference:
+        rcase = _read_case(str(reference))
         if float(rcase.fs) != fs:
             raise ValueError(f"reference fs {rcase.fs} Hz differs from the case's {fs} Hz")
         _, xr = select_excitation(_case_signals(rcase), model.excitation)
         if np.shape(xr) != np.shape(x):
             raise ValueError(f"reference has {np.size(xr)} samples, the case {np.size(x)}")
         ref = excitation_from_history(xr, scale=model.excitation_scale)
-    acc, info = synthesize_acceleration(e, fs, model, reference=ref, seed=args.seed,
+    acc, info = synthesize_acceleration(e, fs, model, reference=ref, seed=seed,
                                         fr=getattr(case, "fr", None))
     info.update(
-        source_case=str(args.case),
-        reference_case=str(args.reference) if args.reference else None,
+        source_case=str(case_path),
+        reference_case=str(reference) if reference else None,
         excitation_signal=name,
-        config=str(args.config),
+        config=config_label,
         package_version=__version__,
         git_commit=_git_commit(),
         command="bearing-envelope sensor",
     )
-    _write(out, acc, fs, case, info, args.case)
-    print(f"sensor: {args.case} -> {out} ({acc.size} samples, excitation {name}, "
-          f"SNR {info['snr_db_achieved']:.2f} dB)")
+    _write(out, acc, fs, case, info, str(case_path))
+    return info
+
+
+def run(args: argparse.Namespace) -> int:
+    """Entry point of ``bearing-envelope sensor``."""
+    if Path(args.output).suffix.lower() not in (".npz", ".h5", ".hdf5"):
+        raise ValueError(f"output must end in .npz or .h5, got {args.output!r}")
+    section = load_sensor_config(args.config)
+    snr = None if args.no_noise else ("model" if args.snr_db is None else args.snr_db)
+    info = write_sensor_case(args.case, section, args.output, snr_db=snr, seed=args.seed,
+                             excitation=args.excitation, reference=args.reference,
+                             config_label=str(args.config))
+    n = info.get("n_samples")
+    print(f"sensor: {args.case} -> {args.output} ("
+          + (f"{n} samples, " if n is not None else "")
+          + f"excitation {info['excitation_signal']}, SNR {info['snr_db_achieved']:.2f} dB)")
     return 0

@@ -1,0 +1,25 @@
+# Synthetic accelerometer signal of each case (transfer path + noise + tones of the `sensor:`
+# section), built only when `analysis.signal: acceleration` asks the analysis to run on it.
+
+
+rule sensor:
+    input:
+        case="results/cases/{case}.h5",
+        reference=reference_case,
+        code=SENSOR_CODE,
+    output:
+        "results/sensor/{case}.h5",
+    params:
+        sensor=lambda w: json.dumps(config.get("sensor", {}), sort_keys=True),
+    log:
+        "logs/sensor/{case}.log",
+    benchmark:
+        "logs/benchmarks/sensor/{case}.tsv"
+    conda:
+        ENV
+    threads: 1
+    resources:
+        mem_mb=1500,
+        runtime=10,
+    script:
+        "../scripts/sensor.py"
