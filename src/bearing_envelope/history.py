@@ -77,6 +77,7 @@ class SolveStats:
     solver_seconds: float = 0.0
     n_failed: int = 0
     failed_seconds: float = 0.0
+    n_stall_guard: int = 0     # solves whose preconditioner the solver's stall guard dropped
     callback: Callable[[], None] | None = field(default=None, repr=False)
 
     def solve(self, *args, **kwargs):
@@ -98,6 +99,7 @@ class SolveStats:
         self.solver_seconds += _time.perf_counter() - t0
         self.n_solves += 1
         self.n_iterations += sol.iterations
+        self.n_stall_guard += sol.preconditioner_dropped_at is not None
         if self.callback is not None:
             self.callback()
         return sol
@@ -828,6 +830,7 @@ def simulate(scene: Scene, fidelity: Fidelity | str | None = None, *, progress: 
     stats_d = {
         "n_solves": stats.n_solves, "n_iterations": stats.n_iterations,
         "n_failed_solves": stats.n_failed, "failed_solver_seconds": stats.failed_seconds,
+        "n_stall_guard": stats.n_stall_guard,
         "solver_seconds": stats.solver_seconds, "table_seconds": t_table,
         "synthesis_seconds": t_synth, "wall_seconds": _time.perf_counter() - t_start,
     }
