@@ -76,6 +76,9 @@ def main(argv=None):
                             presets=presets, revolutions=args.revolutions, progress=log,
                             cache=cache)
         df.to_csv(args.out / "presets.csv", index=False)
+        # keep the reference runs, so that further presets are evaluated without rerunning them
+        refs.write_bytes(pickle.dumps({c: {k: cache[c][k]}
+                                       for c, k in df.attrs["reference_keys"].items()}))
         return df
     cache: dict = {}
     df = tradeoff_study(cases, knobs=KNOBS, base=BASE, reference=REFERENCE,

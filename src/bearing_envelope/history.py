@@ -548,7 +548,6 @@ def build_table(scene: Scene, fidelity: Fidelity | str | None = None, *, q_max: 
         w0 = np.array([nd.w0 for nd in nodes])
         table = PressureTable(q_nodes, xi_nodes, p0, w0, R, Rd, a_coef, kappa, s_const, s_max,
                               q_out, p_out)
-        # interpolation error against direct solves at random (Q, x)
         # interpolation error against direct solves at random (Q, x): x on the window grid
         # (pure table error) and x anywhere (adds the sub-cell discretisation jitter)
         from .contact import ContactConvergenceError
