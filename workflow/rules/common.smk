@@ -73,6 +73,7 @@ def analysis_case(wildcards):
 
 
 def analysis_cases():
+    """:func:`analysis_case` for every case of the sweep."""
     stage = "sensor" if config["analysis"].get("signal", "p_max") == "acceleration" else "cases"
     return [f"results/{stage}/{case}.h5" for case in CASES]
 
