@@ -125,7 +125,8 @@ def case_harmonics(case, analysis: Mapping[str, Any], bands_doc: Mapping[str, An
     from .config import case_name
     from .signal import analyze_signal
 
-    x = case_signal(case, analysis.get("signal", "p_max"))
+    signal = analysis.get("signal", "p_max")
+    x = case_signal(case, signal)
     fs = float(case.fs)
     specs = [{"name": b["name"], "strategy": "fixed", "low_hz": b["low_hz"], "high_hz": b["high_hz"]}
              for b in bands_doc["bands"]]
@@ -155,7 +156,7 @@ def case_harmonics(case, analysis: Mapping[str, Any], bands_doc: Mapping[str, An
     df["case"] = case_name(case.load_kN, case.depth_um)
     df["load_kN"] = float(case.load_kN)
     df["depth_um"] = float(case.depth_um)
-    df["signal"] = analysis.get("signal", "p_max")
+    df["signal"] = signal
     if bands_doc.get("kurtogram"):
         kgd = bands_doc["kurtogram"]
         lo = next(b for b in bands_doc["bands"] if b["strategy"] == "kurtogram")
@@ -166,7 +167,7 @@ def case_harmonics(case, analysis: Mapping[str, Any], bands_doc: Mapping[str, An
             "quantity": "kurtogram_kurtosis", "order": kgd["level"], "sideband": 0,
             "frequency_hz": kgd["fc"], "amplitude": kgd["kurtosis"], "clamped": lo["clamped"],
             "scaling": "kurtosis of the best kurtogram cell (order = level)",
-            "signal": analysis.get("signal", "p_max")}])],
+            "signal": signal}])],
             ignore_index=True)
     keep = TIDY_COLUMNS + [c for c in ("base", "target_hz", "clamped", "scaling", "signal") if c in df]
     df = df[keep].reset_index(drop=True)

@@ -64,18 +64,17 @@ def reference_case(wildcards):
     return []
 
 
+# The files the analysis reads: the simulated cases, or their copies with the synthetic
+# acceleration (rule `sensor`) when `analysis.signal` is `acceleration`.
+ANALYSIS_STAGE = "sensor" if config["analysis"].get("signal", "p_max") == "acceleration" else "cases"
+
+
 def analysis_case(wildcards):
-    """The file the analysis reads: the simulated case, or its copy with the synthetic
-    acceleration (rule `sensor`) when `analysis.signal` is `acceleration`."""
-    if config["analysis"].get("signal", "p_max") == "acceleration":
-        return f"results/sensor/{wildcards.case}.h5"
-    return f"results/cases/{wildcards.case}.h5"
+    return f"results/{ANALYSIS_STAGE}/{wildcards.case}.h5"
 
 
 def analysis_cases():
-    """:func:`analysis_case` for every case of the sweep."""
-    stage = "sensor" if config["analysis"].get("signal", "p_max") == "acceleration" else "cases"
-    return [f"results/{stage}/{case}.h5" for case in CASES]
+    return [f"results/{ANALYSIS_STAGE}/{case}.h5" for case in CASES]
 
 
 def all_targets():

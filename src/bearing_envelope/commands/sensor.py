@@ -219,15 +219,11 @@ def write_sensor_case(case_path, section, output, *, snr_db="model", seed=None, 
 
 def run(args: argparse.Namespace) -> int:
     """Entry point of ``bearing-envelope sensor``."""
-    if Path(args.output).suffix.lower() not in (".npz", ".h5", ".hdf5"):
-        raise ValueError(f"output must end in .npz or .h5, got {args.output!r}")
     section = load_sensor_config(args.config)
     snr = None if args.no_noise else ("model" if args.snr_db is None else args.snr_db)
     info = write_sensor_case(args.case, section, args.output, snr_db=snr, seed=args.seed,
                              excitation=args.excitation, reference=args.reference,
                              config_label=str(args.config))
-    n = info.get("n_samples")
-    print(f"sensor: {args.case} -> {args.output} ("
-          + (f"{n} samples, " if n is not None else "")
-          + f"excitation {info['excitation_signal']}, SNR {info['snr_db_achieved']:.2f} dB)")
+    print(f"sensor: {args.case} -> {args.output} ({info['n_samples']} samples, "
+          f"excitation {info['excitation_signal']}, SNR {info['snr_db_achieved']:.2f} dB)")
     return 0
