@@ -1,6 +1,6 @@
 """The sweep configuration: loading, case naming and cross-field checks.
 
-The structure of ``config.yaml`` is described by ``workflow/schemas/config.schema.yaml`` (JSON
+The structure of ``config.yaml`` is described by ``bearing_envelope/data/config.schema.yaml`` (JSON
 Schema, checked by ``snakemake.utils.validate`` in the workflow and by :func:`load_config`
 here). :func:`check_config` adds the checks a schema cannot express: every case's scene must
 build, every fixed or order band must lie below Nyquist, band names must be unique. All of it
@@ -16,7 +16,8 @@ from typing import Any
 
 __all__ = ["case_name", "check_config", "load_config", "band_limits_static", "SCHEMA_PATH"]
 
-SCHEMA_PATH = Path(__file__).resolve().parents[2] / "workflow" / "schemas" / "config.schema.yaml"
+#: The JSON schema of ``config.yaml``, shipped as package data (the workflow validates against it too).
+SCHEMA_PATH = Path(__file__).resolve().parent / "data" / "config.schema.yaml"
 
 
 def _fmt(value: float) -> str:

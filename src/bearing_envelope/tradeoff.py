@@ -598,7 +598,7 @@ def study_from_config(section: Mapping[str, Any] | None, *, scene: Mapping[str, 
     Keys (all optional): ``cases`` (list of ``[load_kN, depth_um]``), ``revolutions``, ``base``,
     ``reference``, ``reference_element``, ``element_series``, ``knobs`` (name -> values, coarse
     to fine; replaces the default set), ``presets`` (list of preset names or mapping name ->
-    fidelity mapping). See ``workflow/schemas/config.schema.yaml``.
+    fidelity mapping). See ``src/bearing_envelope/data/config.schema.yaml``.
     """
     s = dict(section or {})
     allowed = {"cases", "revolutions", "base", "reference", "reference_element", "element_series",

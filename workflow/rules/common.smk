@@ -4,11 +4,11 @@ from pathlib import Path
 
 from snakemake.utils import validate
 
-from bearing_envelope.config import case_name, check_config
+from bearing_envelope.config import SCHEMA_PATH, case_name, check_config
 from bearing_envelope.tables import parse_case_name
 
 
-validate(config, workflow.source_path("../schemas/config.schema.yaml"))
+validate(config, str(SCHEMA_PATH))
 check_config(config)
 
 # Library code is an input of the rules that use it: editing it reruns what it affects.
