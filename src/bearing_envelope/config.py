@@ -1,15 +1,15 @@
-"""The sweep configuration: loading, case naming and cross-field checks.
+"""The sweep configuration: the schema's location, band limits and dict-level helpers.
 
 The structure of ``config.yaml`` is described by ``bearing_envelope/data/config.schema.yaml`` (JSON
-Schema, checked by ``snakemake.utils.validate`` in the workflow and by :func:`load_config`
-here). :func:`check_config` adds the checks a schema cannot express: every case's scene must
-build, every fixed or order band must lie below Nyquist, band names must be unique. All of it
+Schema, package data). Loading, validation and the cross-field checks a schema cannot express
+(every case's scene builds, every fixed or order band and sensor mode below Nyquist, unique band
+names, finite numbers) live in :mod:`bearing_envelope.settings`, the one loader used by the CLI and
+the workflow; :func:`load_config` and :func:`check_config` here are its dict-level views. All of it
 runs before any job, so a bad value stops the sweep at once with the field named.
 """
 
 from __future__ import annotations
 
-import math
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
@@ -20,16 +20,14 @@ __all__ = ["case_name", "check_config", "load_config", "band_limits_static", "SC
 SCHEMA_PATH = Path(__file__).resolve().parent / "data" / "config.schema.yaml"
 
 
-def _fmt(value: float) -> str:
-    return f"{float(value):g}"
+def case_name(load_kN: float, depth_um: float, width_um: float | None = None) -> str:
+    """Canonical case name: :attr:`bearing_envelope.settings.CaseId.name` (numbers exact).
 
-
-def case_name(load_kN: float, depth_um: float) -> str:
-    """Canonical case name ``F{load_kN}kN_h{depth_um}um`` (e.g. ``F500kN_h50um``).
-
-    Numbers are written with ``%g`` so that 500 and 500.0 give the same name.
+    Kept for callers of the former helper; new code uses :class:`~bearing_envelope.settings.CaseId`.
     """
-    return f"F{_fmt(load_kN)}kN_h{_fmt(depth_um)}um"
+    from .settings import CaseId
+
+    return CaseId(load_kN, depth_um, width_um).name
 
 
 def band_limits_static(band: Mapping[str, Any], fs: float, freqs: Mapping[str, float]) -> tuple[float, float] | None:
@@ -80,39 +78,14 @@ def band_limits_static(band: Mapping[str, Any], fs: float, freqs: Mapping[str, f
 
 
 def check_config(config: Mapping[str, Any]) -> None:
-    """Cross-field checks of a schema-valid configuration; raises ``ValueError`` naming the field.
+    """Validate a configuration mapping; raises ``ValueError`` naming the field.
 
-    Builds every case's scene (load x depth) and the fidelity preset, and checks every
-    signal-independent band against Nyquist. Cheap: no contact solve happens here.
+    The schema, the finite-number check and every cross-field check of
+    :func:`bearing_envelope.settings.settings_from_mapping` (cheap: no contact solve).
     """
-    from .fidelity import fidelity_from
-    from .scene import Scene
+    from .settings import settings_from_mapping
 
-    fidelity_from(config.get("fidelity", "standard"))
-    scene_map = config.get("scene", {}) or {}
-    sweep = config["sweep"]
-    scenes = [
-        Scene.from_mapping(scene_map, load_kN=f, depth_um=h)
-        for f in sweep["loads_kN"]
-        for h in sweep["depths_um"]
-    ]
-    analysis = config["analysis"]
-    if analysis.get("signal", "p_max") == "acceleration" and not config.get("sensor"):
-        raise ValueError("analysis.signal = 'acceleration' needs a `sensor:` section (the transfer "
-                         "path that makes the acceleration); allowed without it: p_max, p_max_defect")
-    names = [b["name"] for b in analysis["bands"]]
-    dup = sorted({n for n in names if names.count(n) > 1})
-    if dup:
-        raise ValueError(f"analysis.bands: names must be unique; repeated: {dup}")
-    scene = scenes[0]
-    fs = float(scene.operation.fs_hz)
-    freqs = scene_frequencies(scene)
-    for band in analysis["bands"]:
-        band_limits_static(band, fs, freqs)
-    if freqs["bpfi"] * analysis.get("harmonics", 3) >= fs / 2:
-        raise ValueError(
-            f"analysis.harmonics = {analysis.get('harmonics')}: K x BPFI must stay below Nyquist ({fs / 2:g} Hz)"
-        )
+    settings_from_mapping(config)
 
 
 def scene_frequencies(scene) -> dict[str, float]:
@@ -121,30 +94,17 @@ def scene_frequencies(scene) -> dict[str, float]:
     return {"fr": ff.fr, "bpfi": scene.bpfi_hz, "bpfo": ff.bpfo, "ftf": ff.ftf, "bsf": ff.bsf}
 
 
-def load_config(path: str | Path, schema: str | Path | None = None) -> dict[str, Any]:
-    """Read a YAML config, validate it against the schema (filling defaults) and check it.
+def load_config(path: str | Path) -> dict[str, Any]:
+    """Read, validate and check a YAML config; returns the mapping with the schema defaults filled.
+
+    The dict view of :func:`bearing_envelope.settings.load_settings` (the one validating loader).
 
     Raises
     ------
     ValueError
-        With the dotted path of the offending field, its value and what is allowed.
+        One line with the file, the dotted path of the offending field, its value and what is
+        allowed.
     """
-    import jsonschema
-    import yaml
+    from .settings import load_settings
 
-    with open(path, encoding="utf-8") as fh:
-        config = yaml.safe_load(fh) or {}
-    schema_path = Path(schema) if schema else SCHEMA_PATH
-    if schema_path.exists():
-        with open(schema_path, encoding="utf-8") as fh:
-            schema_doc = yaml.safe_load(fh)
-        validator = jsonschema.Draft202012Validator(schema_doc)
-        errors = sorted(validator.iter_errors(config), key=lambda e: list(e.path))
-        if errors:
-            e = errors[0]
-            where = ".".join(str(p) for p in e.path) or "(top level)"
-            raise ValueError(f"{path}: {where}: {e.message}")
-    check_config(config)
-    return config
-
-
+    return load_settings(path).config

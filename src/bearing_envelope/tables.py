@@ -8,7 +8,6 @@ Figs 8, 12 and 14-20.
 from __future__ import annotations
 
 import os
-import re
 import tempfile
 from collections.abc import Iterable
 from pathlib import Path
@@ -39,15 +38,16 @@ TIDY_COLUMNS = [
     "amplitude",
 ]
 
-_CASE_RE = re.compile(r"^F(?P<load>[0-9.]+)kN_h(?P<depth>[0-9.]+)um$")
-
-
 def parse_case_name(name: str) -> tuple[float, float]:
-    """Return ``(load_kN, depth_um)`` of a case name ``F{load}kN_h{depth}um``."""
-    m = _CASE_RE.match(Path(name).stem if name.endswith((".h5", ".csv", ".json")) else name)
-    if not m:
-        raise ValueError(f"case name {name!r} does not match 'F{{load_kN}}kN_h{{depth_um}}um'")
-    return float(m["load"]), float(m["depth"])
+    """Return ``(load_kN, depth_um)`` of a case name (:meth:`bearing_envelope.settings.CaseId.parse`).
+
+    Kept for callers of the former helper; new code uses ``CaseId.parse`` (which also gives the
+    width of a ``..._w{width}um`` name).
+    """
+    from .settings import CaseId
+
+    c = CaseId.parse(name)
+    return c.load_kN, c.depth_um
 
 
 def _public_mode(path) -> None:

@@ -1,0 +1,657 @@
+"""Typed, frozen settings built once from the schema-validated configuration.
+
+One loader, used by the CLI (``bearing-envelope simulate --config``) and by the workflow
+(``workflow/rules/common.smk``):
+
+1. :func:`read_yaml` reads the file with a loader that refuses duplicate keys and reports YAML
+   syntax errors with their line and column;
+2. :func:`settings_from_mapping` rejects NaN and infinities anywhere (JSON Schema bounds do not
+   catch NaN), validates against the schema shipped as package data
+   (:data:`bearing_envelope.config.SCHEMA_PATH`) with a one-line message per error (the field,
+   the value, what is allowed; never the schema), fills the schema defaults, and builds the typed
+   settings, whose constructors run the cross-field checks a schema cannot express (every case's
+   scene builds, bands and sensor modes below Nyquist, ``max_level <= nlevel`` ...).
+
+Every failure is a :class:`ConfigError` (a ``ValueError``) whose message is one line naming the
+dotted field (``sweep.depths_um[2]``, ``sensor.modes[0].f_n_hz``) before any job or solve runs.
+
+:class:`CaseId` is the one formatter and parser of case names: ``F{load_kN}kN_h{depth_um}um``
+plus ``_w{width_um}um`` when the sweep sets widths. Numbers are written exactly (the shortest
+decimal that reads back to the same float, never ``%g``), so every name parses back to the
+values it was made from and two different sweep values never share a name.
+"""
+
+from __future__ import annotations
+
+import copy
+import dataclasses
+import difflib
+import math
+import os
+import re
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+__all__ = [
+    "ConfigError", "CaseId", "format_number", "CASE_NAME_REGEX",
+    "BandSpec", "AnalysisSettings", "SweepSettings", "DiagnosabilitySettings", "Settings",
+    "read_yaml", "settings_from_mapping", "load_settings", "default_config_path",
+    "DEFAULT_CONFIG_NAME",
+]
+
+#: The config file ``simulate --config`` and the workflow read when none is named.
+DEFAULT_CONFIG_NAME = "config.yaml"
+
+#: Longest message taken from a schema error (the instance repr can be long).
+_MAX_MESSAGE = 240
+
+
+class ConfigError(ValueError):
+    """A configuration is invalid; the message is one line naming the field."""
+
+
+# --------------------------------------------------------------------------------------------
+# case names
+
+
+def format_number(value: float) -> str:
+    """Exact decimal text of a float: the shortest positional string that reads back to it.
+
+    ``50.0 -> '50'``, ``333.3333 -> '333.3333'``, ``50.0000001 -> '50.0000001'`` (never ``%g``,
+    which writes 333.333 for 333.3333). ``float(format_number(v)) == v`` for every finite ``v``.
+    """
+    v = float(value)
+    if not math.isfinite(v):
+        raise ValueError(f"case values must be finite, got {value!r}")
+    return np.format_float_positional(v + 0.0, unique=True, trim="-")
+
+
+_NUM = r"[0-9]+(?:\.[0-9]+)?"
+#: Regular expression of a canonical case name (also the workflow's wildcard constraint).
+CASE_NAME_REGEX = rf"F{_NUM}kN_h{_NUM}um(?:_w{_NUM}um)?"
+_CASE_RE = re.compile(
+    rf"^F(?P<load>{_NUM})kN_h(?P<depth>{_NUM})um(?:_w(?P<width>{_NUM})um)?$")
+
+
+@dataclass(frozen=True, order=True)
+class CaseId:
+    """One case of the sweep: load (kN), defect depth (um) and, when the sweep sets it, width (um).
+
+    ``width_um = None`` means the scene's width (``scene.defect.width_um``; null there = 2 x
+    depth, the study's rule). :attr:`name` is the one formatter of case names and
+    :meth:`parse` the one parser; ``CaseId.parse(c.name) == c`` exactly.
+
+    Examples
+    --------
+    >>> CaseId(500, 50).name
+    'F500kN_h50um'
+    >>> CaseId.parse("F333.3333kN_h30um_w200um")
+    CaseId(load_kN=333.3333, depth_um=30.0, width_um=200.0)
+    """
+
+    load_kN: float
+    depth_um: float
+    width_um: float | None = None
+
+    def __post_init__(self) -> None:
+        for key in ("load_kN", "depth_um", "width_um"):
+            v = getattr(self, key)
+            if v is None and key == "width_um":
+                continue
+            if isinstance(v, bool) or not isinstance(v, (int, float, np.floating, np.integer)) \
+                    or not math.isfinite(float(v)) or float(v) < 0:
+                raise ValueError(f"CaseId.{key}: got {v!r}; allowed: a finite number >= 0")
+            object.__setattr__(self, key, float(v) + 0.0)
+
+    @property
+    def name(self) -> str:
+        """Canonical name ``F{load}kN_h{depth}um[_w{width}um]`` (numbers exact)."""
+        s = f"F{format_number(self.load_kN)}kN_h{format_number(self.depth_um)}um"
+        if self.width_um is not None:
+            s += f"_w{format_number(self.width_um)}um"
+        return s
+
+    def __str__(self) -> str:
+        return self.name
+
+    @classmethod
+    def parse(cls, name: str | os.PathLike) -> "CaseId":
+        """Parse a case name (or a path whose file stem is one: ``results/cases/F500kN_h50um.h5``).
+
+        Raises
+        ------
+        ValueError
+            If the name does not match :data:`CASE_NAME_REGEX`, or is not canonical (e.g.
+            ``F500.0kN_h50um``: the canonical name is ``F500kN_h50um``), so that one case never
+            has two names.
+        """
+        text = os.fspath(name)
+        stem = Path(text).name
+        for ext in (".h5", ".csv", ".json", ".npz"):
+            if stem.endswith(ext):
+                stem = stem[: -len(ext)]
+                break
+        m = _CASE_RE.match(stem)
+        if not m:
+            raise ValueError(f"case name {text!r} does not match "
+                             f"'F{{load_kN}}kN_h{{depth_um}}um[_w{{width_um}}um]'")
+        case = cls(float(m["load"]), float(m["depth"]),
+                   None if m["width"] is None else float(m["width"]))
+        if case.name != stem:
+            raise ValueError(f"case name {text!r} is not canonical; the canonical name of this "
+                             f"case is {case.name!r}")
+        return case
+
+    @classmethod
+    def from_case(cls, case) -> "CaseId":
+        """The id of a read case file (:class:`bearing_envelope.io.Case`).
+
+        Uses the ``case`` attribute the writers store; for older files, load and depth (and the
+        width when it is not the default 2 x depth).
+        """
+        attrs = getattr(case, "attrs", {}) or {}
+        if attrs.get("case"):
+            try:
+                return cls.parse(str(attrs["case"]))
+            except ValueError:
+                pass
+        width = ((case.scene or {}).get("defect") or {}).get("width_um")
+        depth = float(case.depth_um)
+        if width is None or depth == 0 or float(width) == 2.0 * depth:
+            width = None
+        return cls(float(case.load_kN), depth, width)
+
+    def scene_mapping(self, scene: Mapping[str, Any] | None) -> dict[str, Any]:
+        """The ``scene:`` mapping of this case (a copy; ``defect.width_um`` set when given)."""
+        m = copy.deepcopy(dict(scene or {}))
+        if self.width_um is not None:
+            m["defect"] = dict(m.get("defect") or {})
+            m["defect"]["width_um"] = self.width_um
+        return m
+
+    def scene(self, scene: Mapping[str, Any] | None = None):
+        """Build and validate this case's :class:`bearing_envelope.scene.Scene`."""
+        from .scene import Scene
+
+        return Scene.from_mapping(self.scene_mapping(scene), load_kN=self.load_kN,
+                                  depth_um=self.depth_um)
+
+
+# --------------------------------------------------------------------------------------------
+# typed sections
+
+
+def _err(where: str, value: Any, allowed: str) -> ConfigError:
+    return ConfigError(f"{where}: got {value!r}; allowed: {allowed}")
+
+
+@dataclass(frozen=True)
+class SweepSettings:
+    """The ``sweep:`` section: loads (kN), depths (um) and optional widths (um).
+
+    Without ``widths_um`` every depth keeps the study's width w = 2 h (27 cases, names without a
+    width). With ``widths_um`` each defect depth is combined with each width (names carry
+    ``_w{width}um``); the healthy race (depth 0) stays one case per load, without a width.
+    """
+
+    loads_kN: tuple[float, ...]
+    depths_um: tuple[float, ...]
+    widths_um: tuple[float, ...] | None = None
+
+    @classmethod
+    def from_mapping(cls, m: Mapping[str, Any]) -> "SweepSettings":
+        def values(key, lo, lo_open):
+            raw = m.get(key)
+            if not isinstance(raw, Sequence) or isinstance(raw, str) or not raw:
+                raise _err(f"sweep.{key}", raw, "a non-empty list of numbers")
+            out = []
+            for i, v in enumerate(raw):
+                if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) \
+                        or (v <= lo if lo_open else v < lo):
+                    raise _err(f"sweep.{key}[{i}]", v,
+                               f"a finite number {'>' if lo_open else '>='} {lo:g}")
+                f = float(v) + 0.0
+                if f in out:
+                    j = out.index(f)
+                    raise ConfigError(f"sweep.{key}[{i}]: {v!r} repeats sweep.{key}[{j}] "
+                                      f"({raw[j]!r}); allowed: distinct values")
+                out.append(f)
+            return tuple(out)
+
+        widths = None if m.get("widths_um") is None else values("widths_um", 0.0, True)
+        return cls(values("loads_kN", 0.0, True), values("depths_um", 0.0, False), widths)
+
+    def cases(self) -> list[CaseId]:
+        """Every case, loads outer, depths inner (widths innermost when set)."""
+        out = []
+        for f in self.loads_kN:
+            for h in self.depths_um:
+                if self.widths_um is None:
+                    out.append(CaseId(f, h))
+                elif h == 0:
+                    out.append(CaseId(f, 0.0))
+                else:
+                    out.extend(CaseId(f, h, w) for w in self.widths_um)
+        names = [c.name for c in out]
+        if len(set(names)) != len(names):  # cannot happen with exact names; kept as a guard
+            dup = sorted({n for n in names if names.count(n) > 1})
+            raise ConfigError(f"sweep: values collapse into the same case name(s) {dup}")
+        return out
+
+
+@dataclass(frozen=True)
+class BandSpec:
+    """One demodulation band of ``analysis.bands`` (meaning of the fields: the schema)."""
+
+    name: str
+    strategy: str
+    low: float | None = None
+    high: float | None = None
+    base: str | None = None
+    low_hz: float | None = None
+    high_hz: float | None = None
+
+    def to_mapping(self) -> dict[str, Any]:
+        return {k: v for k, v in dataclasses.asdict(self).items() if v is not None}
+
+
+@dataclass(frozen=True)
+class AnalysisSettings:
+    """The ``analysis:`` section (defaults filled from the schema).
+
+    ``to_mapping()`` gives the plain mapping the pipeline functions take.
+    """
+
+    bands: tuple[BandSpec, ...]
+    signal: str = "p_max"
+    nlevel: int = 8
+    max_level: float | None = None
+    min_bandwidth_hz: float | None = None
+    filter_order: int = 4
+    squared_envelope: bool = False
+    harmonics: int = 3
+    sidebands: int = 2
+    raw_orders_fr: int = 3
+
+    @classmethod
+    def from_mapping(cls, m: Mapping[str, Any], *, fs: float, freqs: Mapping[str, float],
+                     has_sensor: bool) -> "AnalysisSettings":
+        """Build and cross-check (needs the sampling rate and base frequencies of the scene)."""
+        from .config import band_limits_static
+
+        kw = {k: m[k] for k in ("signal", "nlevel", "max_level", "min_bandwidth_hz", "filter_order",
+                                "squared_envelope", "harmonics", "sidebands", "raw_orders_fr")
+              if k in m}
+        bands = tuple(BandSpec(**dict(b)) for b in m["bands"])
+        a = cls(bands=bands, **kw)
+        names = [b.name for b in bands]
+        for i, n in enumerate(names):
+            if n in names[:i]:
+                raise ConfigError(f"analysis.bands[{i}].name: {n!r} repeats "
+                                  f"analysis.bands[{names.index(n)}]; allowed: unique names")
+        if a.signal == "acceleration" and not has_sensor:
+            raise ConfigError("analysis.signal: 'acceleration' needs a `sensor:` section (the "
+                              "transfer path that makes the acceleration); allowed without it: "
+                              "p_max, p_max_defect")
+        if a.max_level is not None and a.max_level > a.nlevel:
+            raise _err("analysis.max_level", a.max_level,
+                       f"null or a level <= analysis.nlevel ({a.nlevel})")
+        if a.min_bandwidth_hz is not None and a.min_bandwidth_hz >= fs / 2:
+            raise _err("analysis.min_bandwidth_hz", a.min_bandwidth_hz,
+                       f"null or a bandwidth below fs/2 = {fs / 2:g} Hz")
+        for i, b in enumerate(bands):
+            try:
+                band_limits_static(b.to_mapping(), fs, freqs)
+            except ValueError as exc:
+                raise ConfigError(str(exc)) from None
+        if freqs["bpfi"] * a.harmonics >= fs / 2:
+            raise _err("analysis.harmonics", a.harmonics,
+                       f"K with K x BPFI ({freqs['bpfi']:g} Hz) below Nyquist ({fs / 2:g} Hz)")
+        return a
+
+    def to_mapping(self) -> dict[str, Any]:
+        d = dataclasses.asdict(self)
+        d["bands"] = [b.to_mapping() for b in self.bands]
+        return d
+
+
+@dataclass(frozen=True)
+class DiagnosabilitySettings:
+    """The ``diagnosability:`` section: whether the map is in the default target, and its SNRs."""
+
+    enabled: bool = True
+    snr_db: tuple[float, ...] = (20.0, 10.0, 0.0, -10.0, -20.0)
+
+
+@dataclass(frozen=True)
+class Settings:
+    """The whole configuration, validated and typed.
+
+    Attributes
+    ----------
+    source : str
+        Where it came from (a file path, or ``"<mapping>"``).
+    config : dict
+        The validated mapping with the schema defaults filled (what the workflow passes to jobs).
+    sweep : SweepSettings or None
+        ``None`` only for a partial config (``simulate --config`` with just ``scene:``).
+    fidelity : bearing_envelope.fidelity.Fidelity
+    scene_mapping : dict
+        The ``scene:`` section (build a case's scene with :meth:`scene`).
+    analysis : AnalysisSettings or None
+    sensor : bearing_envelope.transfer.TransferModel or None
+    diagnosability : DiagnosabilitySettings
+    tradeoff : dict
+        The ``tradeoff:`` section as given (read by :func:`bearing_envelope.tradeoff.study_from_config`).
+    """
+
+    source: str
+    config: dict
+    sweep: SweepSettings | None
+    fidelity: Any
+    scene_mapping: dict
+    analysis: AnalysisSettings | None
+    sensor: Any
+    diagnosability: DiagnosabilitySettings
+    tradeoff: dict = field(default_factory=dict)
+
+    @property
+    def cases(self) -> list[CaseId]:
+        return [] if self.sweep is None else self.sweep.cases()
+
+    def scene(self, case: CaseId):
+        """The validated scene of one case."""
+        return case.scene(self.scene_mapping)
+
+
+# --------------------------------------------------------------------------------------------
+# reading and validation
+
+
+def default_config_path() -> Path | None:
+    """``./config.yaml`` when it exists (the file ``simulate`` reads without ``--config``)."""
+    p = Path(DEFAULT_CONFIG_NAME)
+    return p if p.is_file() else None
+
+
+def _unique_key_loader():
+    import yaml
+
+    class UniqueKeyLoader(yaml.SafeLoader):
+        """SafeLoader that refuses a key given twice in one mapping (YAML would keep the last)."""
+
+    def construct_mapping(loader, node, deep=False):
+        loader.flatten_mapping(node)
+        seen: dict[Any, int] = {}
+        for key_node, _ in node.value:
+            key = loader.construct_object(key_node, deep=deep)
+            line = key_node.start_mark.line + 1
+            try:
+                first = seen.get(key)
+            except TypeError:  # unhashable key: the base loader reports it
+                continue
+            if first is not None:
+                raise ConfigError(f"{key_node.start_mark.name}, line {line}: duplicate key {key!r} "
+                                  f"(first given on line {first}); allowed: each key once")
+            seen[key] = line
+        return yaml.SafeLoader.construct_mapping(loader, node, deep=deep)
+
+    UniqueKeyLoader.add_constructor(yaml.resolver.BaseResolver.DEFAULT_MAPPING_TAG, construct_mapping)
+    return UniqueKeyLoader
+
+
+def read_yaml(path: str | os.PathLike) -> dict[str, Any]:
+    """Read a YAML config strictly: a mapping, no duplicate keys, errors with line numbers.
+
+    Raises
+    ------
+    ConfigError
+        File missing, a directory, unreadable, not valid YAML (``file, line L, column C: ...``),
+        a duplicate key (``file, line L: duplicate key 'x' (first given on line K)``) or not a
+        mapping at the top level.
+    """
+    import yaml
+
+    p = os.fspath(path)
+    if os.path.isdir(p):
+        raise ConfigError(f"{p}: is a directory; allowed: a YAML config file")
+    if not os.path.exists(p):
+        raise ConfigError(f"{p}: config file not found")
+    try:
+        with open(p, encoding="utf-8") as fh:
+            doc = yaml.load(fh, Loader=_unique_key_loader())  # noqa: S506 (a SafeLoader subclass)
+    except ConfigError:
+        raise
+    except yaml.MarkedYAMLError as exc:
+        mark = exc.problem_mark or exc.context_mark
+        where = f"{p}, line {mark.line + 1}, column {mark.column + 1}" if mark else p
+        what = " ".join(x for x in (exc.context, exc.problem) if x)
+        raise ConfigError(f"{where}: YAML syntax error: {what}") from None
+    except yaml.YAMLError as exc:
+        raise ConfigError(f"{p}: YAML error: {str(exc).splitlines()[0]}") from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise ConfigError(f"{p}: cannot read the config ({exc})") from None
+    if doc is None:
+        doc = {}
+    if not isinstance(doc, dict):
+        raise ConfigError(f"{p}: the config must be a mapping of sections (sweep:, scene:, ...), "
+                          f"got a {type(doc).__name__}")
+    return doc
+
+
+def _dotted(path: Sequence[Any]) -> str:
+    out = ""
+    for p in path:
+        out += f"[{p}]" if isinstance(p, int) else (f".{p}" if out else str(p))
+    return out or "(top level)"
+
+
+def _check_finite(obj: Any, path: tuple = ()) -> None:
+    if isinstance(obj, float) and not math.isfinite(obj):
+        raise ConfigError(f"{_dotted(path)}: got {obj!r}; allowed: a finite number (NaN and "
+                          f"infinity are not numbers a setting can take)")
+    if isinstance(obj, Mapping):
+        for k, v in obj.items():
+            _check_finite(v, path + (k,))
+    elif isinstance(obj, list):
+        for i, v in enumerate(obj):
+            _check_finite(v, path + (i,))
+
+
+def _schema(partial: bool) -> dict:
+    import yaml
+
+    from .config import SCHEMA_PATH
+
+    with open(SCHEMA_PATH, encoding="utf-8") as fh:
+        schema = yaml.safe_load(fh)
+    if partial:
+        schema = dict(schema)
+        schema["required"] = []
+    return schema
+
+
+def _schema_message(err) -> str:
+    """One line for a jsonschema error: the dotted field and what is wrong (never the schema)."""
+    path = list(err.absolute_path)
+    if err.validator == "additionalProperties" and isinstance(err.instance, Mapping):
+        allowed = sorted((err.schema.get("properties") or {}).keys())
+        unknown = sorted(str(k) for k in set(err.instance) - set(allowed))
+        if unknown:
+            key = unknown[0]
+            hint = difflib.get_close_matches(key, allowed, n=1)
+            tip = f"; did you mean {hint[0]!r}?" if hint else ""
+            return (f"{_dotted(path + [key])}: unknown key{tip} allowed keys here: "
+                    f"{', '.join(allowed)}")
+    if err.validator == "required":
+        missing = [k for k in err.validator_value if k not in (err.instance or {})]
+        if missing:
+            return f"{_dotted(path + [missing[0]])}: missing; this section is required"
+    msg = " ".join(err.message.split())
+    if len(msg) > _MAX_MESSAGE:
+        msg = msg[: _MAX_MESSAGE - 3] + "..."
+    desc = err.schema.get("description") if isinstance(err.schema, Mapping) else None
+    if desc and err.validator in ("minimum", "maximum", "exclusiveMinimum", "exclusiveMaximum",
+                                  "enum", "type"):
+        desc = " ".join(str(desc).split())
+        msg += f" ({desc[:120]})"
+    return f"{_dotted(path)}: {msg}"
+
+
+def _fill_defaults(instance: Any, schema: Mapping[str, Any], root: Mapping[str, Any]) -> None:
+    """Fill ``default`` values of ``properties`` into present objects, recursively.
+
+    Mirrors ``snakemake.utils.validate(set_default=True)``, so the workflow's params (and with them
+    Snakemake's rerun decisions) are the same as with Snakemake's own validation.
+    """
+    ref = schema.get("$ref")
+    if isinstance(ref, str) and ref.startswith("#/$defs/"):
+        schema = root.get("$defs", {}).get(ref.split("/")[-1], schema)
+    if isinstance(instance, dict):
+        for name, sub in (schema.get("properties") or {}).items():
+            if "default" in sub:
+                instance.setdefault(name, copy.deepcopy(sub["default"]))
+            if name in instance:
+                _fill_defaults(instance[name], sub, root)
+    elif isinstance(instance, list) and isinstance(schema.get("items"), Mapping):
+        for item in instance:
+            _fill_defaults(item, schema["items"], root)
+
+
+def validate_mapping(config: Mapping[str, Any], *, source: str = "<mapping>",
+                     partial: bool = False) -> dict[str, Any]:
+    """Finite-number check, schema validation and default filling of a config mapping.
+
+    Returns a deep copy with the schema defaults filled. ``partial=True`` accepts a config without
+    the top-level required sections (``simulate --config`` needs only ``scene:``); unknown keys
+    are refused either way.
+    """
+    import jsonschema
+
+    if not isinstance(config, Mapping):
+        raise ConfigError(f"{source}: the config must be a mapping, got {type(config).__name__}")
+    config = copy.deepcopy(dict(config))
+    try:
+        _check_finite(config)
+    except ConfigError as exc:
+        raise ConfigError(f"{source}: {exc}") from None
+    schema = _schema(partial)
+    validator = jsonschema.Draft202012Validator(schema)
+    errors = list(validator.iter_errors(config))
+    if errors:
+        err = jsonschema.exceptions.best_match(errors)
+        raise ConfigError(f"{source}: {_schema_message(err)}")
+    _fill_defaults(config, schema, schema)
+    return config
+
+
+def settings_from_mapping(config: Mapping[str, Any], *, source: str = "<mapping>",
+                          partial: bool = False) -> Settings:
+    """Validate a config mapping and build the typed :class:`Settings` (no contact solve).
+
+    Raises
+    ------
+    ConfigError
+        One line: ``{source}: {dotted.field}: got {value}; allowed: ...``.
+    """
+    cfg = validate_mapping(config, source=source, partial=partial)
+    try:
+        return _build(cfg, source, partial)
+    except ConfigError as exc:
+        raise ConfigError(f"{source}: {exc}") from None
+    except ValueError as exc:  # the dataclass constructors name their fields
+        msg = " ".join(str(exc).split())
+        raise ConfigError(f"{source}: {msg}") from None
+
+
+def _build(cfg: dict, source: str, partial: bool) -> Settings:
+    from .config import scene_frequencies
+    from .fidelity import fidelity_from
+    from .geometry import hertz_estimate
+    from .loads import scene_load_distribution
+    from .transfer import TransferModel
+
+    fidelity = fidelity_from(cfg.get("fidelity", "standard"))
+    scene_map = cfg.get("scene") or {}
+    sweep = SweepSettings.from_mapping(cfg["sweep"]) if "sweep" in cfg else None
+    if sweep is not None and sweep.widths_um is not None \
+            and ((scene_map.get("defect") or {}).get("width_um")) is not None:
+        raise _err("sweep.widths_um", list(sweep.widths_um),
+                   "null while scene.defect.width_um is set (give the width in one place)")
+    if sweep is not None:
+        scenes = {}
+        for case in sweep.cases():
+            where = f"case {case.name}: "
+            try:
+                scenes[case] = case.scene(scene_map)
+            except ValueError as exc:
+                raise ConfigError(where + str(exc)) from None
+        if sweep.widths_um is not None:
+            _check_widths(sweep, scenes, scene_load_distribution, hertz_estimate)
+        scene0 = next(iter(scenes.values()))
+    else:
+        from .scene import Scene
+
+        scene0 = Scene.from_mapping(scene_map, load_kN=500.0, depth_um=0.0)
+    fs = float(scene0.operation.fs_hz)
+    freqs = scene_frequencies(scene0)
+    sensor = None
+    if cfg.get("sensor"):
+        sensor = TransferModel.from_mapping(cfg["sensor"], fs=fs)
+        for i, tone in enumerate(sensor.tones):
+            f = tone.frequency(freqs["fr"])
+            if f >= fs / 2:
+                key = "frequency_hz" if tone.frequency_hz is not None else "order"
+                raise _err(f"sensor.tones[{i}].{key}", getattr(tone, key),
+                           f"a tone below fs/2 = {fs / 2:g} Hz (this one is at {f:g} Hz)")
+    analysis = None
+    if "analysis" in cfg:
+        analysis = AnalysisSettings.from_mapping(cfg["analysis"], fs=fs, freqs=freqs,
+                                                 has_sensor=sensor is not None)
+        if analysis.signal == "acceleration":
+            s = cfg["sensor"]
+            if "snr_db" not in s and "snr_db" not in (s.get("noise") or {}):
+                raise ConfigError("sensor.snr_db: missing; analysis.signal = 'acceleration' needs "
+                                  "the noise level of the accelerometer signal (dB; null for a "
+                                  "noise-free signal)")
+    d = cfg.get("diagnosability") or {}
+    diag = DiagnosabilitySettings(bool(d.get("enabled", True)),
+                                  tuple(float(x) for x in d.get("snr_db", (20, 10, 0, -10, -20))))
+    return Settings(source=source, config=cfg, sweep=sweep, fidelity=fidelity,
+                    scene_mapping=scene_map, analysis=analysis, sensor=sensor,
+                    diagnosability=diag, tradeoff=dict(cfg.get("tradeoff") or {}))
+
+
+def _check_widths(sweep: SweepSettings, scenes, load_distribution, hertz_estimate) -> None:
+    """Each width must be narrower than the contact (2 a, Hertz) of the most loaded roller at the
+    smallest load, so that the defect lies inside the contact band it crosses."""
+    f_min = min(sweep.loads_kN)
+    case = next(c for c in scenes if c.load_kN == f_min and c.width_um is not None)
+    sc = scenes[case]
+    q_max = load_distribution(sc).q_max
+    two_a_um = 2e6 * hertz_estimate(sc, q_max).a
+    for i, w in enumerate(sweep.widths_um):
+        extent = w if sc.defect.orientation == "axial" else None
+        if extent is not None and w >= two_a_um:
+            raise _err(f"sweep.widths_um[{i}]", w,
+                       f"a width below the contact width 2a = {two_a_um:.4g} um of the most loaded "
+                       f"roller at the smallest load ({f_min:g} kN)")
+
+
+def load_settings(path: str | os.PathLike | None = None, *, partial: bool = False) -> Settings:
+    """Read, validate and type a config file (``./config.yaml`` when ``path`` is None).
+
+    The one loader of the project: ``simulate --config`` calls it with ``partial=True`` (only the
+    sections it needs), the workflow's ``common.smk`` through :func:`settings_from_mapping`
+    after checking its config files with :func:`read_yaml`.
+    """
+    if path is None:
+        path = default_config_path()
+        if path is None:
+            raise ConfigError(f"no config given and no ./{DEFAULT_CONFIG_NAME} in {os.getcwd()}")
+    src = os.fspath(path)
+    return settings_from_mapping(read_yaml(src), source=src, partial=partial)
