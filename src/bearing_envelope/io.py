@@ -11,6 +11,7 @@ from __future__ import annotations
 import datetime as _dt
 import json
 import os
+import socket
 import subprocess
 import tempfile
 from dataclasses import dataclass, field
@@ -18,7 +19,8 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["FORMAT_VERSION", "Case", "CaseFormatError", "write_case", "read_case", "git_commit"]
+__all__ = ["FORMAT_VERSION", "Case", "CaseFormatError", "write_case", "read_case", "git_commit",
+           "case_file_problem", "set_aside_unreadable", "clean_stale_temps", "temp_path_for"]
 
 #: Version of the layout written by :func:`write_case`; :func:`read_case` accepts only this one.
 FORMAT_VERSION = 1
@@ -155,8 +157,8 @@ def write_case(path: str | os.PathLike, history, *, extra_attrs: dict | None = N
     os.makedirs(directory, exist_ok=True)
     sc = history.scene
     ff = sc.frequencies()
-    fd, tmp = tempfile.mkstemp(prefix=".tmp-", suffix=".h5", dir=directory)
-    os.close(fd)
+    clean_stale_temps(directory, path)
+    tmp = temp_path_for(path)
     umask = os.umask(0)
     os.umask(umask)
     os.chmod(tmp, 0o666 & ~umask)
@@ -251,6 +253,136 @@ def write_case(path: str | os.PathLike, history, *, extra_attrs: dict | None = N
     return path
 
 
+_TMP_PREFIX = ".tmp-"
+
+
+def _host() -> str:
+    return socket.gethostname().replace(".", "_").replace("~", "_") or "host"
+
+
+def temp_path_for(path: str | os.PathLike) -> str:
+    """A new, empty temporary file next to ``path`` (mode as a plain ``open`` would give).
+
+    Named ``.tmp-{host}~{pid}~{target name}~{random}.h5`` so that :func:`clean_stale_temps` can tell
+    a temporary file of a dead writer (or an earlier attempt at the same target) from one another
+    job is writing right now.
+    """
+    path = os.fspath(path)
+    directory = os.path.dirname(os.path.abspath(path))
+    fd, tmp = tempfile.mkstemp(prefix=f"{_TMP_PREFIX}{_host()}~{os.getpid()}~{os.path.basename(path)}~",
+                               suffix=".h5", dir=directory)
+    os.close(fd)
+    return tmp
+
+
+def _pid_alive(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True
+    return True
+
+
+def clean_stale_temps(directory: str | os.PathLike, target: str | os.PathLike | None = None) -> list[str]:
+    """Remove temporary case files left by killed writers; returns the paths removed.
+
+    A ``.tmp-*.h5`` file in ``directory`` is stale when it belongs to ``target`` (only one job
+    writes a given file at a time, and it has not created its own yet), or when it was made on this
+    host by a process that no longer runs. Files of other live writers (another job of the same
+    sweep, another host of a cluster) are left alone. Called at the start of every
+    :func:`write_case`, so a SIGKILL during a write leaves nothing behind after the next write.
+    """
+    directory = os.fspath(directory)
+    name = None if target is None else os.path.basename(os.fspath(target))
+    host = _host()
+    removed = []
+    try:
+        entries = os.listdir(directory)
+    except OSError:
+        return removed
+    for entry in entries:
+        if not (entry.startswith(_TMP_PREFIX) and entry.endswith(".h5")):
+            continue
+        parts = entry[len(_TMP_PREFIX):].split("~")
+        stale = False
+        if len(parts) == 4:
+            e_host, e_pid, e_name, _ = parts
+            if name is not None and e_name == name:
+                stale = True
+            elif e_host == host and e_pid.isdigit() and int(e_pid) != os.getpid():
+                stale = not _pid_alive(int(e_pid))
+        elif name is not None:
+            # the former naming (.tmp-{random}.h5) says nothing about its writer: remove it once it
+            # has not been touched for an hour (no write of a case takes that long)
+            try:
+                stale = _dt.datetime.now().timestamp() - os.path.getmtime(
+                    os.path.join(directory, entry)) > 3600
+            except OSError:
+                stale = False
+        if stale:
+            try:
+                os.unlink(os.path.join(directory, entry))
+                removed.append(os.path.join(directory, entry))
+            except OSError:
+                pass
+    return removed
+
+
+def case_file_problem(path: str | os.PathLike) -> str | None:
+    """Why an existing case file cannot be used (``None`` when it reads).
+
+    Opens the file, checks the format attributes and the required datasets, and reads the last
+    element of each (a truncated file fails there). Cheap: no full read.
+    """
+    import h5py
+
+    path = os.fspath(path)
+    try:
+        with h5py.File(path, "r") as f:
+            fmt = _attr(f.attrs.get("format"))
+            if fmt != "bearing_envelope.case":
+                return f"not a bearing_envelope case file (format attribute {fmt!r})"
+            ver = _attr(f.attrs.get("format_version"))
+            if ver != FORMAT_VERSION:
+                return f"format_version {ver!r} is not supported (this reader: {FORMAT_VERSION})"
+            for name in _REQUIRED:
+                if name not in f:
+                    return f"required dataset '/{name}' is missing"
+                d = f[name]
+                if d.shape and d.shape[0]:
+                    d[-1]
+    except (OSError, KeyError, ValueError, RuntimeError) as exc:
+        return f"unreadable HDF5 ({' '.join(str(exc).split())[:160]})"
+    return None
+
+
+def set_aside_unreadable(path: str | os.PathLike, *, warn=None) -> str | None:
+    """Move an unreadable case file aside so that the workflow rebuilds it.
+
+    If ``path`` exists and :func:`case_file_problem` finds a problem, the file is renamed to
+    ``{path}.unreadable-{UTC time}`` (kept for inspection, never deleted) and a one-line warning
+    naming both paths and the problem goes to ``warn`` (default: stderr). Returns the new path, or
+    ``None`` when the file is missing or fine.
+    """
+    import sys
+
+    path = os.fspath(path)
+    if not os.path.isfile(path):
+        return None
+    problem = case_file_problem(path)
+    if problem is None:
+        return None
+    stamp = _dt.datetime.now(_dt.timezone.utc).strftime("%Y%m%dT%H%M%SZ")
+    aside = f"{path}.unreadable-{stamp}"
+    os.replace(path, aside)
+    msg = (f"warning: {path}: {problem}; moved aside to {aside}; it will be rebuilt as a "
+           f"missing file")
+    (warn or (lambda m: print(m, file=sys.stderr)))(msg)
+    return aside
+
+
 def _read_group(g) -> dict:
     import h5py
 
@@ -270,6 +402,31 @@ def _attr(v):
 
 def read_case(path: str | os.PathLike) -> Case:
     """Read a case file written by :func:`write_case`.
+
+    Raises
+    ------
+    FileNotFoundError
+        No such file.
+    CaseFormatError
+        Not a case file, another format version, a required dataset is missing, or the file is
+        unreadable (truncated, corrupt); the message says how to rebuild it.
+    """
+    path = os.fspath(path)
+    rebuild = (f"; rebuild it with `snakemake -j1 -f {path}` (or delete it: the next run of the "
+               f"workflow moves an unreadable case file aside and rebuilds it)")
+    try:
+        return _read_case(path)
+    except CaseFormatError as exc:
+        raise CaseFormatError(f"{exc}{rebuild}") from exc
+    except (OSError, RuntimeError, KeyError) as exc:
+        if isinstance(exc, FileNotFoundError):
+            raise
+        raise CaseFormatError(f"{path}: unreadable ({' '.join(str(exc).split())[:160]}){rebuild}") \
+            from exc
+
+
+def _read_case(path: str | os.PathLike) -> Case:
+    """Read a case file written by :func:`write_case` (errors not yet given the rebuild hint).
 
     Raises
     ------
