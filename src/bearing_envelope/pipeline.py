@@ -39,13 +39,20 @@ QUANTITY_NAMES = {
 }
 
 
+def _case_id(case) -> str:
+    """The case's canonical name (:class:`bearing_envelope.settings.CaseId`)."""
+    from .settings import CaseId
+
+    return CaseId.from_case(case).name
+
+
 def case_signal(case, name: str = "p_max") -> np.ndarray:
     """The named 1-D signal of a case (``p_max`` or ``p_max_defect``, or any stored signal)."""
     if name not in case.signals:
         raise ValueError(f"analysis.signal = {name!r}; the case holds {sorted(case.signals)}")
     x = np.asarray(case.signals[name], dtype=float)
     if not np.all(np.isfinite(x)):
-        raise ValueError(f"signal {name!r} of case F{case.load_kN:g}kN_h{case.depth_um:g}um has non-finite values")
+        raise ValueError(f"signal {name!r} of case {_case_id(case)} has non-finite values")
     return x
 
 
@@ -86,7 +93,6 @@ def case_bands(case, analysis: Mapping[str, Any]) -> tuple[dict, Any]:
     kurtogram : bearing_envelope.signal.Kurtogram or None
         None when no band uses the kurtogram strategy.
     """
-    from .config import case_name
     from .signal import resolve_band
 
     x = case_signal(case, analysis.get("signal", "p_max"))
@@ -104,7 +110,7 @@ def case_bands(case, analysis: Mapping[str, Any]) -> tuple[dict, Any]:
             "provenance": _jsonable(prov),
         })
     doc = {
-        "case": case_name(case.load_kN, case.depth_um),
+        "case": _case_id(case),
         "load_kN": float(case.load_kN), "depth_um": float(case.depth_um),
         "fs": fs, "signal": analysis.get("signal", "p_max"),
         "kurtogram": None if kg is None else {
@@ -122,7 +128,6 @@ def case_harmonics(case, analysis: Mapping[str, Any], bands_doc: Mapping[str, An
     The bands are applied as fixed limits, so the kurtogram is computed once (in
     :func:`case_bands`) and the envelope rule can rerun alone.
     """
-    from .config import case_name
     from .signal import analyze_signal
 
     signal = analysis.get("signal", "p_max")
@@ -153,7 +158,7 @@ def case_harmonics(case, analysis: Mapping[str, Any], bands_doc: Mapping[str, An
     df["band"] = df["band_strategy"]
     df["band_strategy"] = [kind.get(n, "raw") for n in df["band"]]
     df["clamped"] = [clamped.get(n, False) for n in df["band"]]
-    df["case"] = case_name(case.load_kN, case.depth_um)
+    df["case"] = _case_id(case)
     df["load_kN"] = float(case.load_kN)
     df["depth_um"] = float(case.depth_um)
     df["signal"] = signal
@@ -176,7 +181,6 @@ def case_harmonics(case, analysis: Mapping[str, Any], bands_doc: Mapping[str, An
 
 def case_summary(case) -> dict[str, Any]:
     """One summary row of a case: peak pressures, loads, frequencies and simulation diagnostics."""
-    from .config import case_name
 
     stats = json.loads(case.attrs.get("stats_json", "{}"))
     tinfo = case.table or {}
@@ -189,7 +193,7 @@ def case_summary(case) -> dict[str, Any]:
     p = np.asarray(case.p_max)
     pd_ = np.asarray(case.p_max_defect)
     return {
-        "case": case_name(case.load_kN, case.depth_um),
+        "case": _case_id(case),
         "load_kN": float(case.load_kN), "depth_um": float(case.depth_um),
         "p_max_peak_Pa": float(p.max()), "p_max_mean_Pa": float(p.mean()),
         "p_max_defect_peak_Pa": float(pd_.max()),
@@ -234,7 +238,6 @@ def case_diagnosability(case, sensor: Mapping[str, Any], analysis: Mapping[str, 
         band_strategy, band_low_hz, band_high_hz, statistic_db, threshold_db, detected,
         peak_hz, peak_amplitude``.
     """
-    from .config import case_name
     from .diagnosis import detection_statistic
     from .signal import envelope_spectrum, resolve_band
     from .transfer import (TransferModel, excitation_from_history, select_excitation,
@@ -262,7 +265,7 @@ def case_diagnosability(case, sensor: Mapping[str, Any], analysis: Mapping[str, 
                                      squared=bool(analysis.get("squared_envelope", False)))
             d = detection_statistic(f, a, float(case.bpfi), fr=float(case.fr))
             rows.append({
-                "case": case_name(case.load_kN, case.depth_um), "load_kN": float(case.load_kN),
+                "case": _case_id(case), "load_kN": float(case.load_kN),
                 "depth_um": float(case.depth_um), "snr_db": float(snr),
                 "snr_definition": "defect part (H e - H e_ref)" if ref is not None else "whole response",
                 "band": spec["name"], "band_strategy": spec["strategy"],

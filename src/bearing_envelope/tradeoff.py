@@ -64,6 +64,7 @@ import numpy as np
 import pandas as pd
 
 from .fidelity import Fidelity, fidelity_from
+from .settings import CaseId
 
 __all__ = ["DEFAULT_CASES", "DEFAULT_KNOBS", "DEFAULT_BANDS", "COLUMNS", "tradeoff_study",
            "study_from_config", "pareto_front", "pareto_table", "pareto_points", "plot_tradeoff",
@@ -339,7 +340,7 @@ def tradeoff_study(
     last_key = [""]
     for load_kN, depth_um in cases:
         load_kN, depth_um = float(load_kN), float(depth_um)
-        cache_c: dict[str, dict] = (cache.setdefault(f"F{load_kN:g}kN_h{depth_um:g}um", {})
+        cache_c: dict[str, dict] = (cache.setdefault(CaseId(load_kN, depth_um).name, {})
                                     if cache is not None else {})
 
         def run(fid: Fidelity, sc_over: dict):
@@ -351,14 +352,14 @@ def tradeoff_study(
                 cache_c[key] = run_variant(sc, fid, an)
                 if progress:
                     r = cache_c[key]
-                    progress(f"F{load_kN:g}kN_h{depth_um:g}um {fid.name} {sc_over or ''}: "
+                    progress(f"{CaseId(load_kN, depth_um).name} {fid.name} {sc_over or ''}: "
                              f"{r['cpu_s']:.1f} s cpu, {r['wall_s']:.1f} s wall, {r['n_solves']} solves")
             last_key[0] = key
             return cache_c[key]
 
         ref = run(ref_f, {}) if ref_f is not None else None
         if ref is not None:
-            ref_keys[f"F{load_kN:g}kN_h{depth_um:g}um"] = last_key[0]
+            ref_keys[CaseId(load_kN, depth_um).name] = last_key[0]
         variants: list[tuple[str, str, Fidelity, dict, Any]] = []
         for k, vals in all_knobs.items():
             for v in vals:
@@ -390,7 +391,7 @@ def tradeoff_study(
                 if is_ref:
                     e = 0.0 if not math.isnan(e) else e
                 rows.append({
-                    "case": f"F{load_kN:g}kN_h{depth_um:g}um", "load_kN": load_kN, "depth_um": depth_um,
+                    "case": CaseId(load_kN, depth_um).name, "load_kN": load_kN, "depth_um": depth_um,
                     "knob": knob, "value": vstr, "is_base": is_base, "is_reference": is_ref,
                     "element": fid.element,
                     "edge_radius_um": float(_merge(scene_map, sc_over).get("defect", {}).get(

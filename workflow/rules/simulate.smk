@@ -5,13 +5,13 @@ rule simulate:
     input:
         code=SIM_CODE,
     output:
-        "results/cases/F{load}kN_h{depth}um.h5",
+        "results/cases/{case}.h5",
     params:
         setup=scene_params,
     log:
-        "logs/simulate/F{load}kN_h{depth}um.log",
+        "logs/simulate/{case}.log",
     benchmark:
-        "logs/benchmarks/simulate/F{load}kN_h{depth}um.tsv"
+        "logs/benchmarks/simulate/{case}.tsv"
     conda:
         ENV
     threads: 1

@@ -5,15 +5,13 @@ from bearing_envelope.fidelity import fidelity_from
 from bearing_envelope.history import simulate
 from bearing_envelope.io import write_case
 from bearing_envelope.pipeline import log_to
-from bearing_envelope.scene import Scene
+from bearing_envelope.settings import CaseId
 
 with log_to(snakemake.log[0]) as log:  # noqa: F821
     setup = json.loads(snakemake.params.setup)  # noqa: F821
-    scene = Scene.from_mapping(
-        setup["scene"],
-        load_kN=float(snakemake.wildcards.load),  # noqa: F821
-        depth_um=float(snakemake.wildcards.depth),  # noqa: F821
-    )
+    case = CaseId.parse(snakemake.wildcards.case)  # noqa: F821
+    scene = case.scene(setup["scene"])
     hist = simulate(scene, fidelity_from(setup["fidelity"]), progress=False)
-    write_case(snakemake.output[0], hist, extra_attrs={"workflow_rule": "simulate"})  # noqa: F821
+    write_case(snakemake.output[0], hist,  # noqa: F821
+               extra_attrs={"workflow_rule": "simulate", "case": case.name})
     print(json.dumps(hist.stats, default=float), file=log)
