@@ -6,6 +6,10 @@ from snakemake.utils import min_version
 min_version("8.10")
 
 
+# Read ./config.yaml strictly first, so a YAML error names its line (Snakemake's loader does not).
+include: "workflow/rules/precheck.smk"
+
+
 configfile: "config.yaml"
 
 

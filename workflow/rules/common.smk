@@ -1,15 +1,33 @@
 # Config validation (before any job) and the small input helpers shared by every rule.
 import json
+import sys
 from pathlib import Path
 
-from snakemake.utils import validate
-
-from bearing_envelope.config import SCHEMA_PATH, case_name, check_config
-from bearing_envelope.tables import parse_case_name
+from bearing_envelope.io import set_aside_unreadable
+from bearing_envelope.settings import CASE_NAME_REGEX, CaseId, ConfigError, read_yaml, settings_from_mapping
 
 
-validate(config, str(SCHEMA_PATH))
-check_config(config)
+def load_workflow_settings():
+    """The one validating loader (bearing_envelope.settings), on the files Snakemake read.
+
+    Each config file is re-read strictly (duplicate keys, YAML errors with line numbers), then the
+    merged config is validated and typed; on error one line naming the field, and no job runs.
+    The schema defaults are filled into `config` as snakemake.utils.validate would.
+    """
+    files = [str(f) for f in workflow.configfiles]
+    try:
+        for f in files:
+            read_yaml(f)
+        settings = settings_from_mapping(config, source=" + ".join(files) or "config")
+    except ConfigError as exc:
+        print(f"bearing_envelope: invalid configuration: {exc}", file=sys.stderr)
+        raise SystemExit(1)
+    config.clear()
+    config.update(settings.config)
+    return settings
+
+
+SETTINGS = load_workflow_settings()
 
 # Library code is an input of the rules that use it: editing it reruns what it affects.
 SRC = Path(workflow.basedir) / "src" / "bearing_envelope"
@@ -23,16 +41,22 @@ ENV = "../envs/bearing_envelope.yaml"
 SIGNAL_CODE = sorted(str(p) for p in SRC.glob("signal/*.py")) + [str(SRC / "pipeline.py")]
 SENSOR_CODE = [str(SRC / "transfer.py"), str(SRC / "diagnosis.py")]
 
-LOADS = config["sweep"]["loads_kN"]
-DEPTHS = config["sweep"]["depths_um"]
-CASES = [case_name(f, h) for f in LOADS for h in DEPTHS]
-BAND_NAMES = [b["name"] for b in config["analysis"]["bands"]]
+LOADS = list(SETTINGS.sweep.loads_kN)
+DEPTHS = list(SETTINGS.sweep.depths_um)
+CASE_IDS = SETTINGS.cases
+CASES = [c.name for c in CASE_IDS]
+BAND_NAMES = [b.name for b in SETTINGS.analysis.bands]
+
+# An unreadable case file (killed copy, disk error) is moved aside with a warning before the DAG
+# is built, so Snakemake sees it missing and rebuilds it (never on a dry run).
+if workflow.is_main_process and not workflow.dryrun:
+    for _stage in ("cases", "sensor"):
+        for _case in CASES:
+            set_aside_unreadable(f"results/{_stage}/{_case}.h5")
 
 
 wildcard_constraints:
-    case=r"F[0-9.]+kN_h[0-9.]+um",
-    load=r"[0-9.]+",
-    depth=r"[0-9.]+",
+    case=CASE_NAME_REGEX,
 
 
 def scene_params(wildcards):
@@ -49,18 +73,19 @@ def example_cases(wildcards=None):
     """Cases drawn alone (Figs 4, 5, 7, 9, 11): the deepest defect and the healthy race
     (or the shallowest depth) at the highest load."""
     load = max(LOADS)
+    at_load = [c for c in CASE_IDS if c.load_kN == load]
     return {
-        "defect": case_name(load, max(DEPTHS)),
-        "healthy": case_name(load, min(DEPTHS)),
+        "defect": max(at_load, key=lambda c: (c.depth_um, c.width_um or 0.0)).name,
+        "healthy": min(at_load, key=lambda c: (c.depth_um, c.width_um or 0.0)).name,
     }
 
 
 def reference_case(wildcards):
     """The healthy case of the same load, when the sweep has one (defines the defect part);
     none for a healthy case itself (its SNR is that of its whole response)."""
-    load, depth = parse_case_name(wildcards.case)
-    if float(depth) > 0 and 0 in [float(d) for d in DEPTHS]:
-        return f"results/cases/{case_name(load, 0)}.h5"
+    case = CaseId.parse(wildcards.case)
+    if case.depth_um > 0 and 0.0 in DEPTHS:
+        return f"results/cases/{CaseId(case.load_kN, 0.0).name}.h5"
     return []
 
 
