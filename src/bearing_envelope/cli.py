@@ -41,8 +41,15 @@ def main(argv: list[str] | None = None) -> int:
         return 2
     try:
         return int(args.func(args) or 0)
-    except (ValueError, FileNotFoundError, KeyError) as exc:
-        print(f"bearing-envelope {args.command}: error: {exc}", file=sys.stderr)
+    except (ValueError, KeyError) as exc:
+        msg = exc.args[0] if isinstance(exc, KeyError) and exc.args else exc
+        print(f"bearing-envelope {args.command}: error: {msg}", file=sys.stderr)
+        return 2
+    except OSError as exc:  # a path that is a directory, missing, unreadable or not writable
+        what = exc.strerror or type(exc).__name__
+        where = f": {exc.filename}" if exc.filename else ""
+        print(f"bearing-envelope {args.command}: error: {what}{where}" if exc.strerror
+              else f"bearing-envelope {args.command}: error: {exc}", file=sys.stderr)
         return 2
 
 

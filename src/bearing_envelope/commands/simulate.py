@@ -1,6 +1,8 @@
 """``bearing-envelope simulate``: pressure time history of one load x depth case to HDF5.
 
-Reads the ``scene:`` section (and ``fidelity:``, a preset name or a mapping) of a YAML config,
+Reads the ``scene:`` section (and ``fidelity:``, a preset name or a mapping) of a YAML config
+(``--config``, default ``./config.yaml`` when present; the whole file is validated by the same
+loader as the workflow's, :func:`bearing_envelope.settings.load_settings`), says which file it read,
 builds the scene (:meth:`bearing_envelope.scene.Scene.from_mapping`, validated before any solve),
 simulates the history (:func:`bearing_envelope.history.simulate`) and writes the case file
 (:func:`bearing_envelope.io.write_case`, layout in ``docs/file-format.md``).
@@ -26,9 +28,12 @@ def register(subparsers) -> None:
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     p.add_argument("--config", default=None,
-                   help="YAML config with `scene:` (and optionally `fidelity:`); default scene if omitted")
+                   help="YAML config (validated like the workflow's; only `scene:` and `fidelity:` "
+                        "are used); default ./config.yaml when present, else the built-in scene")
     p.add_argument("--load-kn", type=float, required=True, help="load value, kN (see scene load.mode)")
     p.add_argument("--depth-um", type=float, required=True, help="defect depth, um (0 = no defect)")
+    p.add_argument("--width-um", type=float, default=None,
+                   help="defect width across rolling, um (default: the config's, null = 2 x depth)")
     p.add_argument("--fidelity", default=None,
                    help="preset draft | standard | paper (overrides the config's `fidelity:`)")
     p.add_argument("--numpy", action="store_true", help="numpy synthesis instead of the numba kernel")
@@ -37,34 +42,62 @@ def register(subparsers) -> None:
     p.set_defaults(func=run)
 
 
-def load_config(path: str | None) -> dict:
-    """The YAML config as a dict (empty without a path)."""
-    if path is None:
-        return {}
-    import yaml
+def check_output(path: str) -> None:
+    """Refuse an output path that cannot become a case file, before any solve.
 
-    with open(path, encoding="utf-8") as fh:
-        cfg = yaml.safe_load(fh) or {}
-    if not isinstance(cfg, dict):
-        raise ValueError(f"{path}: the config must be a mapping, got {type(cfg).__name__}")
-    return cfg
+    Raises
+    ------
+    ValueError
+        ``-o`` is a directory, or its parent exists and is not a writable directory.
+    """
+    import os
+
+    if os.path.isdir(path):
+        raise ValueError(f"-o/--output: {path!r} is a directory; allowed: a file path ending in .h5")
+    parent = os.path.dirname(os.path.abspath(path))
+    probe = parent
+    while not os.path.exists(probe):
+        probe = os.path.dirname(probe)
+    if not os.path.isdir(probe) or not os.access(probe, os.W_OK | os.X_OK):
+        raise ValueError(f"-o/--output: {path!r}: {probe!r} is not a writable directory")
+
+
+def resolve_config(path: str | None):
+    """The config file simulate reads: ``--config``, else ``./config.yaml`` when present, else none."""
+    from bearing_envelope.settings import default_config_path
+
+    if path is not None:
+        return path
+    p = default_config_path()
+    return None if p is None else str(p)
 
 
 def run(args) -> int:
     from bearing_envelope.fidelity import fidelity_from
     from bearing_envelope.history import simulate
     from bearing_envelope.io import write_case
-    from bearing_envelope.scene import Scene
+    from bearing_envelope.settings import CaseId, load_settings
 
-    cfg = load_config(args.config)
-    scene = Scene.from_mapping(cfg.get("scene") or {}, load_kN=args.load_kn, depth_um=args.depth_um)
-    fid = fidelity_from(args.fidelity if args.fidelity is not None else cfg.get("fidelity"))
+    path = resolve_config(args.config)
+    if path is None:
+        scene_map, fid_spec = {}, None
+        source = "no config file (no --config and no ./config.yaml): the built-in scene"
+    else:
+        st = load_settings(path, partial=True)
+        scene_map, fid_spec = st.scene_mapping, st.config.get("fidelity")
+        source = f"config {path}"
+    if not args.quiet:
+        print(f"simulate: {source}", file=sys.stderr)
+    fid = fidelity_from(args.fidelity if args.fidelity is not None else fid_spec)
+    case = CaseId(args.load_kn, args.depth_um, args.width_um)
+    scene = case.scene(scene_map)
+    check_output(args.output)
     hist = simulate(scene, fid, progress=not args.quiet, use_numba=not args.numpy)
-    write_case(args.output, hist, extra_attrs={"config_file": str(args.config or "")})
+    write_case(args.output, hist, extra_attrs={"config_file": str(path or ""), "case": case.name})
     if not args.quiet:
         s = hist.stats
         info = hist.table.info
-        print(f"{args.output}: {hist.time.size} samples, {s['n_solves']} solves in "
+        print(f"{args.output}: {case.name}, {hist.time.size} samples, {s['n_solves']} solves in "
               f"{s['wall_seconds']:.1f} s (solver {s['solver_seconds']:.1f} s); "
               f"p_max max {hist.p_max.max() / 1e9:.3f} GPa; table interp error "
               f"{info.get('interp_max_rel_error_p_max', 0.0):.2%}", file=sys.stderr)
