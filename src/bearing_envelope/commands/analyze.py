@@ -62,7 +62,8 @@ def register(subparsers) -> None:
     p.add_argument("--sidebands", type=int, default=1, help="fr sidebands M per side (default 1)")
     p.add_argument("--raw-harmonics", type=int, default=1,
                    help="orders of fr and BPFI in the raw spectrum (default 1)")
-    p.add_argument("--nlevel", type=int, default=8, help="kurtogram levels (default 8)")
+    p.add_argument("--nlevel", type=int, default=None,
+                   help="kurtogram levels (default 8, or as deep as a short signal allows)")
     p.add_argument("--max-level", type=float, default=None, help="kurtogram guard: max level")
     p.add_argument("--min-bandwidth", type=float, default=None,
                    help="kurtogram guard: minimum bandwidth, Hz")
@@ -138,6 +139,9 @@ def load_signal(path: str, *, column=None, signal: str = "p_max") -> dict:
         tcols = [c for c in cols if c.strip().lower() in _TIME_NAMES]
         data_cols = [c for c in cols if c not in tcols]
         if column is not None and column not in cols and str(column).lstrip("-").isdigit():
+            if not -len(cols) <= int(column) < len(cols):
+                raise ValueError(f"--column: index {column} is out of range; {path} has "
+                                 f"{len(cols)} columns {cols} (0-based)")
             column = cols[int(column)]
         name = _pick(data_cols if column is None else cols, column, "column", path)
         out["x"] = pd.to_numeric(df[name], errors="raise").to_numpy(dtype=float)
@@ -147,8 +151,17 @@ def load_signal(path: str, *, column=None, signal: str = "p_max") -> dict:
         return out
     if ext == ".npy":
         a = np.load(path, allow_pickle=False)
+        if a.ndim > 2 or (a.ndim == 1 and column is not None):
+            raise ValueError(f"{'--column' if column is not None else 'file'}: {path} holds a "
+                             f"{a.ndim}-D array of shape {a.shape}; "
+                             f"allowed: a 1-D signal (without --column) or a 2-D array of "
+                             f"channels (--column = channel index)")
         if a.ndim == 2:
             idx = 0 if column is None else int(column)
+            n_ch = min(a.shape)
+            if not -n_ch <= idx < n_ch:
+                raise ValueError(f"--column: index {idx} is out of range; {path} has {n_ch} "
+                                 f"channels (shape {a.shape})")
             a = a[:, idx] if a.shape[0] >= a.shape[1] else a[idx]
         out.update(x=np.asarray(a, dtype=float).ravel(), source="npy")
         return out
@@ -175,6 +188,10 @@ def _from_mapping(arrays, column, path, out, kind):
                   if np.issubdtype(np.asarray(v).dtype, np.number) and np.size(v) > 1
                   and k.lower() not in _TIME_NAMES]
     name = _pick(candidates if column is None else list(arrays), column, "variable", path)
+    shape = np.shape(arrays[name])
+    if sum(d > 1 for d in shape) > 1:
+        raise ValueError(f"{path}: variable {name!r} has shape {shape}; allowed: one signal "
+                         f"(a vector; save one channel per variable)")
     out["x"] = np.asarray(arrays[name], dtype=float).ravel()
     if out["fs"] is None:
         for k in arrays:
@@ -213,6 +230,64 @@ def load_bands(text: str | None):
     return data
 
 
+# ------------------------------------------------------------------------------ validation
+def check_args(args) -> None:
+    """Refuse bad arguments before any file is read; ``ValueError`` naming the option.
+
+    Numbers must be finite and in range (``--nlevel`` >= 1: the kurtogram is never silently run
+    at another depth), ``--csv`` must not be a directory and ``--plot`` not a file.
+    """
+    import math
+
+    def positive(opt, v, *, allow_zero=False):
+        if v is not None and (not math.isfinite(v) or v < 0 or (v == 0 and not allow_zero)):
+            raise ValueError(f"{opt}: {opt.lstrip('-').replace('-', '_')} must be a finite "
+                             f"number {'>= 0' if allow_zero else '> 0'}, got {v!r}")
+
+    positive("--fs", args.fs)
+    positive("--fr", args.fr)
+    positive("--bpfi", args.bpfi)
+    positive("--roller-diameter-mm", args.roller_diameter_mm)
+    positive("--pitch-diameter-mm", args.pitch_diameter_mm)
+    positive("--min-bandwidth", args.min_bandwidth)
+    positive("--max-level", args.max_level, allow_zero=True)
+    if args.n_rollers is not None and args.n_rollers < 1:
+        raise ValueError(f"--n-rollers: got {args.n_rollers}; allowed: an integer >= 1")
+    if not math.isfinite(args.contact_angle_deg) or not 0 <= args.contact_angle_deg < 90:
+        raise ValueError(f"--contact-angle-deg: got {args.contact_angle_deg!r}; allowed: 0 <= angle < 90")
+    for opt, v, lo in (("--nlevel", 1 if args.nlevel is None else args.nlevel, 1),
+                       ("--harmonics", args.harmonics, 1),
+                       ("--sidebands", args.sidebands, 0), ("--raw-harmonics", args.raw_harmonics, 1),
+                       ("--filter-order", args.filter_order, 1)):
+        if v < lo:
+            raise ValueError(f"{opt}: got {v}; allowed: an integer >= {lo}")
+    if args.max_level is not None and args.nlevel is not None and args.max_level > args.nlevel:
+        raise ValueError(f"--max-level: got {args.max_level:g}; allowed: <= --nlevel ({args.nlevel})")
+    if args.fixed_band is not None:
+        lo, hi = args.fixed_band
+        if not (math.isfinite(lo) and math.isfinite(hi) and 0 <= lo < hi):
+            raise ValueError(f"--fixed-band: got {lo!r} {hi!r}; allowed: 0 <= LOW_HZ < HIGH_HZ")
+    if os.path.isdir(args.file):
+        raise ValueError(f"file: {args.file!r} is a directory; allowed: a signal file")
+    if args.csv is not None and (os.path.isdir(args.csv) or args.csv.endswith(os.sep)):
+        raise ValueError(f"--csv: {args.csv!r} is a directory; allowed: a file path (.csv)")
+    if args.plot is not None and os.path.exists(args.plot) and not os.path.isdir(args.plot):
+        raise ValueError(f"--plot: {args.plot!r} is a file; allowed: a directory")
+
+
+def check_signal_args(args, x) -> None:
+    """Checks that need the loaded signal: ``--nlevel`` within what its length allows (without
+    ``--nlevel``: 8, or the deepest level the length allows)."""
+    from bearing_envelope.signal.kurtogram import max_kurtogram_level
+
+    nmax = max_kurtogram_level(x.size)
+    if args.nlevel is None:
+        args.nlevel = max(1, min(8, nmax))
+    elif args.nlevel > nmax:
+        raise ValueError(f"--nlevel: got {args.nlevel}; allowed: 1 .. {max(nmax, 1)} for "
+                         f"{x.size} samples (at least 128 samples per band at the deepest level)")
+
+
 # ------------------------------------------------------------------------------------- run
 def run(args) -> int:
     """Execute ``bearing-envelope analyze``."""
@@ -220,7 +295,9 @@ def run(args) -> int:
 
     from bearing_envelope.signal import DEFAULT_BANDS, analyze_signal
 
+    check_args(args)
     loaded = load_signal(args.file, column=args.column, signal=args.signal)
+    check_signal_args(args, loaded["x"])
     fs = args.fs if args.fs is not None else loaded["fs"]
     if fs is None:
         raise ValueError("fs: the file does not give the sampling frequency; pass --fs")
