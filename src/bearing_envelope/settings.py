@@ -39,7 +39,8 @@ import numpy as np
 __all__ = [
     "ConfigError", "CaseId", "format_number", "CASE_NAME_REGEX",
     "BandSpec", "AnalysisSettings", "SweepSettings", "DiagnosabilitySettings", "Settings",
-    "read_yaml", "settings_from_mapping", "load_settings", "default_config_path",
+    "read_yaml", "settings_from_mapping", "load_settings", "workflow_settings",
+    "default_config_path",
     "DEFAULT_CONFIG_NAME",
 ]
 
@@ -485,7 +486,7 @@ def _schema_message(err) -> str:
             key = unknown[0]
             hint = difflib.get_close_matches(key, allowed, n=1)
             tip = f"; did you mean {hint[0]!r}?" if hint else ""
-            return (f"{_dotted(path + [key])}: unknown key{tip} allowed keys here: "
+            return (f"{_dotted(path + [key])}: unknown key{tip}; allowed keys here: "
                     f"{', '.join(allowed)}")
     if err.validator == "required":
         missing = [k for k in err.validator_value if k not in (err.instance or {})]
@@ -655,3 +656,17 @@ def load_settings(path: str | os.PathLike | None = None, *, partial: bool = Fals
             raise ConfigError(f"no config given and no ./{DEFAULT_CONFIG_NAME} in {os.getcwd()}")
     src = os.fspath(path)
     return settings_from_mapping(read_yaml(src), source=src, partial=partial)
+
+
+def workflow_settings(config: Mapping[str, Any], files: Sequence[str | os.PathLike] = ()) -> Settings:
+    """The workflow's pre-run check (``workflow/rules/common.smk`` calls exactly this).
+
+    Snakemake has already parsed ``files`` into ``config`` with a loader that keeps the last of
+    two equal keys; each file is re-read with :func:`read_yaml` (duplicate keys, YAML errors with
+    line numbers), then the merged ``config`` is validated and typed by
+    :func:`settings_from_mapping`.
+    """
+    files = [os.fspath(f) for f in files]
+    for f in files:
+        read_yaml(f)
+    return settings_from_mapping(config, source=" + ".join(files) or "config")

@@ -4,22 +4,16 @@ import sys
 from pathlib import Path
 
 from bearing_envelope.io import set_aside_unreadable
-from bearing_envelope.settings import CASE_NAME_REGEX, CaseId, ConfigError, read_yaml, settings_from_mapping
+from bearing_envelope.settings import CASE_NAME_REGEX, CaseId, workflow_settings
 
 
 def load_workflow_settings():
-    """The one validating loader (bearing_envelope.settings), on the files Snakemake read.
-
-    Each config file is re-read strictly (duplicate keys, YAML errors with line numbers), then the
-    merged config is validated and typed; on error one line naming the field, and no job runs.
-    The schema defaults are filled into `config` as snakemake.utils.validate would.
-    """
-    files = [str(f) for f in workflow.configfiles]
+    """The one validating loader (bearing_envelope.settings.workflow_settings) on the files
+    Snakemake read: on error one line naming the field, and no job runs. The schema defaults are
+    filled into `config` as snakemake.utils.validate would."""
     try:
-        for f in files:
-            read_yaml(f)
-        settings = settings_from_mapping(config, source=" + ".join(files) or "config")
-    except ConfigError as exc:
+        settings = workflow_settings(config, workflow.configfiles)
+    except ValueError as exc:  # ConfigError, one line naming the field
         print(f"bearing_envelope: invalid configuration: {exc}", file=sys.stderr)
         raise SystemExit(1)
     config.clear()

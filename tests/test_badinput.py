@@ -1,0 +1,298 @@
+"""Table-driven bad-input suite (issue 17): every rejected input goes through both entry points.
+
+Each config in :data:`BAD_CONFIGS` is written to a file and run through
+
+* the workflow's pre-run check: :func:`bearing_envelope.settings.workflow_settings`, the function
+  ``workflow/rules/common.smk`` calls, given the config as Snakemake parses it (``yaml.safe_load``,
+  which keeps the last of two equal keys) and the file (``tests/test_workflow.py`` runs a few of
+  them through a real ``snakemake -n``);
+* the command line: ``bearing-envelope simulate --config FILE`` (with the contact solver replaced
+  by a function that fails the test if reached) and ``bearing-envelope check-config FILE``.
+
+Each must fail with exit code 2 (CLI) or :class:`ConfigError` (workflow), with ONE line that names
+the field, before any contact solve. The analyze command has its own table.
+"""
+
+from __future__ import annotations
+
+import copy
+from pathlib import Path
+
+import numpy as np
+import pytest
+import yaml
+
+from bearing_envelope.settings import ConfigError, workflow_settings
+
+ROOT = Path(__file__).resolve().parents[1]
+DRAFT = yaml.safe_load((ROOT / "tests" / "data" / "config_draft.yaml").read_text())
+NAN = float("nan")
+
+
+def _set(path: str, value):
+    """A mutation setting the dotted ``path`` (list indices as numbers) to ``value``."""
+    def mutate(cfg):
+        keys = [int(k) if k.isdigit() else k for k in path.split(".")]
+        node = cfg
+        for k in keys[:-1]:
+            node = node[k]
+        node[keys[-1]] = value
+    return mutate
+
+
+def _pop(path: str):
+    def mutate(cfg):
+        keys = path.split(".")
+        node = cfg
+        for k in keys[:-1]:
+            node = node[k]
+        node.pop(keys[-1])
+    return mutate
+
+
+def _all(*mutations):
+    def mutate(cfg):
+        for m in mutations:
+            m(cfg)
+    return mutate
+
+
+def _band(**band):
+    return lambda cfg: cfg["analysis"]["bands"].append(band)
+
+
+# id -> (mutation of the draft config, or raw YAML text; regex the one-line message must match)
+BAD_CONFIGS = {
+    # issue 17 item 1: sweep values that would collapse into one case
+    "depths-duplicate-float": (_set("sweep.depths_um", [0, 50, 50.0]), r"sweep\.depths_um"),
+    "loads-duplicate": (_set("sweep.loads_kN", [250, 250]), r"sweep\.loads_kN"),
+    "widths-duplicate": (_set("sweep.widths_um", [60, 60.0]), r"sweep\.widths_um"),
+    # item 2: checked only inside jobs before; NaN through JSON Schema bounds
+    "sensor-mode-at-nyquist": (_set("sensor.modes.0.f_n_hz", 32500.0), r"sensor\.modes\[0\]\.f_n_hz"),
+    "sensor-mode-above-nyquist": (_set("sensor.modes.1.f_n_hz", 40000.0), r"sensor\.modes\[1\]\.f_n_hz"),
+    "tone-above-nyquist": (_set("sensor.tones", [{"frequency_hz": 33000.0, "level_db": 0.0}]),
+                           r"sensor\.tones\[0\]\.frequency_hz"),
+    "tone-order-above-nyquist": (_set("sensor.tones", [{"order": 3000.0, "level_db": 0.0}]),
+                                 r"sensor\.tones\[0\]\.order"),
+    "zeta-nan": (_set("sensor.modes.0.zeta", NAN), r"sensor\.modes\[0\]\.zeta"),
+    "sensor-snr-nan": (_set("sensor.snr_db", NAN), r"sensor\.snr_db"),
+    "min-bandwidth-nan": (_set("analysis.min_bandwidth_hz", NAN), r"analysis\.min_bandwidth_hz"),
+    "diagnosability-snr-nan": (_set("diagnosability.snr_db", [20, NAN]), r"diagnosability\.snr_db\[1\]"),
+    "load-nan": (_set("sweep.loads_kN", [250, NAN]), r"sweep\.loads_kN\[1\]"),
+    "fs-inf": (_set("scene.operation.fs_hz", float("inf")), r"scene\.operation\.fs_hz"),
+    "max-level-above-nlevel": (_set("analysis.max_level", 9), r"analysis\.max_level"),
+    "acceleration-without-snr": (_set("analysis.signal", "acceleration"), r"sensor\.snr_db"),
+    "acceleration-without-sensor": (_all(_set("analysis.signal", "acceleration"), _pop("sensor")),
+                                    r"analysis\.signal"),
+    # item 3: what simulate --config used to skip
+    "fidelity-misspelt": ("fidelty: draft\n", r"fidelty.*did you mean 'fidelity'"),
+    "unknown-top-level": (_set("extra_section", {"a": 1}), r"extra_section: unknown key"),
+    "unknown-scene-key": (_set("scene.defect.depthx", 1), r"scene\.defect\.depthx"),
+    "fidelity-unknown-preset": (_set("fidelity", "ultra"), r"fidelity"),
+    "fidelity-unknown-field": (_set("fidelity", {"preset": "draft", "grid": 3}), r"fidelity.*grid"),
+    # item 4 and 7: YAML errors with line numbers, duplicate keys
+    "yaml-syntax-error": ("scene:\n  operation: {fs_hz: 65000\n  load: {mode: bearing}\n",
+                          r"line \d+, column \d+: YAML syntax error"),
+    "yaml-duplicate-key": ("fidelity: draft\nscene:\n  defect: {edge_radius_um: 20.0}\n"
+                           "  defect: {edge_radius_um: 5.0}\n", r"line 4: duplicate key 'defect'"),
+    "yaml-tab-indent": ("scene:\n\toperation: {}\n", r"line 2, column 1: YAML syntax error"),
+    "yaml-not-a-mapping": ("- 1\n- 2\n", r"must be a mapping"),
+    # schema and cross-field checks (must stay one line, never the schema)
+    "negative-depth": (_set("sweep.depths_um", [0, -5]), r"sweep\.depths_um\[1\]"),
+    "load-as-string": (_set("sweep.loads_kN", ["250"]), r"sweep\.loads_kN\[0\]"),
+    "band-above-nyquist": (_band(name="too_high", strategy="fixed", low_hz=30000.0, high_hz=40000.0),
+                           r"analysis\.bands\[too_high\].*Nyquist"),
+    "band-names-repeat": (_band(name="fixed", strategy="fixed", low_hz=100.0, high_hz=200.0),
+                          r"analysis\.bands\[\d\]\.name"),
+    "band-bad-name": (_band(name="a b", strategy="kurtogram"), r"analysis\.bands\[\d\]\.name"),
+    "harmonics-too-many": (_set("analysis.harmonics", 200), r"analysis\.harmonics"),
+    "zero-rollers": (_set("scene.bearing.rollers_per_row", 0), r"scene\.bearing\.rollers_per_row"),
+    "cage-slip-too-large": (_set("scene.operation.cage_slip_percent", 60),
+                            r"scene\.operation\.cage_slip_percent"),
+    "fs-below-band": (_set("scene.operation.fs_hz", 5000.0), r"scene\.operation\.fs_hz"),
+    "defect-too-long": (_set("scene.defect.length_um", 40000.0), r"scene\.defect\.length_um"),
+    # issue 12 part 4: widths
+    "width-zero": (_set("sweep.widths_um", [0]), r"sweep\.widths_um\[0\]"),
+    "width-negative": (_set("sweep.widths_um", [60, -1]), r"sweep\.widths_um\[1\]"),
+    "width-wider-than-contact": (_set("sweep.widths_um", [60, 1500]), r"sweep\.widths_um\[1\].*contact"),
+    "width-twice": (_all(_set("sweep.widths_um", [60]), _set("scene.defect.width_um", 60)),
+                    r"sweep\.widths_um"),
+}
+
+
+def _write(tmp_path: Path, spec) -> Path:
+    p = tmp_path / "bad.yaml"
+    if isinstance(spec, str):
+        p.write_text(spec)
+    else:
+        cfg = copy.deepcopy(DRAFT)
+        spec(cfg)
+        p.write_text(yaml.safe_dump(cfg, sort_keys=False))
+    return p
+
+
+def _one_line(msg: str, pattern: str) -> None:
+    import re
+
+    lines = [ln for ln in msg.strip().splitlines() if ln.strip()]
+    assert len(lines) == 1, msg
+    assert len(lines[0]) < 500, msg
+    assert re.search(pattern, lines[0]), msg
+    assert "$schema" not in msg and "additionalProperties" not in msg, msg
+
+
+@pytest.fixture
+def no_solver(monkeypatch):
+    """Make any contact solve fail the test: rejection must come before expensive work."""
+    import bearing_envelope.contact as contact
+    import bearing_envelope.history as history
+
+    def boom(*a, **k):  # pragma: no cover - reached only by a bug
+        raise AssertionError("a contact solve ran for a config that should have been rejected")
+
+    monkeypatch.setattr(contact, "solve_contact", boom)
+    monkeypatch.setattr(history, "simulate", boom)
+
+
+@pytest.mark.parametrize("key", sorted(BAD_CONFIGS))
+def test_workflow_precheck_rejects(tmp_path, key):
+    spec, pattern = BAD_CONFIGS[key]
+    path = _write(tmp_path, spec)
+    with pytest.raises(ConfigError) as info:
+        try:
+            parsed = yaml.safe_load(path.read_text())  # what Snakemake hands to common.smk
+        except yaml.YAMLError:
+            parsed = {}
+        workflow_settings(parsed if isinstance(parsed, dict) else {}, [path])
+    _one_line(str(info.value), pattern)
+    assert str(path) in str(info.value)
+
+
+@pytest.mark.parametrize("key", sorted(BAD_CONFIGS))
+def test_cli_rejects_before_any_solve(tmp_path, capsys, no_solver, key):
+    from bearing_envelope.cli import main
+
+    spec, pattern = BAD_CONFIGS[key]
+    path = _write(tmp_path, spec)
+    out = tmp_path / "case.h5"
+    for argv in (["simulate", "--config", str(path), "--load-kn", "250", "--depth-um", "50", "-q",
+                  "-o", str(out)],
+                 ["check-config", str(path)]):
+        assert main(argv) == 2, argv
+        err = capsys.readouterr().err
+        _one_line(err, pattern)
+        assert err.startswith(f"bearing-envelope {argv[0]}: error:")
+    assert not out.exists()
+
+
+def test_valid_draft_config_passes_both_entry_points(tmp_path, capsys):
+    from bearing_envelope.cli import main
+
+    path = _write(tmp_path, lambda c: None)
+    st = workflow_settings(yaml.safe_load(path.read_text()), [path])
+    assert [c.name for c in st.cases] == ["F250kN_h0um", "F250kN_h50um", "F750kN_h0um", "F750kN_h50um"]
+    assert main(["check-config", str(path)]) == 0
+    assert "4 cases" in capsys.readouterr().out
+
+
+# ------------------------------------------------------------------------------ simulate CLI
+SIM_ARGS = {
+    "output-is-directory": (["-o", "{tmp}"], r"-o/--output: .* is a directory"),
+    "config-is-directory": (["--config", "{tmp}", "-o", "{tmp}/x.h5"], r"is a directory"),
+    "config-missing": (["--config", "{tmp}/none.yaml", "-o", "{tmp}/x.h5"], r"config file not found"),
+    "negative-depth": (["--depth-um", "-3", "-o", "{tmp}/x.h5"], r"depth_um"),
+    "nan-load": (["--load-kn", "nan", "-o", "{tmp}/x.h5"], r"load_kN"),
+    "zero-width": (["--width-um", "0", "-o", "{tmp}/x.h5"], r"width_um"),
+    "unknown-fidelity": (["--fidelity", "ultra", "-o", "{tmp}/x.h5"], r"fidelity"),
+}
+
+
+@pytest.mark.parametrize("key", sorted(SIM_ARGS))
+def test_simulate_arguments(tmp_path, capsys, no_solver, monkeypatch, key):
+    from bearing_envelope.cli import main
+
+    monkeypatch.chdir(tmp_path)  # no ./config.yaml here
+    extra, pattern = SIM_ARGS[key]
+    extra = [a.replace("{tmp}", str(tmp_path)) for a in extra]
+    base = {"--load-kn": "250", "--depth-um": "50"}
+    for k in ("--load-kn", "--depth-um"):
+        if k in extra:
+            base.pop(k)
+    argv = ["simulate", "-q", *[x for kv in base.items() for x in kv], *extra]
+    assert main(argv) == 2
+    _one_line(capsys.readouterr().err, pattern)
+
+
+def test_simulate_reads_config_yaml_of_the_working_directory(tmp_path, capsys, monkeypatch):
+    """Without --config, ./config.yaml is read (and validated), and simulate says so."""
+    from bearing_envelope.cli import main
+
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "config.yaml").write_text("fidelty: draft\n")
+    assert main(["simulate", "--load-kn", "250", "--depth-um", "0", "-o", "x.h5"]) == 2
+    assert "config.yaml: fidelty: unknown key" in capsys.readouterr().err
+    (tmp_path / "config.yaml").write_text("fidelity: draft\nscene:\n  operation: {revolutions: 0.2}\n")
+    assert main(["simulate", "--load-kn", "250", "--depth-um", "0", "-o", "x.h5"]) == 0
+    err = capsys.readouterr().err
+    assert "simulate: config config.yaml" in err
+    from bearing_envelope.io import read_case
+
+    c = read_case(tmp_path / "x.h5")
+    assert c.attrs["fidelity"]["name"] == "draft" and c.attrs["case"] == "F250kN_h0um"
+
+
+# ------------------------------------------------------------------------------- analyze CLI
+ANALYZE_ARGS = {
+    "3-d-array": ("x3.npy", [], r"file: .*3-D array"),
+    "column-on-1-d": ("x1.npy", ["--column", "1"], r"--column: .*1-D array"),
+    "column-out-of-range-npy": ("x2.npy", ["--column", "5"], r"--column: index 5 is out of range"),
+    "column-out-of-range-csv": ("x.csv", ["--column", "3"], r"--column: index 3 is out of range"),
+    "column-unknown-csv": ("x.csv", ["--column", "nope"], r"no column 'nope'"),
+    "nlevel-0": ("x1.npy", ["--nlevel", "0"], r"--nlevel: got 0"),
+    "nlevel-30": ("x1.npy", ["--nlevel", "30"], r"--nlevel: got 30; allowed: 1 \.\. 7"),
+    "max-level-above-nlevel": ("x1.npy", ["--nlevel", "4", "--max-level", "5"], r"--max-level"),
+    "csv-is-directory": ("x1.npy", ["--csv", "{tmp}"], r"--csv: .* is a directory"),
+    "plot-is-file": ("x1.npy", ["--plot", "{tmp}/x1.npy"], r"--plot: .* is a file"),
+    "file-is-directory": ("{tmp}", [], r"file: .* is a directory"),
+    "file-missing": ("none.npy", [], r"no such file"),
+    "fs-nan": ("x1.npy", ["--fs", "nan"], r"--fs"),
+    "fs-negative": ("x1.npy", ["--fs", "-1"], r"--fs"),
+    "harmonics-0": ("x1.npy", ["--harmonics", "0"], r"--harmonics"),
+    "npz-2-d-variable": ("x.npz", [], r"shape \(2, 20000\)"),
+}
+
+
+@pytest.fixture
+def signals(tmp_path):
+    import pandas as pd
+
+    x = np.random.default_rng(0).standard_normal(20000)
+    np.save(tmp_path / "x1.npy", x)
+    np.save(tmp_path / "x2.npy", np.c_[x, x])
+    np.save(tmp_path / "x3.npy", x.reshape(10, 20, 100))
+    np.savez(tmp_path / "x.npz", accel=np.vstack([x, x]))
+    pd.DataFrame({"a": x[:4000], "b": x[:4000]}).to_csv(tmp_path / "x.csv", index=False)
+    return tmp_path
+
+
+@pytest.mark.parametrize("key", sorted(ANALYZE_ARGS))
+def test_analyze_arguments(signals, capsys, monkeypatch, key):
+    from bearing_envelope.cli import main
+
+    monkeypatch.chdir(signals)
+    f, extra, pattern = ANALYZE_ARGS[key]
+    tmp = str(signals)
+    argv = ["analyze", f.replace("{tmp}", tmp), "--fr", "10", "--bpfi", "55",
+            *([] if "--fs" in extra else ["--fs", "1000"]), *[a.replace("{tmp}", tmp) for a in extra]]
+    assert main(argv) == 2
+    _one_line(capsys.readouterr().err, pattern)
+
+
+def test_analyze_default_nlevel_follows_a_short_signal(signals, capsys, monkeypatch):
+    """Without --nlevel a short signal is analysed at the deepest level it allows (not an error)."""
+    from bearing_envelope.cli import main
+
+    monkeypatch.chdir(signals)
+    assert main(["analyze", "x1.npy", "--fs", "1000", "--fr", "10", "--bpfi", "55",
+                 "--bands", '[{"name": "kurtogram", "strategy": "kurtogram"}]']) == 0
+    assert "kurtogram: level" in capsys.readouterr().out
