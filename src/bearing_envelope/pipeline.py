@@ -1,18 +1,23 @@
 """Per-case analysis steps of the sweep, as plain functions the workflow scripts call.
 
-- :func:`case_bands`: the kurtogram of a case's signal and the limits of every configured band
-  (``analysis.bands``), with provenance (clamping below Nyquist recorded).
-- :func:`case_harmonics`: raw-spectrum terms and, for every band, the envelope harmonics
-  k x BPFI with sidebands k x BPFI +- m x fr and the band-passed peak, as a tidy table
-  (columns :data:`bearing_envelope.tables.TIDY_COLUMNS` plus ``base``, ``target_hz``,
-  ``clamped``, ``scaling``).
-- :func:`case_summary`: one row of peak pressures and simulation diagnostics per case.
+Each step takes library objects (a :class:`bearing_envelope.io.Case`, the config's sections)
+and returns objects that :mod:`bearing_envelope.io` writes and reads; none of them opens a file
+or knows where the workflow keeps its results, so each works the same from a notebook.
 
-Quantity names in the tidy table: ``raw_dc`` (signal mean), ``raw_fr`` (k x fr), ``raw_bpfi``
-(k x BPFI) from the raw amplitude spectrum; ``envelope_bpfi`` from the envelope spectrum;
-``bandpass_peak`` (max |band-passed signal|); ``kurtogram_kurtosis`` (best cell). Units: those
-of the signal named in the ``signal`` column (Pa for the pressure histories ``p_max`` and
-``p_max_defect``, the sensor's units for ``acceleration``; squared for a squared envelope).
+- :func:`case_bands`: the kurtogram of a case's signal and the limits of every configured band
+  (``analysis.bands``), with provenance (clamping below Nyquist recorded): a
+  :class:`bearing_envelope.io.CaseBands`.
+- :func:`case_harmonics` / :func:`case_envelope`: raw-spectrum terms and, for every band, the
+  envelope harmonics k x BPFI with sidebands k x BPFI +- m x fr and the band-passed peak, as a
+  tidy table (vocabulary of :mod:`bearing_envelope.tables`, documented in
+  ``docs/file-format.md``); ``case_envelope`` also returns the spectra the figures draw.
+- :func:`case_summary`: one row of peak pressures and simulation diagnostics per case.
+- :func:`case_acceleration`: the synthetic accelerometer signal of a case (``sensor:``).
+- :func:`case_diagnosability`: BPFI detection in that signal per SNR and band.
+
+Units of the amplitudes: those of the signal named in the ``signal`` column (Pa for the pressure
+histories ``p_max`` and ``p_max_defect``, the sensor's units for ``acceleration``; squared for a
+squared envelope).
 """
 
 from __future__ import annotations
@@ -24,19 +29,12 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from .tables import TIDY_COLUMNS
+from .io import BandLimits, CaseBands, CaseSpectra
+from .provenance import log_to
+from .tables import TIDY_COLUMNS, TIDY_EXTRA_COLUMNS, tidy_from_analysis
 
-__all__ = ["case_signal", "case_frequencies", "case_bands", "case_harmonics", "case_summary",
-           "case_diagnosability", "QUANTITY_NAMES", "log_to"]
-
-QUANTITY_NAMES = {
-    ("raw_spectrum", "dc"): "raw_dc",
-    ("raw_spectrum", "fr"): "raw_fr",
-    ("raw_spectrum", "bpfi"): "raw_bpfi",
-    ("envelope_spectrum", "bpfi"): "envelope_bpfi",
-    ("bandpass_peak", None): "bandpass_peak",
-    ("kurtogram_kurtosis", None): "kurtogram_kurtosis",
-}
+__all__ = ["case_signal", "case_frequencies", "case_bands", "case_harmonics", "case_envelope",
+           "case_summary", "case_acceleration", "case_diagnosability", "log_to"]
 
 
 def _case_id(case) -> str:
@@ -74,7 +72,7 @@ def _kurtogram(x, fs, analysis: Mapping[str, Any]):
     )
 
 
-def case_bands(case, analysis: Mapping[str, Any]) -> tuple[dict, Any]:
+def case_bands(case, analysis: Mapping[str, Any]) -> tuple[CaseBands, Any]:
     """Kurtogram and band limits of one case.
 
     Parameters
@@ -86,16 +84,19 @@ def case_bands(case, analysis: Mapping[str, Any]) -> tuple[dict, Any]:
 
     Returns
     -------
-    doc : dict
-        JSON-able: ``case``, ``load_kN``, ``depth_um``, ``fs``, ``signal``, ``kurtogram``
-        (best ``level``, ``fc``, ``bandwidth``, ``kurtosis``) and ``bands`` (list of
-        ``name``, ``strategy``, ``low_hz``, ``high_hz``, ``clamped``, ``provenance``).
+    bands : bearing_envelope.io.CaseBands
+        Case name and sweep values, ``fs``, the signal, the best kurtogram cell (``level``,
+        ``fc``, ``bandwidth``, ``kurtosis``) and one :class:`~bearing_envelope.io.BandLimits`
+        per configured band (``name``, ``strategy``, ``low_hz``, ``high_hz``, ``clamped``,
+        ``provenance``); written by :func:`bearing_envelope.io.write_bands`.
     kurtogram : bearing_envelope.signal.Kurtogram or None
-        None when no band uses the kurtogram strategy.
+        None when no band uses the kurtogram strategy
+        (:func:`bearing_envelope.io.write_kurtogram` stores it).
     """
     from .signal import resolve_band
 
-    x = case_signal(case, analysis.get("signal", "p_max"))
+    signal = analysis.get("signal", "p_max")
+    x = case_signal(case, signal)
     fs = float(case.fs)
     freqs = case_frequencies(case)
     need_kg = any(b["strategy"] == "kurtogram" for b in analysis["bands"])
@@ -103,40 +104,58 @@ def case_bands(case, analysis: Mapping[str, Any]) -> tuple[dict, Any]:
     bands = []
     for spec in analysis["bands"]:
         (lo, hi), prov = resolve_band(spec, fs, kurtogram=kg, frequencies=freqs)
-        bands.append({
-            "name": spec["name"], "strategy": spec["strategy"],
-            "low_hz": float(lo), "high_hz": float(hi),
-            "clamped": bool(prov.get("clamped", False)),
-            "provenance": _jsonable(prov),
-        })
-    doc = {
-        "case": _case_id(case),
-        "load_kN": float(case.load_kN), "depth_um": float(case.depth_um),
-        "fs": fs, "signal": analysis.get("signal", "p_max"),
-        "kurtogram": None if kg is None else {
+        bands.append(BandLimits(name=spec["name"], strategy=spec["strategy"], low_hz=float(lo),
+                                high_hz=float(hi), clamped=bool(prov.get("clamped", False)),
+                                provenance=_jsonable(prov)))
+    doc = CaseBands(
+        case=_case_id(case),
+        load_kN=float(case.load_kN), depth_um=float(case.depth_um), fs=fs, signal=signal,
+        bands=tuple(bands),
+        kurtogram=None if kg is None else {
             "level": float(kg.level), "fc": float(kg.fc), "bandwidth": float(kg.bandwidth),
             "kurtosis": float(kg.kurtosis)},
-        "bands": bands,
-    }
+    )
     return doc, kg
 
 
-def case_harmonics(case, analysis: Mapping[str, Any], bands_doc: Mapping[str, Any],
-                   *, full_output: bool = False):
-    """Tidy harmonic table of one case for the bands of ``bands_doc`` (see :func:`case_bands`).
+def _as_case_bands(bands) -> CaseBands:
+    return bands if isinstance(bands, CaseBands) else CaseBands.from_dict(bands)
+
+
+def case_harmonics(case, analysis: Mapping[str, Any], bands, *, full_output: bool = False):
+    """Tidy harmonic table of one case for the bands of ``bands`` (see :func:`case_bands`).
 
     The bands are applied as fixed limits, so the kurtogram is computed once (in
     :func:`case_bands`) and the envelope rule can rerun alone.
+
+    Parameters
+    ----------
+    case : bearing_envelope.io.Case
+    analysis : mapping
+        The config's ``analysis`` section (``signal``, ``harmonics``, ``sidebands``,
+        ``raw_orders_fr``, ``filter_order``, ``squared_envelope``).
+    bands : bearing_envelope.io.CaseBands
+        The case's band limits (a mapping as in the bands file is accepted too).
+    full_output : bool
+        Also return the details of :func:`bearing_envelope.signal.analyze_signal` (spectra).
+
+    Returns
+    -------
+    DataFrame
+        Columns :data:`bearing_envelope.tables.TIDY_COLUMNS` then ``base``, ``target_hz``,
+        ``clamped``, ``scaling``, ``signal``; one row per amplitude, the raw rows with band
+        ``raw``, one ``kurtogram_kurtosis`` row (order = level) when a band uses the kurtogram.
     """
     from .signal import analyze_signal
 
+    bands = _as_case_bands(bands)
     signal = analysis.get("signal", "p_max")
     x = case_signal(case, signal)
     fs = float(case.fs)
-    specs = [{"name": b["name"], "strategy": "fixed", "low_hz": b["low_hz"], "high_hz": b["high_hz"]}
-             for b in bands_doc["bands"]]
-    kind = {b["name"]: b["strategy"] for b in bands_doc["bands"]}
-    clamped = {b["name"]: b["clamped"] for b in bands_doc["bands"]}
+    specs = [{"name": b.name, "strategy": "fixed", "low_hz": b.low_hz, "high_hz": b.high_hz}
+             for b in bands.bands]
+    strategies = {b.name: b.strategy for b in bands.bands}
+    clamped = {b.name: b.clamped for b in bands.bands}
     res = analyze_signal(
         x, fs, fr=float(case.fr), bpfi=float(case.bpfi), bands=specs,
         n_harmonics=int(analysis.get("harmonics", 3)),
@@ -147,36 +166,54 @@ def case_harmonics(case, analysis: Mapping[str, Any], bands_doc: Mapping[str, An
         full_output=full_output,
     )
     df, extra = (res if full_output else (res, None))
-    df = df.copy()
-    base = df["base"].where(df["base"].notna(), None)
-    df["quantity"] = [
-        QUANTITY_NAMES.get((q, b if q in ("raw_spectrum", "envelope_spectrum") else None),
-                           f"{q}_{b}" if b else q)
-        for q, b in zip(df["quantity"], base)
-    ]
+    df = tidy_from_analysis(df, strategies)
     df = df[df["quantity"] != "kurtogram_kurtosis"]
-    df["band"] = df["band_strategy"]
-    df["band_strategy"] = [kind.get(n, "raw") for n in df["band"]]
     df["clamped"] = [clamped.get(n, False) for n in df["band"]]
     df["case"] = _case_id(case)
     df["load_kN"] = float(case.load_kN)
     df["depth_um"] = float(case.depth_um)
     df["signal"] = signal
-    if bands_doc.get("kurtogram"):
-        kgd = bands_doc["kurtogram"]
-        lo = next(b for b in bands_doc["bands"] if b["strategy"] == "kurtogram")
+    if bands.kurtogram:
+        kgd = bands.kurtogram
+        lo = next(b for b in bands.bands if b.strategy == "kurtogram")
         df = pd.concat([df, pd.DataFrame([{
             "case": df["case"].iloc[0], "load_kN": float(case.load_kN),
-            "depth_um": float(case.depth_um), "band": lo["name"], "band_strategy": "kurtogram",
-            "band_low_hz": lo["low_hz"], "band_high_hz": lo["high_hz"],
+            "depth_um": float(case.depth_um), "band": lo.name, "band_strategy": "kurtogram",
+            "band_low_hz": lo.low_hz, "band_high_hz": lo.high_hz,
             "quantity": "kurtogram_kurtosis", "order": kgd["level"], "sideband": 0,
-            "frequency_hz": kgd["fc"], "amplitude": kgd["kurtosis"], "clamped": lo["clamped"],
+            "frequency_hz": kgd["fc"], "amplitude": kgd["kurtosis"], "clamped": lo.clamped,
             "scaling": "kurtosis of the best kurtogram cell (order = level)",
             "signal": signal}])],
             ignore_index=True)
-    keep = TIDY_COLUMNS + [c for c in ("base", "target_hz", "clamped", "scaling", "signal") if c in df]
+    keep = TIDY_COLUMNS + [c for c in TIDY_EXTRA_COLUMNS if c in df]
     df = df[keep].reset_index(drop=True)
     return (df, extra) if full_output else df
+
+
+#: Envelope spectra are kept up to (harmonics + SPECTRA_MARGIN_ORDERS) x BPFI for the figures.
+SPECTRA_MARGIN_ORDERS = 1.5
+
+
+def case_envelope(case, analysis: Mapping[str, Any], bands) -> tuple[pd.DataFrame, CaseSpectra]:
+    """Tidy harmonic table (:func:`case_harmonics`) and the spectra the figures draw.
+
+    Returns
+    -------
+    table : DataFrame
+        As :func:`case_harmonics`.
+    spectra : bearing_envelope.io.CaseSpectra
+        The raw amplitude spectrum (float32) and each band's envelope spectrum up to
+        ``(harmonics + 1.5) x BPFI`` (:data:`SPECTRA_MARGIN_ORDERS`).
+    """
+    df, extra = case_harmonics(case, analysis, bands, full_output=True)
+    fmax = (int(analysis.get("harmonics", 3)) + SPECTRA_MARGIN_ORDERS) * case.bpfi
+    env = {}
+    for name, b in extra["bands"].items():
+        keep = b["f"] <= fmax
+        env[name] = (b["f"][keep], b["amplitude"][keep])
+    spectra = CaseSpectra(raw_f=extra["raw"][0].astype(np.float32),
+                          raw_a=extra["raw"][1].astype(np.float32), envelope=env)
+    return df, spectra
 
 
 def case_summary(case) -> dict[str, Any]:
@@ -205,6 +242,71 @@ def case_summary(case) -> dict[str, Any]:
         "interp_max_rel_error_p_max": tget("interp_max_rel_error_p_max"),
         "git_commit": case.attrs.get("git_commit", ""),
     }
+
+
+def _case_signals(case) -> dict:
+    signals = dict(getattr(case, "signals", {}) or {})
+    for name in ("p_max", "p_max_defect", "roller_load"):
+        if name not in signals and getattr(case, name, None) is not None:
+            signals[name] = getattr(case, name)
+    return signals
+
+
+def case_acceleration(case, sensor: Mapping[str, Any], *, reference=None, snr_db="model",
+                      seed=None, excitation=None) -> tuple[np.ndarray, dict[str, Any]]:
+    """Synthetic accelerometer signal of a case through the transfer path of ``sensor``.
+
+    The contact signal named by ``sensor.excitation`` (``pressure`` = p_max, ``pressure_defect``
+    = p_max_defect, ``force`` = roller load) passes through the structural modes; noise at the
+    target SNR and the interfering tones are added (:mod:`bearing_envelope.transfer`).
+
+    Parameters
+    ----------
+    case : bearing_envelope.io.Case
+    sensor : mapping
+        The config's ``sensor:`` section (:meth:`bearing_envelope.transfer.TransferModel.from_mapping`).
+    reference : Case, optional
+        No-defect case of the same load: the SNR is that of the defect part ``H e - H e_ref``.
+    snr_db : float, None or "model"
+        Noise level: the section's own (``"model"``), none (``None``) or this SNR in dB.
+    seed : int, optional
+        Noise seed (default: the section's ``seed``).
+    excitation : str, optional
+        Overrides the section's ``excitation``.
+
+    Returns
+    -------
+    acceleration : ndarray
+        At the case's sampling rate.
+    info : dict
+        JSON-able provenance: the model, SNR target and achieved (``snr_db_achieved``), seed,
+        ``excitation_signal``, ``n_samples``, ...; :func:`bearing_envelope.io.write_sensor_case`
+        stores it with the signal.
+    """
+    from .transfer import (TransferModel, excitation_from_history, select_excitation,
+                           synthesize_acceleration)
+
+    section = dict(sensor)
+    if excitation is not None:
+        section["excitation"] = excitation
+    fs = float(case.fs)
+    model = TransferModel.from_mapping(section, fs=fs)
+    if snr_db != "model":
+        model = model.with_snr(snr_db)
+    name, x = select_excitation(_case_signals(case), model.excitation)
+    e = excitation_from_history(x, scale=model.excitation_scale)
+    ref = None
+    if reference is not None:
+        if float(reference.fs) != fs:
+            raise ValueError(f"reference fs {reference.fs} Hz differs from the case's {fs} Hz")
+        _, xr = select_excitation(_case_signals(reference), model.excitation)
+        if np.shape(xr) != np.shape(x):
+            raise ValueError(f"reference has {np.size(xr)} samples, the case {np.size(x)}")
+        ref = excitation_from_history(xr, scale=model.excitation_scale)
+    acc, info = synthesize_acceleration(e, fs, model, reference=ref, seed=seed,
+                                        fr=getattr(case, "fr", None))
+    info["excitation_signal"] = name
+    return acc, info
 
 
 def case_diagnosability(case, sensor: Mapping[str, Any], analysis: Mapping[str, Any],
@@ -287,34 +389,3 @@ def _jsonable(obj):
     if isinstance(obj, np.ndarray):
         return obj.tolist()
     return obj
-
-
-class log_to:
-    """Context manager sending stderr (warnings, tracebacks) to a rule's log file.
-
-    Used by the workflow scripts: ``with log_to(snakemake.log[0]): ...``. An exception is
-    written to the log and re-raised so that the job fails.
-    """
-
-    def __init__(self, path):
-        self.path = path
-
-    def __enter__(self):
-        import logging
-        import sys
-
-        self._fh = open(self.path, "w", encoding="utf-8")
-        self._old = sys.stderr
-        sys.stderr = self._fh
-        logging.basicConfig(stream=self._fh, level=logging.INFO, force=True)
-        return self._fh
-
-    def __exit__(self, exc_type, exc, tb):
-        import sys
-        import traceback
-
-        if exc_type is not None:
-            traceback.print_exception(exc_type, exc, tb, file=self._fh)
-        sys.stderr = self._old
-        self._fh.close()
-        return False

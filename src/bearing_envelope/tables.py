@@ -1,15 +1,18 @@
-"""Aggregate tables of the sweep: the tidy harmonic table and load x depth pivots.
+"""Aggregate tables of the sweep and the one tidy vocabulary every table uses.
 
-The tidy table has one row per amplitude with the columns :data:`TIDY_COLUMNS`. Pivots turn
-one (band, quantity, order, sideband) slice into a load x depth grid, like the study's
-Figs 8, 12 and 14-20.
+The tidy table has one row per amplitude with the columns :data:`TIDY_COLUMNS` (then the extra
+columns :data:`TIDY_EXTRA_COLUMNS` where present). The same column and quantity names are used
+by the sweep's ``harmonics.csv`` and by ``bearing-envelope analyze``: :func:`tidy_from_analysis`
+maps the long form returned by :func:`bearing_envelope.signal.analyze_signal` onto them, and
+both sides call it. The vocabulary is documented once, in ``docs/file-format.md`` ("Tidy
+tables"). Pivots turn one (band, quantity, order, sideband) slice into a load x depth grid,
+like the study's Figs 8, 12 and 14-20. Files are written and read by :mod:`bearing_envelope.io`.
 """
 
 from __future__ import annotations
 
 import os
-import tempfile
-from collections.abc import Iterable
+from collections.abc import Iterable, Mapping
 from pathlib import Path
 
 import numpy as np
@@ -17,26 +20,53 @@ import pandas as pd
 
 __all__ = [
     "TIDY_COLUMNS",
+    "TIDY_EXTRA_COLUMNS",
+    "TIDY_SORT",
+    "RAW_BAND",
+    "BAND_STRATEGIES",
+    "QUANTITIES",
+    "quantity_name",
+    "tidy_from_analysis",
     "concat_tidy",
+    "band_table",
     "pivot_tables",
     "write_csv_atomic",
     "parse_case_name",
 ]
 
-TIDY_COLUMNS = [
-    "case",
-    "load_kN",
-    "depth_um",
-    "band",
-    "band_strategy",
-    "band_low_hz",
-    "band_high_hz",
-    "quantity",
-    "order",
-    "sideband",
-    "frequency_hz",
-    "amplitude",
-]
+from .vocabulary import (BAND_STRATEGIES, QUANTITIES, RAW_BAND, TIDY_COLUMNS,  # noqa: F401
+                         TIDY_EXTRA_COLUMNS, TIDY_SORT, quantity_name)
+
+
+def tidy_from_analysis(table: pd.DataFrame, strategies: Mapping[str, str] | None = None
+                       ) -> pd.DataFrame:
+    """Rename the long table of :func:`bearing_envelope.signal.analyze_signal` into the tidy
+    vocabulary: ``band_strategy`` (the band's name there) -> ``band``, ``band_kind`` ->
+    ``band_strategy``, ``quantity`` + ``base`` -> a :data:`QUANTITIES` name.
+
+    Parameters
+    ----------
+    table : DataFrame
+        As returned by ``analyze_signal`` (columns ``bearing_envelope.signal.COLUMNS``).
+    strategies : mapping, optional
+        Band name -> strategy, overriding ``band_kind`` (the sweep applies its bands as fixed
+        limits, so the strategy that chose them comes from the bands file).
+
+    Returns
+    -------
+    DataFrame
+        A copy; the other columns are kept, in their order.
+    """
+    if "band_kind" not in table.columns or "band_strategy" not in table.columns:
+        raise ValueError("tidy_from_analysis expects analyze_signal's columns band_strategy "
+                         f"(name) and band_kind; got {list(table.columns)}")
+    df = table.rename(columns={"band_strategy": "band", "band_kind": "band_strategy"})
+    base = df["base"].where(df["base"].notna(), None) if "base" in df else [None] * len(df)
+    df["quantity"] = [quantity_name(q, b) for q, b in zip(df["quantity"], base)]
+    if strategies is not None:
+        df["band_strategy"] = [strategies.get(n, RAW_BAND) for n in df["band"]]
+    return df
+
 
 def parse_case_name(name: str) -> tuple[float, float]:
     """Return ``(load_kN, depth_um)`` of a case name (:meth:`bearing_envelope.settings.CaseId.parse`).
@@ -51,26 +81,17 @@ def parse_case_name(name: str) -> tuple[float, float]:
 
 
 def _public_mode(path) -> None:
-    """Give a file made by ``mkstemp`` (mode 0600) the mode a plain ``open`` would give."""
-    umask = os.umask(0)
-    os.umask(umask)
-    os.chmod(path, 0o666 & ~umask)
+    """Alias of :func:`bearing_envelope.io._public_mode` (kept for existing callers)."""
+    from .io import _public_mode as mode
+
+    mode(path)
 
 
 def write_csv_atomic(df: pd.DataFrame, path: str | os.PathLike, **kwargs) -> None:
-    """Write ``df`` to CSV through a temporary file in the same directory, then rename."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    os.close(fd)
-    try:
-        df.to_csv(tmp, index=kwargs.pop("index", False), **kwargs)
-        _public_mode(tmp)
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
+    """Write ``df`` to CSV atomically: :func:`bearing_envelope.io.write_csv_atomic`."""
+    from .io import write_csv_atomic as write
+
+    write(df, path, **kwargs)
 
 
 def concat_tidy(frames: Iterable[pd.DataFrame]) -> pd.DataFrame:
@@ -95,9 +116,22 @@ def concat_tidy(frames: Iterable[pd.DataFrame]) -> pd.DataFrame:
         raise ValueError(f"non-finite amplitudes in {int(bad.sum())} rows, e.g.\n{rows}")
     extra = [c for c in df.columns if c not in TIDY_COLUMNS]
     df = df[TIDY_COLUMNS + extra]
-    return df.sort_values(
-        ["load_kN", "depth_um", "band", "quantity", "order", "sideband"], kind="stable"
-    ).reset_index(drop=True)
+    return df.sort_values(TIDY_SORT, kind="stable").reset_index(drop=True)
+
+
+def band_table(bands: Iterable) -> pd.DataFrame:
+    """One row per case and band from :class:`bearing_envelope.io.CaseBands` objects.
+
+    Columns :data:`bearing_envelope.io.BAND_TABLE_COLUMNS`: ``case, load_kN, depth_um, band,
+    strategy, low_hz, high_hz, clamped``, in the order given.
+    """
+    rows = []
+    for doc in bands:
+        for b in doc.bands:
+            rows.append({"case": doc.case, "load_kN": doc.load_kN, "depth_um": doc.depth_um,
+                         "band": b.name, "strategy": b.strategy, "low_hz": b.low_hz,
+                         "high_hz": b.high_hz, "clamped": b.clamped})
+    return pd.DataFrame(rows)
 
 
 def pivot_tables(tidy: pd.DataFrame, *, sideband: int = 0) -> dict[str, pd.DataFrame]:

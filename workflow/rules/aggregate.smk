@@ -6,6 +6,7 @@ rule aggregate:
         harmonics=expand("results/harmonics/{case}.csv", case=CASES),
         bands=expand("results/bands/{case}.json", case=CASES),
         cases=expand("results/cases/{case}.h5", case=CASES),
+        code=script_code("aggregate.py"),
     output:
         harmonics=report(
             "results/tables/harmonics.csv",

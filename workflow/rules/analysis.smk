@@ -5,7 +5,7 @@
 rule bands:
     input:
         case=analysis_case,
-        code=SIGNAL_CODE,
+        code=script_code("bands.py"),
     output:
         bands="results/bands/{case}.json",
         kurtogram="results/bands/{case}_kurtogram.npz",
@@ -29,7 +29,7 @@ rule envelope:
     input:
         case=analysis_case,
         bands="results/bands/{case}.json",
-        code=SIGNAL_CODE,
+        code=script_code("envelope.py"),
     output:
         harmonics="results/harmonics/{case}.csv",
         spectra="results/spectra/{case}.npz",

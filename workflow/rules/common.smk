@@ -4,6 +4,7 @@ import sys
 from pathlib import Path
 
 from bearing_envelope.io import set_aside_unreadable
+from bearing_envelope.provenance import code_dependencies
 from bearing_envelope.settings import CASE_NAME_REGEX, CaseId, workflow_settings
 
 
@@ -23,17 +24,21 @@ def load_workflow_settings():
 
 SETTINGS = load_workflow_settings()
 
-# Library code is an input of the rules that use it: editing it reruns what it affects.
+# Library code is an input of the rules that use it: editing a module reruns the stages whose
+# script imports it (directly or through other package modules), derived from the imports.
 SRC = Path(workflow.basedir) / "src" / "bearing_envelope"
-SIM_CODE = sorted(
-    str(p)
-    for pattern in ("contact/*.py", "scene.py", "geometry.py", "loads.py", "history.py",
-                    "io.py", "fidelity.py", "kinematics.py")
-    for p in SRC.glob(pattern)
-)
+SCRIPTS = Path(workflow.basedir) / "workflow" / "scripts"
 ENV = "../envs/bearing_envelope.yaml"
-SIGNAL_CODE = sorted(str(p) for p in SRC.glob("signal/*.py")) + [str(SRC / "pipeline.py")]
-SENSOR_CODE = [str(SRC / "transfer.py"), str(SRC / "diagnosis.py")]
+
+
+def script_code(name):
+    """The package sources the workflow script `name` depends on (its rule's `code` input)."""
+    return code_dependencies(SCRIPTS / name)
+
+
+SIM_CODE = script_code("simulate.py")
+SENSOR_CODE = script_code("sensor.py")
+SIGNAL_CODE = sorted(set(script_code("bands.py")) | set(script_code("envelope.py")))
 
 LOADS = list(SETTINGS.sweep.loads_kN)
 DEPTHS = list(SETTINGS.sweep.depths_um)

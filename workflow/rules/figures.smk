@@ -9,6 +9,7 @@ rule figures:
         case_files=analysis_cases(),
         kurtograms=expand("results/bands/{case}_kurtogram.npz", case=CASES),
         spectra=expand("results/spectra/{case}.npz", case=CASES),
+        code=script_code("figures.py"),
     output:
         report(
             directory("results/figures"),

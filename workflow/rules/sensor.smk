@@ -6,7 +6,7 @@ rule sensor:
     input:
         case="results/cases/{case}.h5",
         reference=reference_case,
-        code=SENSOR_CODE + [str(SRC / "commands" / "sensor.py")],
+        code=script_code("sensor.py"),
     output:
         "results/sensor/{case}.h5",
     params:

@@ -3,7 +3,7 @@
 
 rule simulate:
     input:
-        code=SIM_CODE,
+        code=script_code("simulate.py"),
     output:
         "results/cases/{case}.h5",
     params:

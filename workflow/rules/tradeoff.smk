@@ -5,7 +5,7 @@
 
 rule tradeoff:
     input:
-        code=SIM_CODE + SIGNAL_CODE + [str(SRC / "tradeoff.py")],
+        code=script_code("tradeoff.py"),
     output:
         table=report(
             "results/tradeoff/tradeoff.csv",

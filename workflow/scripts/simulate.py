@@ -4,7 +4,7 @@ import json
 from bearing_envelope.fidelity import fidelity_from
 from bearing_envelope.history import simulate
 from bearing_envelope.io import write_case
-from bearing_envelope.pipeline import log_to
+from bearing_envelope.provenance import log_to
 from bearing_envelope.settings import CaseId
 
 with log_to(snakemake.log[0]) as log:  # noqa: F821

@@ -1,7 +1,7 @@
 """Rule tradeoff: the speed-accuracy study (bearing_envelope.tradeoff) -> CSV, Pareto CSV, PNG."""
 import json
 
-from bearing_envelope.pipeline import log_to
+from bearing_envelope.provenance import log_to
 from bearing_envelope.tables import write_csv_atomic
 from bearing_envelope.tradeoff import pareto_points, plot_tradeoff, study_from_config
 

@@ -17,13 +17,6 @@ Example::
 from __future__ import annotations
 
 import argparse
-import json
-import math
-import os
-import shutil
-import subprocess
-import tempfile
-from pathlib import Path
 from typing import Any
 
 
@@ -55,29 +48,6 @@ def _read_case(path: str):
     return read_case(path)
 
 
-def _case_signals(case) -> dict:
-    signals = dict(getattr(case, "signals", {}) or {})
-    for name in ("p_max", "p_max_defect", "roller_load"):
-        if name not in signals and getattr(case, name, None) is not None:
-            signals[name] = getattr(case, name)
-    return signals
-
-
-def _git_commit() -> str | None:
-    try:
-        from bearing_envelope.io import git_commit
-
-        return git_commit()
-    except ImportError:
-        pass
-    try:
-        out = subprocess.run(["git", "rev-parse", "HEAD"], cwd=Path(__file__).resolve().parent,
-                             capture_output=True, text=True, timeout=5, check=True)
-        return out.stdout.strip() or None
-    except (OSError, subprocess.SubprocessError):
-        return None
-
-
 def load_sensor_config(path: str) -> dict[str, Any]:
     """The ``sensor:`` section of a YAML config (ValueError if absent)."""
     import yaml
@@ -89,131 +59,27 @@ def load_sensor_config(path: str) -> dict[str, Any]:
     return cfg["sensor"]
 
 
-def _json_default(o):
-    if hasattr(o, "tolist"):
-        return o.tolist()
-    if isinstance(o, float) and not math.isfinite(o):
-        return str(o)
-    raise TypeError(f"not JSON serialisable: {type(o).__name__}")
-
-
-def _write(path: Path, acc, fs: float, case, info: dict[str, Any], source: str) -> None:
-    import numpy as np
-
-    provenance = json.dumps(info, default=_json_default, allow_nan=True, sort_keys=True)
-    meta = {"fs": float(fs)}
-    for key in ("fr", "bpfi", "bpfo", "ftf", "bsf", "load_kN", "depth_um"):
-        v = getattr(case, key, None)
-        if v is not None:
-            meta[key] = float(v)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    suffix = path.suffix.lower()
-    fd, tmp = tempfile.mkstemp(prefix=path.name + ".", suffix=".tmp" + suffix, dir=path.parent)
-    os.close(fd)
-    try:
-        if suffix == ".npz":
-            with open(tmp, "wb") as fh:
-                np.savez(fh, acceleration=acc, time=np.arange(acc.size) / fs,
-                         provenance=np.array(provenance), **{k: np.array(v) for k, v in meta.items()})
-        elif suffix in (".h5", ".hdf5"):
-            import h5py
-
-            # a copy of the case file plus the acceleration as a second signal, so that
-            # read_case(OUT).signals["acceleration"] feeds every analysis like p_max does
-            shutil.copyfile(source, tmp)
-            with h5py.File(tmp, "a") as h5:
-                sg = h5.require_group("signals")
-                if "acceleration" in sg:
-                    del sg["acceleration"]
-                d = sg.create_dataset("acceleration", data=acc, compression="gzip",
-                                      compression_opts=4, shuffle=True)
-                d.attrs["units"] = "excitation units x mode gain (m/s^2 for gains in (m/s^2)/Pa)"
-                d.attrs["description"] = "synthetic accelerometer signal (bearing-envelope sensor)"
-                d.attrs["provenance"] = provenance
-                if "time" not in h5:
-                    h5.create_dataset("time", data=np.arange(acc.size) / fs)
-                h5.attrs["sensor_json"] = provenance
-        else:
-            raise ValueError(f"output must end in .npz or .h5, got {str(path)!r}")
-        os.replace(tmp, path)
-    finally:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-
-
 def write_sensor_case(case_path, section, output, *, snr_db="model", seed=None, excitation=None,
                       reference=None, config_label=None) -> dict[str, Any]:
     """Synthesise the acceleration of a case file and write it with its provenance.
 
-    Parameters
-    ----------
-    case_path : str or Path
-        Case file written by ``bearing-envelope simulate``.
-    section : mapping
-        The config's ``sensor:`` section (:meth:`bearing_envelope.transfer.TransferModel.from_mapping`).
-    output : str or Path
-        ``.h5`` (a copy of the case with ``signals/acceleration``) or ``.npz``; written atomically.
-    snr_db : float, None or "model"
-        Noise level: the section's own (``"model"``), none (``None``) or this SNR in dB.
-    seed : int, optional
-        Noise seed (default: the section's ``seed``).
-    excitation : str, optional
-        Overrides the section's ``excitation``.
-    reference : str or Path, optional
-        No-defect case of the same load: the defect part is ``H e - H e_ref``.
-    config_label : str, optional
-        Where the section came from (recorded in the provenance).
-
-    Returns
-    -------
-    dict
-        The provenance written with the signal (achieved SNR in ``snr_db_achieved``).
+    Reads the case(s), calls :func:`bearing_envelope.pipeline.case_acceleration` and writes with
+    :func:`bearing_envelope.io.write_sensor_case` (``.h5``: a copy of the case with
+    ``signals/acceleration``; ``.npz``: the signal alone; atomic). ``config_label`` (where the
+    section came from) is recorded in the provenance. Returns the provenance (achieved SNR in
+    ``snr_db_achieved``).
     """
-    import numpy as np
+    from bearing_envelope.io import check_sensor_output, write_sensor_case as write
+    from bearing_envelope.pipeline import case_acceleration
 
-    from bearing_envelope import __version__
-    from bearing_envelope.transfer import (
-        TransferModel,
-        excitation_from_history,
-        select_excitation,
-        synthesize_acceleration,
-    )
-
-    out = Path(output)
-    if out.suffix.lower() not in (".npz", ".h5", ".hdf5"):
-        raise ValueError(f"output must end in .npz or .h5, got {str(output)!r}")
-    section = dict(section)
-    if excitation is not None:
-        section["excitation"] = excitation
+    check_sensor_output(output)
     case = _read_case(str(case_path))
-    fs = float(case.fs)
-    model = TransferModel.from_mapping(section, fs=fs)
-    if snr_db != "model":
-        model = model.with_snr(snr_db)
-
-    name, x = select_excitation(_case_signals(case), model.excitation)
-    e = excitation_from_history(x, scale=model.excitation_scale)
-    ref = None
-    if reference:
-        rcase = _read_case(str(reference))
-        if float(rcase.fs) != fs:
-            raise ValueError(f"reference fs {rcase.fs} Hz differs from the case's {fs} Hz")
-        _, xr = select_excitation(_case_signals(rcase), model.excitation)
-        if np.shape(xr) != np.shape(x):
-            raise ValueError(f"reference has {np.size(xr)} samples, the case {np.size(x)}")
-        ref = excitation_from_history(xr, scale=model.excitation_scale)
-    acc, info = synthesize_acceleration(e, fs, model, reference=ref, seed=seed,
-                                        fr=getattr(case, "fr", None))
-    info.update(
-        source_case=str(case_path),
-        reference_case=str(reference) if reference else None,
-        excitation_signal=name,
-        config=config_label,
-        package_version=__version__,
-        git_commit=_git_commit(),
-        command="bearing-envelope sensor",
-    )
-    _write(out, acc, fs, case, info, str(case_path))
+    ref = _read_case(str(reference)) if reference else None
+    acc, info = case_acceleration(case, section, reference=ref, snr_db=snr_db, seed=seed,
+                                  excitation=excitation)
+    info.update(source_case=str(case_path), reference_case=str(reference) if reference else None,
+                config=config_label, command="bearing-envelope sensor")
+    write(output, acc, case=case, source=str(case_path), provenance=info)
     return info
 
 
