@@ -240,6 +240,10 @@ def test_bad_runtime_inputs():
         select_excitation({"p_max": np.ones(3)}, "force")
     name, x = select_excitation({"p_max": np.ones(3), "roller_load": np.ones(3)}, "force")
     assert name == "roller_load"
+    # a format-2 case: the blocked force (roller load minus removed force) wins over the load
+    sig = {"roller_load": np.full(3, 1e4), "contact_force": np.array([1e4, 9.9e3, 1e4])}
+    name, x = select_excitation(sig, "force")
+    assert name == "contact_force" and x[1] == 9.9e3
 
 
 # ------------------------------------------------------------------ CLI `sensor`
@@ -269,12 +273,14 @@ def _fake_case(defect=0.05):
 
 
 def _write_minimal_case(path, case):
-    """A case file in the layout of bearing_envelope.io (format version 1), written by hand."""
+    """A case file in the layout of bearing_envelope.io (its current format version), by hand."""
     import h5py
+
+    from bearing_envelope.io import FORMAT_VERSION
 
     with h5py.File(path, "w") as h5:
         h5.attrs["format"] = "bearing_envelope.case"
-        h5.attrs["format_version"] = 1
+        h5.attrs["format_version"] = FORMAT_VERSION
         for k in ("fs", "fr", "bpfi", "bpfo", "ftf", "bsf", "load_kN", "depth_um"):
             h5.attrs[k] = getattr(case, k)
         h5.attrs["bpfi_geometry"] = case.bpfi

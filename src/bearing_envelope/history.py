@@ -59,13 +59,22 @@ from .loads import LoadDistribution, scene_load_distribution
 from .scene import Scene
 
 __all__ = ["SolveStats", "LoadNode", "PressureTable", "History", "build_table", "simulate",
-           "synthesize", "synthesize_numpy", "kinematics", "direct_pressure", "Q_MIN_FRACTION"]
+           "synthesize", "synthesize_numpy", "kinematics", "direct_pressure", "Q_MIN_FRACTION",
+           "OUTSIDE_LOAD_DENSITY", "GlobalGridError", "evaluate_signals", "acquire",
+           "antialias_filter", "auto_oversample", "acquisition_settings", "synthesize_case",
+           "CONTACT_SIGNALS", "STATE_SIGNALS", "SIGNAL_UNITS"]
 
 #: Random offsets checked per random roller load (each kind: on the grid / anywhere).
 CHECK_OFFSETS_PER_LOAD = 3
 
 #: Smallest tabulated roller load, as a fraction of the largest; below it ``P0 ~ Q^(1/3)``.
 Q_MIN_FRACTION = 0.05
+
+#: Roller loads of the no-defect maximum outside the read strip (the roller-end peaks) per
+#: interval of the table's load nodes: ``P_out`` grows faster than ``Q^(1/3)`` once the contact
+#: reaches the end relief, so it gets global-only solves on a denser load grid. The nodes of
+#: the table are every ``OUTSIDE_LOAD_DENSITY``-th point of that grid.
+OUTSIDE_LOAD_DENSITY = 3
 
 
 @dataclass
@@ -128,6 +137,9 @@ class LoadNode:
     half_width: float          # solved contact half-width at y = y_d (m)
     zoom_consistency: float    # |max p_window0 - max p_global| / p0 in the read strip
     halfspace: Any = field(repr=False, default=None)
+    approach_global: float = 0.0   # approach of the global no-defect solve at q (m)
+    area_global: float = 0.0       # contact area of the global no-defect solve (m^2)
+    area_window0: float = 0.0      # contact area of the window's no-defect solve (m^2)
 
 
 def _bilinear(xg: np.ndarray, yg: np.ndarray, f: np.ndarray, x: np.ndarray, y: np.ndarray,
@@ -170,31 +182,54 @@ def _window_spec(scene: Scene, fid: Fidelity, q_load: float, kappa: float):
     return a, s, dx, dy, xh, yd, hy_read, hy
 
 
+#: Growth factor of the global grid's half-extent across rolling when the contact reaches its
+#: edge, and the number of sizes tried before :func:`_global_solve` gives up.
+GLOBAL_GRID_GROWTH = 1.3
+GLOBAL_GRID_ATTEMPTS = 4
+
+
+class GlobalGridError(RuntimeError):
+    """The global no-defect contact kept reaching the edge of its grid after every enlargement."""
+
+
+def _global_solve(scene: Scene, fid: Fidelity, q_load: float, extent: float, stats: SolveStats,
+                  p_init=None):
+    """Global no-defect solve over the whole roller length (plus one ``+inf`` cell each side).
+
+    The half-extent across rolling starts at ``extent`` (m) and grows by
+    :data:`GLOBAL_GRID_GROWTH` whenever the pressure reaches the grid's edge
+    (:class:`~bearing_envelope.contact.ContactGridError`), at most :data:`GLOBAL_GRID_ATTEMPTS`
+    sizes. Returns ``(grid, solution)``; raises :class:`GlobalGridError` naming the load and the
+    last extent.
+    """
+    from .contact import ContactGridError
+
+    e_star = scene.material.e_star_pa
+    dxg, dyg = 1e-6 * fid.global_dx_um, 1e-6 * fid.global_dy_um
+    half = scene.bearing.half_length_m
+    for _attempt in range(GLOBAL_GRID_ATTEMPTS):
+        grid = make_grid(-extent, extent, -half - 1.01 * dyg, half + 1.01 * dyg, dxg, dyg)
+        try:
+            sol = stats.solve(gap_field(scene, grid, None), dxg, dyg, q_load, e_star, tol=fid.tol,
+                              max_iter=fid.max_iter, p_init=p_init, boundary="raise",
+                              halfspace=_halfspace(grid, e_star, "scipy", fid.element),
+                              element=fid.element)
+            return grid, sol
+        except ContactGridError:
+            extent *= GLOBAL_GRID_GROWTH
+    raise GlobalGridError(f"global grid could not be sized at roller load {q_load:.6g} N: the "
+                          f"contact reached the edge of every grid up to a half-extent of "
+                          f"{extent / GLOBAL_GRID_GROWTH:.4g} m across rolling")
+
+
 def _solve_load(scene: Scene, fid: Fidelity, q_load: float, kappa: float, stats: SolveStats,
                 p_init_global=None) -> LoadNode:
     e_star = scene.material.e_star_pa
-    b = scene.bearing
     a, s, dxw, dyw, xh, yd, hy_read, hy = _window_spec(scene, fid, q_load, kappa)
-    # global grid: whole roller length plus one +inf cell each side
     dxg, dyg = 1e-6 * fid.global_dx_um, 1e-6 * fid.global_dy_um
-    half = b.half_length_m
     xw = make_grid(-xh, xh, 0.0, 1.0, dxw, 1.0).x
     extent = max(fid.global_extent * kappa * a, float(np.max(np.abs(xw))) + dxg)
-    for _attempt in range(4):
-        grid = make_grid(-extent, extent, -half - 1.01 * dyg, half + 1.01 * dyg, dxg, dyg)
-        gap = gap_field(scene, grid, None)
-        hs_g = _halfspace(grid, e_star, "scipy", fid.element)
-        try:
-            sol = stats.solve(gap, dxg, dyg, q_load, e_star, tol=fid.tol, max_iter=fid.max_iter,
-                              p_init=p_init_global, boundary="raise", halfspace=hs_g,
-                              element=fid.element)
-            break
-        except ValueError as exc:  # ContactGridError: grid too small
-            if "boundary" not in str(exc):
-                raise
-            extent *= 1.3
-    else:  # pragma: no cover
-        raise RuntimeError("global grid could not be sized")
+    grid, sol = _global_solve(scene, fid, q_load, extent, stats, p_init_global)
     pg = sol.pressure
     # solved half-width at the defect's axial position
     jy = int(np.argmin(np.abs(grid.y - yd)))
@@ -249,30 +284,17 @@ def _solve_load(scene: Scene, fid: Fidelity, q_load: float, kappa: float, stats:
     p0 = max(w0, outside)
     cons = abs(w0 - float(p_in[:, strip].max())) / p0
     return LoadNode(q_load, a, grid, pg.astype(np.float32), approach0, win, u_ext,
-                    pw0, strip, outside, p0, w0, half_width, cons, hs)
+                    pw0, strip, outside, p0, w0, half_width, cons, hs,
+                    approach_global=float(sol.approach), area_global=float(sol.contact_area),
+                    area_window0=float(np.count_nonzero(pw0 > 0)) * win.dx * win.dy)
 
 
 def _outside_max(scene: Scene, fid: Fidelity, q_load: float, kappa: float,
                  stats: SolveStats) -> float:
     """Maximum no-defect pressure outside the read strip from a global solve only (Pa)."""
-    e_star = scene.material.e_star_pa
     a, s, dxw, dyw, xh, yd, hy_read, hy = _window_spec(scene, fid, q_load, kappa)
-    dxg, dyg = 1e-6 * fid.global_dx_um, 1e-6 * fid.global_dy_um
-    half = scene.bearing.half_length_m
-    extent = max(fid.global_extent * kappa * a, xh + dxg)
-    for _attempt in range(4):
-        grid = make_grid(-extent, extent, -half - 1.01 * dyg, half + 1.01 * dyg, dxg, dyg)
-        try:
-            sol = stats.solve(gap_field(scene, grid, None), dxg, dyg, q_load, e_star, tol=fid.tol,
-                              max_iter=fid.max_iter, boundary="raise", element=fid.element,
-                              halfspace=_halfspace(grid, e_star, "scipy", fid.element))
-            break
-        except ValueError as exc:
-            if "boundary" not in str(exc):
-                raise
-            extent *= 1.3
-    else:  # pragma: no cover
-        raise RuntimeError("global grid could not be sized")
+    extent = max(fid.global_extent * kappa * a, xh + 1e-6 * fid.global_dx_um)
+    grid, sol = _global_solve(scene, fid, q_load, extent, stats)
     gstrip = np.abs(grid.y - yd) <= hy_read + 1e-12
     return float(sol.pressure[:, ~gstrip].max()) if np.any(~gstrip) else 0.0
 
@@ -282,9 +304,26 @@ def _outside_max(scene: Scene, fid: Fidelity, q_load: float, kappa: float,
 WARM_START_MAX_ITER = 300
 
 
+@dataclass
+class DefectSolve:
+    """One window solve with the defect, at the no-defect window approach (internal).
+
+    ``P`` / ``Pd``: maximum pressure of the whole contact / in the defect neighbourhood (Pa);
+    ``pressure``: the window field (Pa); ``removed_force``: window force without the defect
+    minus with it, at the same approach (N, > 0 when the defect unloads the contact);
+    ``area_change``: window contact area with minus without the defect (m^2, <= 0).
+    """
+
+    P: float
+    Pd: float
+    pressure: np.ndarray
+    removed_force: float
+    area_change: float
+
+
 def _defect_solve(scene: Scene, fid: Fidelity, node: LoadNode, x_d: float, stats: SolveStats,
-                  p_init=None):
-    """Window solve with the defect at offset ``x_d``; returns (P, Pd, pressure, force change)."""
+                  p_init=None) -> DefectSolve:
+    """Window solve with the defect at offset ``x_d`` under the no-defect window approach."""
     from .contact import ContactConvergenceError
 
     win = node.window
@@ -309,8 +348,10 @@ def _defect_solve(scene: Scene, fid: Fidelity, node: LoadNode, x_d: float, stats
     p = sol.pressure
     P = max(float(p[:, node.strip].max()), node.outside_max)
     Pd = _neighbourhood_max(scene, fid, win, p, x_d)
-    dF = float(node.p_window0.sum() - p.sum()) * win.dx * win.dy
-    return P, Pd, p, dF
+    cell = win.dx * win.dy
+    dF = float(node.p_window0.sum() - p.sum()) * cell
+    dA = float(np.count_nonzero(p > 0)) * cell - node.area_window0
+    return DefectSolve(P, Pd, p, dF, dA)
 
 
 def _neighbourhood_max(scene: Scene, fid: Fidelity, win: Grid, p: np.ndarray, x_d: float) -> float:
@@ -368,6 +409,18 @@ class PressureTable:
         ``w_x/2 + r_n`` (m).
     s_max : float
         ``s`` at the largest load (m).
+    out_density : int
+        Points of ``q_out`` per interval of ``q_nodes`` (the nodes are ``q_out[::out_density]``).
+    ratio_force : ndarray (nq, nx)
+        Force the defect removes from the contact at the no-defect approach, divided by the
+        node's roller load ``Q`` (window solves under displacement control).
+    ratio_area : ndarray (nq, nx)
+        Change of the contact area with the defect (window, same approach), divided by the
+        node's no-defect area ``A0(Q)`` (``<= 0``).
+    approach0, area0 : ndarray (nq,)
+        No-defect approach ``delta0(Q)`` (m) and contact area ``A0(Q)`` (m^2) of the global
+        solves. Interpolated as ``c(q) q^2`` with ``c`` linear in ``q = Q^(1/3)`` (exact for
+        Hertz, where both grow as ``Q^(2/3)``), ``c`` held constant outside the nodes.
     info : dict
         Diagnostics (interpolation errors, zoom consistency, grids, ...).
     """
@@ -384,7 +437,73 @@ class PressureTable:
     s_max: float
     q_out: np.ndarray
     p_out: np.ndarray
+    out_density: int = OUTSIDE_LOAD_DENSITY
+    ratio_force: np.ndarray | None = None
+    ratio_area: np.ndarray | None = None
+    approach0: np.ndarray | None = None
+    area0: np.ndarray | None = None
     info: dict = field(default_factory=dict)
+
+    def __post_init__(self):
+        shape = (self.q_nodes.size, self.xi_nodes.size)
+        if self.ratio_force is None:
+            self.ratio_force = np.zeros(shape)
+        if self.ratio_area is None:
+            self.ratio_area = np.zeros(shape)
+        if self.q_out.size != self.out_density * (self.q_nodes.size - 1) + 1:
+            raise ValueError(f"q_out has {self.q_out.size} loads; expected out_density x "
+                             f"(n_loads - 1) + 1 = {self.out_density * (self.q_nodes.size - 1) + 1}")
+
+    @property
+    def p_out_nodes(self) -> np.ndarray:
+        """``P_out`` at the table's load nodes (Pa)."""
+        return self.p_out[::self.out_density]
+
+    def p_max_nodes(self) -> np.ndarray:
+        """``P(Q_i, x_j) = max(W0 R, P_out)`` at the nodes (Pa), shape (nq, nx)."""
+        return np.maximum(self.w0[:, None] * self.ratio, self.p_out_nodes[:, None])
+
+    def _q2_rule(self, v, Q):
+        qn = np.cbrt(self.q_nodes)
+        q = np.cbrt(np.clip(Q, 0.0, None))
+        return np.interp(q, qn, v / qn ** 2) * q ** 2
+
+    def approach_no_defect(self, Q) -> np.ndarray:
+        """No-defect approach ``delta0(Q)`` (m) at roller loads ``Q`` (N)."""
+        if self.approach0 is None:
+            raise ValueError("this table has no approach0 (no-defect approach per load node)")
+        return self._q2_rule(self.approach0, Q)
+
+    def area_no_defect(self, Q) -> np.ndarray:
+        """No-defect contact area ``A0(Q)`` (m^2) at roller loads ``Q`` (N)."""
+        if self.area0 is None:
+            raise ValueError("this table has no area0 (no-defect contact area per load node)")
+        return self._q2_rule(self.area0, Q)
+
+    def evaluate_integrals(self, Q, x, *, use_numba: bool = True) -> dict[str, np.ndarray]:
+        """Integral signals at roller loads ``Q`` (N) and defect offsets ``x`` (m).
+
+        Returns
+        -------
+        dict
+            ``removed_force`` ``dF`` (N): the force the defect removes from the contact at the
+            no-defect approach; ``contact_force`` ``Q - dF`` (N): the force through the contact
+            at fixed approach (blocked-force excitation); ``approach`` ``delta`` (m): the
+            approach at the fixed roller load ``Q``, ``delta0(Q + dF)`` (the defect's lost
+            stiffness taken up by the no-defect load-approach curve, first order in
+            ``dF / Q``); ``approach_change`` ``delta - delta0(Q)`` (m, >= 0); ``contact_area``
+            (m^2): ``A0(Q + dF) + dA`` with ``dA`` the window's area change at fixed approach.
+        """
+        Q = np.asarray(Q, dtype=float)
+        x = np.asarray(x, dtype=float)
+        rf = _ratio_eval(self, self.ratio_force, Q, x, use_numba)
+        ra = _ratio_eval(self, self.ratio_area, Q, x, use_numba)
+        dF = Q * rf
+        d0 = self.approach_no_defect(Q)
+        d = self.approach_no_defect(Q + dF)
+        area = self.area_no_defect(Q + dF) + ra * self.area_no_defect(Q)
+        return {"removed_force": dF, "contact_force": Q - dF, "approach": d,
+                "approach_change": d - d0, "contact_area": area}
 
     def scale(self, Q):
         """``s(Q) = kappa a_coef Q^(1/3) + s_const`` (m)."""
@@ -406,6 +525,32 @@ class PressureTable:
         Q = np.asarray(Q, dtype=float)
         x = np.asarray(x, dtype=float)
         return _table_eval_numpy(Q, x, *self.args())
+
+
+def _ratio_eval(table: "PressureTable", T: np.ndarray, Q, x, use_numba: bool = True) -> np.ndarray:
+    """A ratio table (fill 0 beyond the last offset) read like ``P_d/W0`` (no ``P0`` factor)."""
+    qn, xn, _, _, _, ka, s0, _, _ = table.args()
+    T = np.ascontiguousarray(T, dtype=float)
+    if use_numba and HAVE_NUMBA:
+        out = np.empty(Q.size)
+        _ratio_kernel(np.ascontiguousarray(Q.ravel()), np.ascontiguousarray(x.ravel()), qn, xn,
+                      ka, s0, T, out)
+        return out.reshape(Q.shape)
+    q = np.cbrt(np.clip(Q, 0.0, None))
+    nq, nx = T.shape
+    qc = np.clip(q, qn[0], qn[-1])
+    i = np.clip(np.searchsorted(qn, qc, side="right") - 1, 0, nq - 2)
+    tq = (qc - qn[i]) / (qn[i + 1] - qn[i])
+    rel = np.abs(x) / (ka * q + s0)
+
+    def row(ii):
+        xr = rel * (ka * qn[ii] + s0)
+        j = np.clip(np.searchsorted(xn, xr, side="right") - 1, 0, nx - 2)
+        tx = np.clip((xr - xn[j]) / (xn[j + 1] - xn[j]), 0.0, 1.0)
+        v = (1 - tx) * T[ii, j] + tx * T[ii, j + 1]
+        return np.where(xr >= xn[-1], 0.0, v)
+
+    return (1 - tq) * row(i) + tq * row(i + 1)
 
 
 def _table_eval_numpy(Q, x, qn, xn, p0, R, Rd, ka, s0, qo, po):
@@ -500,6 +645,8 @@ def build_table(scene: Scene, fidelity: Fidelity | str | None = None, *, q_max: 
         p0 = np.array([nd.p0 for nd in nodes])
         R = np.ones((nq, nxi))
         Rd = np.zeros((nq, nxi))
+        RF = np.zeros((nq, nxi))     # removed force / Q at fixed approach
+        RA = np.zeros((nq, nxi))     # window contact-area change / global area A0(Q)
         dF_max = 0.0
         snapshots: dict[str, Any] = {}
         snap_xi = np.linspace(0.0, 0.8, fid.n_snapshot_offsets) if fid.n_snapshot_offsets else []
@@ -524,30 +671,37 @@ def build_table(scene: Scene, fidelity: Fidelity | str | None = None, *, q_max: 
                         if bar is not None:
                             bar.update()
                         continue
-                    P, Pd, p_prev, dF = _defect_solve(scene, fid, nd, x_nodes[j], stats, p_prev)
+                    ds = _defect_solve(scene, fid, nd, x_nodes[j], stats, p_prev)
+                    p_prev = ds.pressure
                     R[i, j] = float(p_prev[:, nd.strip].max()) / nd.w0
-                    Rd[i, j] = Pd / nd.w0
-                    dF_max = max(dF_max, abs(dF) / nd.q)
+                    Rd[i, j] = ds.Pd / nd.w0
+                    RF[i, j] = ds.removed_force / nd.q
+                    RA[i, j] = ds.area_change / nd.area_global
+                    dF_max = max(dF_max, abs(ds.removed_force) / nd.q)
                 fields = []
                 for xi in snap_xi:
-                    fields.append(_defect_solve(scene, fid, nd, xi * s_i, stats)[2].astype(np.float32))
+                    fields.append(_defect_solve(scene, fid, nd, xi * s_i, stats).pressure
+                                  .astype(np.float32))
                 snap["offsets"] = np.asarray(snap_xi) * s_i
                 snap["window_pressure"] = np.array(fields) if fields else \
                     np.zeros((0,) + nd.window.shape, np.float32)
             snapshots[f"load_{i}"] = snap
-        # the no-defect maximum outside the read strip (roller ends) on a 3x denser load grid:
-        # global solves only
-        nout = 3 * (nq - 1) + 1
+        # the no-defect maximum outside the read strip (roller ends) on a denser load grid
+        # (OUTSIDE_LOAD_DENSITY points per node interval): global solves only
+        m_out = OUTSIDE_LOAD_DENSITY
+        nout = m_out * (nq - 1) + 1
         q_out = np.linspace(qn[0], qn[-1], nout) ** 3
         p_out = np.empty(nout)
         for k, qo in enumerate(q_out):
-            if k % 3 == 0:
-                p_out[k] = nodes[k // 3].outside_max
+            if k % m_out == 0:
+                p_out[k] = nodes[k // m_out].outside_max
             else:
                 p_out[k] = _outside_max(scene, fid, float(qo), kappa, stats)
         w0 = np.array([nd.w0 for nd in nodes])
         table = PressureTable(q_nodes, xi_nodes, p0, w0, R, Rd, a_coef, kappa, s_const, s_max,
-                              q_out, p_out)
+                              q_out, p_out, out_density=m_out, ratio_force=RF, ratio_area=RA,
+                              approach0=np.array([nd.approach_global for nd in nodes]),
+                              area0=np.array([nd.area_global for nd in nodes]))
         # interpolation error against direct solves at random (Q, x): x on the window grid
         # (pure table error) and x anywhere (adds the sub-cell discretisation jitter)
         from .contact import ContactConvergenceError
@@ -566,7 +720,8 @@ def build_table(scene: Scene, fidelity: Fidelity | str | None = None, *, q_max: 
                     pairs.append((float(rng.uniform(0.0, reach)), checks_any))
                 for xd, out in pairs:
                     try:
-                        P, Pd, _, _ = _defect_solve(scene, fid, node, xd, stats)
+                        ds = _defect_solve(scene, fid, node, xd, stats)
+                        P, Pd = ds.P, ds.Pd
                     except ContactConvergenceError as exc:
                         if out is checks:
                             raise  # on-grid offsets are the table's own kind of solve
@@ -627,47 +782,54 @@ def direct_pressure(scene: Scene, fidelity: Fidelity | str | None, q_load: float
     node = _solve_load(scene, fid, q_load, kappa, stats)
     if not scene.defect.active:
         return node.p0, _neighbourhood_max(scene, fid, node.window, node.p_window0, x_d)
-    P, Pd, _, _ = _defect_solve(scene, fid, node, x_d, stats)
-    return P, Pd
+    ds = _defect_solve(scene, fid, node, x_d, stats)
+    return ds.P, ds.Pd
 
 
 # ---------------------------------------------------------------------------------------------
 # kinematics and synthesis
 
 
-def kinematics(scene: Scene, t: np.ndarray) -> dict[str, np.ndarray]:
+def kinematics(scene: Scene, t: np.ndarray, *, t_end: float | None = None) -> dict[str, np.ndarray]:
     """Shaft and cage angles, defect offset and roller index at times ``t`` (s).
 
     Returns a dict with ``theta_shaft`` (rad, the defect's angle from the load direction),
-    ``theta_cage`` (rad), ``offset`` (m) and ``roller`` (index of the nearest roller).
+    ``theta_cage`` (rad), ``offset`` (m), ``roller`` (index of the nearest roller) and
+    ``theta_roller`` (rad, that roller's angle from the load direction). ``t_end`` (s): end of
+    the whole record when ``t`` is one block of it (keeps the seeded slip process the same).
     """
-    b, op = scene.bearing, scene.operation
+    b = scene.bearing
     z = b.rollers_per_row
-    fc = scene.cage_rate_hz
-    theta_d = 2.0 * np.pi * op.shaft_rate_hz * t
-    theta_c = cage_angle(scene, t)
+    theta_d = 2.0 * np.pi * scene.operation.shaft_rate_hz * t
+    theta_c = cage_angle(scene, t, t_end=t_end)
     pitch = 2.0 * np.pi / z
     rel = theta_d - theta_c
     k = np.floor((rel + 0.5 * pitch) / pitch)
     wrapped = rel - k * pitch
-    _ = fc
     return {"theta_shaft": theta_d, "theta_cage": theta_c,
-            "offset": b.inner_race_radius_m * wrapped, "roller": np.mod(k, z).astype(np.int64)}
+            "offset": b.inner_race_radius_m * wrapped, "roller": np.mod(k, z).astype(np.int64),
+            "theta_roller": theta_d - wrapped}
 
 
-def cage_angle(scene: Scene, t: np.ndarray) -> np.ndarray:
-    """Cage angle (rad) at times ``t``; with slip a seeded, piecewise-constant random slip."""
+def cage_angle(scene: Scene, t: np.ndarray, *, t_end: float | None = None) -> np.ndarray:
+    """Cage angle (rad) at times ``t``; with slip a seeded, piecewise-constant random slip.
+
+    ``t_end`` (s): the record's end when ``t`` is a block of it (the slip draws depend only on
+    the seed and ``t_end``, so blocks of one record agree). Times slightly before 0 (the
+    anti-alias filter's lead-in) continue the first period's rate.
+    """
     op = scene.operation
     fc = scene.cage_rate_hz
     if op.cage_slip_percent <= 0:
         return 2.0 * np.pi * fc * t
     rng = np.random.default_rng(op.slip_seed)
     period = 1.0 / scene.bpfi_hz
-    n = int(np.ceil((t[-1] if t.size else 0.0) / period)) + 2
+    last = max(float(t[-1]) if t.size else 0.0, 0.0 if t_end is None else float(t_end))
+    n = int(np.ceil(last / period)) + 2
     s = rng.uniform(0.0, 2e-2 * op.cage_slip_percent, n)
     rate = 2.0 * np.pi * fc * (1.0 - s)
     edges = np.concatenate([[0.0], np.cumsum(rate * period)])   # angle at k * period
-    k = np.minimum((t / period).astype(np.int64), n - 1)
+    k = np.clip((t / period).astype(np.int64), 0, n - 1)
     return edges[k] + rate[k] * (t - k * period)
 
 
@@ -675,10 +837,16 @@ def _law_params(ld: LoadDistribution):
     return (ld.stiffness, ld.delta_r, ld.clearance, math.cos(ld.contact_angle_rad), ld.exponent)
 
 
-def synthesize_numpy(scene: Scene, table: PressureTable, ld: LoadDistribution, t: np.ndarray):
-    """Per-sample synthesis, numpy version: ``(p_max, p_max_defect, roller_load, offset)``."""
-    kin = kinematics(scene, t)
-    Q = ld.load_at(kin["theta_shaft"])
+def synthesize_numpy(scene: Scene, table: PressureTable, ld: LoadDistribution, t: np.ndarray,
+                     *, t_end: float | None = None):
+    """Per-sample synthesis, numpy version: ``(p_max, p_max_defect, roller_load, offset)``.
+
+    The roller load is the load-zone law at the defect's angle (``load.roller_load: smooth``)
+    or at the angle of the roller over the defect (``discrete``).
+    """
+    kin = kinematics(scene, t, t_end=t_end)
+    psi = kin["theta_roller"] if scene.load.roller_load == "discrete" else kin["theta_shaft"]
+    Q = ld.load_at(psi)
     P, Pd = table.evaluate(Q, kin["offset"])
     return P, Pd, Q, kin["offset"]
 
@@ -704,8 +872,8 @@ try:  # pragma: no cover - numba optional at import time
         return (1.0 - tx) * T[i, j] + tx * T[i, j + 1]
 
     @numba.njit(cache=True, fastmath=False)
-    def _synth_kernel(t, theta_c, fr, z, ri, K, dr, c, ca, n, qn, xn, p0, R, Rd, ka, s0, qo, po,
-                      P, Pd, Qo, Xo):
+    def _synth_kernel(t, theta_c, fr, z, ri, K, dr, c, ca, n, discrete, qn, xn, p0, R, Rd, ka,
+                      s0, qo, po, P, Pd, Qo, Xo):
         pitch = 2.0 * np.pi / z
         nq = qn.size
         for k in range(t.size):
@@ -713,7 +881,8 @@ try:  # pragma: no cover - numba optional at import time
             rel = th - theta_c[k]
             m = np.floor((rel + 0.5 * pitch) / pitch)
             x = ri * (rel - m * pitch)
-            d = (dr * np.cos(th) - 0.5 * c) * ca
+            psi = th - (rel - m * pitch) if discrete else th
+            d = (dr * np.cos(psi) - 0.5 * c) * ca
             Q = K * d ** n if d > 0.0 else 0.0
             Qo[k] = Q
             Xo[k] = x
@@ -743,26 +912,177 @@ try:  # pragma: no cover - numba optional at import time
             P[k] = w if w > pout else pout
             Pd[k] = p0q * ((1 - tq) * _row(Rd, i, xn, x0, 0.0) + tq * _row(Rd, i + 1, xn, x1, 0.0))
 
+    @numba.njit(cache=True, fastmath=False)
+    def _ratio_kernel(Qa, Xa, qn, xn, ka, s0, T, out):
+        nq = qn.size
+        for k in range(Qa.size):
+            Q = Qa[k]
+            q = np.cbrt(Q) if Q > 0.0 else 0.0
+            qc = min(max(q, qn[0]), qn[nq - 1])
+            i = 0
+            while i < nq - 2 and qn[i + 1] <= qc:
+                i += 1
+            tq = (qc - qn[i]) / (qn[i + 1] - qn[i])
+            r = abs(Xa[k]) / (ka * q + s0)
+            out[k] = ((1 - tq) * _row(T, i, xn, r * (ka * qn[i] + s0), 0.0)
+                      + tq * _row(T, i + 1, xn, r * (ka * qn[i + 1] + s0), 0.0))
+
     HAVE_NUMBA = True
 except ImportError:  # pragma: no cover
     HAVE_NUMBA = False
 
 
-def synthesize(scene: Scene, table: PressureTable, ld: LoadDistribution, t: np.ndarray):
+def synthesize(scene: Scene, table: PressureTable, ld: LoadDistribution, t: np.ndarray,
+               *, t_end: float | None = None):
     """Per-sample synthesis with the numba kernel (falls back to numpy without numba).
 
     Same outputs as :func:`synthesize_numpy`: ``(p_max, p_max_defect, roller_load, offset)``.
     """
     if not HAVE_NUMBA:  # pragma: no cover
-        return synthesize_numpy(scene, table, ld, t)
+        return synthesize_numpy(scene, table, ld, t, t_end=t_end)
     t = np.ascontiguousarray(t, dtype=float)
-    theta_c = np.ascontiguousarray(cage_angle(scene, t))
+    theta_c = np.ascontiguousarray(cage_angle(scene, t, t_end=t_end))
     n = t.size
     P, Pd, Q, X = (np.empty(n) for _ in range(4))
     K, dr, c, ca, ex = _law_params(ld)
     _synth_kernel(t, theta_c, scene.operation.shaft_rate_hz, scene.bearing.rollers_per_row,
-                  scene.bearing.inner_race_radius_m, K, dr, c, ca, ex, *table.args(), P, Pd, Q, X)
+                  scene.bearing.inner_race_radius_m, K, dr, c, ca, ex,
+                  scene.load.roller_load == "discrete", *table.args(), P, Pd, Q, X)
     return P, Pd, Q, X
+
+
+#: Signals of a case that describe the contact (filtered by the anti-alias acquisition), and the
+#: kinematic bookkeeping that is point-sampled in every mode (a sawtooth offset is not filtered).
+CONTACT_SIGNALS = ("p_max", "p_max_defect", "removed_force", "contact_force", "approach",
+                   "approach_change", "contact_area")
+STATE_SIGNALS = ("roller_load", "defect_offset")
+
+#: Units of every signal a case can hold.
+SIGNAL_UNITS = {"p_max": "Pa", "p_max_defect": "Pa", "removed_force": "N", "contact_force": "N",
+                "approach": "m", "approach_change": "m", "contact_area": "m^2",
+                "roller_load": "N", "defect_offset": "m"}
+
+
+def evaluate_signals(scene: Scene, table: PressureTable, ld: LoadDistribution, t: np.ndarray,
+                     *, t_end: float | None = None, use_numba: bool = True) -> dict[str, np.ndarray]:
+    """Every signal of :data:`CONTACT_SIGNALS` and :data:`STATE_SIGNALS` at the instants ``t``
+    (s): pressures from :meth:`PressureTable.evaluate`, integrals from
+    :meth:`PressureTable.evaluate_integrals`."""
+    fn = synthesize if use_numba else synthesize_numpy
+    P, Pd, Q, X = fn(scene, table, ld, t, t_end=t_end)
+    out = {"p_max": P, "p_max_defect": Pd, "roller_load": Q, "defect_offset": X}
+    out.update(table.evaluate_integrals(Q, X, use_numba=use_numba))
+    return out
+
+
+# ---------------------------------------------------------------------------------------------
+# acquisition: point samples or anti-aliased
+
+
+#: Anti-alias filter of the ``antialiased`` acquisition, as fractions of the output rate fs:
+#: pass band up to ``ANTIALIAS_PASS`` (the fs/4-3fs/8 band and every BPFI band lie inside),
+#: stop band from ``ANTIALIAS_STOP`` = Nyquist with at least ``ANTIALIAS_ATTEN_DB``.
+ANTIALIAS_PASS = 0.40
+ANTIALIAS_STOP = 0.50
+ANTIALIAS_ATTEN_DB = 80.0
+
+#: Output samples per block of the anti-aliased synthesis (bounds memory: the internal rate is
+#: ``oversample x fs``; a block holds ``oversample x (ACQUISITION_BLOCK + filter length)`` samples).
+ACQUISITION_BLOCK = 8192
+
+
+def antialias_filter(oversample: int) -> np.ndarray:
+    """Linear-phase FIR low-pass for decimating ``oversample x fs`` to ``fs``.
+
+    Kaiser-window design (:func:`scipy.signal.firwin`) at the internal rate, cut-off half-way
+    between :data:`ANTIALIAS_PASS` and :data:`ANTIALIAS_STOP` (0.45 fs), designed for
+    ``ANTIALIAS_ATTEN_DB + 5`` dB so that the stop band from fs/2 up is at least
+    :data:`ANTIALIAS_ATTEN_DB` down (checked in the tests); pass-band ripple < 1e-4. The length
+    is ``2 K oversample + 1`` (odd, symmetric: the centre tap is the zero-delay sample), unit DC
+    gain.
+    """
+    from scipy.signal import firwin, kaiser_beta, kaiserord
+
+    n = int(oversample)
+    fs_int = float(n)                      # in units of the output rate
+    width = ANTIALIAS_STOP - ANTIALIAS_PASS
+    numtaps, _ = kaiserord(ANTIALIAS_ATTEN_DB + 5.0, width / (0.5 * fs_int))
+    k = int(math.ceil((numtaps - 1) / (2.0 * n)))
+    h = firwin(2 * k * n + 1, 0.5 * (ANTIALIAS_PASS + ANTIALIAS_STOP), fs=fs_int,
+               window=("kaiser", kaiser_beta(ANTIALIAS_ATTEN_DB + 5.0)))
+    return h / h.sum()
+
+
+def auto_oversample(scene: Scene, fidelity: Fidelity | str | None = None) -> int:
+    """``oversample: auto``: the smallest ``N`` with the defect moving no more than the defect
+    window's spacing across rolling per internal sample, ``N = ceil(v / (fs dx))`` with
+    ``v = 2 pi (f_r - f_c) R_i`` the defect's speed relative to the cage (4.24 m/s in the default
+    scene) and ``dx`` the window spacing of ``fidelity``."""
+    fid = fidelity_from(fidelity)
+    v = 2.0 * math.pi * (scene.operation.shaft_rate_hz - scene.cage_rate_hz) * \
+        scene.bearing.inner_race_radius_m
+    dx = _window_spec(scene, fid, 1.0, 1.0)[2] if scene.defect.active else 1e-6 * fid.local_dx_um
+    return max(1, int(math.ceil(v / (scene.operation.fs_hz * dx) - 1e-9)))
+
+
+def acquire(evaluate: Callable[[np.ndarray], dict], n_samples: int, fs: float, *,
+            mode: str = "antialiased", oversample: int = 1, filtered: tuple[str, ...] | None = None,
+            block: int = ACQUISITION_BLOCK) -> dict[str, np.ndarray]:
+    """Sample signals given as functions of time at ``fs``: point samples or anti-aliased.
+
+    Parameters
+    ----------
+    evaluate : callable
+        ``evaluate(t) -> {name: array like t}``: the signals at times ``t`` (s); called on
+        blocks, also at times slightly before 0 and after the record (filter lead-in/out).
+    n_samples : int
+        Output samples, at ``t_k = k / fs``.
+    fs : float
+        Output rate (Hz).
+    mode : {"antialiased", "point"}
+        ``point``: ``evaluate(t_k)``. ``antialiased``: evaluated at ``oversample x fs``, filtered
+        by :func:`antialias_filter` and decimated with :func:`scipy.signal.upfirdn`, the filter
+        centred on each output instant (zero phase, no delay).
+    oversample : int
+        Internal rate factor (``>= 1``).
+    filtered : tuple of str, optional
+        Names that are filtered; the others are point-sampled at ``t_k`` (default: all).
+    block : int
+        Output samples per block (memory bound).
+
+    Returns
+    -------
+    dict
+        ``name -> array (n_samples,)``.
+    """
+    from scipy.signal import upfirdn
+
+    if mode not in ("antialiased", "point"):
+        raise ValueError(f"acquisition mode: got {mode!r}; allowed: antialiased | point")
+    if isinstance(oversample, bool) or not isinstance(oversample, (int, np.integer)) or oversample < 1:
+        raise ValueError(f"acquisition oversample: got {oversample!r}; allowed: an integer >= 1")
+    n_samples = int(n_samples)
+    if mode == "point":
+        return {k: np.asarray(v, dtype=float) for k, v in evaluate(np.arange(n_samples) / fs).items()}
+    n = int(oversample)
+    h = antialias_filter(n)
+    k_half = (h.size - 1) // (2 * n)             # filter half-length in output samples
+    c = k_half * n
+    out: dict[str, np.ndarray] = {}
+    for m0 in range(0, n_samples, block):
+        m1 = min(n_samples, m0 + block)
+        j = np.arange(m0 * n - c, (m1 - 1) * n + c + 1)
+        sig = evaluate(j / (n * fs))
+        if not out:
+            out = {k: np.empty(n_samples) for k in sig}
+        for name, x in sig.items():
+            x = np.asarray(x, dtype=float)
+            if filtered is not None and name not in filtered:
+                out[name][m0:m1] = x[c::n][: m1 - m0]
+            else:
+                y = upfirdn(h, x, 1, n)
+                out[name][m0:m1] = y[2 * k_half: 2 * k_half + (m1 - m0)]
+    return out
 
 
 # ---------------------------------------------------------------------------------------------
@@ -785,6 +1105,7 @@ class History:
     load_distribution: LoadDistribution
     signals: dict
     stats: dict
+    acquisition: dict = field(default_factory=dict)
 
 
 def add_noise(x: np.ndarray, snr_db: float, seed: int) -> np.ndarray:
@@ -795,9 +1116,41 @@ def add_noise(x: np.ndarray, snr_db: float, seed: int) -> np.ndarray:
     return x + sigma * rng.standard_normal(x.size)
 
 
+def acquisition_settings(scene: Scene, fidelity: Fidelity | str | None = None) -> dict[str, Any]:
+    """The acquisition a case uses: ``mode``, resolved ``oversample`` (1 for ``point``), the
+    filter's pass/stop edges (fractions of fs), its stop-band attenuation target (dB) and length."""
+    acq = scene.operation.acquisition
+    if acq.mode == "point":
+        return {"mode": "point", "oversample": 1}
+    n = auto_oversample(scene, fidelity) if acq.oversample == "auto" else int(acq.oversample)
+    return {"mode": acq.mode, "oversample": n, "oversample_setting": str(acq.oversample),
+            "filter": "Kaiser-window FIR, linear phase, centred (zero delay), scipy.signal.upfirdn",
+            "pass_band_fs": ANTIALIAS_PASS, "stop_band_fs": ANTIALIAS_STOP,
+            "stop_band_attenuation_db": ANTIALIAS_ATTEN_DB,
+            "filter_taps": int(antialias_filter(n).size)}
+
+
+def synthesize_case(scene: Scene, table: PressureTable, ld: LoadDistribution,
+                    fidelity: Fidelity | str | None = None, *, use_numba: bool = True,
+                    acquisition: dict | None = None) -> tuple[np.ndarray, dict, dict]:
+    """All signals of a case at ``fs`` with the scene's acquisition (or ``acquisition``, a dict
+    like :func:`acquisition_settings`). Returns ``(time, signals, acquisition)``."""
+    op = scene.operation
+    acq = acquisition or acquisition_settings(scene, fidelity)
+    n = scene.n_samples
+    t_end = (n + 1) / op.fs_hz + 1.0 / scene.bpfi_hz
+
+    def ev(t):
+        return evaluate_signals(scene, table, ld, t, t_end=t_end, use_numba=use_numba)
+
+    sig = acquire(ev, n, op.fs_hz, mode=acq["mode"], oversample=acq["oversample"],
+                  filtered=CONTACT_SIGNALS)
+    return np.arange(n) / op.fs_hz, sig, acq
+
+
 def simulate(scene: Scene, fidelity: Fidelity | str | None = None, *, progress: bool = False,
              use_numba: bool = True) -> History:
-    """Simulate one case: load distribution, contact table, per-sample synthesis, noise.
+    """Simulate one case: load distribution, contact table, acquisition of every signal, noise.
 
     Parameters
     ----------
@@ -806,7 +1159,7 @@ def simulate(scene: Scene, fidelity: Fidelity | str | None = None, *, progress: 
     progress : bool
         Show a tqdm bar over the contact solves (only on a terminal).
     use_numba : bool
-        Use the numba synthesis kernel (else numpy).
+        Use the numba synthesis kernels (else numpy).
     """
     fid = fidelity_from(fidelity)
     t_start = _time.perf_counter()
@@ -815,17 +1168,17 @@ def simulate(scene: Scene, fidelity: Fidelity | str | None = None, *, progress: 
     table, nodes, snaps = build_table(scene, fid, q_max=ld.q_max, stats=stats, progress=progress)
     t_table = _time.perf_counter() - t_start
     op = scene.operation
-    t = np.arange(scene.n_samples) / op.fs_hz
     t1 = _time.perf_counter()
-    P, Pd, Q, X = (synthesize if use_numba else synthesize_numpy)(scene, table, ld, t)
+    t, sig, acq = synthesize_case(scene, table, ld, fid, use_numba=use_numba)
     t_synth = _time.perf_counter() - t1
-    signals = {"p_max": P, "p_max_defect": Pd}
+    P, Pd, Q, X = sig["p_max"], sig["p_max_defect"], sig["roller_load"], sig["defect_offset"]
+    signals = {k: sig[k] for k in CONTACT_SIGNALS}
     if op.noise_snr_db is not None:
-        signals = {
+        signals.update({
             "p_max": add_noise(P, op.noise_snr_db, op.noise_seed),
             "p_max_defect": add_noise(Pd, op.noise_snr_db, op.noise_seed + 1),
             "p_max_clean": P, "p_max_defect_clean": Pd,
-        }
+        })
     stats_d = {
         "n_solves": stats.n_solves, "n_iterations": stats.n_iterations,
         "n_failed_solves": stats.n_failed, "failed_solver_seconds": stats.failed_seconds,
@@ -834,4 +1187,4 @@ def simulate(scene: Scene, fidelity: Fidelity | str | None = None, *, progress: 
         "synthesis_seconds": t_synth, "wall_seconds": _time.perf_counter() - t_start,
     }
     return History(scene, fid, t, signals["p_max"], signals["p_max_defect"], Q, X, table, snaps,
-                   ld, signals, stats_d)
+                   ld, signals, stats_d, acq)

@@ -23,11 +23,25 @@ __all__ = ["FORMAT_VERSION", "Case", "CaseFormatError", "write_case", "read_case
            "case_file_problem", "set_aside_unreadable", "clean_stale_temps", "temp_path_for"]
 
 #: Version of the layout written by :func:`write_case`; :func:`read_case` accepts only this one.
-FORMAT_VERSION = 1
+#: 2: integral signals (removed_force, contact_force, approach, approach_change, contact_area),
+#: their tables, and the acquisition (root attribute ``acquisition_json``).
+FORMAT_VERSION = 2
 
 _REQUIRED = ("time", "signals/p_max", "signals/p_max_defect", "signals/roller_load",
              "signals/defect_offset")
 _COMPRESSION = dict(compression="gzip", compression_opts=4, shuffle=True)
+
+
+_SIGNAL_DESCRIPTIONS = {
+    "p_max": "maximum contact pressure over the whole contact",
+    "p_max_defect": "maximum pressure in the defect neighbourhood",
+    "removed_force": "force the defect removes from the contact at the no-defect approach",
+    "contact_force": "roller load minus removed force: the force through the contact at fixed "
+                     "approach (blocked force)",
+    "approach": "approach delta(t) at the roller load (no-defect curve at Q + removed force)",
+    "approach_change": "approach minus the no-defect approach at the same roller load (>= 0)",
+    "contact_area": "contact area at the roller load",
+}
 
 
 class CaseFormatError(ValueError):
@@ -62,8 +76,10 @@ class Case:
     attrs : dict
         All root attributes (versions, commit, fidelity, solver settings, diagnostics).
     signals : dict
-        Name -> 1-D array: ``p_max``, ``p_max_defect``, ``roller_load``, ``defect_offset`` and,
-        with noise, ``p_max_clean``, ``p_max_defect_clean``.
+        Name -> 1-D array: ``p_max``, ``p_max_defect``, ``roller_load``, ``defect_offset``, the
+        integral signals ``removed_force`` (N), ``contact_force`` (N), ``approach`` (m),
+        ``approach_change`` (m), ``contact_area`` (m^2) and, with noise, ``p_max_clean``,
+        ``p_max_defect_clean``.
     snapshots : dict
         ``load_<i>`` -> dict of pressure fields and coordinates.
     table : dict
@@ -151,6 +167,7 @@ def write_case(path: str | os.PathLike, history, *, extra_attrs: dict | None = N
     import h5py
 
     from . import __version__
+    from .history import SIGNAL_UNITS
 
     path = os.fspath(path)
     directory = os.path.dirname(os.path.abspath(path))
@@ -198,14 +215,13 @@ def write_case(path: str | os.PathLike, history, *, extra_attrs: dict | None = N
                 "exponent": ld.exponent}, sort_keys=True)
             for k, v in (extra_attrs or {}).items():
                 a[k] = v
+            a["acquisition_json"] = json.dumps(_jsonable(getattr(history, "acquisition", {})),
+                                               sort_keys=True)
             _dset(f, "time", history.time, "s", "sample times")
             sg = f.create_group("signals")
-            units = {"p_max": "Pa", "p_max_defect": "Pa", "p_max_clean": "Pa",
-                     "p_max_defect_clean": "Pa"}
             for name, arr in history.signals.items():
-                _dset(sg, name, arr, units.get(name, ""), "")
-            sg["p_max"].attrs["description"] = "maximum contact pressure over the whole contact"
-            sg["p_max_defect"].attrs["description"] = "maximum pressure in the defect neighbourhood"
+                base = name[:-6] if name.endswith("_clean") else name
+                _dset(sg, name, arr, SIGNAL_UNITS.get(base, ""), _SIGNAL_DESCRIPTIONS.get(base, ""))
             _dset(sg, "roller_load", history.roller_load, "N", "load of the roller at the defect")
             _dset(sg, "defect_offset", history.defect_offset, "m",
                   "arc-length offset of the defect from the nearest roller's contact centre")
@@ -218,10 +234,16 @@ def write_case(path: str | os.PathLike, history, *, extra_attrs: dict | None = N
             _dset(tg, "w0", tb.w0, "Pa", "no-defect maximum in the window's read strip W0(Q)")
             _dset(tg, "q_out", tb.q_out, "N", "dense roller loads of p_out")
             _dset(tg, "p_out", tb.p_out, "Pa", "no-defect maximum outside the read strip (ends)")
-            _dset(tg, "p_max", np.maximum(tb.w0[:, None] * tb.ratio, tb.p_out[::3][:, None]), "Pa",
-                  "P(Q, x), whole contact")
+            _dset(tg, "p_max", tb.p_max_nodes(), "Pa", "P(Q, x), whole contact")
             _dset(tg, "p_max_defect", tb.w0[:, None] * tb.ratio_defect, "Pa",
                   "P_d(Q, x), defect neighbourhood")
+            tg.attrs["out_density"] = tb.out_density
+            _dset(tg, "removed_force", tb.q_nodes[:, None] * tb.ratio_force, "N",
+                  "force the defect removes at the no-defect approach, dF(Q, x)")
+            _dset(tg, "area_change", tb.area0[:, None] * tb.ratio_area, "m^2",
+                  "contact-area change with the defect at the no-defect approach, dA(Q, x)")
+            _dset(tg, "approach0", tb.approach0, "m", "no-defect approach delta0(Q) (global solves)")
+            _dset(tg, "area0", tb.area0, "m^2", "no-defect contact area A0(Q) (global solves)")
             tg.attrs["a_coef"] = tb.a_coef
             tg.attrs["kappa"] = tb.kappa
             tg.attrs["s_const"] = tb.s_const
@@ -460,7 +482,8 @@ def _read_case(path: str | os.PathLike) -> Case:
         table = _read_group(f["table"]) if "table" in f else {}
         snaps = _read_group(f["snapshots"]) if "snapshots" in f else {}
         time = f["time"][()]
-    for k in ("scene_json", "fidelity_json", "solver_json", "stats_json", "load_distribution_json"):
+    for k in ("scene_json", "fidelity_json", "solver_json", "stats_json", "load_distribution_json",
+              "acquisition_json"):
         if k in attrs:
             attrs[k[:-5]] = json.loads(attrs[k])
     return Case(

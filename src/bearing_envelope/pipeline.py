@@ -45,7 +45,9 @@ def _case_id(case) -> str:
 
 
 def case_signal(case, name: str = "p_max") -> np.ndarray:
-    """The named 1-D signal of a case (``p_max`` or ``p_max_defect``, or any stored signal)."""
+    """The named 1-D signal of a case: ``p_max``, ``p_max_defect``, an integral signal
+    (``removed_force``, ``contact_force``, ``approach``, ``approach_change``, ``contact_area``;
+    format 2 case files) or any other stored signal."""
     if name not in case.signals:
         raise ValueError(f"analysis.signal = {name!r}; the case holds {sorted(case.signals)}")
     x = np.asarray(case.signals[name], dtype=float)

@@ -29,8 +29,10 @@ key, with units, in ``docs/scene.md``)::
       slip_seed: 0
       noise_snr_db: null             # null -> no noise
       noise_seed: 0
+      acquisition: {mode: antialiased, oversample: auto}   # or {mode: point}
     load:
       mode: bearing                  # bearing | contact
+      roller_load: smooth            # smooth | discrete
     defect:
       length_um: 500.0
       width_um: null                 # null -> 2 x depth
@@ -58,7 +60,8 @@ from typing import Any, Mapping
 from .kinematics import FaultFrequencies, fault_frequencies
 
 __all__ = [
-    "EndRelief", "Bearing", "MaterialProps", "Material", "Operation", "Load", "Defect", "Scene",
+    "EndRelief", "Bearing", "MaterialProps", "Material", "Acquisition", "Operation", "Load",
+    "Defect", "Scene", "ACQUISITION_MODES", "ROLLER_LOAD_MODELS",
     "DEFAULT_SCENE", "default_scene_mapping", "MAX_BAND_ORDER",
 ]
 
@@ -95,8 +98,9 @@ DEFAULT_SCENE: dict[str, Any] = {
         "slip_seed": 0,
         "noise_snr_db": None,
         "noise_seed": 0,
+        "acquisition": {"mode": "antialiased", "oversample": "auto"},
     },
-    "load": {"mode": "bearing"},
+    "load": {"mode": "bearing", "roller_load": "smooth"},
     "defect": {
         "length_um": 500.0,
         "width_um": None,
@@ -314,6 +318,36 @@ class Material:
         return 1.0 / ((1 - r.nu ** 2) / (r.E_GPa * 1e9) + (1 - s.nu ** 2) / (s.E_GPa * 1e9))
 
 
+#: ``operation.acquisition.mode`` values (see :class:`Acquisition`).
+ACQUISITION_MODES = ("antialiased", "point")
+
+#: ``load.roller_load`` values (see :class:`Load`).
+ROLLER_LOAD_MODELS = ("smooth", "discrete")
+
+
+@dataclass(frozen=True)
+class Acquisition:
+    """How the history is sampled at ``fs`` (:func:`bearing_envelope.history.acquire`).
+
+    Attributes
+    ----------
+    mode : str
+        ``antialiased`` (default): the history is evaluated at ``oversample * fs``, low-pass
+        filtered (linear-phase FIR, pass band to 0.40 fs, >= 80 dB stop band from 0.50 fs =
+        Nyquist) and decimated to ``fs`` with zero delay, as an acquisition chain with an
+        anti-alias filter would. ``point``: the history is evaluated at the sample instants
+        only (the source study's point sampling; features narrower than a sample alias).
+    oversample : int or "auto"
+        Internal rate factor ``N >= 1`` for ``antialiased``. ``auto``: the smallest ``N`` for
+        which the defect moves no more than the defect window's spacing across rolling per
+        internal sample (``N = ceil(v / (fs dx_window))``, ``v`` the defect's speed relative to
+        the cage; 33 at ``standard``, 66 at ``paper``). Ignored for ``point``.
+    """
+
+    mode: str = "antialiased"
+    oversample: int | str = "auto"
+
+
 @dataclass(frozen=True)
 class Operation:
     """Operating and sampling conditions.
@@ -339,6 +373,8 @@ class Operation:
         dB; ``None`` = no noise.
     noise_seed : int
         Seed of the noise.
+    acquisition : Acquisition
+        Sampling of the history at ``fs``: anti-aliased (default) or point samples.
     """
 
     shaft_rate_hz: float
@@ -349,6 +385,7 @@ class Operation:
     slip_seed: int
     noise_snr_db: float | None
     noise_seed: int
+    acquisition: Acquisition = Acquisition()
 
 
 @dataclass(frozen=True)
@@ -359,10 +396,16 @@ class Load:
     rollers (:mod:`bearing_envelope.loads`). ``contact``: ``value_N`` is the force on the modelled
     contact when it sits at the centre of the load zone; the roller load elsewhere follows the same
     load-zone shape as in ``bearing`` mode.
+
+    ``roller_load`` says which load the modelled contact carries at each instant: ``smooth``
+    (default) the load-zone law at the defect's angle (continuous; no step at BPFI in a healthy
+    race), ``discrete`` the load of the roller actually over the defect, at that roller's angle
+    (steps as the defect passes from one roller to the next, half-way between them).
     """
 
     value_N: float
     mode: str = "bearing"
+    roller_load: str = "smooth"
 
     @property
     def load_kN(self) -> float:
@@ -459,7 +502,8 @@ class Scene:
             "bearing": b,
             "material": dataclasses.asdict(self.material),
             "operation": dataclasses.asdict(self.operation),
-            "load": {"mode": self.load.mode, "value_kN": self.load.load_kN},
+            "load": {"mode": self.load.mode, "roller_load": self.load.roller_load,
+                     "value_kN": self.load.load_kN},
             "defect": d,
         }
 
@@ -589,7 +633,8 @@ def _build_material(m: Mapping[str, Any]) -> Material:
 def _build_load(m: Mapping[str, Any], load_kN: float) -> Load:
     mode = _choice("load.mode", m["mode"], ("bearing", "contact"))
     v = _num("load.value_kN", load_kN, lo=0, lo_open=True)
-    return Load(v * 1e3, mode)
+    rl = _choice("load.roller_load", m["roller_load"], ROLLER_LOAD_MODELS)
+    return Load(v * 1e3, mode, rl)
 
 
 def _build_defect(m: Mapping[str, Any], depth_um: float, bearing: Bearing) -> Defect:
@@ -646,4 +691,17 @@ def _build_operation(m: Mapping[str, Any], bpfi_per_hz: float, z: int) -> Operat
     snr = m["noise_snr_db"]
     snr = None if snr is None else _num(p + "noise_snr_db", snr, allowed="null or a finite number (dB)")
     nseed = _int(p + "noise_seed", m["noise_seed"], lo=0)
-    return Operation(fr, ov, fs, rev, slip, sseed, snr, nseed)
+    return Operation(fr, ov, fs, rev, slip, sseed, snr, nseed, _build_acquisition(m["acquisition"]))
+
+
+def _build_acquisition(m: Mapping[str, Any]) -> Acquisition:
+    p = "operation.acquisition."
+    mode = _choice(p + "mode", m["mode"], ACQUISITION_MODES)
+    n = m["oversample"]
+    if n != "auto":
+        if isinstance(n, float) and n.is_integer():
+            n = int(n)
+        if isinstance(n, bool) or not isinstance(n, int) or n < 1:
+            raise _bad(p + "oversample", n, "'auto' or an integer >= 1 (internal rate = "
+                       "oversample x fs_hz)")
+    return Acquisition(mode, n)

@@ -65,7 +65,10 @@ __all__ = [
 EXCITATION_KINDS: dict[str, tuple[str, ...]] = {
     "pressure": ("p_max_clean", "p_max"),
     "pressure_defect": ("p_max_defect_clean", "p_max_defect"),
-    "force": ("force", "contact_force", "roller_load"),
+    # the force through the contact at fixed approach (roller load minus the force the defect
+    # removes): the blocked force of the contact acting on the structure (docs/sensor.md);
+    # case files before format 2 have only the roller load
+    "force": ("contact_force", "force", "roller_load"),
 }
 
 _DISCRETIZATIONS = ("impulse", "bilinear")
@@ -361,7 +364,8 @@ def select_excitation(signals: Mapping[str, np.ndarray], kind: str = "pressure")
     that the contact history always carries); ``pressure_defect`` -> ``p_max_defect``; the
     noise-free ``*_clean`` versions are preferred when the case has them (the case's own
     measurement noise is not part of the physical excitation);
-    ``force`` -> the first of ``force``, ``contact_force``, ``roller_load`` (N). Returns
+    ``force`` -> the first of ``contact_force`` (roller load minus the force the defect removes
+    at fixed approach: the blocked force), ``force``, ``roller_load`` (N). Returns
     ``(name, array)``; raises KeyError naming what is missing.
     """
     if kind not in EXCITATION_KINDS:

@@ -2,7 +2,8 @@
 
 Reads a case file (:func:`bearing_envelope.io.read_case`), takes the contact signal named by the
 ``sensor:`` section of the config (``excitation``: ``pressure`` = p_max, ``pressure_defect`` =
-p_max_defect, ``force`` = contact force / roller load), passes it through the structural modes,
+p_max_defect, ``force`` = contact_force, the roller load minus the force the defect removes at
+fixed approach: the blocked force, docs/sensor.md), passes it through the structural modes,
 adds noise at the target SNR and the interfering tones (:mod:`bearing_envelope.transfer`), and
 writes the acceleration with its provenance: ``.h5`` = a copy of the case file with the
 acceleration added as ``signals/acceleration`` (readable by ``read_case`` like any case), ``.npz`` =
