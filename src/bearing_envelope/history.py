@@ -61,7 +61,8 @@ from .scene import Scene
 __all__ = ["SolveStats", "LoadNode", "PressureTable", "History", "build_table", "simulate",
            "synthesize", "synthesize_numpy", "kinematics", "direct_pressure", "Q_MIN_FRACTION",
            "OUTSIDE_LOAD_DENSITY", "GlobalGridError", "evaluate_signals", "acquire",
-           "antialias_filter", "auto_oversample", "acquisition_settings", "synthesize_case",
+           "antialias_filter", "antialias_undershoot", "auto_oversample", "acquisition_settings",
+           "synthesize_case",
            "CONTACT_SIGNALS", "STATE_SIGNALS", "SIGNAL_UNITS"]
 
 #: Random offsets checked per random roller load (each kind: on the grid / anywhere).
@@ -1027,7 +1028,8 @@ def auto_oversample(scene: Scene, fidelity: Fidelity | str | None = None) -> int
 
 def acquire(evaluate: Callable[[np.ndarray], dict], n_samples: int, fs: float, *,
             mode: str = "antialiased", oversample: int = 1, filtered: tuple[str, ...] | None = None,
-            block: int = ACQUISITION_BLOCK) -> dict[str, np.ndarray]:
+            block: int = ACQUISITION_BLOCK,
+            ranges: dict[str, list[float]] | None = None) -> dict[str, np.ndarray]:
     """Sample signals given as functions of time at ``fs``: point samples or anti-aliased.
 
     Parameters
@@ -1049,6 +1051,12 @@ def acquire(evaluate: Callable[[np.ndarray], dict], n_samples: int, fs: float, *
         Names that are filtered; the others are point-sampled at ``t_k`` (default: all).
     block : int
         Output samples per block (memory bound).
+    ranges : dict, optional
+        Filled with ``name -> [min, max]`` of each filtered signal's internal samples (before the
+        filter). The filter is linear with some negative taps, so an anti-aliased output of a
+        signal that is ``>= 0`` internally can undershoot 0 near sharp features, by at most
+        ``max x sum(-h[h < 0])`` (:func:`antialias_undershoot`); these ranges let a caller check
+        the physics (``p >= 0``) on the internal samples and the filter bound on the output.
 
     Returns
     -------
@@ -1082,7 +1090,17 @@ def acquire(evaluate: Callable[[np.ndarray], dict], n_samples: int, fs: float, *
             else:
                 y = upfirdn(h, x, 1, n)
                 out[name][m0:m1] = y[2 * k_half: 2 * k_half + (m1 - m0)]
+                if ranges is not None and x.size:
+                    lo, hi = ranges.get(name, [math.inf, -math.inf])
+                    ranges[name] = [min(lo, float(x.min())), max(hi, float(x.max()))]
     return out
+
+
+def antialias_undershoot(oversample: int) -> float:
+    """``sum(-h[h < 0])`` of :func:`antialias_filter`: an anti-aliased output of a signal with
+    internal samples in ``[0, M]`` lies in ``[-u M, (1 + u) M]`` with ``u`` this value."""
+    h = antialias_filter(oversample)
+    return float(-h[h < 0].sum())
 
 
 # ---------------------------------------------------------------------------------------------
@@ -1143,8 +1161,12 @@ def synthesize_case(scene: Scene, table: PressureTable, ld: LoadDistribution,
     def ev(t):
         return evaluate_signals(scene, table, ld, t, t_end=t_end, use_numba=use_numba)
 
+    ranges: dict[str, list[float]] = {}
     sig = acquire(ev, n, op.fs_hz, mode=acq["mode"], oversample=acq["oversample"],
-                  filtered=CONTACT_SIGNALS)
+                  filtered=CONTACT_SIGNALS, ranges=ranges)
+    if acq["mode"] == "antialiased":
+        acq = {**acq, "internal_range": ranges,
+               "undershoot_bound": antialias_undershoot(acq["oversample"])}
     return np.arange(n) / op.fs_hz, sig, acq
 
 

@@ -160,7 +160,7 @@ class CaseId:
                 return cls.parse(str(attrs["case"]))
             except ValueError:
                 pass
-        width = ((case.scene or {}).get("defect") or {}).get("width_um")
+        width = ((getattr(case, "scene", None) or {}).get("defect") or {}).get("width_um")
         depth = float(case.depth_um)
         if width is None or depth == 0 or float(width) == 2.0 * depth:
             width = None

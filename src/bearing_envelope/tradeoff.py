@@ -187,7 +187,7 @@ def run_variant(scene, fidelity: Fidelity, analysis: Mapping[str, Any]) -> dict[
     cpu, wall = time.process_time() - c0, time.perf_counter() - w0
     ff = scene.frequencies()
     case = SimpleNamespace(
-        signals={"p_max": hist.p_max, "p_max_defect": hist.p_max_defect}, fs=scene.operation.fs_hz,
+        signals=dict(hist.signals), fs=scene.operation.fs_hz,
         fr=scene.operation.shaft_rate_hz, bpfi=scene.bpfi_hz, bpfo=ff.bpfo, ftf=ff.ftf, bsf=ff.bsf,
         load_kN=scene.load.load_kN, depth_um=scene.defect.depth_um)
     sig = analysis.get("signal", "p_max")
@@ -204,7 +204,7 @@ def run_variant(scene, fidelity: Fidelity, analysis: Mapping[str, Any]) -> dict[
             metrics[(f"envelope_bpfi_{int(r['order'])}", str(r["band"]))] = float(r["amplitude"])
     return {"cpu_s": cpu, "wall_s": wall, "n_solves": int(hist.stats["n_solves"]),
             "n_iterations": int(hist.stats["n_iterations"]), "p_max": x, "metrics": metrics,
-            "bands": doc["bands"]}
+            "bands": [b.to_dict() for b in doc.bands]}
 
 
 def _error(metric: str, est: float, ref: float, x=None, xref=None, depth: float = 1.0) -> float:
