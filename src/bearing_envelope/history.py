@@ -187,6 +187,9 @@ def _window_spec(scene: Scene, fid: Fidelity, q_load: float, kappa: float):
 #: edge, and the number of sizes tried before :func:`_global_solve` gives up.
 GLOBAL_GRID_GROWTH = 1.3
 GLOBAL_GRID_ATTEMPTS = 4
+#: Axial reach of the global grid beyond each roller end, in axial cells: just over one, so that
+#: exactly one cell centre lies past each end (no material there: gap ``+inf``).
+GLOBAL_END_CELLS = 1.01
 
 
 class GlobalGridError(RuntimeError):
@@ -209,7 +212,8 @@ def _global_solve(scene: Scene, fid: Fidelity, q_load: float, extent: float, sta
     dxg, dyg = 1e-6 * fid.global_dx_um, 1e-6 * fid.global_dy_um
     half = scene.bearing.half_length_m
     for _attempt in range(GLOBAL_GRID_ATTEMPTS):
-        grid = make_grid(-extent, extent, -half - 1.01 * dyg, half + 1.01 * dyg, dxg, dyg)
+        grid = make_grid(-extent, extent, -half - GLOBAL_END_CELLS * dyg, half + GLOBAL_END_CELLS * dyg,
+                         dxg, dyg)
         try:
             sol = stats.solve(gap_field(scene, grid, None), dxg, dyg, q_load, e_star, tol=fid.tol,
                               max_iter=fid.max_iter, p_init=p_init, boundary="raise",
@@ -576,10 +580,232 @@ def _table_eval_numpy(Q, x, qn, xn, p0, R, Rd, ka, s0, qo, po):
     return np.maximum(p0q * r, pout), p0q * rd
 
 
+#: Reach of the contact across rolling guessed before any solve, as a multiple of the Hertz
+#: semi-axis at the largest load: sizes the offset grid only for the progress bar's count (the
+#: solved half-width, with roller-end truncation, fixes the real grid through ``kappa``).
+REACH_GUESS_FACTOR = 1.1
+#: Margin on the solved-to-Hertz half-width ratio ``kappa``: the offset reach ``s(Q)`` and the
+#: window cover the solved contact with 2 % to spare.
+KAPPA_MARGIN = 1.02
+#: Largest normalised offset ``x / s(Q)`` of the pressure-field snapshots (0 = centred defect).
+SNAPSHOT_XI_MAX = 0.8
+
+
+def _table_loads(q_max: float, n_loads: int) -> tuple[np.ndarray, np.ndarray]:
+    """Roller-load nodes, uniform in ``q = Q^(1/3)`` from ``Q_MIN_FRACTION q_max`` to ``q_max``:
+    returns ``(q, Q)``."""
+    qn = np.linspace((Q_MIN_FRACTION * q_max) ** (1 / 3), q_max ** (1 / 3), n_loads)
+    return qn, qn ** 3
+
+
+def _offset_nodes(scene: Scene, fid: Fidelity, s_reach: float, dxw: float) -> np.ndarray:
+    """Defect offsets of the table (m): multiples of the window spacing ``dxw`` from 0 to
+    ``xi_max s_reach``, at least ``n_offsets`` of them and, with a defect, at most
+    ``min(width / offsets_per_width, offset_step_um)`` apart (capped at ``max_offsets``).
+
+    Every node sees the defect at the same sub-cell position: the peak over cells jitters by up
+    to ~10 % with the sub-cell position of an under-resolved rim; that part is measured
+    separately by the off-grid interpolation checks.
+    """
+    d = scene.defect
+    n = fid.n_offsets
+    if d.active:
+        step_max = min(d.extent_x_m / fid.offsets_per_width, 1e-6 * fid.offset_step_um)
+        n = max(n, int(math.ceil(fid.xi_max * s_reach / step_max)) + 1)
+        n = min(n, fid.max_offsets)
+    step = max(1, int(math.ceil(fid.xi_max * s_reach / (n - 1) / dxw - 1e-9))) * dxw
+    n = int(math.ceil(fid.xi_max * s_reach / step - 1e-9)) + 1
+    return step * np.arange(n)
+
+
+def _progress(stats: SolveStats, total: int, progress: bool | None):
+    """A tqdm bar over ``total`` solves fed by ``stats`` (None when ``progress`` is None)."""
+    if progress is None:
+        return None
+    try:
+        import sys
+
+        from tqdm.auto import tqdm
+    except ImportError:  # pragma: no cover
+        return None
+    bar = tqdm(total=total, desc="contact solves", unit="solve",
+               disable=not (progress and sys.stderr.isatty()))
+    stats.callback = bar.update
+    return bar
+
+
+def _solve_load_nodes(scene: Scene, fid: Fidelity, q_nodes: np.ndarray,
+                      stats: SolveStats) -> tuple[list[LoadNode], float]:
+    """No-defect solves at every load node, largest first (each widens ``kappa`` for the next):
+    returns the nodes in ascending load and ``kappa`` over all of them."""
+    kappa = 1.0
+    nodes = []
+    for q in q_nodes[::-1]:
+        node = _solve_load(scene, fid, float(q), kappa, stats)
+        nodes.append(node)
+        kappa = max(kappa, KAPPA_MARGIN * node.half_width / node.a_hertz)
+    nodes = nodes[::-1]
+    kappa = max([1.0] + [KAPPA_MARGIN * nd.half_width / nd.a_hertz for nd in nodes])
+    return nodes, kappa
+
+
+@dataclass
+class _DefectRatios:
+    """Stage result of :func:`_defect_ratios` (arrays (n_loads, n_offsets), see PressureTable)."""
+
+    ratio: np.ndarray
+    ratio_defect: np.ndarray
+    ratio_force: np.ndarray
+    ratio_area: np.ndarray
+    removed_force_max: float
+    snapshots: dict
+
+
+def _defect_ratios(scene: Scene, fid: Fidelity, nodes: list[LoadNode], q_nodes: np.ndarray,
+                   x_nodes: np.ndarray, s_of_q: Callable[[float], float], stats: SolveStats,
+                   tick: Callable[[], Any]) -> _DefectRatios:
+    """The window solves with the defect at every (load node, offset) and the snapshots.
+
+    Offsets beyond ``xi_max s(Q)`` (the defect cannot touch the contact) keep the no-defect
+    ratios (1, 0, 0, 0); each load's offsets run from the farthest inwards, each solve warm
+    started from the previous one.
+    """
+    d = scene.defect
+    nq, nxi = len(nodes), x_nodes.size
+    R = np.ones((nq, nxi))
+    Rd = np.zeros((nq, nxi))
+    RF = np.zeros((nq, nxi))     # removed force / Q at fixed approach
+    RA = np.zeros((nq, nxi))     # window contact-area change / global area A0(Q)
+    dF_max = 0.0
+    snapshots: dict[str, Any] = {}
+    snap_xi = np.linspace(0.0, SNAPSHOT_XI_MAX, fid.n_snapshot_offsets) \
+        if fid.n_snapshot_offsets else []
+    for i, nd in enumerate(nodes):
+        s_i = s_of_q(q_nodes[i])
+        reach = fid.xi_max * s_i          # beyond: the defect cannot touch the contact
+        snap: dict[str, Any] = {
+            "roller_load": q_nodes[i], "global_x": nd.grid.x, "global_y": nd.grid.y,
+            "global_pressure": nd.pressure, "window_x": nd.window.x, "window_y": nd.window.y,
+        }
+        if not d.active:
+            for j, xj in enumerate(x_nodes):
+                if nd.w0 > 0:
+                    Rd[i, j] = _neighbourhood_max(scene, fid, nd.window, nd.p_window0, xj) / nd.w0
+            snap["offsets"] = np.asarray(snap_xi) * s_i
+            snap["window_pressure"] = np.repeat(nd.p_window0[None].astype(np.float32),
+                                                len(snap_xi), axis=0)
+        else:
+            p_prev = None
+            for j in range(nxi - 1, -1, -1):
+                if x_nodes[j] > reach or nd.w0 <= 0:
+                    tick()
+                    continue
+                ds = _defect_solve(scene, fid, nd, x_nodes[j], stats, p_prev)
+                p_prev = ds.pressure
+                R[i, j] = float(p_prev[:, nd.strip].max()) / nd.w0
+                Rd[i, j] = ds.Pd / nd.w0
+                RF[i, j] = ds.removed_force / nd.q
+                RA[i, j] = ds.area_change / nd.area_global
+                dF_max = max(dF_max, abs(ds.removed_force) / nd.q)
+            fields = [_defect_solve(scene, fid, nd, xi * s_i, stats).pressure.astype(np.float32)
+                      for xi in snap_xi]
+            snap["offsets"] = np.asarray(snap_xi) * s_i
+            snap["window_pressure"] = np.array(fields) if fields else \
+                np.zeros((0,) + nd.window.shape, np.float32)
+        snapshots[f"load_{i}"] = snap
+    return _DefectRatios(R, Rd, RF, RA, dF_max, snapshots)
+
+
+def _outside_maxima(scene: Scene, fid: Fidelity, nodes: list[LoadNode], qn: np.ndarray,
+                    kappa: float, stats: SolveStats) -> tuple[np.ndarray, np.ndarray]:
+    """The no-defect maximum outside the read strip (roller ends) on a load grid
+    :data:`OUTSIDE_LOAD_DENSITY` times denser than the nodes (global solves only; the nodes'
+    own values are reused). Returns ``(q_out, p_out)``."""
+    m_out = OUTSIDE_LOAD_DENSITY
+    nout = m_out * (qn.size - 1) + 1
+    q_out = np.linspace(qn[0], qn[-1], nout) ** 3
+    p_out = np.empty(nout)
+    for k, qo in enumerate(q_out):
+        if k % m_out == 0:
+            p_out[k] = nodes[k // m_out].outside_max
+        else:
+            p_out[k] = _outside_max(scene, fid, float(qo), kappa, stats)
+    return q_out, p_out
+
+
+def _check_errors(rows) -> tuple[np.ndarray, float, float, float]:
+    """``(rows as (n, 7) array, max rel. error of P, max error of P_d / P0, rms rel. error of P)``
+    of interpolation checks ``(Q, x, P, P_d, P_interp, P_d_interp, P0)``."""
+    a = np.array(rows, dtype=float).reshape(-1, 7)
+    if not len(a):
+        return a, 0.0, 0.0, 0.0
+    e = np.abs(a[:, 4] - a[:, 2]) / a[:, 2]
+    return (a, float(e.max()), float(np.max(np.abs(a[:, 5] - a[:, 3]) / a[:, 6])),
+            float(np.sqrt(np.mean(e ** 2))))
+
+
+def _interpolation_checks(scene: Scene, fid: Fidelity, table: "PressureTable", qn: np.ndarray,
+                          dxw: float, stats: SolveStats, seed: int) -> dict[str, Any]:
+    """The table's interpolation error against direct solves at ``n_checks`` random loads, at
+    :data:`CHECK_OFFSETS_PER_LOAD` offsets each on the window grid (pure table error) and as
+    many anywhere (adds the sub-cell discretisation jitter). Returns the ``info`` entries."""
+    from .contact import ContactConvergenceError
+
+    checks, checks_any, checks_any_failed = [], [], []
+    if scene.defect.active and fid.n_checks:
+        rng = np.random.default_rng(seed)
+        ex = scene.defect.extent_x_m
+        for _ in range(fid.n_checks):
+            qc = float(rng.uniform(qn[0], qn[-1]) ** 3)
+            # offsets where the defect overlaps the contact (beyond, the table is exact)
+            reach = table.kappa * table.a_coef * qc ** (1 / 3) + 0.5 * ex
+            node = _solve_load(scene, fid, qc, table.kappa, stats)
+            pairs = []
+            for _k in range(CHECK_OFFSETS_PER_LOAD):
+                pairs.append((round(float(rng.uniform(0.0, reach)) / dxw) * dxw, checks))
+                pairs.append((float(rng.uniform(0.0, reach)), checks_any))
+            for xd, out in pairs:
+                try:
+                    ds = _defect_solve(scene, fid, node, xd, stats)
+                except ContactConvergenceError as exc:
+                    if out is checks:
+                        raise  # on-grid offsets are the table's own kind of solve
+                    # Off-grid offsets put the defect rim a fraction of a cell off the grid; at
+                    # fine windows Polonsky-Keer can cycle there (residual ~0.6 after max_iter).
+                    # Such a check measures sub-cell jitter only, so it is counted and reported
+                    # instead of failing the case.
+                    checks_any_failed.append((qc, xd, float(exc.residual_history[-1])))
+                    warnings.warn(f"off-grid interpolation check at Q = {qc:.4g} N, "
+                                  f"x = {xd:.4g} m did not converge: {exc}", RuntimeWarning,
+                                  stacklevel=3)
+                    continue
+                Pi, Pdi = table.evaluate(qc, xd)
+                out.append((qc, xd, ds.P, ds.Pd, float(Pi), float(Pdi), node.p0))
+    checks_a, err, err_d, err_rms = _check_errors(checks)
+    checks_b, err_any, err_d_any, err_any_rms = _check_errors(checks_any)
+    return {
+        "interp_max_rel_error_p_max": err,
+        "interp_max_rel_error_p_max_defect": err_d,
+        "interp_checks": checks_a,
+        "interp_rms_rel_error_p_max": err_rms,
+        "any_offset_max_rel_error_p_max": err_any,
+        "any_offset_rms_rel_error_p_max": err_any_rms,
+        "any_offset_max_rel_error_p_max_defect": err_d_any,
+        "any_offset_checks": checks_b,
+        "any_offset_checks_failed": len(checks_any_failed),
+    }
+
+
 def build_table(scene: Scene, fidelity: Fidelity | str | None = None, *, q_max: float,
                 stats: SolveStats | None = None, progress: bool = False,
                 check_seed: int = 20261122) -> tuple[PressureTable, list[LoadNode], dict]:
     """Solve the contacts and build the ``P(Q, x)`` table for roller loads up to ``q_max``.
+
+    Stages: load nodes uniform in ``Q^(1/3)`` (:func:`_table_loads`); the no-defect global +
+    window solve at each (:func:`_solve_load_nodes`, which fixes ``kappa``); offsets on the
+    window grid (:func:`_offset_nodes`); the defect window solves (:func:`_defect_ratios`); the
+    roller-end maxima on a denser load grid (:func:`_outside_maxima`); the interpolation checks
+    against direct solves (:func:`_interpolation_checks`).
 
     Returns
     -------
@@ -593,175 +819,39 @@ def build_table(scene: Scene, fidelity: Fidelity | str | None = None, *, q_max: 
     stats = stats or SolveStats()
     d = scene.defect
     nq = fid.n_loads
-    qn = np.linspace((Q_MIN_FRACTION * q_max) ** (1 / 3), q_max ** (1 / 3), nq)
-    q_nodes = qn ** 3
+    qn, q_nodes = _table_loads(q_max, nq)
     a_coef = hertz_estimate(scene, q_max).a / q_max ** (1 / 3)
     ex = d.extent_x_m if d.active else 0.0
     s_const = 0.5 * ex + 1e-6 * fid.neighbourhood_um
     # offsets in absolute x: normalised by the largest load's s(Q) only (the pressure peak
     # oscillates with the offset on the scale of the defect width, fixed in x, not in x/a)
-    s_guess = 1.1 * a_coef * q_max ** (1 / 3) + s_const
-    # offset nodes: multiples of the window spacing (every node sees the defect at the same
-    # sub-cell position: the peak over cells jitters by up to ~10 % with the sub-cell position of
-    # an under-resolved rim; that part is measured separately, see the checks below)
     dxw = _window_spec(scene, fid, q_max, 1.0)[2]
-
-    def offset_nodes(s_reach):
-        n = fid.n_offsets
-        if d.active:
-            step_max = min(ex / fid.offsets_per_width, 1e-6 * fid.offset_step_um)
-            n = max(n, int(math.ceil(fid.xi_max * s_reach / step_max)) + 1)
-            n = min(n, fid.max_offsets)
-        step = max(1, int(math.ceil(fid.xi_max * s_reach / (n - 1) / dxw - 1e-9))) * dxw
-        n = int(math.ceil(fid.xi_max * s_reach / step - 1e-9)) + 1
-        return step * np.arange(n)
-
-    nxi = offset_nodes(s_guess).size
-    n_total = nq * 2 + 2 * (nq - 1) + (nq * (nxi + fid.n_snapshot_offsets) + fid.n_checks * (2 + 2 * CHECK_OFFSETS_PER_LOAD) if d.active else 0)
-    bar = None
-    if progress is not None:
-        try:
-            from tqdm.auto import tqdm
-            import sys
-
-            bar = tqdm(total=n_total, desc="contact solves", unit="solve",
-                       disable=not (progress and sys.stderr.isatty()))
-            stats.callback = bar.update
-        except ImportError:  # pragma: no cover
-            bar = None
+    nxi = _offset_nodes(scene, fid, REACH_GUESS_FACTOR * a_coef * q_max ** (1 / 3) + s_const,
+                        dxw).size
+    n_total = nq * 2 + 2 * (nq - 1) + (nq * (nxi + fid.n_snapshot_offsets) + fid.n_checks * (
+        2 + 2 * CHECK_OFFSETS_PER_LOAD) if d.active else 0)
+    bar = _progress(stats, n_total, progress)
     try:
-        # kappa: ratio of solved to Hertz half-width, from the largest load (end truncation widens)
-        kappa = 1.0
-        nodes = []
-        for q in q_nodes[::-1]:
-            node = _solve_load(scene, fid, float(q), kappa, stats)
-            nodes.append(node)
-            kappa = max(kappa, 1.02 * node.half_width / node.a_hertz)
-        nodes = nodes[::-1]
-        kappa = max([1.0] + [1.02 * nd.half_width / nd.a_hertz for nd in nodes])
+        nodes, kappa = _solve_load_nodes(scene, fid, q_nodes, stats)
         s_max = kappa * a_coef * q_max ** (1 / 3) + s_const
-        x_nodes = offset_nodes(s_max)
-        nxi = x_nodes.size
-        xi_nodes = x_nodes / s_max
-        p0 = np.array([nd.p0 for nd in nodes])
-        R = np.ones((nq, nxi))
-        Rd = np.zeros((nq, nxi))
-        RF = np.zeros((nq, nxi))     # removed force / Q at fixed approach
-        RA = np.zeros((nq, nxi))     # window contact-area change / global area A0(Q)
-        dF_max = 0.0
-        snapshots: dict[str, Any] = {}
-        snap_xi = np.linspace(0.0, 0.8, fid.n_snapshot_offsets) if fid.n_snapshot_offsets else []
-        for i, nd in enumerate(nodes):
-            s_i = kappa * a_coef * q_nodes[i] ** (1 / 3) + s_const
-            reach = fid.xi_max * s_i          # beyond: the defect cannot touch the contact
-            snap: dict[str, Any] = {
-                "roller_load": q_nodes[i], "global_x": nd.grid.x, "global_y": nd.grid.y,
-                "global_pressure": nd.pressure, "window_x": nd.window.x, "window_y": nd.window.y,
-            }
-            if not d.active:
-                for j, xj in enumerate(x_nodes):
-                    if nd.w0 > 0:
-                        Rd[i, j] = _neighbourhood_max(scene, fid, nd.window, nd.p_window0, xj) / nd.w0
-                snap["offsets"] = np.asarray(snap_xi) * s_i
-                snap["window_pressure"] = np.repeat(nd.p_window0[None].astype(np.float32),
-                                                    len(snap_xi), axis=0)
-            else:
-                p_prev = None
-                for j in range(nxi - 1, -1, -1):
-                    if x_nodes[j] > reach or nd.w0 <= 0:
-                        if bar is not None:
-                            bar.update()
-                        continue
-                    ds = _defect_solve(scene, fid, nd, x_nodes[j], stats, p_prev)
-                    p_prev = ds.pressure
-                    R[i, j] = float(p_prev[:, nd.strip].max()) / nd.w0
-                    Rd[i, j] = ds.Pd / nd.w0
-                    RF[i, j] = ds.removed_force / nd.q
-                    RA[i, j] = ds.area_change / nd.area_global
-                    dF_max = max(dF_max, abs(ds.removed_force) / nd.q)
-                fields = []
-                for xi in snap_xi:
-                    fields.append(_defect_solve(scene, fid, nd, xi * s_i, stats).pressure
-                                  .astype(np.float32))
-                snap["offsets"] = np.asarray(snap_xi) * s_i
-                snap["window_pressure"] = np.array(fields) if fields else \
-                    np.zeros((0,) + nd.window.shape, np.float32)
-            snapshots[f"load_{i}"] = snap
-        # the no-defect maximum outside the read strip (roller ends) on a denser load grid
-        # (OUTSIDE_LOAD_DENSITY points per node interval): global solves only
-        m_out = OUTSIDE_LOAD_DENSITY
-        nout = m_out * (nq - 1) + 1
-        q_out = np.linspace(qn[0], qn[-1], nout) ** 3
-        p_out = np.empty(nout)
-        for k, qo in enumerate(q_out):
-            if k % m_out == 0:
-                p_out[k] = nodes[k // m_out].outside_max
-            else:
-                p_out[k] = _outside_max(scene, fid, float(qo), kappa, stats)
-        w0 = np.array([nd.w0 for nd in nodes])
-        table = PressureTable(q_nodes, xi_nodes, p0, w0, R, Rd, a_coef, kappa, s_const, s_max,
-                              q_out, p_out, out_density=m_out, ratio_force=RF, ratio_area=RA,
+        x_nodes = _offset_nodes(scene, fid, s_max, dxw)
+        dr = _defect_ratios(scene, fid, nodes, q_nodes, x_nodes,
+                            lambda q: kappa * a_coef * q ** (1 / 3) + s_const, stats,
+                            bar.update if bar is not None else (lambda: None))
+        q_out, p_out = _outside_maxima(scene, fid, nodes, qn, kappa, stats)
+        table = PressureTable(q_nodes, x_nodes / s_max, np.array([nd.p0 for nd in nodes]),
+                              np.array([nd.w0 for nd in nodes]), dr.ratio, dr.ratio_defect,
+                              a_coef, kappa, s_const, s_max, q_out, p_out,
+                              out_density=OUTSIDE_LOAD_DENSITY, ratio_force=dr.ratio_force,
+                              ratio_area=dr.ratio_area,
                               approach0=np.array([nd.approach_global for nd in nodes]),
                               area0=np.array([nd.area_global for nd in nodes]))
-        # interpolation error against direct solves at random (Q, x): x on the window grid
-        # (pure table error) and x anywhere (adds the sub-cell discretisation jitter)
-        from .contact import ContactConvergenceError
-
-        checks, checks_any, checks_any_failed = [], [], []
-        if d.active and fid.n_checks:
-            rng = np.random.default_rng(check_seed)
-            for _ in range(fid.n_checks):
-                qc = float(rng.uniform(qn[0], qn[-1]) ** 3)
-                # offsets where the defect overlaps the contact (beyond, the table is exact)
-                reach = kappa * a_coef * qc ** (1 / 3) + 0.5 * ex
-                node = _solve_load(scene, fid, qc, kappa, stats)
-                pairs = []
-                for _k in range(CHECK_OFFSETS_PER_LOAD):
-                    pairs.append((round(float(rng.uniform(0.0, reach)) / dxw) * dxw, checks))
-                    pairs.append((float(rng.uniform(0.0, reach)), checks_any))
-                for xd, out in pairs:
-                    try:
-                        ds = _defect_solve(scene, fid, node, xd, stats)
-                        P, Pd = ds.P, ds.Pd
-                    except ContactConvergenceError as exc:
-                        if out is checks:
-                            raise  # on-grid offsets are the table's own kind of solve
-                        # Off-grid offsets put the defect rim a fraction of a cell off the grid;
-                        # at fine windows Polonsky-Keer can cycle there (residual ~0.6 after
-                        # max_iter). Such a check measures sub-cell jitter only, so it is counted
-                        # and reported instead of failing the case.
-                        checks_any_failed.append((qc, xd, float(exc.residual_history[-1])))
-                        warnings.warn(f"off-grid interpolation check at Q = {qc:.4g} N, "
-                                      f"x = {xd:.4g} m did not converge: {exc}", RuntimeWarning,
-                                      stacklevel=2)
-                        continue
-                    Pi, Pdi = table.evaluate(qc, xd)
-                    out.append((qc, xd, P, Pd, float(Pi), float(Pdi), node.p0))
-
-        def errors(rows):
-            a = np.array(rows, dtype=float).reshape(-1, 7)
-            if not len(a):
-                return a, 0.0, 0.0, 0.0
-            e = np.abs(a[:, 4] - a[:, 2]) / a[:, 2]
-            return (a, float(e.max()), float(np.max(np.abs(a[:, 5] - a[:, 3]) / a[:, 6])),
-                    float(np.sqrt(np.mean(e ** 2))))
-
-        checks_a, err, err_d, err_rms = errors(checks)
-        checks_b, err_any, err_d_any, err_any_rms = errors(checks_any)
         table.info = {
-            "interp_max_rel_error_p_max": err,
-            "interp_max_rel_error_p_max_defect": err_d,
-            "interp_checks": checks_a,
-            "interp_rms_rel_error_p_max": err_rms,
-            "any_offset_max_rel_error_p_max": err_any,
-            "any_offset_rms_rel_error_p_max": err_any_rms,
-            "any_offset_max_rel_error_p_max_defect": err_d_any,
-            "any_offset_checks": checks_b,
-            "any_offset_checks_failed": len(checks_any_failed),
+            **_interpolation_checks(scene, fid, table, qn, dxw, stats, check_seed),
             "interp_variables": "W/W0 bilinear in q = Q^(1/3) and x scaled by s(Q); W0, P_out linear in q; P = max(W, P_out); "
                                 "offset nodes on multiples of the window spacing",
             "zoom_consistency_max": float(max(nd.zoom_consistency for nd in nodes)),
-            "approach_force_change_max": float(dF_max),
+            "approach_force_change_max": float(dr.removed_force_max),
             "global_dx": nodes[0].grid.dx, "global_dy": nodes[0].grid.dy,
             "window_dx": nodes[0].window.dx, "window_dy": nodes[0].window.dy,
             "approach": np.array([nd.approach for nd in nodes]),
@@ -772,7 +862,7 @@ def build_table(scene: Scene, fidelity: Fidelity | str | None = None, *, q_max: 
         if bar is not None:
             bar.close()
             stats.callback = None
-    return table, nodes, snapshots
+    return table, nodes, dr.snapshots
 
 
 def direct_pressure(scene: Scene, fidelity: Fidelity | str | None, q_load: float, x_d: float,
