@@ -16,7 +16,8 @@ from .bands import (
     clamp_band,
     resolve_band,
 )
-from .envelope import bandpass, envelope, envelope_spectrum, harmonic_amplitudes, peak_value
+from .envelope import (bandpass, envelope, envelope_spectrum, harmonic_amplitudes, peak_value,
+                       settling_samples)
 from .kurtogram import Kurtogram, fast_kurtogram, kurtogram_levels, max_kurtogram_level
 from .sk import spectral_kurtosis
 from .spectrum import amplitude_at, amplitude_spectrum, raw_terms
@@ -45,5 +46,6 @@ __all__ = [
     "peak_value",
     "raw_terms",
     "resolve_band",
+    "settling_samples",
     "spectral_kurtosis",
 ]

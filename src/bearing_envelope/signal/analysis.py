@@ -9,7 +9,7 @@ import numpy as np
 
 from ._validation import check_fs, check_positive, check_signal
 from .bands import DEFAULT_BANDS, NYQUIST_MARGIN, resolve_band
-from .envelope import envelope_spectrum, harmonic_amplitudes, peak_value
+from .envelope import envelope_spectrum, harmonic_amplitudes, peak_value, settling_samples
 from .kurtogram import fast_kurtogram, max_kurtogram_level
 from .spectrum import amplitude_at, amplitude_spectrum, default_tolerance
 
@@ -247,14 +247,15 @@ def analyze_signal(
                       band_high_hz=high, clamped=bool(prov.get("clamped", False)))
         f_env, a_env, y, _ = envelope_spectrum(x, fs, band, squared=squared, window=window,
                                                order=filter_order, return_signal=True)
-        pk = peak_value(y)
+        pk = peak_value(y, skip=settling_samples(fs, band, order=filter_order))
         if prov["strategy"] == "kurtogram":
             rec(**common, quantity="kurtogram_kurtosis", base=None, order=None, sideband=None,
                 target_hz=prov["fc_hz"], frequency_hz=prov["fc_hz"], amplitude=prov["kurtosis"],
                 scaling=f"complex sub-band kurtosis (-), level {prov['level']:.3f}")
         rec(**common, quantity="bandpass_peak", base=None, order=0, sideband=0,
             target_hz=math.nan, frequency_hz=math.nan, amplitude=pk,
-            scaling=f"max |band-passed signal| (U), Butterworth order {filter_order} x2")
+            scaling=f"max |band-passed signal| (U), Butterworth order {filter_order} x2, "
+                    "edge transients excluded")
         for name, base_hz in faults.items():
             for r in harmonic_amplitudes(f_env, a_env, base_hz, fr=fr, n_harmonics=n_harmonics,
                                          n_sidebands=n_sidebands, tolerance=tolerance_hz,

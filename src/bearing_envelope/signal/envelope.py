@@ -15,6 +15,7 @@ __all__ = [
     "envelope_spectrum",
     "harmonic_amplitudes",
     "peak_value",
+    "settling_samples",
 ]
 
 
@@ -42,8 +43,13 @@ def bandpass(x, fs: float, band, *, order: int = 4):
     ndarray
         The filtered signal, same length and unit as ``x``.
     """
-    fs = check_fs(fs)
     x = check_signal(x, "x", min_length=2)
+    return sp_signal.sosfiltfilt(_bandpass_sos(fs, band, order), x, padtype="even")
+
+
+def _bandpass_sos(fs: float, band, order) -> np.ndarray:
+    """The Butterworth design of :func:`bandpass` (second-order sections), arguments checked."""
+    fs = check_fs(fs)
     try:
         lo_hz, hi_hz = float(band[0]), float(band[1])
     except (TypeError, ValueError, IndexError):
@@ -52,10 +58,50 @@ def bandpass(x, fs: float, band, *, order: int = 4):
     if isinstance(order, bool) or int(order) != order or int(order) < 1:
         raise ValueError(f"order must be an integer >= 1, got {order!r}")
     if low > 0:
-        sos = sp_signal.butter(int(order), [low, high], btype="bandpass", fs=fs, output="sos")
-    else:
-        sos = sp_signal.butter(int(order), high, btype="lowpass", fs=fs, output="sos")
-    return sp_signal.sosfiltfilt(sos, x, padtype="even")
+        return sp_signal.butter(int(order), [low, high], btype="bandpass", fs=fs, output="sos")
+    return sp_signal.butter(int(order), high, btype="lowpass", fs=fs, output="sos")
+
+
+#: Relative level below which the band-pass impulse response counts as settled
+#: (:func:`settling_samples`): the edge transients of :func:`bandpass` are then < 0.1 %.
+SETTLING_TOLERANCE = 1e-3
+
+
+def settling_samples(fs: float, band, *, order: int = 4, tol: float = SETTLING_TOLERANCE) -> int:
+    """Samples after which the impulse response of :func:`bandpass`'s filter stays below
+    ``tol`` times its maximum: the length of the edge transients of the forward-backward
+    filter at each end of a record (even padding mirrors the record about its end sample, which
+    puts a kink in any oscillation that does not peak there; the filter rings on it).
+
+    Parameters
+    ----------
+    fs : float
+        Sampling frequency (Hz).
+    band : (float, float)
+        As in :func:`bandpass`.
+    order : int, default 4
+    tol : float
+        Relative settling level.
+
+    Returns
+    -------
+    int
+        Samples (``>= 1``).
+    """
+    sos = _bandpass_sos(fs, band, order)
+    fs = float(fs)
+    width = float(band[1]) - float(band[0]) if float(band[0]) > 0 else float(band[1])
+    n = 64
+    while True:
+        # long enough for the slowest pole: grow until the tail is below tol
+        imp = np.zeros(n)
+        imp[0] = 1.0
+        h = np.abs(sp_signal.sosfilt(sos, imp))
+        above = np.flatnonzero(h > tol * h.max())
+        last = int(above[-1]) + 1
+        if last < n // 2 or n > 1000 * fs / max(width, 1e-9):
+            return max(1, last)
+        n *= 2
 
 
 def envelope(x, *, squared: bool = False):
@@ -135,10 +181,13 @@ def envelope_spectrum(
     return f, a
 
 
-def peak_value(x):
-    """Largest absolute value of a (band-passed) signal, in its unit."""
+def peak_value(x, *, skip: int = 0):
+    """Largest absolute value of a (band-passed) signal, in its unit, ignoring ``skip``
+    samples at each end (the filter's edge transients, :func:`settling_samples`); at most a
+    quarter of the record is skipped at each end."""
     x = check_signal(x, "x", min_length=1)
-    return float(np.max(np.abs(x)))
+    k = min(int(skip), (x.size - 1) // 4)
+    return float(np.max(np.abs(x[k: x.size - k])))
 
 
 def harmonic_amplitudes(
