@@ -238,3 +238,66 @@ def test_atomic_write_leaves_nothing_on_failure(tmp_path):
             open(tmp, "w").write("half")
             raise RuntimeError("interrupted")
     assert target.read_text() == "old\n" and _no_temp(tmp_path)
+
+
+# ------------------------------------------------------------------ faults (issue 17 item 6)
+
+
+def _dead_pid() -> int:
+    import subprocess
+    import sys
+
+    p = subprocess.Popen([sys.executable, "-c", "pass"])
+    p.wait()
+    return p.pid
+
+
+def test_stale_temporary_files_of_dead_writers_are_removed_at_the_next_write(tmp_path, hist):
+    import subprocess
+    import sys
+
+    from bearing_envelope.io import _host, clean_stale_temps
+
+    d = tmp_path / "cases"
+    d.mkdir()
+    host = _host()
+    dead = d / f".tmp-{host}~{_dead_pid()}~F250kN_h0um.h5~abc.h5"        # SIGKILLed writer
+    same_target = d / f".tmp-otherhost~1~F500kN_h30um.h5~def.h5"      # earlier try, same file
+    live = subprocess.Popen([sys.executable, "-c", "import time; time.sleep(60)"])
+    try:
+        alive = d / f".tmp-{host}~{live.pid}~F750kN_h0um.h5~ghi.h5"   # a job writing right now
+        remote = d / ".tmp-otherhost~12345~F750kN_h50um.h5~jkl.h5"     # another node's writer
+        for p in (dead, same_target, alive, remote):
+            p.write_bytes(b"x" * 1000)
+        write_case(d / "F500kN_h30um.h5", hist)
+        left = sorted(p.name for p in d.iterdir())
+        assert left == sorted(["F500kN_h30um.h5", alive.name, remote.name])
+        assert clean_stale_temps(d) == []       # nothing more is stale while the writer lives
+    finally:
+        live.kill()
+        live.wait()
+    assert clean_stale_temps(d) == [str(alive)]
+
+
+def test_unreadable_case_file_is_moved_aside_with_a_warning(tmp_path, hist):
+    from bearing_envelope.io import case_file_problem, set_aside_unreadable
+
+    good = write_case(tmp_path / "F500kN_h30um.h5", hist)
+    assert case_file_problem(good) is None and set_aside_unreadable(good) is None
+    assert set_aside_unreadable(tmp_path / "missing.h5") is None
+    # truncated copy (a killed copy or a full disk)
+    data = open(good, "rb").read()
+    bad = tmp_path / "F250kN_h0um.h5"
+    bad.write_bytes(data[: len(data) // 2])
+    assert "unreadable HDF5" in case_file_problem(bad)
+    with pytest.raises(CaseFormatError, match=r"rebuild it with `snakemake -j1 -f .*F250kN_h0um\.h5`"):
+        read_case(bad)
+    said = []
+    aside = set_aside_unreadable(bad, warn=said.append)
+    assert not bad.exists() and os.path.exists(aside) and ".unreadable-" in aside
+    assert len(said) == 1 and "\n" not in said[0]
+    assert str(bad) in said[0] and aside in said[0] and "rebuilt" in said[0]
+    # another format version is not readable either
+    with h5py.File(good, "a") as f:
+        f.attrs["format_version"] = FORMAT_VERSION + 1
+    assert "format_version" in case_file_problem(good)

@@ -125,6 +125,24 @@ def test_single_case_rebuilds_alone_and_deterministically(draft_run):
     np.testing.assert_array_equal(read_case(target).p_max, before)
 
 
+def test_corrupt_case_file_is_moved_aside_and_rebuilt(draft_run):
+    # issue 17 item 6: a truncated case file used to stop every later run until deleted
+    from bearing_envelope.io import read_case
+
+    target = draft_run / "results" / "cases" / "F750kN_h0um.h5"
+    before = read_case(target).p_max.copy()
+    data = target.read_bytes()
+    target.write_bytes(data[: len(data) // 3])
+    out = smk(draft_run, "results/cases/F750kN_h0um.h5")
+    log = out.stderr + out.stdout
+    assert job_counts(log) == {"simulate": 1}
+    assert re.search(r"warning: .*F750kN_h0um\.h5: unreadable HDF5.*moved aside", log), log[-2000:]
+    asides = list(target.parent.glob("F750kN_h0um.h5.unreadable-*"))
+    assert len(asides) == 1
+    np.testing.assert_array_equal(read_case(target).p_max, before)
+    asides[0].unlink()
+
+
 def test_analysis_change_reruns_no_simulation(draft_run, tmp_path):
     # Baseline: what is out of date already (nothing on a clean checkout; library edits made
     # while the tests run would show here, and must not be blamed on the analysis change).
