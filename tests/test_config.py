@@ -124,3 +124,19 @@ def test_cage_slip_schema_matches_the_implementation():
     ratio = cage_angle(sc, t)[-1] / (2 * np.pi * sc.cage_rate_hz * t[-1])
     assert ratio == pytest.approx(0.90, abs=0.005)
     assert st.scene(CaseId(500, 0)).operation.cage_slip_percent == 49.0
+
+
+def test_fidelity_defaults_are_the_standard_preset():
+    # issue 15: Fidelity() was labelled "standard" but differed from the preset in six fields,
+    # so files claimed a preset they did not use
+    import dataclasses
+
+    from bearing_envelope.fidelity import PRESETS, Fidelity, fidelity_from
+
+    assert Fidelity() == PRESETS["standard"] == fidelity_from(None) == fidelity_from("standard")
+    for name, preset in PRESETS.items():
+        assert preset.name == name
+        assert fidelity_from({"preset": name}) == preset        # no override: still the preset
+    tweaked = fidelity_from({"preset": "standard", "tol": 1e-7})
+    assert tweaked.name == "custom" and tweaked.tol == 1e-7
+    assert dataclasses.replace(tweaked, name="standard", tol=1e-5) == Fidelity()
