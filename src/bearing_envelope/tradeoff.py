@@ -87,6 +87,11 @@ DEFAULT_KNOBS: dict[str, list] = {
     "edge_radius_um": [40.0, 20.0, 10.0],
 }
 
+#: The keys of an ``analysis:`` mapping :func:`tradeoff_study` reads (the others do not change
+#: its metrics).
+ANALYSIS_KEYS_USED = ("signal", "nlevel", "max_level", "min_bandwidth_hz", "bands", "filter_order",
+                      "squared_envelope")
+
 #: The band strategies of the workflow's default ``analysis.bands``.
 DEFAULT_BANDS: list[dict[str, Any]] = [
     {"name": "kurtogram", "strategy": "kurtogram"},
@@ -264,8 +269,12 @@ def tradeoff_study(
     scene : mapping, optional
         The ``scene:`` mapping (default scene if None); ``operation.revolutions`` is replaced.
     analysis : mapping, optional
-        The ``analysis:`` mapping (``signal``, ``nlevel``, ``bands``, ``filter_order``, ...);
-        default: :data:`DEFAULT_BANDS`, nlevel 8, p_max, envelope (not squared).
+        The ``analysis:`` mapping; only the keys of :data:`ANALYSIS_KEYS_USED` are read
+        (``signal``, ``nlevel``, ``max_level``, ``min_bandwidth_hz``, ``bands``,
+        ``filter_order``, ``squared_envelope``); default: :data:`DEFAULT_BANDS`, nlevel 8, p_max,
+        envelope (not squared). ``harmonics``, ``sidebands`` and ``raw_orders_fr`` are not
+        read: the study's metrics are fixed (see the module docstring: envelope 1 x and 2 x BPFI, raw
+        1 x BPFI), so the analysis always runs with 2 harmonics, no sidebands and 1 raw order.
     progress : callable, optional
         Called with a one-line message after every run (e.g. ``print``).
     cache : dict, optional
@@ -291,8 +300,8 @@ def tradeoff_study(
     an = {"signal": "p_max", "nlevel": 8, "filter_order": 4, "squared_envelope": False,
           "harmonics": 2, "sidebands": 0, "raw_orders_fr": 1, "bands": DEFAULT_BANDS}
     if analysis:
-        an.update({k: v for k, v in analysis.items() if k in an or k in ("max_level", "min_bandwidth_hz")})
-        an["harmonics"], an["sidebands"], an["raw_orders_fr"] = 2, 0, 1
+        an.update({k: v for k, v in analysis.items()
+                   if k in ANALYSIS_KEYS_USED})
     if reference_element not in ("uniform", "linear"):
         raise ValueError(f"tradeoff.reference_element must be uniform or linear, got {reference_element!r}")
     for k in element_series:
