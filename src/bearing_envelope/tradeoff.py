@@ -273,8 +273,8 @@ def tradeoff_study(
         (``signal``, ``nlevel``, ``max_level``, ``min_bandwidth_hz``, ``bands``,
         ``filter_order``, ``squared_envelope``); default: :data:`DEFAULT_BANDS`, nlevel 8, p_max,
         envelope (not squared). ``harmonics``, ``sidebands`` and ``raw_orders_fr`` are not
-        read: the study's metrics are fixed (see the module docstring: envelope 1 x and 2 x BPFI, raw
-        1 x BPFI), so the analysis always runs with 2 harmonics, no sidebands and 1 raw order.
+        read: the study's metrics are fixed (module docstring: envelope 1 x and 2 x BPFI, raw
+        1 x BPFI), so the analysis always runs with 2 harmonics, no sidebands, 1 raw order.
     progress : callable, optional
         Called with a one-line message after every run (e.g. ``print``).
     cache : dict, optional
