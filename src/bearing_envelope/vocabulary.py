@@ -32,7 +32,8 @@ TIDY_COLUMNS = [
 ]
 
 #: Optional columns that follow :data:`TIDY_COLUMNS` when present, in this order.
-TIDY_EXTRA_COLUMNS = ["base", "target_hz", "clamped", "scaling", "signal"]
+TIDY_EXTRA_COLUMNS = ["base", "target_hz", "clamped", "scaling", "signal", "floor",
+                      "floor_ratio_db", "threshold_db", "detected"]
 
 #: Row order of an aggregated tidy table.
 TIDY_SORT = ["load_kN", "depth_um", "band", "quantity", "order", "sideband"]

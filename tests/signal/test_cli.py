@@ -68,7 +68,7 @@ def test_npz_mat_npy(tmp_path, x, capsys):
         ([], "fs: the file does not give"),
         (["--fs", "20000"], "bpfi: pass --bpfi"),
         (["--fs", "20000", "--bpfi", "231.9", "--fixed-band", "5000", "12000"],
-         "fixed band: high edge 12000 Hz is at or above the Nyquist"),
+         "--fixed-band: HIGH_HZ 12000 is above the Nyquist frequency 10000 Hz"),
         (["--fs", "-1", "--bpfi", "231.9"], "fs must be"),
         (["--fs", "20000", "--n-rollers", "9"], "give --n-rollers, --roller-diameter-mm"),
     ],
@@ -110,3 +110,13 @@ def test_case_file_through_read_case(tmp_path, x, capsys, monkeypatch):
     assert "case:p_max_defect" in text and "bpfi = 231.9 Hz" in text and "fr = 15.8 Hz" in text
     assert main(["analyze", str(path), "--signal", "nope"]) == 2
     assert "no signal 'nope'" in capsys.readouterr().err
+
+
+def test_help_is_plain_text(capsys):
+    """The help shows no reStructuredText markup (roles, double back-quotes)."""
+    with pytest.raises(SystemExit):
+        main(["analyze", "--help"])
+    text = capsys.readouterr().out
+    assert "--search-percent" in text and "--fault NAME=HZ" in text and "--json" in text
+    for markup in (":func:", ":mod:", "``", "::"):
+        assert markup not in text
