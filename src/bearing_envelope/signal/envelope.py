@@ -6,7 +6,7 @@ import numpy as np
 from scipy import signal as sp_signal
 
 from ._validation import check_fs, check_positive, check_signal
-from .bands import clamp_band
+from .bands import NYQUIST_MARGIN, clamp_band
 from .spectrum import amplitude_spectrum
 
 __all__ = [
@@ -86,6 +86,8 @@ def envelope_spectrum(
     window="hann",
     order: int = 4,
     return_signal: bool = False,
+    clamp: bool = False,
+    margin: float = NYQUIST_MARGIN,
 ):
     r"""Envelope spectrum of ``x`` demodulated in ``band``.
 
@@ -96,7 +98,9 @@ def envelope_spectrum(
     fs : float
         Sampling frequency (Hz).
     band : (float, float) or None
-        Demodulation band (Hz), see :func:`bandpass`; ``None`` uses ``x`` as it is.
+        Demodulation band (Hz), see :func:`bandpass`; ``None`` uses ``x`` as it is (the full
+        band without filtering). ``(0, fs/2)`` with ``clamp`` is the full band through a
+        low-pass at ``margin * fs/2``.
     squared : bool, default False
         Use the squared envelope.
     window : str, tuple or None, default "hann"
@@ -105,6 +109,11 @@ def envelope_spectrum(
         Butterworth order of the band-pass.
     return_signal : bool, default False
         Also return the band-passed signal and the envelope.
+    clamp : bool, default False
+        Lower an upper edge above ``margin * fs/2`` to it (see
+        :func:`~bearing_envelope.signal.clamp_band`) instead of raising.
+    margin : float, default 0.98
+        Where a clamped upper edge ends, as a fraction of fs/2.
 
     Returns
     -------
@@ -127,6 +136,12 @@ def envelope_spectrum(
     """
     fs = check_fs(fs)
     x = check_signal(x, "x", min_length=2)
+    if band is not None and clamp:
+        try:
+            lo_hz, hi_hz = float(band[0]), float(band[1])
+        except (TypeError, ValueError, IndexError):
+            raise ValueError(f"band must be a (low, high) pair in Hz, got {band!r}") from None
+        band = clamp_band(lo_hz, hi_hz, fs, margin=margin, clamp=True, field="band")[:2]
     y = x if band is None else bandpass(x, fs, band, order=order)
     e = envelope(y, squared=squared)
     f, a = amplitude_spectrum(e - e.mean(), fs, window=window)
