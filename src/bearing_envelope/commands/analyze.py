@@ -32,6 +32,10 @@ _TIME_NAMES = ("time", "t", "time_s", "times", "seconds")
 _FS_NAMES = ("fs", "Fs", "FS", "sampling_rate", "sample_rate", "sampling_frequency")
 _MM_PER_INCH = 25.4
 
+#: A frequency given to analyze must lie at least this many bins (fs / n) above 0 Hz: the
+#: floor around a line is measured over [0.5, 1.5] x its frequency.
+MIN_BINS = 10
+
 
 def plain_text(text: str) -> str:
     """Help text without reStructuredText markup: ``:func:`x``` -> ``x``, double back-quotes
@@ -377,8 +381,6 @@ def check_record(x, path: str) -> None:
 
 def check_frequencies(sources: dict[str, tuple[float, str]], fs: float, n: int) -> None:
     """Each frequency (name -> (Hz, option that gave it)) below Nyquist and resolvable."""
-    from bearing_envelope.signal.analysis import MIN_BINS
-
     nyq, df = fs / 2.0, fs / n
     for name, (hz, opt) in sources.items():
         label = f"{opt}" if opt in ("--fr", "--bpfi") else f"{opt} ({name} = {hz:g} Hz)"
