@@ -162,3 +162,21 @@ def test_family_dataclass_is_frozen():
     fam = FaultFamily("bpfi", 162.0, "fr", 30.0, "inner race fault")
     with pytest.raises(AttributeError):
         fam.frequency_hz = 1.0
+
+
+def test_verdict_explains_coincident_lines():
+    """A user family at 72 Hz = BPFI - 3 fr (with its 2nd harmonic present) is detected but
+    explained by the stronger BPFI family; one at 90 Hz = 3 fr by the shaft."""
+    fr, bpfi = 30.0, 162.0
+    x = _am([(bpfi, 0.3), (2 * bpfi, 0.15), (bpfi - fr, 0.08), (bpfi + fr, 0.08),
+             (bpfi - 3 * fr, 0.05), (2 * (bpfi - 3 * fr), 0.03), (90.0, 0.04), (180.0, 0.03)])
+    bands = [{"name": "b", "strategy": "fixed", "low_hz": 2000.0, "high_hz": 5000.0}]
+    _, det = analyze_signal(x, FS, fr=fr, fault_frequencies={"bpfi": bpfi, "g72": 72.0,
+                                                            "s90": 90.0},
+                            bands=bands, n_sidebands=3, full_output=True)
+    v = {f.family: f for f in det["verdict"].families}
+    assert all(v[k].detected for k in ("bpfi", "g72", "s90"))
+    assert v["bpfi"].explained_by is None
+    assert v["g72"].explained_by == "BPFI - 3 fr" and v["s90"].explained_by == "3 fr"
+    assert [d.family for d in det["verdict"].detected] == ["bpfi"]
+    assert det["verdict"].summary_lines()[1].startswith("explained: g72 line: g72 72.0 Hz")

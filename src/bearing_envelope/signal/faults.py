@@ -36,8 +36,8 @@ families in B bands makes ``F x B`` tests; each line is tested at ``pfa / (F x B
 the bands. Real envelope spectra are crowded (shaft harmonics, the fault's own sidebands, and
 kinematic coincidences: BPFO = n FTF, BPFI = n (fr - FTF)), so the families detected are
 ranked by their margin above the threshold; a weaker family whose fundamental falls on a line
-``k f +- m fr`` (|m| <= 6) of a stronger detected family, or on a shaft harmonic, is marked as
-explained by it. The **diagnosis** is the strongest family; other unexplained families are
+of a stronger detected family (``k f``, k <= 5, or ``k f +- m`` times that family's own
+sideband spacing, |m| <= 3) or on a shaft harmonic is marked as explained by it. The **diagnosis** is the strongest family; other unexplained families are
 listed as "also above threshold".
 """
 
@@ -468,19 +468,22 @@ class Verdict:
 
 def _explanation(v: FamilyVerdict, stronger: Sequence[tuple[FamilyVerdict, FaultFamily]],
                  fam: FaultFamily, fr: float, half: float) -> str | None:
-    """The line of a stronger family (k f +- m fr, |m| <= 6) or the shaft harmonic on which
-    ``v``'s fundamental falls (within ``half``), or None."""
+    """The line of a stronger family (``k f``, k <= 5, or ``k f +- m`` times its own sideband
+    spacing, |m| <= 3, scaled by its speed ratio) or the shaft harmonic on which ``v``'s
+    fundamental falls (within ``half``), or None."""
     f0 = v.frequency_hz
     for sv, sfam in stronger:
         s = sv.frequency_hz / sfam.frequency_hz
-        frs = fr * s
+        sp = s * sfam.sideband_hz if sfam.sideband_hz else 0.0
         for k in range(1, 6):
-            for m in range(-6, 7):
-                c = k * sv.frequency_hz + m * frs
+            for m in (range(-3, 4) if sp else (0,)):
+                c = k * sv.frequency_hz + m * sp
                 if abs(f0 - c) <= half:
                     head = display_name(sv.family) if k == 1 else f"{k} {display_name(sv.family)}"
-                    return head if m == 0 else f"{head} {'+' if m > 0 else '-'} {abs(m)} fr"
-    s = f0 / fam.frequency_hz
+                    if m == 0:
+                        return head
+                    return (f"{head} {'+' if m > 0 else '-'} {abs(m)} "
+                            f"{display_name(sfam.sideband_name)}")
     k = round(f0 / fr)
     if k >= 1 and abs(f0 - k * fr) <= half:
         return f"{k} fr"
