@@ -120,3 +120,18 @@ def test_help_is_plain_text(capsys):
     assert "--search-percent" in text and "--fault NAME=HZ" in text and "--json" in text
     for markup in (":func:", ":mod:", "``", "::"):
         assert markup not in text
+
+
+def test_full_band_and_clamp(tmp_path, x, capsys):
+    """--fixed-band 0 fs/2 is the full band (clamped to 0.98 fs/2); above Nyquist it needs
+    --clamp."""
+    np.save(tmp_path / "c.npy", x)
+    base = ["analyze", str(tmp_path / "c.npy"), "--fs", str(FS), "--fr", str(FR), "--bpfi",
+            str(BPFI), "--bands", "[]", "--csv", str(tmp_path / "t.csv")]
+    assert main([*base, "--fixed-band", "0", str(FS / 2)]) == 0
+    assert "# band fixed: 0 - 9800 Hz (fixed, clamped)" in capsys.readouterr().out
+    t = pd.read_csv(tmp_path / "t.csv")
+    assert set(t[t.band_strategy == "fixed"].band_high_hz) == {0.98 * FS / 2}
+    assert main([*base, "--fixed-band", "0", "12000"]) == 2
+    assert "add --clamp" in capsys.readouterr().err
+    assert main([*base, "--fixed-band", "0", "12000", "--clamp"]) == 0
