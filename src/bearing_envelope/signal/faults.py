@@ -159,9 +159,14 @@ def _score(f, a, line_hz, half, *, fr, exclude, pfa):
     too short for a background around it."""
     from ..diagnosis import detection_statistic
 
+    # only [0.5, 1.5] x line (+ the search window and the local-maximum check's neighbours)
+    # enters the statistic: pass that slice, not the whole spectrum
+    df = f[1] - f[0]
+    i0 = max(0, int(math.floor((0.5 * line_hz - half) / df)) - 2)
+    i1 = min(f.size, int(math.ceil((1.5 * line_hz + half) / df)) + 3)
     try:
-        return detection_statistic(f, a, line_hz, fr=fr, tolerance_hz=half, sidebands=0,
-                                   exclude_hz=exclude, pfa=pfa)
+        return detection_statistic(f[i0:i1], a[i0:i1], line_hz, fr=fr, tolerance_hz=half,
+                                   sidebands=0, exclude_hz=exclude, pfa=pfa)
     except ValueError:
         return None
 
