@@ -266,9 +266,11 @@ ANALYZE_ARGS = {
     "2-d-without-column": ("x2.npy", [], r"--column: .* 2-D array of shape \(20000, 2\)"),
     "fs-zero": ("x1.npy", ["--fs", "0"], r"--fs: fs must be a finite number > 0"),
     "fs-zero-in-file": ("fs0.npz", ["--fs", None], r"--fs: the file gives fs = 0"),
-    "bpfi-above-nyquist": ("x1.npy", ["--bpfi", "700"], r"--bpfi: 700 Hz is at or above the Nyquist"),
+    "bpfi-above-nyquist": ("x1.npy", ["--bpfi", "700"],
+                           r"--bpfi: 700 Hz is at or above the Nyquist"),
     "fault-above-nyquist": ("x1.npy", ["--fault", "bsf=600"],
-                            r"--fault \(bsf = 600 Hz\): .* at or above the Nyquist frequency 500 Hz"),
+                            r"--fault \(bsf = 600 Hz\): .* at or above the Nyquist "
+                            r"frequency 500 Hz"),
     "geometry-above-nyquist": ("x1.npy", ["--fr", "200", "--n-rollers", "9",
                                           "--roller-diameter-in", "0.3126",
                                           "--pitch-diameter-in", "1.537"],

@@ -10,7 +10,8 @@ import numpy as np
 from ._validation import check_fs, check_positive, check_signal
 from .bands import DEFAULT_BANDS, NYQUIST_MARGIN, resolve_band
 from .envelope import envelope_spectrum, peak_value
-from .faults import DEFAULT_SEARCH_PERCENT, FaultFamily, fault_families, fault_verdict, search_lines
+from .faults import (DEFAULT_SEARCH_PERCENT, FaultFamily, fault_families, fault_verdict,
+                     search_lines)
 from .kurtogram import fast_kurtogram, max_kurtogram_level
 from .spectrum import amplitude_spectrum
 

@@ -37,8 +37,9 @@ the bands. Real envelope spectra are crowded (shaft harmonics, the fault's own s
 kinematic coincidences: BPFO = n FTF, BPFI = n (fr - FTF)), so the families detected are
 ranked by their margin above the threshold; a weaker family whose fundamental falls on a line
 of a stronger detected family (``k f``, k <= 5, or ``k f +- m`` times that family's own
-sideband spacing, |m| <= 3) or on a shaft harmonic is marked as explained by it. The **diagnosis** is the strongest family; other unexplained families are
-listed as "also above threshold".
+sideband spacing, |m| <= 3) or on a shaft harmonic is marked as explained by it. The
+**diagnosis** is the strongest family; other unexplained families are listed as "also above
+threshold".
 """
 
 from __future__ import annotations

@@ -524,5 +524,6 @@ def fast_kurtogram(
         n_samples=nsamp,
         max_level=max_level,
         min_bandwidth=min_bandwidth,
-        info={"demean": bool(demean), "level0": level0, "binary_taps": BINARY_TAPS, "ternary_taps": TERNARY_TAPS},
+        info={"demean": bool(demean), "level0": level0, "binary_taps": BINARY_TAPS,
+              "ternary_taps": TERNARY_TAPS},
     )
