@@ -108,6 +108,10 @@ def test_case_file_through_read_case(tmp_path, x, capsys, monkeypatch):
     text = capsys.readouterr().out
     assert calls == [str(path)]
     assert "case:p_max_defect" in text and "bpfi = 231.9 Hz" in text and "fr = 15.8 Hz" in text
+    # a --fault adds a family; the case's BPFI stays
+    assert main(["analyze", str(path), "--nlevel", "6", "--fault", "bpfo=150"]) == 0
+    text = capsys.readouterr().out
+    assert "bpfo = 150 Hz, bpfi = 231.9 Hz" in text
     assert main(["analyze", str(path), "--signal", "nope"]) == 2
     assert "no signal 'nope'" in capsys.readouterr().err
 

@@ -410,7 +410,7 @@ def check_signal_args(args, x) -> None:
 def fault_sources(args, fr: float, loaded: dict) -> dict[str, tuple[float, str]]:
     """Fault frequencies (Hz) with the option that gave each: the geometry (mm or inch), then
     ``--bpfi`` and ``--fault`` (overriding the geometry's value of the same name); a case
-    file's BPFI when nothing else is given."""
+    file's BPFI unless one of them gives BPFI."""
     out: dict[str, tuple[float, str]] = {}
     d_mm = args.roller_diameter_mm
     p_mm = args.pitch_diameter_mm
@@ -435,7 +435,7 @@ def fault_sources(args, fr: float, loaded: dict) -> dict[str, tuple[float, str]]
         out["bpfi"] = (args.bpfi, "--bpfi")
     for name, hz in args.faults.items():
         out[name] = (hz, "--fault")
-    if not out and loaded.get("bpfi") is not None:
+    if "bpfi" not in out and loaded.get("bpfi") is not None:
         out["bpfi"] = (float(loaded["bpfi"]), "the case file")
     if not out:
         raise ValueError("bpfi: pass --bpfi, --fault NAME=HZ or the bearing geometry "
