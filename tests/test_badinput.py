@@ -259,6 +259,35 @@ ANALYZE_ARGS = {
     "fs-negative": ("x1.npy", ["--fs", "-1"], r"--fs"),
     "harmonics-0": ("x1.npy", ["--harmonics", "0"], r"--harmonics"),
     "npz-2-d-variable": ("x.npz", [], r"shape \(2, 20000\)"),
+    # issue 14: records no spectrum can be read from, frequencies no spectrum can hold
+    "empty-record": ("empty.npy", [], r"^bearing-envelope analyze: error: file: .* empty signal"),
+    "constant-record": ("const.npy", [], r"file: .* constant signal"),
+    "nan-record": ("nan.npy", [], r"file: .* 1 non-finite value"),
+    "2-d-without-column": ("x2.npy", [], r"--column: .* 2-D array of shape \(20000, 2\)"),
+    "fs-zero": ("x1.npy", ["--fs", "0"], r"--fs: fs must be a finite number > 0"),
+    "fs-zero-in-file": ("fs0.npz", ["--fs", None], r"--fs: the file gives fs = 0"),
+    "bpfi-above-nyquist": ("x1.npy", ["--bpfi", "700"],
+                           r"--bpfi: 700 Hz is at or above the Nyquist"),
+    "fault-above-nyquist": ("x1.npy", ["--fault", "bsf=600"],
+                            r"--fault \(bsf = 600 Hz\): .* at or above the Nyquist "
+                            r"frequency 500 Hz"),
+    "geometry-above-nyquist": ("x1.npy", ["--fr", "200", "--n-rollers", "9",
+                                          "--roller-diameter-in", "0.3126",
+                                          "--pitch-diameter-in", "1.537"],
+                               r"bearing geometry \(bpfo = 716\.9.* at or above the Nyquist"),
+    "fault-below-resolution": ("x1.npy", ["--fault", "ftf=0.2"],
+                               r"--fault \(ftf = 0.2 Hz\): .* below the resolution .* 0\.05 Hz"),
+    "fr-above-nyquist": ("x1.npy", ["--fr", "600"], r"--fr: 600 Hz is at or above the Nyquist"),
+    "fault-syntax": ("x1.npy", ["--fault", "bpfo"], r"--fault: expected NAME=HZ"),
+    "fault-negative": ("x1.npy", ["--fault", "bpfo=-3"], r"--fault bpfo: got -3"),
+    "search-percent-0": ("x1.npy", ["--search-percent", "0"], r"--search-percent: got 0"),
+    "pfa-1": ("x1.npy", ["--pfa", "1"], r"--pfa: got 1"),
+    "mm-and-inch": ("x1.npy", ["--roller-diameter-mm", "7.94", "--roller-diameter-in", "0.31"],
+                    r"--roller-diameter-in: give the roller diameter once"),
+    "geometry-incomplete-inch": ("x1.npy", ["--n-rollers", "9", "--roller-diameter-in", "0.3"],
+                                 r"bearing geometry: give --n-rollers"),
+    "fixed-band-above-nyquist": ("x1.npy", ["--fixed-band", "100", "600"],
+                                 r"--fixed-band: HIGH_HZ 600 is above .* add --clamp"),
 }
 
 
@@ -272,6 +301,12 @@ def signals(tmp_path):
     np.save(tmp_path / "x3.npy", x.reshape(10, 20, 100))
     np.savez(tmp_path / "x.npz", accel=np.vstack([x, x]))
     pd.DataFrame({"a": x[:4000], "b": x[:4000]}).to_csv(tmp_path / "x.csv", index=False)
+    np.save(tmp_path / "empty.npy", np.zeros(0))
+    np.save(tmp_path / "const.npy", np.full(20000, 0.25))
+    xn = x.copy()
+    xn[1234] = np.nan
+    np.save(tmp_path / "nan.npy", xn)
+    np.savez(tmp_path / "fs0.npz", accel=x, fs=0.0)
     return tmp_path
 
 
@@ -282,8 +317,12 @@ def test_analyze_arguments(signals, capsys, monkeypatch, key):
     monkeypatch.chdir(signals)
     f, extra, pattern = ANALYZE_ARGS[key]
     tmp = str(signals)
-    argv = ["analyze", f.replace("{tmp}", tmp), "--fr", "10", "--bpfi", "55",
-            *([] if "--fs" in extra else ["--fs", "1000"]), *[a.replace("{tmp}", tmp) for a in extra]]
+    extra = [a.replace("{tmp}", tmp) if a is not None else a for a in extra]
+    fs_args = [] if "--fs" in extra else ["--fs", "1000"]
+    if "--fs" in extra and extra[extra.index("--fs") + 1] is None:  # fs only from the file
+        i = extra.index("--fs")
+        extra = extra[:i] + extra[i + 2:]
+    argv = ["analyze", f.replace("{tmp}", tmp), "--fr", "10", "--bpfi", "55", *fs_args, *extra]
     assert main(argv) == 2
     _one_line(capsys.readouterr().err, pattern)
 

@@ -31,8 +31,11 @@ TIDY_COLUMNS = [
     "amplitude",
 ]
 
-#: Optional columns that follow :data:`TIDY_COLUMNS` when present, in this order.
-TIDY_EXTRA_COLUMNS = ["base", "target_hz", "clamped", "scaling", "signal"]
+#: Optional columns that follow :data:`TIDY_COLUMNS` when present, in this order (``floor``,
+#: ``floor_ratio_db``, ``threshold_db``, ``detected``: the local spectral floor of a line and its
+#: detection, :mod:`bearing_envelope.signal.faults`).
+TIDY_EXTRA_COLUMNS = ["base", "target_hz", "clamped", "scaling", "signal", "floor",
+                      "floor_ratio_db", "threshold_db", "detected"]
 
 #: Row order of an aggregated tidy table.
 TIDY_SORT = ["load_kN", "depth_um", "band", "quantity", "order", "sideband"]
@@ -49,7 +52,8 @@ QUANTITIES = {
     "raw_dc": "mean of the signal (raw spectrum at 0 Hz); order 0",
     "raw_fr": "raw amplitude spectrum at k x fr (sinusoid amplitude, one-sided)",
     "raw_<fault>": "raw amplitude spectrum at k x the fault frequency",
-    "envelope_<fault>": "envelope spectrum at k x the fault frequency + m x fr (sideband m)",
+    "envelope_<fault>": "envelope spectrum at k x the fault frequency found + m x the family's "
+                        "sideband spacing (fr for bpfi, ftf for bsf/bsf2; sideband m)",
     "bandpass_peak": "max |band-passed signal|; order 0",
     "kurtogram_kurtosis": "kurtosis of the best kurtogram cell (dimensionless); "
                           "frequency_hz = its centre",

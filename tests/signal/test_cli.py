@@ -68,7 +68,7 @@ def test_npz_mat_npy(tmp_path, x, capsys):
         ([], "fs: the file does not give"),
         (["--fs", "20000"], "bpfi: pass --bpfi"),
         (["--fs", "20000", "--bpfi", "231.9", "--fixed-band", "5000", "12000"],
-         "fixed band: high edge 12000 Hz is at or above the Nyquist"),
+         "--fixed-band: HIGH_HZ 12000 is above the Nyquist frequency 10000 Hz"),
         (["--fs", "-1", "--bpfi", "231.9"], "fs must be"),
         (["--fs", "20000", "--n-rollers", "9"], "give --n-rollers, --roller-diameter-mm"),
     ],
@@ -108,5 +108,34 @@ def test_case_file_through_read_case(tmp_path, x, capsys, monkeypatch):
     text = capsys.readouterr().out
     assert calls == [str(path)]
     assert "case:p_max_defect" in text and "bpfi = 231.9 Hz" in text and "fr = 15.8 Hz" in text
+    # a --fault adds a family; the case's BPFI stays
+    assert main(["analyze", str(path), "--nlevel", "6", "--fault", "bpfo=150"]) == 0
+    text = capsys.readouterr().out
+    assert "bpfo = 150 Hz, bpfi = 231.9 Hz" in text
     assert main(["analyze", str(path), "--signal", "nope"]) == 2
     assert "no signal 'nope'" in capsys.readouterr().err
+
+
+def test_help_is_plain_text(capsys):
+    """The help shows no reStructuredText markup (roles, double back-quotes)."""
+    with pytest.raises(SystemExit):
+        main(["analyze", "--help"])
+    text = capsys.readouterr().out
+    assert "--search-percent" in text and "--fault NAME=HZ" in text and "--json" in text
+    for markup in (":func:", ":mod:", "``", "::"):
+        assert markup not in text
+
+
+def test_full_band_and_clamp(tmp_path, x, capsys):
+    """--fixed-band 0 fs/2 is the full band (clamped to 0.98 fs/2); above Nyquist it needs
+    --clamp."""
+    np.save(tmp_path / "c.npy", x)
+    base = ["analyze", str(tmp_path / "c.npy"), "--fs", str(FS), "--fr", str(FR), "--bpfi",
+            str(BPFI), "--bands", "[]", "--csv", str(tmp_path / "t.csv")]
+    assert main([*base, "--fixed-band", "0", str(FS / 2)]) == 0
+    assert "# band fixed: 0 - 9800 Hz (fixed, clamped)" in capsys.readouterr().out
+    t = pd.read_csv(tmp_path / "t.csv")
+    assert set(t[t.band_strategy == "fixed"].band_high_hz) == {0.98 * FS / 2}
+    assert main([*base, "--fixed-band", "0", "12000"]) == 2
+    assert "add --clamp" in capsys.readouterr().err
+    assert main([*base, "--fixed-band", "0", "12000", "--clamp"]) == 0

@@ -151,3 +151,18 @@ def test_settling_samples_grows_as_the_band_narrows():
     imp[0] = 1.0
     h = np.abs(sp.sosfilt(sos, imp))
     assert h[narrow:].max() <= 1e-3 * h.max() < h[narrow - 1]
+
+
+def test_full_band_with_clamp():
+    """(0, fs/2) is refused without clamp; with it, it is the low-pass at 0.98 fs/2, and an AM
+    carrier inside reads its modulation depth (known by construction)."""
+    fs = 20000.0
+    x = am()
+    with pytest.raises(ValueError, match="Nyquist"):
+        envelope_spectrum(x, fs, (0.0, fs / 2))
+    f, a = envelope_spectrum(x, fs, (0.0, fs / 2), clamp=True)
+    f2, a2 = envelope_spectrum(x, fs, (0.0, 0.98 * fs / 2))
+    np.testing.assert_array_equal(a, a2)
+    assert a[int(round(50.0 / (f[1] - f[0])))] == pytest.approx(2.0 * 0.4, rel=1e-3)
+    f3, a3 = envelope_spectrum(x, fs, (0.0, 15000.0), clamp=True, margin=0.9)
+    np.testing.assert_array_equal(a3, envelope_spectrum(x, fs, (0.0, 9000.0))[1])

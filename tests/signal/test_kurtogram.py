@@ -132,3 +132,24 @@ def test_bad_inputs(x, kwargs, match):
 def test_bad_fs():
     with pytest.raises(ValueError, match="fs must be"):
         fast_kurtogram(np.random.default_rng(0).standard_normal(4096), 0.0, 3)
+
+
+def test_level0_real_signal_kurtosis():
+    """level0="real" is Antoni's E x^4/(E x^2)^2 - 3 of the de-meaned signal (scipy's Fisher
+    kurtosis, an independent computation); the other rows do not change. (CWRU 105/130, where
+    only the real level 0 wins: tests/signal/test_real_records.py.)"""
+    from scipy.stats import kurtosis
+
+    rng = np.random.default_rng(3)
+    n, fs = 2**14, 10000.0
+    x = 0.1 * rng.standard_normal(n)
+    x[::97] += 3.0 * rng.choice([-1.0, 1.0], x[::97].size)  # sparse, white impulses
+    kr = fast_kurtogram(x, fs, 5, level0="real")
+    ka = fast_kurtogram(x, fs, 5)
+    assert kr.rows[0][0] == pytest.approx(kurtosis(x, fisher=True), rel=1e-9)
+    assert kr.rows[0][0] > ka.rows[0][0] + 5.0
+    for r in range(1, len(kr.rows)):
+        np.testing.assert_array_equal(kr.rows[r], ka.rows[r])
+    assert kr.level == 0.0
+    with pytest.raises(ValueError, match="level0"):
+        fast_kurtogram(x, fs, 5, level0="complex")

@@ -34,3 +34,31 @@ def test_save_analysis_figures(fault, tmp_path):
                             "case_envelope_fs4_3fs8.png", "case_envelope_bpfi_3_6.png",
                             "case_envelope_bpfi_10_13.png"])
     assert all((tmp_path / n).stat().st_size > 1000 for n in names)
+
+
+def test_every_family_marked(fault, tmp_path):
+    """plot_fault_lines draws one dashed line per harmonic and one dotted per sideband of every
+    family (at the frequencies found), and one dot per detected line."""
+    from bearing_envelope.kinematics import fault_frequencies
+    from bearing_envelope.signal.plots import plot_fault_lines
+
+    ff = fault_frequencies(fault["fr"], 9, 7.94, 39.04)
+    faults = {"bpfo": ff.bpfo, "bpfi": fault["bpfi"], "bsf": ff.bsf, "ftf": ff.ftf}
+    _, det = analyze_signal(fault["x"][: 2**15], fault["fs"], fr=fault["fr"],
+                            fault_frequencies=faults, n_harmonics=3, full_output=True,
+                            bands=[{"name": "b", "strategy": "fixed", "low_hz": 5000.0,
+                                    "high_hz": 7000.0}])
+    lines = det["bands"]["b"]["lines"]
+    assert set(lines) == {"bpfo", "bpfi", "bsf", "bsf2", "ftf"}
+    fmax = 3000.0
+    ax = plot_fault_lines(det["bands"]["b"]["f"], det["bands"]["b"]["amplitude"], lines,
+                          fmax=fmax)
+    recs = [r for v in lines.values() for r in v if r["frequency_hz"] <= fmax]
+    vlines = [ln for ln in ax.lines if ln.get_linestyle() in ("--", ":")]
+    dots = [ln for ln in ax.lines if ln.get_marker() == "o"]
+    assert len(vlines) == len(recs)
+    assert sum(ln.get_linestyle() == ":" for ln in vlines) == sum(r["sideband"] != 0 for r in recs)
+    assert len(dots) == sum(bool(r["detected"]) for r in recs) > 0
+    labels = [t.get_text() for t in ax.get_legend().get_texts()]
+    assert len(labels) == 5 and any(t.startswith("k x BPFI (") and "detected" in t
+                                    for t in labels)

@@ -6,6 +6,8 @@ Plot helpers live in :mod:`bearing_envelope.signal.plots` (imported on demand: m
 """
 
 from .analysis import COLUMNS, analyze_signal, fault_frequency_map
+from .faults import (DEFAULT_SEARCH_PERCENT, FaultFamily, FamilyVerdict, Verdict,
+                     fault_families, fault_verdict, search_lines)
 from .bands import (
     DEFAULT_BANDS,
     NYQUIST_MARGIN,
@@ -25,8 +27,12 @@ from .spectrum import amplitude_at, amplitude_spectrum, raw_terms
 __all__ = [
     "COLUMNS",
     "DEFAULT_BANDS",
+    "DEFAULT_SEARCH_PERCENT",
+    "FamilyVerdict",
+    "FaultFamily",
     "NYQUIST_MARGIN",
     "Kurtogram",
+    "Verdict",
     "amplitude_at",
     "amplitude_spectrum",
     "analyze_signal",
@@ -39,7 +45,9 @@ __all__ = [
     "envelope",
     "envelope_spectrum",
     "fast_kurtogram",
+    "fault_families",
     "fault_frequency_map",
+    "fault_verdict",
     "harmonic_amplitudes",
     "kurtogram_levels",
     "max_kurtogram_level",
@@ -47,5 +55,6 @@ __all__ = [
     "raw_terms",
     "resolve_band",
     "settling_samples",
+    "search_lines",
     "spectral_kurtosis",
 ]

@@ -9,9 +9,11 @@ import numpy as np
 
 from ._validation import check_fs, check_positive, check_signal
 from .bands import DEFAULT_BANDS, NYQUIST_MARGIN, resolve_band
-from .envelope import envelope_spectrum, harmonic_amplitudes, peak_value, settling_samples
+from .envelope import envelope_spectrum, peak_value, settling_samples
+from .faults import (DEFAULT_SEARCH_PERCENT, FaultFamily, fault_families, fault_verdict,
+                     search_lines)
 from .kurtogram import fast_kurtogram, max_kurtogram_level
-from .spectrum import amplitude_at, amplitude_spectrum, default_tolerance
+from .spectrum import amplitude_spectrum
 
 __all__ = ["COLUMNS", "analyze_signal", "fault_frequency_map"]
 
@@ -30,14 +32,22 @@ COLUMNS = [
     "frequency_hz",
     "amplitude",
     "scaling",
+    "floor",
+    "floor_ratio_db",
+    "threshold_db",
+    "detected",
 ]
+
+#: Record-wise false-alarm probability of the verdict (the 1 % design of ``diagnosis``).
+DEFAULT_PFA = 0.01
 
 
 def fault_frequency_map(bpfi=None, fault_frequencies=None) -> dict[str, float]:
     """Named fault frequencies (Hz) from ``bpfi`` and/or ``fault_frequencies``.
 
     ``fault_frequencies`` may be a mapping ``name -> Hz`` or an object with attributes
-    ``bpfo``, ``bpfi``, ``ftf``, ``bsf`` (:class:`bearing_envelope.kinematics.FaultFrequencies`).
+    ``bpfo``, ``bpfi``, ``ftf``, ``bsf`` (:class:`bearing_envelope.kinematics.FaultFrequencies`;
+    its ``bsf2`` = 2 BSF joins in :func:`~bearing_envelope.signal.faults.fault_families`).
     ``bpfi`` overrides the mapping's ``"bpfi"``.
     """
     out: dict[str, float] = {}
@@ -77,14 +87,22 @@ def analyze_signal(
     interpolate: bool = False,
     nyquist_margin: float = NYQUIST_MARGIN,
     demean: bool = True,
+    level0: str = "analytic",
+    search_percent: float = DEFAULT_SEARCH_PERCENT,
+    sideband_spacing: Mapping[str, str | None] | None = None,
+    pfa: float = DEFAULT_PFA,
     full_output: bool = False,
 ):
     r"""Run the envelope-analysis chain on one signal and return tidy records.
 
     Steps: raw amplitude spectrum (0 Hz, k x fr, k x fault frequency); fast kurtogram (only
     when a ``kurtogram`` band is requested); for every band: zero-phase Butterworth band-pass,
-    peak of the band-passed signal, Hilbert envelope, envelope spectrum and the amplitudes at
-    k x f_fault (k = 1..K) with sidebands k x f_fault +- m x fr (m = 1..M).
+    peak of the band-passed signal, Hilbert envelope, envelope spectrum and, for every fault
+    family (:mod:`bearing_envelope.signal.faults`), the fundamental found within
+    ``+- search_percent`` of its nominal frequency, the harmonics k = 1..K around
+    ``k f_found`` and the sidebands ``+- m`` times the family's own spacing (fr for BPFI, FTF
+    for BSF and 2 x BSF, none for BPFO and FTF), each with its local floor and detection; then
+    a verdict per family over the bands.
 
     Parameters
     ----------
@@ -97,8 +115,10 @@ def analyze_signal(
     bpfi : float, optional
         Inner-race fault frequency (Hz). Shorthand for ``fault_frequencies={"bpfi": bpfi}``.
     fault_frequencies : mapping or FaultFrequencies, optional
-        Named fault frequencies (Hz); envelope harmonics are read for each of them, and an
-        ``orders`` band's ``base`` refers to them (or to ``"fr"``).
+        Named fault frequencies (Hz); each is a fault family (a ``bsf`` brings ``bsf2`` =
+        2 x BSF), and an ``orders`` band's ``base`` refers to them (or to ``"fr"``). Each must
+        lie below fs/2. A line too close to 0 Hz for a floor around it (a short record) gets
+        NaN ``floor`` and NA ``detected``.
     bands : sequence of mapping, optional
         Band specifications, plain mappings as a YAML config carries them; default
         :data:`DEFAULT_BANDS` (kurtogram, fs/4-3fs/8, 3-6 x BPFI, 10-13 x BPFI)::
@@ -116,7 +136,8 @@ def analyze_signal(
     n_harmonics : int, default 2
         Envelope harmonics k = 1..K.
     n_sidebands : int, default 1
-        Sidebands m = 1..M on each side of each harmonic (0: none).
+        Sidebands m = 1..M on each side of each harmonic (0: none), for families that have a
+        spacing.
     n_raw_harmonics : int, default 1
         Orders of fr and of each fault frequency read in the raw spectrum.
     nlevel : int or None, default 8
@@ -131,7 +152,8 @@ def analyze_signal(
     window : str or tuple, default "hann"
         Window of the raw and envelope spectra.
     tolerance_hz : float, optional
-        Search half-width around each target; default ``max(2 df, 0.002 f)`` capped at fr/4.
+        A fixed search half-width (Hz) for every line instead of ``search_percent`` and the
+        narrow windows around the speed-corrected harmonics and sidebands.
     interpolate : bool, default False
         Scalloping-corrected, interpolated peaks (see :func:`amplitude_at`); default: the
         largest bin.
@@ -139,10 +161,22 @@ def analyze_signal(
         Clamped upper edges are set to ``nyquist_margin * fs/2``.
     demean : bool, default True
         De-mean before the kurtogram (the raw 0 Hz term always uses the original signal).
+    level0 : {"analytic", "real"}, default "analytic"
+        Kurtosis of the kurtogram's level 0, see :func:`fast_kurtogram` (``"real"``: Antoni's).
+    search_percent : float, default 1.0
+        Half-width of the search for each fundamental, percent of its nominal frequency (real
+        lines sit 0.2-0.7 % off when the nominal shaft speed is not the actual one).
+    sideband_spacing : mapping, optional
+        ``family -> spacing name`` overriding the defaults
+        (:data:`bearing_envelope.signal.faults.SIDEBAND_SPACING`).
+    pfa : float, default 0.01
+        Record-wise false-alarm probability of the verdict: each of the F families x B bands
+        tests runs at ``pfa / (F B)``.
     full_output : bool, default False
         Also return a dict with the kurtogram, the bands with provenance and every spectrum
         (for plots): ``{"kurtogram", "bands": {name: {"band", "provenance", "f",
-        "amplitude", "peak"}}, "raw": (f, amplitude), "frequencies", "fr", "fs"}``.
+        "amplitude", "peak"}}, "raw": (f, amplitude), "frequencies", "families", "verdict",
+        "fr", "fs"}`` (``verdict``: a :class:`~bearing_envelope.signal.faults.Verdict`).
 
     Returns
     -------
@@ -162,6 +196,10 @@ def analyze_signal(
           ``sideband``: signed m (0: the harmonic itself); ``target_hz``: k f + m fr;
           ``frequency_hz``: where the peak was found; ``amplitude``; ``scaling``: a short
           statement of the unit and scaling of ``amplitude``.
+        - spectrum rows: ``floor`` (median amplitude over ``[0.5, 1.5] x frequency`` without
+          the family's lines and the shaft harmonics), ``floor_ratio_db`` (``20 log10
+          (amplitude / floor)``), ``threshold_db`` (at the per-test false-alarm probability)
+          and ``detected``; NaN / NA for the other rows.
 
     (DataFrame, dict)
         With ``full_output``.
@@ -185,16 +223,29 @@ def analyze_signal(
     x = check_signal(x, "x", min_length=16)
     fr = check_positive(fr, "fr")
     faults = fault_frequency_map(bpfi, fault_frequencies)
-    freqs = {"fr": fr, **faults}
+    nyq = fs / 2.0
+    for name, hz in {"fr": fr, **faults}.items():
+        what = "fr" if name == "fr" else f"fault frequency {name!r}"
+        if hz >= nyq:
+            raise ValueError(f"{what} = {hz:g} Hz is at or above the Nyquist frequency "
+                             f"{nyq:g} Hz (fs = {fs:g} Hz)")
+    families = fault_families(faults, fr=fr, sidebands=sideband_spacing)
+    freqs = {"fr": fr, **{fam.name: fam.frequency_hz for fam in families}}
     bands = list(DEFAULT_BANDS if bands is None else bands)
     names = [str(b.get("name", b.get("strategy"))) if isinstance(b, Mapping) else None
              for b in bands]
     dup = {n for n in names if names.count(n) > 1}
     if dup:
         raise ValueError(f"bands: duplicate band name(s) {sorted(dup)}")
-    nyq = fs / 2.0
+    pfa = float(pfa)
+    if not 0.0 < pfa < 1.0:
+        raise ValueError(f"pfa must be in (0, 1), got {pfa!r}")
+    n_tests = max(1, len(families) * len(bands))
+    pfa_test = pfa / n_tests
     unit = "U^2" if squared else "U"
     records: list[dict] = []
+    search = dict(search_percent=search_percent, tolerance_hz=tolerance_hz, pfa=pfa_test,
+                  interpolate=interpolate, window=window, n=x.size)
 
     def rec(**kw):
         base = {c: None for c in COLUMNS}
@@ -203,21 +254,16 @@ def analyze_signal(
 
     # raw spectrum ---------------------------------------------------------------------------
     f_raw, a_raw = amplitude_spectrum(x, fs, window=window)
-    df_raw = f_raw[1] - f_raw[0]
     raw_common = dict(band_strategy="raw", band_kind="raw", band_low_hz=0.0, band_high_hz=nyq,
-                      clamped=False, quantity="raw_spectrum", sideband=0)
-    rec(**raw_common, base="dc", order=0, target_hz=0.0, frequency_hz=0.0,
+                      clamped=False, quantity="raw_spectrum")
+    rec(**raw_common, base="dc", order=0, sideband=0, target_hz=0.0, frequency_hz=0.0,
         amplitude=float(np.mean(x)), scaling="mean of the signal (U)")
-    for name, base_hz in freqs.items():
-        for k in range(1, int(n_raw_harmonics) + 1):
-            target = k * base_hz
-            if target >= nyq:
-                continue
-            tol = default_tolerance(target, df_raw, fr) if tolerance_hz is None else tolerance_hz
-            ff, aa = amplitude_at(f_raw, a_raw, target, tol, interpolate=interpolate,
-                                  window=window, n=x.size)
-            rec(**raw_common, base=name, order=k, target_hz=target, frequency_hz=ff,
-                amplitude=aa, scaling="one-sided sinusoid amplitude, window-corrected (U)")
+    raw_families = (FaultFamily("fr", fr, None, None, "shaft rate"),) + families
+    for fam in raw_families:
+        for r in search_lines(f_raw, a_raw, fam, fr=fr, n_harmonics=int(n_raw_harmonics),
+                              n_sidebands=0, **search):
+            rec(**raw_common, base=fam.name, scaling="one-sided sinusoid amplitude, "
+                "window-corrected (U)", **r)
 
     # kurtogram (once, only if needed) -------------------------------------------------------
     kg = None
@@ -226,7 +272,7 @@ def analyze_signal(
         if nl is not None:
             nl = max(1, min(int(nl), max_kurtogram_level(x.size)))
         kg = fast_kurtogram(x, fs, nl, max_level=max_level, min_bandwidth=min_bandwidth,
-                            demean=demean)
+                            demean=demean, level0=level0)
 
     def kg_for(ml, mb):
         if ml is None and mb is None:
@@ -236,7 +282,7 @@ def analyze_signal(
 
     # bands ----------------------------------------------------------------------------------
     details: dict = {"kurtogram": kg, "bands": {}, "raw": (f_raw, a_raw), "frequencies": freqs,
-                     "fr": fr, "fs": fs, "squared": squared}
+                     "families": families, "fr": fr, "fs": fs, "squared": squared}
     env_scaling = (f"one-sided amplitude of the {'squared ' if squared else ''}envelope "
                    f"component, mean removed, {window} window ({unit})")
     for spec in bands:
@@ -256,17 +302,25 @@ def analyze_signal(
             target_hz=math.nan, frequency_hz=math.nan, amplitude=pk,
             scaling=f"max |band-passed signal| (U), Butterworth order {filter_order} x2, "
                     "edge transients excluded")
-        for name, base_hz in faults.items():
-            for r in harmonic_amplitudes(f_env, a_env, base_hz, fr=fr, n_harmonics=n_harmonics,
-                                         n_sidebands=n_sidebands, tolerance=tolerance_hz,
-                                         interpolate=interpolate, window=window, n=x.size):
-                rec(**common, quantity="envelope_spectrum", base=name, scaling=env_scaling, **r)
+        found = {}
+        for fam in families:
+            rows = search_lines(f_env, a_env, fam, fr=fr, n_harmonics=n_harmonics,
+                                n_sidebands=n_sidebands, **search)
+            for r in rows:
+                rec(**common, quantity="envelope_spectrum", base=fam.name, scaling=env_scaling,
+                    **r)
+            found[fam.name] = rows
         details["bands"][prov["name"]] = {"band": band, "provenance": prov, "f": f_env,
-                                          "amplitude": a_env, "peak": pk}
+                                          "amplitude": a_env, "peak": pk, "lines": found}
 
     table = pd.DataFrame.from_records(records, columns=COLUMNS)
     table["order"] = table["order"].astype("Int64")
     table["sideband"] = table["sideband"].astype("Int64")
+    table["detected"] = table["detected"].astype("boolean")
+    for c in ("floor", "floor_ratio_db", "threshold_db"):
+        table[c] = table[c].astype(float)
+    details["verdict"] = fault_verdict(table, families, pfa=pfa, n_tests=n_tests, fr=fr,
+                                       search_percent=search_percent)
     if full_output:
         return table, details
     return table

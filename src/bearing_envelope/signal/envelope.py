@@ -6,8 +6,8 @@ import numpy as np
 from scipy import signal as sp_signal
 
 from ._validation import check_fs, check_positive, check_signal
-from .bands import clamp_band
-from .spectrum import amplitude_at, amplitude_spectrum, default_tolerance
+from .bands import NYQUIST_MARGIN, clamp_band
+from .spectrum import amplitude_spectrum
 
 __all__ = [
     "bandpass",
@@ -132,6 +132,8 @@ def envelope_spectrum(
     window="hann",
     order: int = 4,
     return_signal: bool = False,
+    clamp: bool = False,
+    margin: float = NYQUIST_MARGIN,
 ):
     r"""Envelope spectrum of ``x`` demodulated in ``band``.
 
@@ -142,7 +144,9 @@ def envelope_spectrum(
     fs : float
         Sampling frequency (Hz).
     band : (float, float) or None
-        Demodulation band (Hz), see :func:`bandpass`; ``None`` uses ``x`` as it is.
+        Demodulation band (Hz), see :func:`bandpass`; ``None`` uses ``x`` as it is (the full
+        band without filtering). ``(0, fs/2)`` with ``clamp`` is the full band through a
+        low-pass at ``margin * fs/2``.
     squared : bool, default False
         Use the squared envelope.
     window : str, tuple or None, default "hann"
@@ -151,6 +155,11 @@ def envelope_spectrum(
         Butterworth order of the band-pass.
     return_signal : bool, default False
         Also return the band-passed signal and the envelope.
+    clamp : bool, default False
+        Lower an upper edge above ``margin * fs/2`` to it (see
+        :func:`~bearing_envelope.signal.clamp_band`) instead of raising.
+    margin : float, default 0.98
+        Where a clamped upper edge ends, as a fraction of fs/2.
 
     Returns
     -------
@@ -173,6 +182,12 @@ def envelope_spectrum(
     """
     fs = check_fs(fs)
     x = check_signal(x, "x", min_length=2)
+    if band is not None and clamp:
+        try:
+            lo_hz, hi_hz = float(band[0]), float(band[1])
+        except (TypeError, ValueError, IndexError):
+            raise ValueError(f"band must be a (low, high) pair in Hz, got {band!r}") from None
+        band = clamp_band(lo_hz, hi_hz, fs, margin=margin, clamp=True, field="band")[:2]
     y = x if band is None else bandpass(x, fs, band, order=order)
     e = envelope(y, squared=squared)
     f, a = amplitude_spectrum(e - e.mean(), fs, window=window)
@@ -198,27 +213,37 @@ def harmonic_amplitudes(
     fr: float | None = None,
     n_harmonics: int = 2,
     n_sidebands: int = 1,
+    search_percent: float | None = None,
     tolerance: float | None = None,
     interpolate: bool = False,
     window="hann",
     n: int | None = None,
 ) -> list[dict]:
-    r"""Amplitudes at :math:`k f_b` and the sidebands :math:`k f_b \pm m f_r`.
+    r"""Amplitudes at the fundamental near :math:`f_b`, its harmonics and sidebands.
+
+    The search of :func:`bearing_envelope.signal.faults.search_lines`: the fundamental
+    :math:`f_1` is the largest bin within :math:`f_b (1 \pm p/100)`; harmonic k is searched
+    around :math:`k f_1`, its sidebands around :math:`k f_1 \pm m s f_r` with
+    :math:`s = f_1/f_b` (the speed error moves every line by the same ratio), within
+    ``max(2 df, 0.002 f)`` (at most ``fr/4``).
 
     Parameters
     ----------
     f, amplitude : ndarray
         An (envelope) spectrum.
     base : float
-        Base frequency :math:`f_b` (Hz), e.g. BPFI.
+        Nominal base frequency :math:`f_b` (Hz), e.g. BPFI.
     fr : float, optional
         Sideband spacing (Hz), the shaft rate. Needed when ``n_sidebands > 0``.
     n_harmonics : int, default 2
         Orders k = 1..K.
     n_sidebands : int, default 1
         Sidebands m = 1..M on each side.
+    search_percent : float, optional
+        Half-width ``p`` of the fundamental's search (percent); default
+        :data:`~bearing_envelope.signal.faults.DEFAULT_SEARCH_PERCENT` (1 %).
     tolerance : float, optional
-        Search half-width (Hz); default ``max(2 df, 0.002 f)`` capped at ``fr/4``.
+        A fixed search half-width (Hz) for every line instead.
     interpolate, window, n
         See :func:`amplitude_at`.
 
@@ -226,9 +251,14 @@ def harmonic_amplitudes(
     -------
     list of dict
         Records with ``order`` (k), ``sideband`` (signed m, 0 for the harmonic itself),
-        ``target_hz``, ``frequency_hz`` (the peak found) and ``amplitude`` (unit of
-        ``amplitude``). Targets beyond the spectrum or below 0 Hz are skipped.
+        ``target_hz`` (the nominal base for k = 1, m = 0, else the speed-corrected centre),
+        ``frequency_hz`` (the peak found) and ``amplitude`` (unit of ``amplitude``), plus
+        ``floor``, ``floor_ratio_db``, ``threshold_db``, ``detected`` (see
+        :func:`~bearing_envelope.signal.faults.search_lines`). Lines beyond the spectrum are
+        skipped.
     """
+    from .faults import DEFAULT_SEARCH_PERCENT, FaultFamily, search_lines
+
     base = check_positive(base, "base")
     n_harmonics = int(n_harmonics)
     n_sidebands = int(n_sidebands)
@@ -238,17 +268,10 @@ def harmonic_amplitudes(
         raise ValueError(f"n_sidebands must be >= 0, got {n_sidebands}")
     if n_sidebands > 0:
         fr = check_positive(fr, "fr")
-    f = np.asarray(f)
-    df = float(f[1] - f[0])
-    out = []
-    for k in range(1, n_harmonics + 1):
-        for m in range(-n_sidebands, n_sidebands + 1):
-            target = k * base + (m * fr if m else 0.0)
-            if target <= 0 or target > f[-1]:
-                continue
-            tol = default_tolerance(target, df, fr) if tolerance is None else float(tolerance)
-            ff, aa = amplitude_at(f, amplitude, target, tol, interpolate=interpolate,
-                                  window=window, n=n)
-            out.append({"order": k, "sideband": m, "target_hz": target, "frequency_hz": ff,
-                        "amplitude": aa})
-    return out
+    fam = FaultFamily("base", base, "fr" if n_sidebands else None, fr if n_sidebands else None,
+                      "base line")
+    return search_lines(f, amplitude, fam, fr=fr, n_harmonics=n_harmonics,
+                        n_sidebands=n_sidebands,
+                        search_percent=DEFAULT_SEARCH_PERCENT if search_percent is None
+                        else search_percent,
+                        tolerance_hz=tolerance, interpolate=interpolate, window=window, n=n)

@@ -11,7 +11,8 @@ import os
 
 import numpy as np
 
-__all__ = ["plot_envelope_spectrum", "plot_kurtogram", "save_analysis_figures"]
+__all__ = ["FAMILY_COLORS", "plot_envelope_spectrum", "plot_fault_lines", "plot_kurtogram",
+           "save_analysis_figures"]
 
 
 def _axes(ax, figsize):
@@ -129,14 +130,87 @@ def plot_envelope_spectrum(f, amplitude, *, base: float | None = None, fr: float
     return ax
 
 
-def save_analysis_figures(details: dict, outdir, *, prefix: str = "", base: str = "bpfi",
+#: Colours of the fault families on the plots (others cycle through the rest).
+FAMILY_COLORS = {"bpfo": "tab:red", "bpfi": "tab:green", "bsf": "tab:purple",
+                 "bsf2": "tab:brown", "ftf": "tab:orange"}
+
+
+def plot_fault_lines(f, amplitude, lines: dict, *, fmax: float | None = None, ax=None,
+                     title: str | None = None, unit: str = "", color: str = "C0"):
+    """Envelope spectrum with every fault family's lines as found.
+
+    Parameters
+    ----------
+    f, amplitude : ndarray
+        The spectrum.
+    lines : mapping
+        ``family name -> records`` of :func:`bearing_envelope.signal.faults.search_lines`
+        (``analyze_signal(..., full_output=True)[1]["bands"][name]["lines"]``). Each harmonic
+        is marked at the frequency found (dashed, one colour per family, a dot on the peak
+        when detected), each sideband dotted in the same colour.
+    fmax : float, optional
+        Upper end of the axis; default 3.5 x the highest fundamental found.
+    ax, title, unit, color
+        As in :func:`plot_envelope_spectrum`.
+
+    Returns
+    -------
+    matplotlib Axes
+    """
+    from .faults import display_name
+
+    ax = _axes(ax, (8.0, 4.0))
+    f = np.asarray(f)
+    amplitude = np.asarray(amplitude)
+    fund = [r["frequency_hz"] for recs in lines.values() for r in recs
+            if r["order"] == 1 and r["sideband"] == 0]
+    if fmax is None:
+        fmax = 3.5 * max(fund) if fund else f[-1]
+    sel = f <= fmax
+    ax.plot(f[sel], amplitude[sel], color=color, linewidth=0.7)
+    spare = iter(["tab:pink", "tab:olive", "tab:cyan", "tab:gray", "black"] * 10)
+    for name, recs in lines.items():
+        c = FAMILY_COLORS.get(name) or next(spare)
+        first = True
+        for r in recs:
+            fk = r["frequency_hz"]
+            if fk > fmax:
+                continue
+            det = bool(r.get("detected"))
+            if r["sideband"] == 0:
+                label = None
+                if first:
+                    q1 = next(q for q in recs if q["order"] == 1 and q["sideband"] == 0)
+                    f1, d1 = q1["frequency_hz"], bool(q1.get("detected"))
+                    label = (f"k x {display_name(name)} ({f1:.1f} Hz"
+                             f"{', detected' if d1 else ''})")
+                    first = False
+                ax.axvline(fk, color=c, linestyle="--", linewidth=0.9, alpha=0.8, label=label)
+            else:
+                ax.axvline(fk, color=c, linestyle=":", linewidth=0.8, alpha=0.7)
+            if det:
+                ax.plot([fk], [r["amplitude"]], "o", color=c, markersize=3.5)
+    if lines:
+        ax.legend(loc="upper right", fontsize=7)
+    ax.set_xlim(0, fmax)
+    ax.set_ylim(bottom=0)
+    ax.set_xlabel("frequency (Hz)")
+    ax.set_ylabel(f"envelope amplitude{f' ({unit})' if unit else ''}")
+    if title:
+        ax.set_title(title, fontsize=9)
+    return ax
+
+
+def save_analysis_figures(details: dict, outdir, *, prefix: str = "", base: str | None = None,
                           n_harmonics: int = 5, n_sidebands: int = 1, unit: str = "",
                           dpi: int = 120, fmt: str = "png") -> list[str]:
     """Write the kurtogram and one envelope spectrum per band from
     ``analyze_signal(..., full_output=True)[1]``; returns the paths written.
 
     Files: ``{prefix}kurtogram.{fmt}`` (if a kurtogram was computed) and
-    ``{prefix}envelope_{band name}.{fmt}``.
+    ``{prefix}envelope_{band name}.{fmt}``. Every fault family's harmonics and sidebands are
+    marked where they were found (:func:`plot_fault_lines`); with ``base`` (a family name) only
+    that family's nominal ``k x base`` and ``+- m x fr`` (:func:`plot_envelope_spectrum`).
     """
     from matplotlib.figure import Figure
 
@@ -150,16 +224,26 @@ def save_analysis_figures(details: dict, outdir, *, prefix: str = "", base: str 
         fig.savefig(p, dpi=dpi)
         paths.append(p)
     freqs = details.get("frequencies", {})
-    base_hz = freqs.get(base)
+    verdict = details.get("verdict")
     for name, b in details.get("bands", {}).items():
-        fig = Figure(figsize=(7.0, 3.6), layout="constrained")
         lo, hi = b["band"]
         clamp = " (clamped)" if b["provenance"].get("clamped") else ""
         title = f"{name}: band {lo:.0f} - {hi:.0f} Hz{clamp}"
-        plot_envelope_spectrum(b["f"], b["amplitude"], base=base_hz, fr=details.get("fr"),
-                               n_harmonics=n_harmonics, n_sidebands=n_sidebands,
-                               ax=fig.add_subplot(), title=title, base_label=base.upper(),
-                               unit=unit)
+        if base is None and b.get("lines") is not None:
+            fig = Figure(figsize=(8.0, 4.0), layout="constrained")
+            if verdict is not None and name == getattr(verdict.diagnosis, "band", None):
+                import textwrap
+
+                title += "\n" + textwrap.fill(f"verdict: {verdict.summary_lines()[0]}", 110)
+            plot_fault_lines(b["f"], b["amplitude"], b["lines"], ax=fig.add_subplot(),
+                             title=title, unit=unit)
+        else:
+            fig = Figure(figsize=(7.0, 3.6), layout="constrained")
+            key = base or "bpfi"
+            plot_envelope_spectrum(b["f"], b["amplitude"], base=freqs.get(key),
+                                   fr=details.get("fr"), n_harmonics=n_harmonics,
+                                   n_sidebands=n_sidebands, ax=fig.add_subplot(), title=title,
+                                   base_label=key.upper(), unit=unit)
         p = os.path.join(outdir, f"{prefix}envelope_{name}.{fmt}")
         fig.savefig(p, dpi=dpi)
         paths.append(p)

@@ -220,6 +220,7 @@ def raw_terms(
     tolerance: float | None = None,
     window="hann",
     interpolate: bool = False,
+    search_percent: float | None = None,
 ) -> list[dict]:
     """Raw-spectrum terms: the 0 Hz term, k x fr and k x BPFI (k = 1..n_harmonics).
 
@@ -228,28 +229,33 @@ def raw_terms(
     x : array_like, 1-D
         Real signal (unit ``U``), not de-meaned: the 0 Hz term is its mean.
     fs, fr, bpfi : float
-        Sampling frequency, shaft rate and inner-race fault frequency (Hz).
+        Sampling frequency, nominal shaft rate and inner-race fault frequency (Hz).
     n_harmonics : int, default 1
         Orders k of fr and BPFI.
     tolerance : float, optional
-        Search half-width (Hz) around each target; default ``max(2 df, 0.002 f)`` capped at
-        ``fr / 4`` (``df = fs / n``).
+        A fixed search half-width (Hz) around every target instead of the default search.
     window, interpolate
         See :func:`amplitude_spectrum` and :func:`amplitude_at`.
+    search_percent : float, optional
+        Half-width of the search for fr and BPFI, percent of the nominal value (default 1 %);
+        their harmonics are searched around k x the line found within
+        ``max(2 df, 0.002 f)`` (:func:`bearing_envelope.signal.faults.search_lines`).
 
     Returns
     -------
     list of dict
         One record per term with keys ``base`` ("dc", "fr", "bpfi"), ``order``,
         ``target_hz``, ``frequency_hz`` and ``amplitude`` (in ``U``; the 0 Hz amplitude is the
-        signal mean, the others the amplitude of the sinusoid, window-corrected).
+        signal mean, the others the amplitude of the sinusoid, window-corrected), and for the
+        lines ``floor``, ``floor_ratio_db``, ``threshold_db``, ``detected``.
     """
+    from .faults import DEFAULT_SEARCH_PERCENT, FaultFamily, search_lines
+
     fs = check_fs(fs)
     fr = check_positive(fr, "fr")
     bpfi = check_positive(bpfi, "bpfi")
     x = check_signal(x, "x")
     f, a = amplitude_spectrum(x, fs, window=window)
-    df = f[1] - f[0]
     out = [
         {
             "base": "dc",
@@ -260,24 +266,16 @@ def raw_terms(
             "amplitude": float(np.mean(x)),
         }
     ]
+    p = DEFAULT_SEARCH_PERCENT if search_percent is None else search_percent
     for name, base in (("fr", fr), ("bpfi", bpfi)):
-        for k in range(1, int(n_harmonics) + 1):
-            target = k * base
-            if target > fs / 2:
-                continue
-            tol = default_tolerance(target, df, fr) if tolerance is None else tolerance
-            ff, aa = amplitude_at(
-                f, a, target, tol, interpolate=interpolate, window=window, n=x.size
-            )
-            out.append(
-                {
-                    "base": name,
-                    "order": k,
-                    "target_hz": target,
-                    "frequency_hz": ff,
-                    "amplitude": aa,
-                }
-            )
+        if base >= fs / 2:
+            continue
+        fam = FaultFamily(name, base, None, None, name)
+        for r in search_lines(f, a, fam, fr=fr, n_harmonics=int(n_harmonics), n_sidebands=0,
+                              search_percent=p, tolerance_hz=tolerance,
+                              interpolate=interpolate, window=window, n=x.size):
+            r.pop("sideband")
+            out.append({"base": name, **r})
     return out
 
 
