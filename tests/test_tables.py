@@ -88,7 +88,6 @@ def test_tidy_from_analysis_speaks_the_tidy_vocabulary():
                          bands=[{"name": "mine", "strategy": "fraction", "low": 0.125,
                                  "high": 0.375}])
     df = tidy_from_analysis(raw)
-    assert "band_kind" not in df.columns
     assert set(df["band"]) == {"raw", "mine"}
     assert set(df["band_strategy"]) <= set(BAND_STRATEGIES)
     assert set(df.loc[df["band"] == "mine", "band_strategy"]) == {"fraction"}
@@ -97,5 +96,6 @@ def test_tidy_from_analysis_speaks_the_tidy_vocabulary():
     df2 = tidy_from_analysis(raw, {"mine": "kurtogram"})
     assert set(df2.loc[df2["band"] == "mine", "band_strategy"]) == {"kurtogram"}
     assert set(df2.loc[df2["band"] == "raw", "band_strategy"]) == {"raw"}
-    with pytest.raises(ValueError, match="band_kind"):
-        tidy_from_analysis(df)
+    pd.testing.assert_frame_equal(tidy_from_analysis(df), df)       # idempotent
+    with pytest.raises(ValueError, match="band_strategy"):
+        tidy_from_analysis(df.drop(columns=["band_strategy"]))

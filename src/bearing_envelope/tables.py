@@ -39,16 +39,17 @@ from .vocabulary import (BAND_STRATEGIES, QUANTITIES, RAW_BAND, TIDY_COLUMNS,  #
 
 def tidy_from_analysis(table: pd.DataFrame, strategies: Mapping[str, str] | None = None
                        ) -> pd.DataFrame:
-    """Rename the long table of :func:`bearing_envelope.signal.analyze_signal` into the tidy
-    vocabulary: ``band_strategy`` (the band's name there) -> ``band``, ``band_kind`` ->
-    ``band_strategy``, ``quantity`` + ``base`` -> a :data:`QUANTITIES` name.
+    """The long table of :func:`bearing_envelope.signal.analyze_signal` in the tidy vocabulary:
+    its columns already are (``band`` = name, ``band_strategy`` = how it was chosen); its
+    measure names ``quantity`` + ``base`` become one :data:`QUANTITIES` name (``raw_spectrum``
+    + ``bpfi`` -> ``raw_bpfi``, ``envelope_spectrum`` + ``bpfi`` -> ``envelope_bpfi``).
 
     Parameters
     ----------
     table : DataFrame
         As returned by ``analyze_signal`` (columns ``bearing_envelope.signal.COLUMNS``).
     strategies : mapping, optional
-        Band name -> strategy, overriding ``band_kind`` (the sweep applies its bands as fixed
+        Band name -> strategy, overriding ``band_strategy`` (the sweep applies its bands as fixed
         limits, so the strategy that chose them comes from the bands file).
 
     Returns
@@ -56,10 +57,10 @@ def tidy_from_analysis(table: pd.DataFrame, strategies: Mapping[str, str] | None
     DataFrame
         A copy; the other columns are kept, in their order.
     """
-    if "band_kind" not in table.columns or "band_strategy" not in table.columns:
-        raise ValueError("tidy_from_analysis expects analyze_signal's columns band_strategy "
-                         f"(name) and band_kind; got {list(table.columns)}")
-    df = table.rename(columns={"band_strategy": "band", "band_kind": "band_strategy"})
+    if "band" not in table.columns or "band_strategy" not in table.columns:
+        raise ValueError("tidy_from_analysis expects analyze_signal's columns band (name) and "
+                         f"band_strategy; got {list(table.columns)}")
+    df = table.copy()
     base = df["base"].where(df["base"].notna(), None) if "base" in df else [None] * len(df)
     df["quantity"] = [quantity_name(q, b) for q, b in zip(df["quantity"], base)]
     if strategies is not None:

@@ -18,19 +18,19 @@ def test_columns_and_whole_chain(fault):
                              n_sidebands=2, full_output=True)
     assert isinstance(df, pd.DataFrame)
     assert list(df.columns) == COLUMNS
-    for c in ["band_strategy", "band_low_hz", "band_high_hz", "quantity", "order", "sideband",
+    for c in ["band", "band_strategy", "band_low_hz", "band_high_hz", "quantity", "order", "sideband",
               "frequency_hz", "amplitude"]:
         assert c in df.columns
-    assert set(df.band_strategy) == {"raw", "kurtogram", "fs4_3fs8", "bpfi_10_13", "fixed"}
+    assert set(df.band) == {"raw", "kurtogram", "fs4_3fs8", "bpfi_10_13", "fixed"}
     env = df[df.quantity == "envelope_spectrum"]
     assert len(env) == 4 * 3 * 5
-    kgrow = df[df.band_strategy == "kurtogram"].iloc[0]
+    kgrow = df[df.band == "kurtogram"].iloc[0]
     assert kgrow.band_low_hz <= fn <= kgrow.band_high_hz
-    k1 = env[(env.band_strategy == "kurtogram") & (env.order == 1)]
+    k1 = env[(env.band == "kurtogram") & (env.order == 1)]
     main = k1[k1.sideband == 0].amplitude.iloc[0]
     assert (k1[k1.sideband != 0].amplitude < main).all()
     # the fixed band around fn sees the same lines as the kurtogram band
-    fx = env[(env.band_strategy == "fixed") & (env.order == 1) & (env.sideband == 0)]
+    fx = env[(env.band == "fixed") & (env.order == 1) & (env.sideband == 0)]
     assert fx.amplitude.iloc[0] == pytest.approx(main, rel=0.5)
     raw = df[df.quantity == "raw_spectrum"].set_index("base")
     assert raw.loc["fr", "amplitude"] > 10 * raw.loc["bpfi", "amplitude"]  # the strong tone
@@ -57,7 +57,7 @@ def test_fault_frequencies_object_and_defaults(fault):
     df = analyze_signal(fault["x"][: 2**15], fault["fs"], fr=fault["fr"], fault_frequencies=ff,
                         n_harmonics=1, n_sidebands=0)
     assert set(df.base.dropna()) >= {"dc", "fr", "bpfi", "bpfo", "ftf", "bsf"}
-    assert list(df[df.quantity == "bandpass_peak"].band_strategy) == [
+    assert list(df[df.quantity == "bandpass_peak"].band) == [
         "kurtogram", "fs4_3fs8", "bpfi_3_6", "bpfi_10_13"]
 
 

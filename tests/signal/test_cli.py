@@ -23,12 +23,14 @@ def test_csv_with_time_column(tmp_path, x, capsys):
     assert rc == 0
     text = capsys.readouterr().out
     assert "fs = 20000 Hz" in text and "kurtogram: level" in text
-    assert "envelope_spectrum" in text
+    assert "envelope_bpfi" in text            # the sweep's tidy quantity names
     df = pd.read_csv(out_csv)
-    for c in ["band_strategy", "band_low_hz", "band_high_hz", "quantity", "order", "sideband",
+    assert {"raw_dc", "raw_fr", "raw_bpfi", "envelope_bpfi", "bandpass_peak"} <= set(df.quantity)
+    assert set(df.band_strategy) <= {"raw", "kurtogram", "fraction", "orders", "fixed"}
+    for c in ["band", "band_strategy", "band_low_hz", "band_high_hz", "quantity", "order", "sideband",
               "frequency_hz", "amplitude"]:
         assert c in df.columns
-    assert set(df.band_strategy) == {"raw", "kurtogram", "fs4_3fs8", "bpfi_3_6", "bpfi_10_13",
+    assert set(df.band) == {"raw", "kurtogram", "fs4_3fs8", "bpfi_3_6", "bpfi_10_13",
                                      "fixed"}
     kg = df[df.quantity == "kurtogram_kurtosis"].iloc[0]
     assert kg.band_low_hz <= FN <= kg.band_high_hz
@@ -135,7 +137,7 @@ def test_full_band_and_clamp(tmp_path, x, capsys):
     assert main([*base, "--fixed-band", "0", str(FS / 2)]) == 0
     assert "# band fixed: 0 - 9800 Hz (fixed, clamped)" in capsys.readouterr().out
     t = pd.read_csv(tmp_path / "t.csv")
-    assert set(t[t.band_strategy == "fixed"].band_high_hz) == {0.98 * FS / 2}
+    assert set(t[t.band == "fixed"].band_high_hz) == {0.98 * FS / 2}
     assert main([*base, "--fixed-band", "0", "12000"]) == 2
     assert "add --clamp" in capsys.readouterr().err
     assert main([*base, "--fixed-band", "0", "12000", "--clamp"]) == 0

@@ -100,7 +100,7 @@ def test_verdict_inner_race_and_json(tmp_path, capsys):
     assert doc["verdict"]["summary"] == v.summary_lines()
     assert {f["name"] for f in doc["families"]} == {"bpfo", "bpfi", "bsf", "bsf2", "ftf"}
     fund = [r for r in doc["lines"] if r["base"] == "bpfi" and r["order"] == 1
-            and r["sideband"] == 0 and r["quantity"] == "envelope_spectrum"][0]
+            and r["sideband"] == 0 and r["quantity"] == "envelope_bpfi"][0]
     assert fund["detected"] is True and abs(fund["frequency_hz"] - bpfi) < 0.1
     assert "verdict: inner race fault" in captured.err  # the human summary goes to stderr
     assert main([*args, "--json", str(tmp_path / "r.json")]) == 0

@@ -525,6 +525,10 @@ def run(args) -> int:
         min_bandwidth=args.min_bandwidth, filter_order=args.filter_order, squared=args.squared,
         window=args.window, interpolate=args.interpolate, level0=args.level0,
         search_percent=args.search_percent, pfa=args.pfa, full_output=True)
+    # the sweep's tidy vocabulary (docs/file-format.md, "Tidy tables") in every output
+    from bearing_envelope.tables import tidy_from_analysis
+
+    table = tidy_from_analysis(table)
     verdict = det["verdict"]
     json_only = args.json == "-"
     if args.json is not None:
@@ -552,7 +556,7 @@ def run(args) -> int:
         print(f"# band {name}: {lo:g} - {hi:g} Hz ({b['provenance']['strategy']}"
               f"{', clamped' if b['provenance'].get('clamped') else ''})", file=out)
     if not json_only:
-        show = table[["band_strategy", "quantity", "base", "order", "sideband", "target_hz",
+        show = table[["band", "quantity", "base", "order", "sideband", "target_hz",
                       "frequency_hz", "amplitude", "floor_ratio_db", "threshold_db",
                       "detected"]]
         with pd.option_context("display.max_rows", None, "display.width", 200,

@@ -19,8 +19,8 @@ __all__ = ["COLUMNS", "analyze_signal", "fault_frequency_map"]
 
 #: Columns of the table returned by :func:`analyze_signal`, in order.
 COLUMNS = [
+    "band",
     "band_strategy",
-    "band_kind",
     "band_low_hz",
     "band_high_hz",
     "clamped",
@@ -183,8 +183,9 @@ def analyze_signal(
     pandas.DataFrame
         One row per number, columns :data:`COLUMNS`:
 
-        - ``band_strategy``: the band's name (``"raw"`` for the raw spectrum);
-          ``band_kind``: its strategy; ``band_low_hz``, ``band_high_hz``: the band used
+        - ``band``: the band's name (``"raw"`` for the raw spectrum);
+          ``band_strategy``: how it was chosen (``raw``, ``kurtogram``, ``fraction``,
+          ``orders``, ``fixed``: the names of :mod:`bearing_envelope.vocabulary`); ``band_low_hz``, ``band_high_hz``: the band used
           (0 .. fs/2 for raw); ``clamped``: upper edge clamped below Nyquist.
         - ``quantity``: ``"raw_spectrum"`` (amplitude of the sinusoid at the target, one-sided,
           window-corrected, unit ``U``; for ``base == "dc"`` the signal mean),
@@ -254,7 +255,7 @@ def analyze_signal(
 
     # raw spectrum ---------------------------------------------------------------------------
     f_raw, a_raw = amplitude_spectrum(x, fs, window=window)
-    raw_common = dict(band_strategy="raw", band_kind="raw", band_low_hz=0.0, band_high_hz=nyq,
+    raw_common = dict(band="raw", band_strategy="raw", band_low_hz=0.0, band_high_hz=nyq,
                       clamped=False, quantity="raw_spectrum")
     rec(**raw_common, base="dc", order=0, sideband=0, target_hz=0.0, frequency_hz=0.0,
         amplitude=float(np.mean(x)), scaling="mean of the signal (U)")
@@ -289,7 +290,7 @@ def analyze_signal(
         band, prov = resolve_band(spec, fs, kurtogram=kg_for, frequencies=freqs,
                                   margin=nyquist_margin)
         low, high = band
-        common = dict(band_strategy=prov["name"], band_kind=prov["strategy"], band_low_hz=low,
+        common = dict(band=prov["name"], band_strategy=prov["strategy"], band_low_hz=low,
                       band_high_hz=high, clamped=bool(prov.get("clamped", False)))
         f_env, a_env, y, _ = envelope_spectrum(x, fs, band, squared=squared, window=window,
                                                order=filter_order, return_signal=True)

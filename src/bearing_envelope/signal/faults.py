@@ -526,7 +526,7 @@ def fault_verdict(table, families: Sequence[FaultFamily], *, pfa: float, n_tests
                                      math.nan, math.nan, math.nan, math.nan, (), None, ()))
             continue
         ok_bands = []
-        for band, g in rows.groupby("band_strategy", sort=False):
+        for band, g in rows.groupby("band", sort=False):
             det = g["detected"].fillna(False).astype(bool)
             h = g["sideband"] == 0
             k1 = det[h & (g["order"] == 1)].any()
@@ -534,11 +534,11 @@ def fault_verdict(table, families: Sequence[FaultFamily], *, pfa: float, n_tests
             k2 = det[h & (g["order"] == 2)].any()
             if k1 and (k2 or not has2):
                 ok_bands.append(band)
-        det_rows = fund[fund["band_strategy"].isin(ok_bands)]
+        det_rows = fund[fund["band"].isin(ok_bands)]
         pick = det_rows if not det_rows.empty else fund
         best = pick.loc[pick["floor_ratio_db"].astype(float).idxmax()]
-        band = best["band_strategy"]
-        inb = rows[rows["band_strategy"] == band]
+        band = best["band"]
+        inb = rows[rows["band"] == band]
         found = inb[inb["detected"].fillna(False).astype(bool)]
         harmonics = tuple(int(k) for k in sorted(set(found.loc[found["sideband"] == 0, "order"])))
         sb = fam.sideband_name if (found["sideband"] != 0).any() else None
