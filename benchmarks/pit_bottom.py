@@ -81,7 +81,7 @@ def markdown(df):
     """Per fidelity x load x width: h* at each offset, the largest, and the estimate at x = 0."""
     out = ["| fidelity | load (kN) | Q_max (kN) | p at the defect, x = 0 (GPa) | width | h* (um) at x = "
            + " / ".join(f"{o:g} a" for o in sorted(df.offset_a.unique()))
-           + " | bottom depth at h* (um), x = 0 | slot estimate 2 p c / E* (um), x = 0 |",
+           + " | deepest cell depth at h* (um), x = 0 | slot estimate of h* (um), x = 0 |",
            "|---|---|---|---|---|---|---|---|"]
     for (f, load, w), g in df.groupby(["fidelity", "load_kN", "width"], sort=False):
         g = g.sort_values("offset_a")
