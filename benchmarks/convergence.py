@@ -41,7 +41,7 @@ import numpy as np
 import pandas as pd
 
 from bearing_envelope.fidelity import fidelity_from
-from bearing_envelope.history import (SolveStats, acquisition_settings, auto_oversample,
+from bearing_envelope.history import (SolveStats, auto_oversample,
                                       build_table, synthesize_case)
 from bearing_envelope.loads import scene_load_distribution
 from bearing_envelope.scene import Scene
