@@ -10,7 +10,8 @@ table, so a partial run still reports what it has. The signals are synthesised f
 tables for ``--revolutions`` (the table cost does not depend on it) with
 
 - ``antialiased``: one common internal rate for every spacing (``--oversample``, default the
-  ``auto`` value of the finest spacing), so that only the grid changes between rows;
+  ``auto`` value of the finest spacing that has a table), so that only the grid changes between
+  rows;
 - ``point``: the study's point samples (for p_max, reported next to it).
 
 Per signal (p_max, p_max_defect, removed_force, approach_change = delta) and metric (peak =
@@ -18,8 +19,11 @@ max, rms of the signal minus its mean, envelope 1 x BPFI in the four fixed bands
 ``config.yaml``), from the three finest spacings h, 2h, 4h: observed order
 ``p = log2(|f4h - f2h| / |f2h - fh|)``, Richardson value ``f* = fh + (fh - f2h) / (2^p - 1)``
 (only when the three values are monotone and 0.5 <= p <= 4; otherwise none, flagged), and the
-error of the default spacing (2 um) against ``f*``. Writes ``convergence.csv`` (all values),
-``richardson.csv`` and prints a markdown summary.
+error of the default spacing (2 um) against ``f*`` (when there is no ``f*``: its change against
+the finest spacing, a lower bound of its error). Writes ``convergence.csv`` (all values),
+``richardson.csv`` (ladder 8, 4, 2, 1 um), ``richardson_05.csv`` (2, 1, 0.5 um, for the cases
+run at 0.5 um with ``--cases ... --spacings 0.5``), ``info.json`` and ``convergence.md`` (the
+tables of ``docs/benchmarks.md``).
 """
 
 from __future__ import annotations
@@ -29,7 +33,6 @@ import json
 import math
 import os
 import pickle
-import platform
 import sys
 import time
 from pathlib import Path
@@ -38,7 +41,7 @@ import numpy as np
 import pandas as pd
 
 from bearing_envelope.fidelity import fidelity_from
-from bearing_envelope.history import (SolveStats, acquisition_settings, auto_oversample,
+from bearing_envelope.history import (SolveStats, auto_oversample,
                                       build_table, synthesize_case)
 from bearing_envelope.loads import scene_load_distribution
 from bearing_envelope.scene import Scene
@@ -46,6 +49,7 @@ from bearing_envelope.signal import envelope_spectrum, harmonic_amplitudes
 
 CASES = ((250.0, 15.0), (250.0, 100.0), (750.0, 15.0), (750.0, 100.0))
 SPACINGS = (8.0, 4.0, 2.0, 1.0)
+EXTRA_SPACINGS = (0.5,)     # run on some cases only (--cases ... --spacings 0.5)
 DEFAULT_DX = 2.0
 BASE = {"preset": "standard", "n_checks": 0, "n_snapshot_offsets": 0}
 SIGNALS = ("p_max", "p_max_defect", "removed_force", "approach_change")
@@ -102,7 +106,7 @@ def evaluate(out, revolutions, oversample):
     for load, depth in CASES:
         sc = scene(load, depth, revolutions)
         fs, bpfi = sc.operation.fs_hz, sc.bpfi_hz
-        for dx in SPACINGS:
+        for dx in SPACINGS + EXTRA_SPACINGS:
             if not table_path(out, load, depth, dx).exists():
                 continue
             rec = pickle.loads(table_path(out, load, depth, dx).read_bytes())
@@ -117,14 +121,18 @@ def evaluate(out, revolutions, oversample):
     return pd.DataFrame(rows)
 
 
-def richardson(df):
+def richardson(df, min_dx=None):
+    """Observed order and Richardson value from the three finest spacings ``>= min_dx``."""
     out = []
     keys = ["load_kN", "depth_um", "acquisition", "signal", "metric"]
     for key, g in df.groupby(keys):
         v = g.set_index("dx_um")["value"]
+        if min_dx is not None:
+            v = v[v.index >= min_dx - 1e-12]
         fine = sorted(v.index)[:3]
         rec = dict(zip(keys, key))
         rec.update({f"v_{d:g}": float(v[d]) for d in v.index})
+        rec["finest_dx"] = fine[0]
         if len(fine) < 3:
             out.append({**rec, "status": "fewer than 3 spacings"})
             continue
@@ -132,6 +140,8 @@ def richardson(df):
         f1, f2, f4 = float(v[h]), float(v[h2]), float(v[h4])
         d21, d42 = f1 - f2, f2 - f4
         rec["finest_change"] = abs(d21) / abs(f1) if f1 else float("nan")
+        if DEFAULT_DX in v.index and f1 and DEFAULT_DX != h:
+            rec["default_vs_finest"] = abs(float(v[DEFAULT_DX]) - f1) / abs(f1)
         if d21 == 0 and d42 == 0:
             rec.update(order=float("inf"), extrapolated=f1, status="exact")
         elif d21 * d42 <= 0 or d21 == 0:
@@ -149,6 +159,89 @@ def richardson(df):
     return pd.DataFrame(out)
 
 
+METRICS = ("peak", "rms", "env1x_fs4_3fs8", "env1x_bpfi_3_6", "env1x_bpfi_10_13", "env1x_fixed")
+
+
+def _cell(r):
+    """``e % (p)`` against the Richardson value, else ``~e %*`` against the finest spacing."""
+    if r["status"] == "ok" or r["status"] == "exact":
+        return f"{100 * r['default_error']:.2g} ({r['order']:.2g})"
+    if np.isfinite(r.get("default_vs_finest", np.nan)):
+        return f"~{100 * r['default_vs_finest']:.2g}*"
+    return "-"
+
+
+def markdown(rr):
+    """Error of the default spacing (2 um), %, per case x signal x metric."""
+    lines = ["| case | signal (acquisition) | " + " | ".join(METRICS) + " | worst |",
+             "|---|---|" + "---|" * (len(METRICS) + 1)]
+    order = [("removed_force", "antialiased"), ("approach_change", "antialiased"),
+             ("p_max", "antialiased"), ("p_max_defect", "antialiased"), ("p_max", "point")]
+    for (load, depth), g in rr.groupby(["load_kN", "depth_um"]):
+        for sig, acq in order:
+            sub = g[(g.signal == sig) & (g.acquisition == acq)].set_index("metric")
+            if sub.empty:
+                continue
+            worst = []
+            for m in METRICS:
+                r = sub.loc[m]
+                e = r["default_error"] if r["status"] in ("ok", "exact") else r.get(
+                    "default_vs_finest", np.nan)
+                worst.append(e)
+            lines.append(f"| {load:g} kN, {depth:g} um | {sig} ({acq}) | "
+                         + " | ".join(_cell(sub.loc[m]) for m in METRICS)
+                         + f" | {100 * np.nanmax(worst):.2g} |")
+    return "\n".join(lines)
+
+
+def values_markdown(rr, signals=("removed_force", "approach_change", "p_max"),
+                    metric="env1x_bpfi_10_13"):
+    """Values per spacing, order and Richardson value of one metric."""
+    dxs = sorted({float(c[2:]) for c in rr.columns if c.startswith("v_")}, reverse=True)
+    lines = ["| case | signal (acquisition) | " + " | ".join(f"{d:g} um" for d in dxs)
+             + " | order p | Richardson f* | status |",
+             "|---|---|" + "---|" * (len(dxs) + 3)]
+    for _, r in rr[(rr.metric == metric) & rr.signal.isin(signals)].iterrows():
+        if r.signal != "p_max" and r.acquisition == "point":
+            continue
+        vals = " | ".join("-" if not np.isfinite(r.get(f"v_{d:g}", np.nan))
+                          else f"{r[f'v_{d:g}']:.5g}" for d in dxs)
+        p = f"{r['order']:.3g}" if np.isfinite(r.get("order", np.nan)) else "-"
+        fx = f"{r['extrapolated']:.5g}" if np.isfinite(r.get("extrapolated", np.nan)) else "-"
+        lines.append(f"| {r.load_kN:g} kN, {r.depth_um:g} um | {r.signal} ({r.acquisition}) | "
+                     f"{vals} | {p} | {fx} | {r.status} |")
+    return "\n".join(lines)
+
+
+def reference_markdown(df, signals=("removed_force", "approach_change", "p_max")):
+    """Cases with a 0.5 um table: each spacing's change against it, %, per signal x metric."""
+    lines = ["| case | signal (acquisition) | metric | 4 um | 2 um (default) | 1 um |",
+             "|---|---|---|---|---|---|"]
+    keys = ["load_kN", "depth_um", "acquisition", "signal", "metric"]
+    for key, g in df.groupby(keys):
+        rec = dict(zip(keys, key))
+        v = g.set_index("dx_um")["value"]
+        if min(v.index) >= min(SPACINGS) or rec["signal"] not in signals:
+            continue
+        if rec["acquisition"] == "point" and rec["signal"] != "p_max":
+            continue
+        ref = float(v[min(v.index)])
+        cells = " | ".join(f"{100 * abs(float(v[d]) - ref) / abs(ref):.2g}" if d in v.index
+                           else "-" for d in (4.0, 2.0, 1.0))
+        lines.append(f"| {rec['load_kN']:g} kN, {rec['depth_um']:g} um | {rec['signal']} "
+                     f"({rec['acquisition']}) | {rec['metric']} | {cells} |")
+    return "\n".join(lines)
+
+
+def costs_markdown(out):
+    rows = []
+    for path in sorted((out / "tables").glob("*.pkl")):
+        rec = pickle.loads(path.read_bytes())
+        rows.append((path.stem, rec["cpu_s"], rec["n_solves"]))
+    return "\n".join(["| table | CPU s | solves |", "|---|---|---|"]
+                     + [f"| {n} | {c:.1f} | {k} |" for n, c, k in rows])
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -157,6 +250,8 @@ def main(argv=None):
     ap.add_argument("--oversample", type=int, default=None,
                     help="common internal rate factor (default: auto at the finest spacing)")
     ap.add_argument("--report-only", action="store_true")
+    ap.add_argument("--from-csv", action="store_true",
+                    help="with --report-only: tables from the saved convergence.csv (no synthesis)")
     ap.add_argument("--cases", type=str, default=None, help="JSON list of [load, depth]")
     ap.add_argument("--spacings", type=float, nargs="+", default=None)
     args = ap.parse_args(argv)
@@ -170,22 +265,46 @@ def main(argv=None):
                 rec = build(args.out, load, depth, dx)
                 print(f"F{load:g}kN h{depth:g}um dx {dx:g} um: table {rec['cpu_s']:.1f} s CPU "
                       f"({rec['n_solves']} solves), wall {time.time() - t0:.1f} s", flush=True)
-    finest = min(SPACINGS)
+    finest = min(dx for dx in SPACINGS + EXTRA_SPACINGS
+                 if any(table_path(args.out, *c, dx).exists() for c in CASES))
     n = args.oversample or auto_oversample(scene(*CASES[0], 1.0),
                                            fidelity_from({**BASE, "local_dx_um": finest}))
-    df = evaluate(args.out, args.revolutions, n)
-    df.to_csv(args.out / "convergence.csv", index=False)
-    rr = richardson(df)
-    rr.to_csv(args.out / "richardson.csv", index=False)
-    info = {"date": time.strftime("%Y-%m-%d"), "machine": platform.processor() or platform.machine(),
+    if args.report_only and args.from_csv:
+        df = pd.read_csv(args.out / "convergence.csv")
+        info0 = json.loads((args.out / "info.json").read_text())
+        n = info0["oversample"]
+    else:
+        df = evaluate(args.out, args.revolutions, n)
+        df.to_csv(args.out / "convergence.csv", index=False)
+    spec = richardson(df, min_dx=min(SPACINGS))          # 8, 4, 2, 1 um: the study's ladder
+    spec.to_csv(args.out / "richardson.csv", index=False)
+    fine = richardson(df)                                # with 0.5 um where it was run
+    fine = fine[fine.finest_dx < min(SPACINGS)]
+    fine.to_csv(args.out / "richardson_05.csv", index=False)
+    cpu = "unknown"
+    try:
+        cpu = next(ln.split(":", 1)[1].strip() for ln in open("/proc/cpuinfo")
+                   if ln.startswith("model name"))
+    except (OSError, StopIteration):
+        pass
+    info = info0 if args.report_only and args.from_csv else {
+            "date": time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()), "machine": cpu,
+            "cores": os.cpu_count(), "load_average": os.getloadavg(),
             "python": sys.version.split()[0], "revolutions": args.revolutions, "oversample": n,
-            "base": BASE}
-    (args.out / "info.json").write_text(json.dumps(info, indent=1))
-    pd.set_option("display.width", 250)
-    pd.set_option("display.max_rows", 500)
-    cols = ["load_kN", "depth_um", "acquisition", "signal", "metric", "order", "default_error",
-            "finest_change", "status"]
-    print(rr[[c for c in cols if c in rr]].to_string(index=False))
+            "base": BASE, "command": " ".join(sys.argv)}
+    if not (args.report_only and args.from_csv):
+        (args.out / "info.json").write_text(json.dumps(info, indent=1))
+    report = ["## default spacing (2 um) against the Richardson value of 4, 2, 1 um",
+              "% (observed order); ~x* = not in the asymptotic range: change 2 -> 1 um", "",
+              markdown(spec), "", "## values, envelope 1 x BPFI in bpfi_10_13", "",
+              values_markdown(spec), ""]
+    if not fine.empty:
+        report += ["## with 0.5 um: Richardson value of 2, 1, 0.5 um", "", markdown(fine), "",
+                   values_markdown(fine), "", "## change against the 0.5 um value, %", "",
+                   reference_markdown(df), ""]
+    report += ["## table costs", "", costs_markdown(args.out), "", json.dumps(info)]
+    (args.out / "convergence.md").write_text("\n".join(report))
+    print("\n".join(report))
 
 
 if __name__ == "__main__":

@@ -117,6 +117,24 @@ BAD_CONFIGS = {
     "width-wider-than-contact": (_set("sweep.widths_um", [60, 1500]), r"sweep\.widths_um\[1\].*contact"),
     "width-twice": (_all(_set("sweep.widths_um", [60]), _set("scene.defect.width_um", 60)),
                     r"sweep\.widths_um"),
+    "scene-width-zero": (_set("scene.defect.width_um", 0), r"scene\.defect\.width_um"),
+    "scene-width-negative": (_set("scene.defect.width_um", -30), r"scene\.defect\.width_um"),
+    "scene-width-wider-than-contact": (_set("scene.defect.width_um", 1500),
+                                       r"scene\.defect\.width_um.*contact"),
+    # issue 12 parts 1 and 2: acquisition and signal names
+    "oversample-zero": (_set("scene.operation.acquisition", {"oversample": 0}),
+                        r"scene\.operation\.acquisition\.oversample"),
+    "oversample-negative": (_set("scene.operation.acquisition", {"mode": "antialiased",
+                                                                 "oversample": -4}),
+                            r"scene\.operation\.acquisition\.oversample"),
+    "oversample-non-integer": (_set("scene.operation.acquisition", {"oversample": 2.5}),
+                               r"scene\.operation\.acquisition\.oversample"),
+    "oversample-unknown-word": (_set("scene.operation.acquisition", {"oversample": "fast"}),
+                                r"scene\.operation\.acquisition\.oversample"),
+    "acquisition-unknown-mode": (_set("scene.operation.acquisition", {"mode": "sinc"}),
+                                 r"scene\.operation\.acquisition\.mode"),
+    "signal-unknown": (_set("analysis.signal", "pmax"), r"analysis\.signal"),
+    "signal-not-a-string": (_set("analysis.signal", 3), r"analysis\.signal"),
 }
 
 

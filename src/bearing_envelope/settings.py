@@ -593,6 +593,9 @@ def _build(cfg: dict, source: str, partial: bool) -> Settings:
                 raise ConfigError(where + str(exc)) from None
         if sweep.widths_um is not None:
             _check_widths(sweep, scenes, scene_load_distribution, hertz_estimate)
+        elif (scene_map.get("defect") or {}).get("width_um") is not None:
+            _check_widths(sweep, scenes, scene_load_distribution, hertz_estimate,
+                          {"scene.defect.width_um": float(scene_map["defect"]["width_um"])})
         scene0 = next(iter(scenes.values()))
     else:
         from .scene import Scene
@@ -627,18 +630,25 @@ def _build(cfg: dict, source: str, partial: bool) -> Settings:
                     diagnosability=diag, tradeoff=dict(cfg.get("tradeoff") or {}))
 
 
-def _check_widths(sweep: SweepSettings, scenes, load_distribution, hertz_estimate) -> None:
+def _check_widths(sweep: SweepSettings, scenes, load_distribution, hertz_estimate,
+                  widths: Mapping[str, float] | None = None) -> None:
     """Each width must be narrower than the contact (2 a, Hertz) of the most loaded roller at the
-    smallest load, so that the defect lies inside the contact band it crosses."""
+    smallest load, so that the defect lies inside the contact band it crosses. ``widths``:
+    field name -> width (um); default the sweep's ``widths_um``."""
     f_min = min(sweep.loads_kN)
-    case = next(c for c in scenes if c.load_kN == f_min and c.width_um is not None)
+    if widths is None:
+        widths = {f"sweep.widths_um[{i}]": w for i, w in enumerate(sweep.widths_um)}
+    case = next((c for c in scenes if c.load_kN == f_min
+                 and (c.width_um is not None or scenes[c].defect.active)), None)
+    if case is None:      # no defect in the sweep: the width is never used
+        return
     sc = scenes[case]
     q_max = load_distribution(sc).q_max
     two_a_um = 2e6 * hertz_estimate(sc, q_max).a
-    for i, w in enumerate(sweep.widths_um):
+    for field, w in widths.items():
         extent = w if sc.defect.orientation == "axial" else None
         if extent is not None and w >= two_a_um:
-            raise _err(f"sweep.widths_um[{i}]", w,
+            raise _err(field, w,
                        f"a width below the contact width 2a = {two_a_um:.4g} um of the most loaded "
                        f"roller at the smallest load ({f_min:g} kN)")
 
