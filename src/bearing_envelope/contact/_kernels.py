@@ -3,9 +3,10 @@
 One CG iteration needs about thirty masked numpy passes over the grid (means and dot products on
 the contact set, clipping, the entering cells, rescaling); fused into five loops they cost a
 fraction of that (see ``docs/benchmarks.md``). Every function works on flat (raveled,
-C-contiguous) float64 arrays; ``mat`` is a bool array (material cells). The contact set is
-``p > 0``. The numpy versions define the semantics and are used when numba is unavailable or
-``BEARING_ENVELOPE_NO_NUMBA=1``.
+C-contiguous) float64 arrays; ``mat`` is a bool array (material cells). The CG works on the free
+set ``0 < p < H`` (``H = inf`` without a hardness bound: then the contact set ``p > 0``); cells at
+``p = H`` are plastic and, like ``p = 0`` cells, fixed during a CG step. The numpy versions define
+the semantics and are used when numba is unavailable or ``BEARING_ENVELOPE_NO_NUMBA=1``.
 """
 
 from __future__ import annotations
@@ -19,11 +20,11 @@ __all__ = ["KERNELS", "NUMPY", "HAVE_NUMBA"]
 
 
 # ----------------------------------------------------------------------------------- numpy
-def np_gap_stats(gz, u, p, ny):
-    """Return ``(sum_{p>0}(g+u), count_{p>0}, max u, i0, i1, j0, j1)``; the last four bound the
-    contact set ``p > 0`` on the ``(-1, ny)`` grid (rows ``i0..i1``, columns ``j0..j1``, inclusive;
-    ``-1`` if empty)."""
-    ic = p > 0
+def np_gap_stats(gz, u, p, ny, H):
+    """Return ``(sum_{I}(g+u), count_{I}, max u, i0, i1, j0, j1)`` over the free set
+    ``I = {0 < p < H}``; the last four bound ``I`` on the ``(-1, ny)`` grid (rows ``i0..i1``,
+    columns ``j0..j1``, inclusive; ``-1`` if empty)."""
+    ic = (p > 0) & (p < H)
     n = int(ic.sum())
     if n == 0:
         return 0.0, 0, float(u.max()), -1, -1, -1, -1
@@ -33,53 +34,64 @@ def np_gap_stats(gz, u, p, ny):
     return float((gz[ic] + u[ic]).sum()), n, float(u.max()), int(rows[0]), int(rows[-1]), int(cols[0]), int(cols[-1])
 
 
-def np_gap_eval(gz, u, p, mat, alpha, h):
-    """``h = g + u - alpha`` (``+inf`` off material); return ``(max_{p>0}|h|, max_{p=0}(-h)+, sum_{p>0} h^2)``."""
+def np_gap_eval(gz, u, p, mat, alpha, h, H):
+    """``h = g + u - alpha`` (``+inf`` off material); return ``(max_{I}|h|, max(max_{p=0}(-h)+,
+    max_{p>=H} h+), sum_{I} h^2)`` with the free set ``I = {0 < p < H}``."""
     np.add(gz, u, out=h)
     h -= alpha
     h[~mat] = np.inf
-    ic = p > 0
+    ic = (p > 0) & (p < H)
     hc = h[ic]
     err_in = float(np.abs(hc).max()) if hc.size else 0.0
-    off = h[~ic]
+    off = h[p <= 0]
     err_out = float(max(0.0, -off.min())) if off.size else 0.0
+    sat = h[p >= H]
+    if sat.size:
+        err_out = max(err_out, float(sat.max()))
     return err_in, err_out, float(np.dot(hc, hc))
 
 
-def np_dir_stats(z, h, p):
-    """Return ``(sum z, count, sum h z, sum h)`` over ``p > 0``."""
-    ic = p > 0
+def np_dir_stats(z, h, p, H):
+    """Return ``(sum z, count, sum h z, sum h)`` over ``0 < p < H``."""
+    ic = (p > 0) & (p < H)
     zc, hc = z[ic], h[ic]
     return float(zc.sum()), int(ic.sum()), float(np.dot(hc, zc)), float(hc.sum())
 
 
-def np_dir_update(z, p, t, zbar, beta):
-    """``t = (z - zbar) + beta t`` on ``p > 0``, 0 elsewhere."""
-    ic = p > 0
+def np_dir_update(z, p, t, zbar, beta, H):
+    """``t = (z - zbar) + beta t`` on ``0 < p < H``, 0 elsewhere."""
+    ic = (p > 0) & (p < H)
     t *= beta
     t[ic] += z[ic] - zbar
     t[~ic] = 0.0
 
 
-def np_step_dots(r, t, h, p):
-    """Return ``(sum r, sum t, sum r t, sum h t, count)`` over ``p > 0``."""
-    ic = p > 0
+def np_step_dots(r, t, h, p, H):
+    """Return ``(sum r, sum t, sum r t, sum h t, count)`` over ``0 < p < H``."""
+    ic = (p > 0) & (p < H)
     rc, tc = r[ic], t[ic]
     return float(rc.sum()), float(tc.sum()), float(np.dot(rc, tc)), float(np.dot(h[ic], tc)), int(ic.sum())
 
 
-def np_update(p, t, h, tau, seed, pnew):
-    """``pnew = max(p - tau t, 0)``; cells with ``pnew == 0`` and ``h < 0`` get ``-seed h``.
+def np_update(p, t, h, tau, seed, pnew, H):
+    """``pnew = clip(p - tau t, 0, H)``; cells with ``pnew == 0`` and ``h < 0`` get
+    ``min(-seed h, H)`` (enter the contact), cells with ``pnew == H`` and ``h > 0`` get
+    ``max(H - seed h, 0)`` (leave the plastic set).
 
-    Return ``(entered, sum pnew, modified)``: ``entered`` if any cell entered the contact,
-    ``modified`` if ``pnew != p - tau t`` anywhere (a cell clipped or entered)."""
+    Return ``(entered, sum pnew, modified)``: ``entered`` if any cell entered the contact or left
+    the plastic set, ``modified`` if ``pnew != p - tau t`` anywhere (a cell clipped or entered)."""
     np.subtract(p, tau * t, out=pnew)
-    clipped = bool((pnew < 0.0).any())
+    clipped = bool((pnew < 0.0).any()) or bool((pnew > H).any())
     np.maximum(pnew, 0.0, out=pnew)
+    np.minimum(pnew, H, out=pnew)
     iol = (pnew == 0.0) & (h < 0.0)
     entered = bool(iol.any())
     if entered:
-        pnew[iol] = -seed * h[iol]
+        pnew[iol] = np.minimum(-seed * h[iol], H)
+    rel = (pnew == H) & (h > 0.0)
+    if rel.any():
+        entered = True
+        pnew[rel] = np.maximum(H - seed * h[rel], 0.0)
     return entered, float(pnew.sum()), entered or clipped
 
 
@@ -111,7 +123,7 @@ if os.environ.get("BEARING_ENVELOPE_NO_NUMBA", "") not in ("1", "true", "yes"):
         _jit = numba.njit(cache=True, nogil=True, fastmath=False)
 
         @_jit
-        def nb_gap_stats(gz, u, p, ny):  # pragma: no cover - compiled
+        def nb_gap_stats(gz, u, p, ny, H):  # pragma: no cover - compiled
             s = 0.0
             n = 0
             umax = -math.inf
@@ -127,7 +139,7 @@ if os.environ.get("BEARING_ENVELOPE_NO_NUMBA", "") not in ("1", "true", "yes"):
                     uk = u[k]
                     if uk > umax:
                         umax = uk
-                    if p[k] > 0.0:
+                    if p[k] > 0.0 and p[k] < H:
                         s += gz[k] + uk
                         n += 1
                         if ii < i0:
@@ -142,7 +154,7 @@ if os.environ.get("BEARING_ENVELOPE_NO_NUMBA", "") not in ("1", "true", "yes"):
             return s, n, umax, i0, i1, j0, j1
 
         @_jit
-        def nb_gap_eval(gz, u, p, mat, alpha, h):  # pragma: no cover - compiled
+        def nb_gap_eval(gz, u, p, mat, alpha, h, H):  # pragma: no cover - compiled
             err_in = 0.0
             err_out = 0.0
             G = 0.0
@@ -150,25 +162,28 @@ if os.environ.get("BEARING_ENVELOPE_NO_NUMBA", "") not in ("1", "true", "yes"):
                 if mat[i]:
                     hi = gz[i] + u[i] - alpha
                     h[i] = hi
-                    if p[i] > 0.0:
+                    if p[i] > 0.0 and p[i] < H:
                         a = abs(hi)
                         if a > err_in:
                             err_in = a
                         G += hi * hi
-                    elif -hi > err_out:
-                        err_out = -hi
+                    elif p[i] <= 0.0:
+                        if -hi > err_out:
+                            err_out = -hi
+                    elif hi > err_out:
+                        err_out = hi
                 else:
                     h[i] = math.inf
             return err_in, err_out, G
 
         @_jit
-        def nb_dir_stats(z, h, p):  # pragma: no cover - compiled
+        def nb_dir_stats(z, h, p, H):  # pragma: no cover - compiled
             sz = 0.0
             shz = 0.0
             sh = 0.0
             n = 0
             for i in range(p.size):
-                if p[i] > 0.0:
+                if p[i] > 0.0 and p[i] < H:
                     sz += z[i]
                     shz += h[i] * z[i]
                     sh += h[i]
@@ -176,22 +191,22 @@ if os.environ.get("BEARING_ENVELOPE_NO_NUMBA", "") not in ("1", "true", "yes"):
             return sz, n, shz, sh
 
         @_jit
-        def nb_dir_update(z, p, t, zbar, beta):  # pragma: no cover - compiled
+        def nb_dir_update(z, p, t, zbar, beta, H):  # pragma: no cover - compiled
             for i in range(p.size):
-                if p[i] > 0.0:
+                if p[i] > 0.0 and p[i] < H:
                     t[i] = (z[i] - zbar) + beta * t[i]
                 else:
                     t[i] = 0.0
 
         @_jit
-        def nb_step_dots(r, t, h, p):  # pragma: no cover - compiled
+        def nb_step_dots(r, t, h, p, H):  # pragma: no cover - compiled
             sr = 0.0
             st = 0.0
             srt = 0.0
             sht = 0.0
             n = 0
             for i in range(p.size):
-                if p[i] > 0.0:
+                if p[i] > 0.0 and p[i] < H:
                     ti = t[i]
                     sr += r[i]
                     st += ti
@@ -201,7 +216,7 @@ if os.environ.get("BEARING_ENVELOPE_NO_NUMBA", "") not in ("1", "true", "yes"):
             return sr, st, srt, sht, n
 
         @_jit
-        def nb_update(p, t, h, tau, seed, pnew):  # pragma: no cover - compiled
+        def nb_update(p, t, h, tau, seed, pnew, H):  # pragma: no cover - compiled
             entered = False
             clipped = False
             s = 0.0
@@ -212,7 +227,14 @@ if os.environ.get("BEARING_ENVELOPE_NO_NUMBA", "") not in ("1", "true", "yes"):
                         clipped = True
                     v = 0.0
                     if h[i] < 0.0:
-                        v = -seed * h[i]
+                        v = min(-seed * h[i], H)
+                        entered = True
+                elif v >= H:
+                    if v > H:
+                        clipped = True
+                    v = H
+                    if h[i] > 0.0:
+                        v = max(H - seed * h[i], 0.0)
                         entered = True
                 pnew[i] = v
                 s += v
