@@ -385,3 +385,16 @@ def test_discrete_roller_load_steps_between_rollers():
     same = np.diff(kin["roller"]) == 0
     jump = np.abs(np.diff(hd.roller_load))
     assert jump[~same].max() > 50 * jump[same].max()
+
+
+def test_hardness_bounds_global_and_window_solves():
+    # the rim peak of a 50 um defect at an 80 kN roller load exceeds 8 GPa elastically (draft);
+    # with H below it every solve (global, window, defect) stays <= H and the peak is H
+    q, x = 80e3, 0.0
+    P_el, _ = direct_pressure(_scene(50.0, revolutions=0.1), "draft", q, x)
+    H_GPa = 0.9 * P_el / 1e9
+    s = Scene.from_mapping({"operation": {"revolutions": 0.1}, "material": {"hardness_GPa": H_GPa}},
+                           load_kN=500.0, depth_um=50.0)
+    P, Pd = direct_pressure(s, "draft", q, x)
+    assert P_el > s.material.hardness_pa
+    assert P == pytest.approx(s.material.hardness_pa, rel=1e-12) and Pd <= P

@@ -214,7 +214,7 @@ def _global_solve(scene: Scene, fid: Fidelity, q_load: float, extent: float, sta
             sol = stats.solve(gap_field(scene, grid, None), dxg, dyg, q_load, e_star, tol=fid.tol,
                               max_iter=fid.max_iter, p_init=p_init, boundary="raise",
                               halfspace=_halfspace(grid, e_star, "scipy", fid.element),
-                              element=fid.element)
+                              element=fid.element, hardness=scene.material.hardness_pa)
             return grid, sol
         except ContactGridError:
             extent *= GLOBAL_GRID_GROWTH
@@ -272,7 +272,8 @@ def _solve_load(scene: Scene, fid: Fidelity, q_load: float, kappa: float, stats:
     f_win = float(pg[:, j_lo:j_hi + 1].sum()) * dxg * dyg
     if f_win > 0:
         sol0 = stats.solve(g0, win.dx, win.dy, f_win, e_star, tol=fid.tol, max_iter=fid.max_iter,
-                           p_init=p_in, boundary="ignore", halfspace=hs, element=fid.element)
+                           p_init=p_in, boundary="ignore", halfspace=hs, element=fid.element,
+                           hardness=scene.material.hardness_pa)
         approach0, pw0 = sol0.approach, sol0.pressure
     else:
         # the contact does not reach the defect's axial position at this load (e.g. a defect
@@ -330,7 +331,7 @@ def _defect_solve(scene: Scene, fid: Fidelity, node: LoadNode, x_d: float, stats
     win = node.window
     g = gap_field(scene, win, x_d) + node.u_ext
     kw = dict(tol=fid.tol, max_iter=fid.max_iter, approach=node.approach, boundary="ignore",
-              halfspace=node.halfspace, element=fid.element)
+              halfspace=node.halfspace, element=fid.element, hardness=scene.material.hardness_pa)
     e_star = scene.material.e_star_pa
     try:
         # A warm start that converges does so in tens of iterations; one that stalls would use

@@ -35,8 +35,8 @@ def np_gap_stats(gz, u, p, ny, H):
 
 
 def np_gap_eval(gz, u, p, mat, alpha, h, H):
-    """``h = g + u - alpha`` (``+inf`` off material); return ``(max_{I}|h|, max(max_{p=0}(-h)+,
-    max_{p>=H} h+), sum_{I} h^2)`` with the free set ``I = {0 < p < H}``."""
+    """``h = g + u - alpha`` (``+inf`` off material); return ``(max_{I}|h|, max_{p=0}(-h)+,
+    sum_{I} h^2, max_{p>=H} h+)`` with the free set ``I = {0 < p < H}``."""
     np.add(gz, u, out=h)
     h -= alpha
     h[~mat] = np.inf
@@ -46,9 +46,8 @@ def np_gap_eval(gz, u, p, mat, alpha, h, H):
     off = h[p <= 0]
     err_out = float(max(0.0, -off.min())) if off.size else 0.0
     sat = h[p >= H]
-    if sat.size:
-        err_out = max(err_out, float(sat.max()))
-    return err_in, err_out, float(np.dot(hc, hc))
+    err_sat = float(max(0.0, sat.max())) if sat.size else 0.0
+    return err_in, err_out, float(np.dot(hc, hc)), err_sat
 
 
 def np_dir_stats(z, h, p, H):
@@ -75,11 +74,11 @@ def np_step_dots(r, t, h, p, H):
 
 def np_update(p, t, h, tau, seed, pnew, H):
     """``pnew = clip(p - tau t, 0, H)``; cells with ``pnew == 0`` and ``h < 0`` get
-    ``min(-seed h, H)`` (enter the contact), cells with ``pnew == H`` and ``h > 0`` get
-    ``max(H - seed h, 0)`` (leave the plastic set).
+    ``min(-seed h, H)`` (enter the contact). (Plastic cells leave the plastic set in the solver,
+    between CG cycles.)
 
-    Return ``(entered, sum pnew, modified)``: ``entered`` if any cell entered the contact or left
-    the plastic set, ``modified`` if ``pnew != p - tau t`` anywhere (a cell clipped or entered)."""
+    Return ``(entered, sum pnew, modified)``: ``entered`` if any cell entered the contact,
+    ``modified`` if ``pnew != p - tau t`` anywhere (a cell clipped or entered)."""
     np.subtract(p, tau * t, out=pnew)
     clipped = bool((pnew < 0.0).any()) or bool((pnew > H).any())
     np.maximum(pnew, 0.0, out=pnew)
@@ -88,10 +87,6 @@ def np_update(p, t, h, tau, seed, pnew, H):
     entered = bool(iol.any())
     if entered:
         pnew[iol] = np.minimum(-seed * h[iol], H)
-    rel = (pnew == H) & (h > 0.0)
-    if rel.any():
-        entered = True
-        pnew[rel] = np.maximum(H - seed * h[rel], 0.0)
     return entered, float(pnew.sum()), entered or clipped
 
 
@@ -157,6 +152,7 @@ if os.environ.get("BEARING_ENVELOPE_NO_NUMBA", "") not in ("1", "true", "yes"):
         def nb_gap_eval(gz, u, p, mat, alpha, h, H):  # pragma: no cover - compiled
             err_in = 0.0
             err_out = 0.0
+            err_sat = 0.0
             G = 0.0
             for i in range(p.size):
                 if mat[i]:
@@ -170,11 +166,11 @@ if os.environ.get("BEARING_ENVELOPE_NO_NUMBA", "") not in ("1", "true", "yes"):
                     elif p[i] <= 0.0:
                         if -hi > err_out:
                             err_out = -hi
-                    elif hi > err_out:
-                        err_out = hi
+                    elif hi > err_sat:
+                        err_sat = hi
                 else:
                     h[i] = math.inf
-            return err_in, err_out, G
+            return err_in, err_out, G, err_sat
 
         @_jit
         def nb_dir_stats(z, h, p, H):  # pragma: no cover - compiled
@@ -233,9 +229,6 @@ if os.environ.get("BEARING_ENVELOPE_NO_NUMBA", "") not in ("1", "true", "yes"):
                     if v > H:
                         clipped = True
                     v = H
-                    if h[i] > 0.0:
-                        v = max(H - seed * h[i], 0.0)
-                        entered = True
                 pnew[i] = v
                 s += v
             return entered, s, entered or clipped

@@ -281,8 +281,8 @@ def solve_contact(
     is solved by the same iteration on the free set :math:`I_f = \\{0 < p < H\\}`: plastic
     cells (:math:`p = H`) are fixed during a CG step like :math:`p = 0` cells, the approach is the
     mean of :math:`g + Kp` on :math:`I_f`, a step is clipped to :math:`[0, H]`, plastic cells with
-    :math:`h > 0` leave the plastic set (as cells with :math:`p = 0, h < 0` enter the contact;
-    both restart CG), and the force is restored by scaling the free cells only (cells the scaling
+    :math:`h > 0` (over-loaded) rejoin :math:`I_f` before a step, which restarts CG and lowers them
+    by its line search (cells with :math:`p = 0, h < 0` enter the contact as before), and the force is restored by scaling the free cells only (cells the scaling
     lifts past ``H`` become plastic, iterated until none does), so :math:`0 \\le p \\le H` and
     the force hold exactly at every iterate. The residual adds :math:`\\max_{p = H} h^+`. The
     plastic interpenetration :math:`-h` on the plastic cells is the permanent indentation
@@ -436,9 +436,9 @@ def solve_contact(
         s_gu, n_c, umax, *bbox = gap_stats(gzf, uf, pf, ny, H)
         if not disp_control and n_c:
             alpha = s_gu / n_c
-        err_in, err_out, Gh = gap_eval(gzf, uf, pf, matf, alpha, hf, H)
+        err_in, err_out, Gh, err_sat = gap_eval(gzf, uf, pf, matf, alpha, hf, H)
         scale = umax if umax > 0 else 1.0
-        gap_res = max(err_in, err_out) / scale
+        gap_res = max(err_in, err_out, err_sat) / scale
         res = max(dp, gap_res)
         if res <= tol and n_incr:
             u_exact = False  # confirm with an exact displacement before accepting
@@ -455,6 +455,15 @@ def solve_contact(
             pre, delta, dropped_at = None, 0.0, it  # cycling: plain CG from here, restarted
             anchor, it_anchor = res, it
         it += 1
+        if err_sat > 0.0:
+            # plastic cells with h > 0 are over-loaded: they rejoin the free set (at the largest
+            # float below H) and this CG step, restarted, lowers them by its line search
+            rel = (p >= H) & (h > 0.0)
+            p[rel] = np.nextafter(H, 0.0)
+            delta = 0.0
+            s_gu, n_c, umax, *bbox = gap_stats(gzf, uf, pf, ny, H)
+            ic = (p > 0) & (p < H)
+            Gh = float(np.dot(h[ic], h[ic]))
         # CG direction on the contact set (preconditioned when `precondition`)
         if n_c == 0:  # every contact cell plastic: only entering / leaving cells can move
             z, diag, zbar, G = h, 1.0, 0.0, 0.0
