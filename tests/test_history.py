@@ -398,3 +398,24 @@ def test_hardness_bounds_global_and_window_solves():
     P, Pd = direct_pressure(s, "draft", q, x)
     assert P_el > s.material.hardness_pa
     assert P == pytest.approx(s.material.hardness_pa, rel=1e-12) and Pd <= P
+
+
+def test_outside_peak_grid_is_refined_where_the_roller_end_peak_bends():
+    # at 750 kN the roller-end peak sets in inside the load range: the P_out(Q) grid is bisected
+    # there, and the linear reading between its points meets fresh global solves (at the
+    # midpoint of the coarsest interval, not a point of the build)
+    from bearing_envelope import history as hi
+    from bearing_envelope.fidelity import fidelity_from
+
+    s = _scene(0.0, load=750.0, revolutions=0.1)
+    fid = fidelity_from("draft")
+    t = simulate(s, fid).table
+    q = np.cbrt(t.q_out)
+    assert q.size > t.out_density * (t.q_nodes.size - 1) + 1 and np.all(np.diff(q) > 0)
+    assert np.all(np.isin(np.round(np.cbrt(t.q_nodes), 9), np.round(q, 9)))
+    steps = np.diff(q)
+    assert steps.min() < steps.max() / 4  # refined somewhere, not everywhere
+    j = int(np.argmax(steps))
+    qm = 0.5 * (q[j] + q[j + 1])
+    pm = hi._outside_max(s, fid, qm ** 3, t.kappa, hi.SolveStats())
+    assert abs(0.5 * (t.p_out[j] + t.p_out[j + 1]) - pm) <= hi.OUTSIDE_REFINE_TOL * pm
