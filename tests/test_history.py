@@ -419,3 +419,38 @@ def test_outside_peak_grid_is_refined_where_the_roller_end_peak_bends():
     qm = 0.5 * (q[j] + q[j + 1])
     pm = hi._outside_max(s, fid, qm ** 3, t.kappa, hi.SolveStats())
     assert abs(0.5 * (t.p_out[j] + t.p_out[j + 1]) - pm) <= hi.OUTSIDE_REFINE_TOL * pm
+
+
+@pytest.mark.parametrize("spec, field", [
+    ({"local_dx_um": 2.0, "rim_dx_um": 4.0}, "fidelity.rim_dx_um"),     # coarser than its parent
+    ({"local_dx_um": 2.0, "rim_dx_um": 2.0}, "fidelity.rim_dx_um"),     # not a refinement
+    ({"local_dx_um": 2.0, "rim_dx_um": 0.75}, "fidelity.rim_dx_um"),    # not an integer ratio
+    ({"local_dx_um": 2.0, "rim_dx_um": -0.5}, "fidelity.rim_dx_um"),
+    ({"local_dx_um": 2.0, "rim_dx_um": 0.5, "element": "linear"}, "fidelity.rim_dx_um"),
+    ({"rim_dx_um": 0.5, "rim_strip_um": 0.0}, "fidelity.rim_strip_um"),
+])
+def test_bad_rim_refinement_named(spec, field):
+    from bearing_envelope.fidelity import fidelity_from
+
+    with pytest.raises(ValueError, match=field.replace(".", r"\.")):
+        fidelity_from({"preset": "standard", **spec})
+
+
+def test_rim_strips_match_a_uniform_fine_window():
+    # a 4 um window with 1 um strips around the rims against a uniform 1 um window (same
+    # everything else): peak and removed force within 1 %; the 4 um window alone is further off
+    from bearing_envelope import history as hi
+    from bearing_envelope.fidelity import fidelity_from
+
+    s = _scene(50.0, load=250.0, revolutions=0.1)
+    q, x = 30e3, 0.0
+    out = {}
+    for name, spec in {"coarse": {"local_dx_um": 4.0}, "strips": {"local_dx_um": 4.0, "rim_dx_um": 1.0},
+                       "fine": {"local_dx_um": 1.0}}.items():
+        fid = fidelity_from({"preset": "draft", "local_dy_um": 50.0, **spec})
+        node = hi._solve_load(s, fid, q, 1.0, hi.SolveStats())
+        out[name] = hi._defect_solve(s, fid, node, x, hi.SolveStats())
+    f, st, c = out["fine"], out["strips"], out["coarse"]
+    assert st.Pd == pytest.approx(f.Pd, rel=0.01)
+    assert st.removed_force == pytest.approx(f.removed_force, rel=0.01)
+    assert abs(c.Pd / f.Pd - 1) > 2 * abs(st.Pd / f.Pd - 1)

@@ -354,12 +354,183 @@ def _defect_solve(scene: Scene, fid: Fidelity, node: LoadNode, x_d: float, stats
         except ContactConvergenceError:
             sol = stats.solve(g, win.dx, win.dy, None, e_star, p_init=None, **kw)
     p = sol.pressure
-    P = max(float(p[:, node.strip].max()), node.outside_max)
-    Pd = _neighbourhood_max(scene, fid, win, p, x_d)
     cell = win.dx * win.dy
-    dF = float(node.p_window0.sum() - p.sum()) * cell
-    dA = float(np.count_nonzero(p > 0)) * cell - node.area_window0
+    strips = []
+    if fid.rim_dx_um:
+        strips, p = _rim_schwarz(scene, fid, node, x_d, g, p, stats)
+    if not strips:
+        P = max(float(p[:, node.strip].max()), node.outside_max)
+        Pd = _neighbourhood_max(scene, fid, win, p, x_d)
+        dF = float(node.p_window0.sum() - p.sum()) * cell
+        dA = float(np.count_nonzero(p > 0)) * cell - node.area_window0
+        return DefectSolve(P, Pd, p, dF, dA)
+    # parent cells replaced by a strip count through the strip's force and area; the parent is
+    # read for peaks except in the strips' read zones, where the strips are read
+    replaced = np.zeros(win.shape[0], bool)
+    unread = np.zeros(win.shape[0], bool)
+    force, area = 0.0, 0.0
+    P, Pd = node.outside_max, 0.0
+    for st in strips:
+        replaced[st.i0:st.i1] = True
+        unread |= st.parent_read_mask
+        cc = st.grid.dx * st.grid.dy
+        force += float(st.pressure.sum()) * cc
+        area += float(np.count_nonzero(st.pressure > 0)) * cc
+        pr = st.pressure[st.read]
+        P = max(P, float(pr[:, node.strip].max()) if pr.size else 0.0)
+        Pd = max(Pd, _neighbourhood_max(scene, fid, Grid(st.grid.x[st.read], st.grid.y, st.grid.dx,
+                                                          st.grid.dy), pr, x_d))
+    pp = np.where(unread[:, None], 0.0, p)
+    P = max(P, float(pp[:, node.strip].max()))
+    Pd = max(Pd, _neighbourhood_max(scene, fid, win, pp, x_d))
+    force += float(p[~replaced].sum()) * cell
+    area += float(np.count_nonzero(p[~replaced] > 0)) * cell
+    dF = float(node.p_window0.sum()) * cell - force
+    dA = area - node.area_window0
     return DefectSolve(P, Pd, p, dF, dA)
+
+
+@dataclass
+class RimStrip:
+    """One refined strip around a defect rim (internal): parent window rows ``i0:i1`` solved
+    again on ``grid`` (``m`` sub-cells per parent cell across rolling, same axial cells).
+    ``read``: the strip's rows read for results (bool over ``grid.x``); ``parent_read_mask``:
+    the parent rows those cover (bool over the window's x)."""
+
+    i0: int
+    i1: int
+    grid: Grid
+    pressure: np.ndarray
+    read: np.ndarray
+    parent_read_mask: np.ndarray
+
+
+#: Rim strips and window are solved alternately (block Gauss-Seidel on the two sets of cells,
+#: each under the other's displacement) until the window force changes by less than this
+#: (relative) between passes ...
+RIM_SCHWARZ_TOL = 1e-4
+#: ... or this many passes.
+RIM_SCHWARZ_MAX = 8
+
+
+def _rim_schwarz(scene: Scene, fid: Fidelity, node: LoadNode, x_d: float, g: np.ndarray,
+                 p: np.ndarray, stats: SolveStats) -> tuple[list[RimStrip], np.ndarray]:
+    """Alternate the rim strips (:func:`_refine_rims`) and the window without the strips' rows
+    (their pressure, averaged over each parent cell, imposed as a displacement) until the
+    window's force settles (:data:`RIM_SCHWARZ_TOL`). A single pass over-estimates the force:
+    the strips' resolved rim pressure would not unload the cells around them (measured: the
+    removed force 1 % low after one pass at 500 kN / 50 um). Returns the strips and the window
+    pressure (the strips' rows hold their parent-cell means)."""
+    from .contact import ContactConvergenceError
+
+    win = node.window
+    cell = win.dx * win.dy
+    m = int(round(fid.local_dx_um / fid.rim_dx_um))
+    e_star = scene.material.e_star_pa
+    f_old = float(p.sum()) * cell
+    strips: list[RimStrip] = []
+    for _pass in range(RIM_SCHWARZ_MAX):
+        strips = _refine_rims(scene, fid, node, x_d, p, stats)
+        if not strips:
+            return strips, p
+        p_s = np.zeros_like(p)
+        rows = np.zeros(win.shape[0], bool)
+        for st in strips:
+            p_s[st.i0:st.i1] = st.pressure.reshape(st.i1 - st.i0, m, -1).mean(axis=1)
+            rows[st.i0:st.i1] = True
+        g2 = g + node.halfspace.displacement(p_s)
+        g2[rows] = np.inf
+        kw = dict(tol=fid.tol, max_iter=fid.max_iter, approach=node.approach, boundary="ignore",
+                  halfspace=node.halfspace, element=fid.element,
+                  hardness=scene.material.hardness_pa)
+        p_w = np.where(rows[:, None], 0.0, p)
+        try:
+            sol = stats.solve(g2, win.dx, win.dy, None, e_star, p_init=p_w, **kw)
+        except ContactConvergenceError:
+            sol = stats.solve(g2, win.dx, win.dy, None, e_star, p_init=None, **kw)
+        p = np.where(rows[:, None], p_s, sol.pressure)
+        f_new = float(p.sum()) * cell
+        if abs(f_new - f_old) <= RIM_SCHWARZ_TOL * max(f_new, 1e-300):
+            break
+        f_old = f_new
+    return strips, p
+
+
+def _rim_intervals(scene: Scene, fid: Fidelity, win: Grid, x_d: float) -> list[tuple[int, int]]:
+    """Parent-row ranges ``[i0, i1)`` of the strips: each rim zone across rolling (the edge
+    radius inside the footprint boundary, ``x_d +- w_x/2``) grown by ``rim_strip_um`` on each
+    side, widened to whole parent cells; overlapping strips merge."""
+    d = scene.defect
+    hx = 0.5 * d.extent_x_m
+    r = min(1e-6 * d.edge_radius_um, hx) if d.shape == "flat" else hx
+    b = 1e-6 * fid.rim_strip_um
+    x_lo_edge = win.x[0] - 0.5 * win.dx
+    out = []
+    for lo, hi in ((x_d - hx - b, x_d - hx + r + b), (x_d + hx - r - b, x_d + hx + b)):
+        i0 = int(np.clip(math.floor((lo - x_lo_edge) / win.dx + 1e-9), 0, win.shape[0]))
+        i1 = int(np.clip(math.ceil((hi - x_lo_edge) / win.dx - 1e-9), 0, win.shape[0]))
+        if i1 > i0:
+            if out and i0 <= out[-1][1]:
+                out[-1] = (out[-1][0], max(out[-1][1], i1))
+            else:
+                out.append((i0, i1))
+    return out
+
+
+def _refine_rims(scene: Scene, fid: Fidelity, node: LoadNode, x_d: float, p: np.ndarray,
+                 stats: SolveStats) -> list[RimStrip]:
+    """Solve the strips around the defect's rims at ``fid.rim_dx_um`` under the window's
+    displacement.
+
+    Each strip covers whole parent rows ``i0:i1``, split into ``m = local_dx / rim_dx`` rows,
+    with the window's axial cells. The displacement of everything outside the strip is exact
+    at the strip's cells: the window pressure outside the strip, each parent cell split into
+    ``m`` sub-cells carrying the same pressure (a uniform patch is the sum of its parts),
+    convolved at the strip's spacing, plus the window's far field ``u_ext`` (interpolated
+    linearly across rolling, as the window does with the global solve). The strip is solved
+    under displacement control at the window's approach (one pass: the other strip, if any,
+    stays at the parent's pressure). Strips without contact are skipped.
+    """
+    from .contact import ContactConvergenceError
+
+    win = node.window
+    m = int(round(fid.local_dx_um / fid.rim_dx_um))
+    dxc = win.dx / m
+    e_star = scene.material.e_star_pa
+    b = 1e-6 * fid.rim_strip_um
+    fine_hs = _halfspace(Grid(np.zeros(win.shape[0] * m), win.y, dxc, win.dy), e_star, "scipy")
+    out = []
+    for i0, i1 in _rim_intervals(scene, fid, win, x_d):
+        if not np.any(p[i0:i1] > 0):
+            continue
+        p_out = p.copy()
+        p_out[i0:i1] = 0.0
+        u_near = fine_hs.displacement(np.repeat(p_out, m, axis=0))[i0 * m:i1 * m]
+        xc = win.x[i0] - 0.5 * win.dx + (np.arange((i1 - i0) * m) + 0.5) * dxc
+        grid = Grid(xc, win.y, dxc, win.dy)
+        u_far = np.empty(grid.shape)
+        for k in range(win.shape[1]):
+            u_far[:, k] = np.interp(xc, win.x, node.u_ext[:, k])
+        g = gap_field(scene, grid, x_d)
+        void = ~np.isfinite(g)
+        u = u_near + u_far
+        u[void] = 0.0
+        hs = _halfspace(grid, e_star, "auto")
+        kw = dict(tol=fid.tol, max_iter=fid.max_iter, approach=node.approach, boundary="ignore",
+                  halfspace=hs, hardness=scene.material.hardness_pa)
+        try:
+            sol = stats.solve(g + u, dxc, win.dy, None, e_star,
+                              p_init=np.repeat(p[i0:i1], m, axis=0), **kw)
+        except ContactConvergenceError:
+            sol = stats.solve(g + u, dxc, win.dy, None, e_star, p_init=None, **kw)
+        # read only half the margin away from the strip's ends (where the nested boundary is)
+        lo, hi = xc[0] - 0.5 * dxc + 0.5 * b, xc[-1] + 0.5 * dxc - 0.5 * b
+        read = (xc >= lo) & (xc <= hi)
+        pread = (win.x - 0.5 * win.dx >= lo - 1e-12) & (win.x + 0.5 * win.dx <= hi + 1e-12)
+        # parent rows not fully inside the read zone stay read from the parent
+        read_c = np.repeat(pread[i0:i1], m) & read
+        out.append(RimStrip(i0, i1, grid, sol.pressure, read_c, pread))
+    return out
 
 
 def _neighbourhood_max(scene: Scene, fid: Fidelity, win: Grid, p: np.ndarray, x_d: float) -> float:
