@@ -319,7 +319,8 @@ class DefectSolve:
     ``P`` / ``Pd``: maximum pressure of the whole contact / in the defect neighbourhood (Pa);
     ``pressure``: the window field (Pa); ``removed_force``: window force without the defect
     minus with it, at the same approach (N, > 0 when the defect unloads the contact);
-    ``area_change``: window contact area with minus without the defect (m^2, <= 0).
+    ``area_change``: window contact area with minus without the defect (m^2, <= 0); ``W``:
+    maximum in the window's read strip (Pa; with rim strips, read from them where they are).
     """
 
     P: float
@@ -327,6 +328,7 @@ class DefectSolve:
     pressure: np.ndarray
     removed_force: float
     area_change: float
+    W: float = 0.0
 
 
 def _defect_solve(scene: Scene, fid: Fidelity, node: LoadNode, x_d: float, stats: SolveStats,
@@ -359,17 +361,17 @@ def _defect_solve(scene: Scene, fid: Fidelity, node: LoadNode, x_d: float, stats
     if fid.rim_dx_um:
         strips, p = _rim_schwarz(scene, fid, node, x_d, g, p, stats)
     if not strips:
-        P = max(float(p[:, node.strip].max()), node.outside_max)
+        W = float(p[:, node.strip].max())
         Pd = _neighbourhood_max(scene, fid, win, p, x_d)
         dF = float(node.p_window0.sum() - p.sum()) * cell
         dA = float(np.count_nonzero(p > 0)) * cell - node.area_window0
-        return DefectSolve(P, Pd, p, dF, dA)
+        return DefectSolve(max(W, node.outside_max), Pd, p, dF, dA, W)
     # parent cells replaced by a strip count through the strip's force and area; the parent is
     # read for peaks except in the strips' read zones, where the strips are read
     replaced = np.zeros(win.shape[0], bool)
     unread = np.zeros(win.shape[0], bool)
     force, area = 0.0, 0.0
-    P, Pd = node.outside_max, 0.0
+    W, Pd = 0.0, 0.0
     for st in strips:
         replaced[st.i0:st.i1] = True
         unread |= st.parent_read_mask
@@ -377,17 +379,17 @@ def _defect_solve(scene: Scene, fid: Fidelity, node: LoadNode, x_d: float, stats
         force += float(st.pressure.sum()) * cc
         area += float(np.count_nonzero(st.pressure > 0)) * cc
         pr = st.pressure[st.read]
-        P = max(P, float(pr[:, node.strip].max()) if pr.size else 0.0)
+        W = max(W, float(pr[:, node.strip].max()) if pr.size else 0.0)
         Pd = max(Pd, _neighbourhood_max(scene, fid, Grid(st.grid.x[st.read], st.grid.y, st.grid.dx,
                                                           st.grid.dy), pr, x_d))
     pp = np.where(unread[:, None], 0.0, p)
-    P = max(P, float(pp[:, node.strip].max()))
+    W = max(W, float(pp[:, node.strip].max()))
     Pd = max(Pd, _neighbourhood_max(scene, fid, win, pp, x_d))
     force += float(p[~replaced].sum()) * cell
     area += float(np.count_nonzero(p[~replaced] > 0)) * cell
     dF = float(node.p_window0.sum()) * cell - force
     dA = area - node.area_window0
-    return DefectSolve(P, Pd, p, dF, dA)
+    return DefectSolve(max(W, node.outside_max), Pd, p, dF, dA, W)
 
 
 @dataclass
@@ -892,7 +894,7 @@ def build_table(scene: Scene, fidelity: Fidelity | str | None = None, *, q_max: 
                         continue
                     ds = _defect_solve(scene, fid, nd, x_nodes[j], stats, p_prev)
                     p_prev = ds.pressure
-                    R[i, j] = float(p_prev[:, nd.strip].max()) / nd.w0
+                    R[i, j] = ds.W / nd.w0
                     Rd[i, j] = ds.Pd / nd.w0
                     RF[i, j] = ds.removed_force / nd.q
                     RA[i, j] = ds.area_change / nd.area_global
