@@ -613,6 +613,10 @@ class PressureTable:
         Hertz, where both grow as ``Q^(2/3)``), ``c`` held constant outside the nodes.
     info : dict
         Diagnostics (interpolation errors, zoom consistency, grids, ...).
+    p_cap : float or None
+        The hardness bound of the solves (Pa, ``scene.material.hardness_pa``) or None: every
+        solved pressure is <= it, but a product of linear readings (``P0 x ratio``) between
+        nodes can exceed it, so ``P`` and ``P_d`` are clipped to it.
     """
 
     q_nodes: np.ndarray
@@ -633,6 +637,7 @@ class PressureTable:
     approach0: np.ndarray | None = None
     area0: np.ndarray | None = None
     info: dict = field(default_factory=dict)
+    p_cap: float | None = None
 
     def __post_init__(self):
         shape = (self.q_nodes.size, self.xi_nodes.size)
@@ -716,7 +721,10 @@ class PressureTable:
         """Interpolated ``(P, P_d)`` (Pa) at roller loads ``Q`` (N) and offsets ``x`` (m)."""
         Q = np.asarray(Q, dtype=float)
         x = np.asarray(x, dtype=float)
-        return _table_eval_numpy(Q, x, *self.args())
+        P, Pd = _table_eval_numpy(Q, x, *self.args())
+        if self.p_cap is not None:
+            P, Pd = np.minimum(P, self.p_cap), np.minimum(Pd, self.p_cap)
+        return P, Pd
 
 
 def _ratio_eval(table: "PressureTable", T: np.ndarray, Q, x, use_numba: bool = True) -> np.ndarray:
@@ -924,7 +932,8 @@ def build_table(scene: Scene, fidelity: Fidelity | str | None = None, *, q_max: 
         table = PressureTable(q_nodes, xi_nodes, p0, w0, R, Rd, a_coef, kappa, s_const, s_max,
                               q_out, p_out, out_density=m_out, ratio_force=RF, ratio_area=RA,
                               approach0=np.array([nd.approach_global for nd in nodes]),
-                              area0=np.array([nd.area_global for nd in nodes]))
+                              area0=np.array([nd.area_global for nd in nodes]),
+                              p_cap=scene.material.hardness_pa)
         # interpolation error against direct solves at random (Q, x): x on the window grid
         # (pure table error) and x anywhere (adds the sub-cell discretisation jitter)
         from .contact import ContactConvergenceError
@@ -1176,6 +1185,9 @@ def synthesize(scene: Scene, table: PressureTable, ld: LoadDistribution, t: np.n
     _synth_kernel(t, theta_c, scene.operation.shaft_rate_hz, scene.bearing.rollers_per_row,
                   scene.bearing.inner_race_radius_m, K, dr, c, ca, ex,
                   scene.load.roller_load == "discrete", *table.args(), P, Pd, Q, X)
+    if table.p_cap is not None:
+        np.minimum(P, table.p_cap, out=P)
+        np.minimum(Pd, table.p_cap, out=Pd)
     return P, Pd, Q, X
 
 
