@@ -146,3 +146,9 @@ def test_bad_hardness_named(sphere_case, bad):
     c = sphere_case
     with pytest.raises(ValueError, match="hardness"):
         solve_contact(c["gap"], c["d"], c["d"], c["F"], c["E"], hardness=bad)
+
+
+def test_no_overlap_with_hardness_reports_an_empty_plastic_set(sphere_case):
+    c = sphere_case
+    s = solve_contact(c["gap"], c["d"], c["d"], None, c["E"], approach=-1e-9, hardness=1e9)
+    assert s.force == 0 and s.hardness == 1e9 and not s.plastic.any() and s.plastic_depth_max == 0

@@ -387,7 +387,10 @@ def solve_contact(
             over = np.where(mat, np.clip(alpha_fixed - np.where(mat, g, 0.0), 0.0, None), 0.0)
             if not over.any():  # no overlap: no contact
                 z = np.zeros_like(g)
-                return ContactSolution(z, alpha_fixed, 0, 0.0, True, 0.0, 0.0, (0.0,), z.copy())
+                return ContactSolution(z, alpha_fixed, 0, 0.0, True, 0.0, 0.0, (0.0,), z.copy(),
+                                       hardness=H if hard else None,
+                                       plastic=np.zeros(g.shape, bool) if hard else None,
+                                       plastic_depth=z.copy() if hard else None)
             ku = hs.displacement(over)
             p = over * (np.sum(over * ku) / np.sum(ku * ku))
             if hard:
