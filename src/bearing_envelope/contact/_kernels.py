@@ -90,6 +90,24 @@ def np_update(p, t, h, tau, seed, pnew, H):
     return entered, float(pnew.sum()), entered or clipped
 
 
+def np_release(p, h, H, Hm, ny):
+    """Plastic cells (``p >= H``) with ``h > 0`` get ``Hm`` (the largest float below ``H``): they
+    rejoin the free set. Return ``(released, count, sum h^2, i0, i1, j0, j1)`` over the new free
+    set ``0 < p < H`` (bounds as :func:`np_gap_stats`)."""
+    rel = (p >= H) & (h > 0.0)
+    p[rel] = Hm
+    ic = (p > 0) & (p < H)
+    n = int(ic.sum())
+    if n == 0:
+        return int(rel.sum()), 0, 0.0, -1, -1, -1, -1
+    ic2 = ic.reshape(-1, ny)
+    rows = np.flatnonzero(ic2.any(axis=1))
+    cols = np.flatnonzero(ic2.any(axis=0))
+    hc = h[ic]
+    return (int(rel.sum()), n, float(np.dot(hc, hc)), int(rows[0]), int(rows[-1]), int(cols[0]),
+            int(cols[-1]))
+
+
 def np_axpy_scale(u, r, tau, s):
     """``u = s (u - tau r)`` in place."""
     u -= tau * r
@@ -106,6 +124,7 @@ HAVE_NUMBA = False
 NUMPY = dict(
     gap_stats=np_gap_stats, gap_eval=np_gap_eval, dir_stats=np_dir_stats, dir_update=np_dir_update,
     step_dots=np_step_dots, update=np_update, rescale=np_rescale, axpy_scale=np_axpy_scale,
+    release=np_release,
 )
 KERNELS = NUMPY
 
@@ -234,6 +253,37 @@ if os.environ.get("BEARING_ENVELOPE_NO_NUMBA", "") not in ("1", "true", "yes"):
             return entered, s, entered or clipped
 
         @_jit
+        def nb_release(p, h, H, Hm, ny):  # pragma: no cover - compiled
+            nrel = 0
+            n = 0
+            G = 0.0
+            nx = p.size // ny
+            i0 = nx
+            i1 = -1
+            j0 = ny
+            j1 = -1
+            for ii in range(nx):
+                base = ii * ny
+                for jj in range(ny):
+                    k = base + jj
+                    if p[k] >= H and h[k] > 0.0:
+                        p[k] = Hm
+                        nrel += 1
+                    if p[k] > 0.0 and p[k] < H:
+                        n += 1
+                        G += h[k] * h[k]
+                        if ii < i0:
+                            i0 = ii
+                        i1 = ii
+                        if jj < j0:
+                            j0 = jj
+                        if jj > j1:
+                            j1 = jj
+            if n == 0:
+                return nrel, n, G, -1, -1, -1, -1
+            return nrel, n, G, i0, i1, j0, j1
+
+        @_jit
         def nb_axpy_scale(u, r, tau, s):  # pragma: no cover - compiled
             for i in range(u.size):
                 u[i] = s * (u[i] - tau * r[i])
@@ -251,5 +301,6 @@ if os.environ.get("BEARING_ENVELOPE_NO_NUMBA", "") not in ("1", "true", "yes"):
         NUMBA = dict(
             gap_stats=nb_gap_stats, gap_eval=nb_gap_eval, dir_stats=nb_dir_stats, dir_update=nb_dir_update,
             step_dots=nb_step_dots, update=nb_update, rescale=nb_rescale, axpy_scale=nb_axpy_scale,
+            release=nb_release,
         )
         KERNELS = NUMBA

@@ -406,6 +406,7 @@ def solve_contact(
     kn = _kernels.KERNELS if kernels is None else kernels
     gap_stats, gap_eval, dir_stats, dir_update = kn["gap_stats"], kn["gap_eval"], kn["dir_stats"], kn["dir_update"]
     step_dots, update, rescale, axpy_scale = kn["step_dots"], kn["update"], kn["rescale"], kn["axpy_scale"]
+    H_below = float(np.nextafter(H, 0.0))
     pre = _get_preconditioner(g.shape, dx, dy, e_star, hs.workers) if precondition else None
     gz = np.ascontiguousarray(np.where(mat, g, 0.0))  # finite copy; non-material cells masked
     matf = np.ascontiguousarray(mat).ravel()
@@ -461,12 +462,8 @@ def solve_contact(
         if err_sat > 0.0:
             # plastic cells with h > 0 are over-loaded: they rejoin the free set (at the largest
             # float below H) and this CG step, restarted, lowers them by its line search
-            rel = (p >= H) & (h > 0.0)
-            p[rel] = np.nextafter(H, 0.0)
+            _nrel, n_c, Gh, *bbox = kn["release"](pf, hf, H, H_below, ny)
             delta = 0.0
-            s_gu, n_c, umax, *bbox = gap_stats(gzf, uf, pf, ny, H)
-            ic = (p > 0) & (p < H)
-            Gh = float(np.dot(h[ic], h[ic]))
         # CG direction on the contact set (preconditioned when `precondition`)
         if n_c == 0:  # every contact cell plastic: only entering / leaving cells can move
             z, diag, zbar, G = h, 1.0, 0.0, 0.0
