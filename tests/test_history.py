@@ -385,3 +385,72 @@ def test_discrete_roller_load_steps_between_rollers():
     same = np.diff(kin["roller"]) == 0
     jump = np.abs(np.diff(hd.roller_load))
     assert jump[~same].max() > 50 * jump[same].max()
+
+
+def test_hardness_bounds_global_and_window_solves():
+    # the rim peak of a 50 um defect at an 80 kN roller load exceeds 8 GPa elastically (draft);
+    # with H below it every solve (global, window, defect) stays <= H and the peak is H
+    q, x = 80e3, 0.0
+    P_el, _ = direct_pressure(_scene(50.0, revolutions=0.1), "draft", q, x)
+    H_GPa = 0.9 * P_el / 1e9
+    s = Scene.from_mapping({"operation": {"revolutions": 0.1}, "material": {"hardness_GPa": H_GPa}},
+                           load_kN=500.0, depth_um=50.0)
+    P, Pd = direct_pressure(s, "draft", q, x)
+    assert P_el > s.material.hardness_pa
+    assert P == pytest.approx(s.material.hardness_pa, rel=1e-12) and Pd <= P
+
+
+def test_outside_peak_grid_is_refined_where_the_roller_end_peak_bends():
+    # at 750 kN the roller-end peak sets in inside the load range: the P_out(Q) grid is bisected
+    # there, and the linear reading between its points meets fresh global solves (at the
+    # midpoint of the coarsest interval, not a point of the build)
+    from bearing_envelope import history as hi
+    from bearing_envelope.fidelity import fidelity_from
+
+    s = _scene(0.0, load=750.0, revolutions=0.1)
+    fid = fidelity_from("draft")
+    t = simulate(s, fid).table
+    q = np.cbrt(t.q_out)
+    assert q.size > t.out_density * (t.q_nodes.size - 1) + 1 and np.all(np.diff(q) > 0)
+    assert np.all(np.isin(np.round(np.cbrt(t.q_nodes), 9), np.round(q, 9)))
+    steps = np.diff(q)
+    assert steps.min() < steps.max() / 4  # refined somewhere, not everywhere
+    j = int(np.argmax(steps))
+    qm = 0.5 * (q[j] + q[j + 1])
+    pm = hi._outside_max(s, fid, qm ** 3, t.kappa, hi.SolveStats())
+    assert abs(0.5 * (t.p_out[j] + t.p_out[j + 1]) - pm) <= hi.OUTSIDE_REFINE_TOL * pm
+
+
+@pytest.mark.parametrize("spec, field", [
+    ({"local_dx_um": 2.0, "rim_dx_um": 4.0}, "fidelity.rim_dx_um"),     # coarser than its parent
+    ({"local_dx_um": 2.0, "rim_dx_um": 2.0}, "fidelity.rim_dx_um"),     # not a refinement
+    ({"local_dx_um": 2.0, "rim_dx_um": 0.75}, "fidelity.rim_dx_um"),    # not an integer ratio
+    ({"local_dx_um": 2.0, "rim_dx_um": -0.5}, "fidelity.rim_dx_um"),
+    ({"local_dx_um": 2.0, "rim_dx_um": 0.5, "element": "linear"}, "fidelity.rim_dx_um"),
+    ({"rim_dx_um": 0.5, "rim_strip_um": 0.0}, "fidelity.rim_strip_um"),
+])
+def test_bad_rim_refinement_named(spec, field):
+    from bearing_envelope.fidelity import fidelity_from
+
+    with pytest.raises(ValueError, match=field.replace(".", r"\.")):
+        fidelity_from({"preset": "standard", **spec})
+
+
+def test_rim_strips_match_a_uniform_fine_window():
+    # a 4 um window with 1 um strips around the rims against a uniform 1 um window (same
+    # everything else): peak and removed force within 1 %; the 4 um window alone is further off
+    from bearing_envelope import history as hi
+    from bearing_envelope.fidelity import fidelity_from
+
+    s = _scene(50.0, load=250.0, revolutions=0.1)
+    q, x = 30e3, 0.0
+    out = {}
+    for name, spec in {"coarse": {"local_dx_um": 4.0}, "strips": {"local_dx_um": 4.0, "rim_dx_um": 1.0},
+                       "fine": {"local_dx_um": 1.0}}.items():
+        fid = fidelity_from({"preset": "draft", "local_dy_um": 50.0, **spec})
+        node = hi._solve_load(s, fid, q, 1.0, hi.SolveStats())
+        out[name] = hi._defect_solve(s, fid, node, x, hi.SolveStats())
+    f, st, c = out["fine"], out["strips"], out["coarse"]
+    assert st.Pd == pytest.approx(f.Pd, rel=0.01)
+    assert st.removed_force == pytest.approx(f.removed_force, rel=0.01)
+    assert abs(c.Pd / f.Pd - 1) > 2 * abs(st.Pd / f.Pd - 1)

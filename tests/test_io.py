@@ -301,3 +301,18 @@ def test_unreadable_case_file_is_moved_aside_with_a_warning(tmp_path, hist):
     with h5py.File(good, "a") as f:
         f.attrs["format_version"] = FORMAT_VERSION + 1
     assert "format_version" in case_file_problem(good)
+
+
+def test_case_records_the_hardness(tmp_path):
+    s = Scene.from_mapping({"operation": {"revolutions": 0.2, "acquisition": {"mode": "point"}},
+                            "material": {"hardness_GPa": 7.36}}, load_kN=750, depth_um=50)
+    h = simulate(s, "draft")
+    c = read_case(write_case(tmp_path / "F750kN_h50um.h5", h))
+    assert c.scene["material"]["hardness_GPa"] == 7.36
+    assert c.attrs["solver"]["hardness_Pa"] == pytest.approx(7.36e9)
+    # the bound holds in the history (point samples: no anti-alias filter ringing), and is reached
+    assert c.p_max.max() == pytest.approx(7.36e9, rel=1e-12)
+    assert c.p_max_defect.max() <= 7.36e9
+    again = Scene.from_mapping({k: c.scene[k] for k in ("bearing", "material")},
+                               load_kN=750, depth_um=50)
+    assert again.material.hardness_pa == pytest.approx(7.36e9)

@@ -108,3 +108,22 @@ def test_fidelity_presets():
     with pytest.raises(ValueError, match="unknown preset"):
         fidelity_from("ultra")
     assert math.isfinite(fidelity_from("paper").tol)
+
+
+@pytest.mark.parametrize("bad", [0, -7.36, float("inf"), float("nan"), "hard", True])
+def test_bad_hardness_names_the_field(bad):
+    with pytest.raises(ValueError, match=r"scene\.material\.hardness_GPa.*allowed"):
+        Scene.from_mapping({"material": {"hardness_GPa": bad}}, load_kN=500, depth_um=50)
+
+
+def test_hardness_default_elastic_and_round_trip():
+    from bearing_envelope.scene import BEARING_STEEL_HARDNESS_GPA
+
+    s = Scene.default()
+    assert s.material.hardness_GPa is None and s.material.hardness_pa is None
+    h = Scene.from_mapping({"material": {"hardness_GPa": BEARING_STEEL_HARDNESS_GPA}}, load_kN=500,
+                           depth_um=50)
+    assert h.material.hardness_pa == pytest.approx(7.36e9)
+    again = Scene.from_mapping({k: v for k, v in h.to_mapping().items() if k in ("bearing", "material")},
+                               load_kN=500, depth_um=50)
+    assert again.material == h.material

@@ -81,6 +81,16 @@ class Fidelity:
     element : {"uniform", "linear"}
         Pressure element of every contact solve: uniform patches or piecewise-bilinear
         (pyramidal) elements (``bearing_envelope.contact.solve_contact(element=...)``).
+    rim_dx_um : float or None
+        Spacing across rolling (um) of a further refinement level around the defect's rims:
+        strips of ``rim_strip_um`` on each side of each rim zone are solved again at this
+        spacing under the window solve's displacement (``bearing_envelope.history``,
+        ``_refine_rims``). None = off. Must divide ``local_dx_um`` (an integer ratio >= 2);
+        uniform elements only.
+    rim_strip_um : float
+        Half-margin of the rim strips (um): each strip spans the rim zone (the edge radius) plus
+        this on each side; results are read only in its inner part (half of the margin away
+        from the strip's ends, where the nested grid's boundary error sits).
     """
 
     name: str = "standard"
@@ -103,6 +113,8 @@ class Fidelity:
     n_snapshot_offsets: int = 3
     use_symmetry: bool = True
     element: str = "uniform"
+    rim_dx_um: float | None = None
+    rim_strip_um: float = 20.0
 
     def __post_init__(self) -> None:
         for f in ("global_dx_um", "global_dy_um", "local_dx_um", "local_dy_um", "tol"):
@@ -131,6 +143,21 @@ class Fidelity:
                              f"scene is symmetric in x; the asymmetric table is not implemented)")
         if self.element not in ("uniform", "linear"):
             raise ValueError(f"fidelity.element must be 'uniform' or 'linear', got {self.element!r}")
+        if not (isinstance(self.rim_strip_um, (int, float)) and not isinstance(self.rim_strip_um, bool)
+                and math.isfinite(self.rim_strip_um) and self.rim_strip_um > 0):
+            raise ValueError(f"fidelity.rim_strip_um must be a finite number > 0, got {self.rim_strip_um!r}")
+        if self.rim_dx_um is not None:
+            v = self.rim_dx_um
+            if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or v <= 0:
+                raise ValueError(f"fidelity.rim_dx_um must be null or a finite number > 0, got {v!r}")
+            ratio = self.local_dx_um / v
+            if ratio < 2 - 1e-9 or abs(ratio - round(ratio)) > 1e-6:
+                raise ValueError(
+                    f"fidelity.rim_dx_um = {v!r} must refine its parent local_dx_um = "
+                    f"{self.local_dx_um!r} by an integer factor >= 2 (a refinement spacing "
+                    f"larger than or not dividing its parent's is not allowed)")
+            if self.element != "uniform":
+                raise ValueError(f"fidelity.rim_dx_um needs element 'uniform', got {self.element!r}")
 
     def to_dict(self) -> dict[str, Any]:
         """Plain dict of all fields (for YAML/JSON/HDF5 attributes)."""

@@ -203,6 +203,7 @@ def write_case(path: str | os.PathLike, history, *, extra_attrs: dict | None = N
             a["solver_json"] = json.dumps({
                 "solver": "bearing_envelope.contact.solve_contact (Polonsky-Keer CG, DC-FFT)",
                 "tol": history.fidelity.tol, "max_iter": history.fidelity.max_iter,
+                "hardness_Pa": sc.material.hardness_pa,
                 "route": "zoom: global no-defect solve per roller load + local window under "
                          "displacement control with far-field displacement and approach",
             }, sort_keys=True)

@@ -20,6 +20,7 @@ key, with units, in ``docs/scene.md``)::
     material:
       roller: {E_GPa: 210.0, nu: 0.3}
       race:   {E_GPa: 210.0, nu: 0.3}
+      hardness_GPa: null             # null -> elastic; else the pressure bound H (GPa)
     operation:
       shaft_rate_hz: 15.8
       bpfi_override_hz: 231.9        # null -> geometric BPFI (194.2 Hz for the default)
@@ -61,7 +62,7 @@ from .kinematics import FaultFrequencies, fault_frequencies
 
 __all__ = [
     "EndRelief", "Bearing", "MaterialProps", "Material", "Acquisition", "Operation", "Load",
-    "Defect", "Scene", "ACQUISITION_MODES", "ROLLER_LOAD_MODELS",
+    "Defect", "Scene", "ACQUISITION_MODES", "ROLLER_LOAD_MODELS", "BEARING_STEEL_HARDNESS_GPA",
     "DEFAULT_SCENE", "default_scene_mapping", "MAX_BAND_ORDER",
 ]
 
@@ -88,6 +89,7 @@ DEFAULT_SCENE: dict[str, Any] = {
     "material": {
         "roller": {"E_GPa": 210.0, "nu": 0.3},
         "race": {"E_GPa": 210.0, "nu": 0.3},
+        "hardness_GPa": None,
     },
     "operation": {
         "shaft_rate_hz": 15.8,
@@ -304,12 +306,32 @@ class MaterialProps:
     nu: float = 0.3
 
 
+#: Indentation hardness of through-hardened bearing steel (AISI 52100 / 100Cr6, 60-62 HRC): the
+#: Vickers hardness HV 10 = 750 kgf/mm^2 (ASTM E140: 61 HRC ~ 720 HV, 62 HRC ~ 746 HV) is
+#: HV * g = 7.36 GPa, the mean pressure under a Vickers indenter. An elastic-perfectly-plastic
+#: surface caps the contact pressure at it (``material.hardness_GPa``). ISO 76's 4.0 GPa (the
+#: static load rating's contact stress) is a design limit, not a hardness. See docs/plasticity.md.
+BEARING_STEEL_HARDNESS_GPA = 7.36
+
+
 @dataclass(frozen=True)
 class Material:
-    """Materials of the roller and the (inner) race."""
+    """Materials of the roller and the (inner) race, and the surface hardness.
+
+    ``hardness_GPa`` (GPa, > 0, or None = elastic): indentation hardness ``H`` of the
+    elastic-perfectly-plastic surface, the bound ``p <= H`` of every contact solve
+    (:func:`bearing_envelope.contact.solve_contact`, ``hardness``);
+    :data:`BEARING_STEEL_HARDNESS_GPA` for through-hardened bearing steel.
+    """
 
     roller: MaterialProps
     race: MaterialProps
+    hardness_GPa: float | None = None
+
+    @property
+    def hardness_pa(self) -> float | None:
+        """The pressure bound ``H`` (Pa), or None (elastic)."""
+        return None if self.hardness_GPa is None else self.hardness_GPa * 1e9
 
     @property
     def e_star_pa(self) -> float:
@@ -627,7 +649,11 @@ def _build_material(m: Mapping[str, Any]) -> Material:
         e = _num(f"material.{body}.E_GPa", b["E_GPa"], lo=0, lo_open=True)
         nu = _num(f"material.{body}.nu", b["nu"], lo=0, hi=0.5, hi_open=True)
         out.append(MaterialProps(e, nu))
-    return Material(*out)
+    hv = m.get("hardness_GPa")
+    if hv is not None:
+        hv = _num("material.hardness_GPa", hv, lo=0, lo_open=True,
+                  allowed="null (elastic) or a finite number > 0 (GPa)")
+    return Material(*out, hardness_GPa=hv)
 
 
 def _build_load(m: Mapping[str, Any], load_kN: float) -> Load:

@@ -3,9 +3,10 @@
 One CG iteration needs about thirty masked numpy passes over the grid (means and dot products on
 the contact set, clipping, the entering cells, rescaling); fused into five loops they cost a
 fraction of that (see ``docs/benchmarks.md``). Every function works on flat (raveled,
-C-contiguous) float64 arrays; ``mat`` is a bool array (material cells). The contact set is
-``p > 0``. The numpy versions define the semantics and are used when numba is unavailable or
-``BEARING_ENVELOPE_NO_NUMBA=1``.
+C-contiguous) float64 arrays; ``mat`` is a bool array (material cells). The CG works on the free
+set ``0 < p < H`` (``H = inf`` without a hardness bound: then the contact set ``p > 0``); cells at
+``p = H`` are plastic and, like ``p = 0`` cells, fixed during a CG step. The numpy versions define
+the semantics and are used when numba is unavailable or ``BEARING_ENVELOPE_NO_NUMBA=1``.
 """
 
 from __future__ import annotations
@@ -19,11 +20,11 @@ __all__ = ["KERNELS", "NUMPY", "HAVE_NUMBA"]
 
 
 # ----------------------------------------------------------------------------------- numpy
-def np_gap_stats(gz, u, p, ny):
-    """Return ``(sum_{p>0}(g+u), count_{p>0}, max u, i0, i1, j0, j1)``; the last four bound the
-    contact set ``p > 0`` on the ``(-1, ny)`` grid (rows ``i0..i1``, columns ``j0..j1``, inclusive;
-    ``-1`` if empty)."""
-    ic = p > 0
+def np_gap_stats(gz, u, p, ny, H):
+    """Return ``(sum_{I}(g+u), count_{I}, max u, i0, i1, j0, j1)`` over the free set
+    ``I = {0 < p < H}``; the last four bound ``I`` on the ``(-1, ny)`` grid (rows ``i0..i1``,
+    columns ``j0..j1``, inclusive; ``-1`` if empty)."""
+    ic = (p > 0) & (p < H)
     n = int(ic.sum())
     if n == 0:
         return 0.0, 0, float(u.max()), -1, -1, -1, -1
@@ -33,54 +34,78 @@ def np_gap_stats(gz, u, p, ny):
     return float((gz[ic] + u[ic]).sum()), n, float(u.max()), int(rows[0]), int(rows[-1]), int(cols[0]), int(cols[-1])
 
 
-def np_gap_eval(gz, u, p, mat, alpha, h):
-    """``h = g + u - alpha`` (``+inf`` off material); return ``(max_{p>0}|h|, max_{p=0}(-h)+, sum_{p>0} h^2)``."""
+def np_gap_eval(gz, u, p, mat, alpha, h, H):
+    """``h = g + u - alpha`` (``+inf`` off material); return ``(max_{I}|h|, max_{p=0}(-h)+,
+    sum_{I} h^2, max_{p>=H} h+)`` with the free set ``I = {0 < p < H}``."""
     np.add(gz, u, out=h)
     h -= alpha
     h[~mat] = np.inf
-    ic = p > 0
+    ic = (p > 0) & (p < H)
     hc = h[ic]
     err_in = float(np.abs(hc).max()) if hc.size else 0.0
-    off = h[~ic]
+    off = h[p <= 0]
     err_out = float(max(0.0, -off.min())) if off.size else 0.0
-    return err_in, err_out, float(np.dot(hc, hc))
+    sat = h[p >= H]
+    err_sat = float(max(0.0, sat.max())) if sat.size else 0.0
+    return err_in, err_out, float(np.dot(hc, hc)), err_sat
 
 
-def np_dir_stats(z, h, p):
-    """Return ``(sum z, count, sum h z, sum h)`` over ``p > 0``."""
-    ic = p > 0
+def np_dir_stats(z, h, p, H):
+    """Return ``(sum z, count, sum h z, sum h)`` over ``0 < p < H``."""
+    ic = (p > 0) & (p < H)
     zc, hc = z[ic], h[ic]
     return float(zc.sum()), int(ic.sum()), float(np.dot(hc, zc)), float(hc.sum())
 
 
-def np_dir_update(z, p, t, zbar, beta):
-    """``t = (z - zbar) + beta t`` on ``p > 0``, 0 elsewhere."""
-    ic = p > 0
+def np_dir_update(z, p, t, zbar, beta, H):
+    """``t = (z - zbar) + beta t`` on ``0 < p < H``, 0 elsewhere."""
+    ic = (p > 0) & (p < H)
     t *= beta
     t[ic] += z[ic] - zbar
     t[~ic] = 0.0
 
 
-def np_step_dots(r, t, h, p):
-    """Return ``(sum r, sum t, sum r t, sum h t, count)`` over ``p > 0``."""
-    ic = p > 0
+def np_step_dots(r, t, h, p, H):
+    """Return ``(sum r, sum t, sum r t, sum h t, count)`` over ``0 < p < H``."""
+    ic = (p > 0) & (p < H)
     rc, tc = r[ic], t[ic]
     return float(rc.sum()), float(tc.sum()), float(np.dot(rc, tc)), float(np.dot(h[ic], tc)), int(ic.sum())
 
 
-def np_update(p, t, h, tau, seed, pnew):
-    """``pnew = max(p - tau t, 0)``; cells with ``pnew == 0`` and ``h < 0`` get ``-seed h``.
+def np_update(p, t, h, tau, seed, pnew, H):
+    """``pnew = clip(p - tau t, 0, H)``; cells with ``pnew == 0`` and ``h < 0`` get
+    ``min(-seed h, H)`` (enter the contact). (Plastic cells leave the plastic set in the solver,
+    between CG cycles.)
 
     Return ``(entered, sum pnew, modified)``: ``entered`` if any cell entered the contact,
     ``modified`` if ``pnew != p - tau t`` anywhere (a cell clipped or entered)."""
     np.subtract(p, tau * t, out=pnew)
-    clipped = bool((pnew < 0.0).any())
+    clipped = bool((pnew < 0.0).any()) or bool((pnew > H).any())
     np.maximum(pnew, 0.0, out=pnew)
+    np.minimum(pnew, H, out=pnew)
     iol = (pnew == 0.0) & (h < 0.0)
     entered = bool(iol.any())
     if entered:
-        pnew[iol] = -seed * h[iol]
+        pnew[iol] = np.minimum(-seed * h[iol], H)
     return entered, float(pnew.sum()), entered or clipped
+
+
+def np_release(p, h, H, Hm, ny):
+    """Plastic cells (``p >= H``) with ``h > 0`` get ``Hm`` (the largest float below ``H``): they
+    rejoin the free set. Return ``(released, count, sum h^2, i0, i1, j0, j1)`` over the new free
+    set ``0 < p < H`` (bounds as :func:`np_gap_stats`)."""
+    rel = (p >= H) & (h > 0.0)
+    p[rel] = Hm
+    ic = (p > 0) & (p < H)
+    n = int(ic.sum())
+    if n == 0:
+        return int(rel.sum()), 0, 0.0, -1, -1, -1, -1
+    ic2 = ic.reshape(-1, ny)
+    rows = np.flatnonzero(ic2.any(axis=1))
+    cols = np.flatnonzero(ic2.any(axis=0))
+    hc = h[ic]
+    return (int(rel.sum()), n, float(np.dot(hc, hc)), int(rows[0]), int(rows[-1]), int(cols[0]),
+            int(cols[-1]))
 
 
 def np_axpy_scale(u, r, tau, s):
@@ -99,6 +124,7 @@ HAVE_NUMBA = False
 NUMPY = dict(
     gap_stats=np_gap_stats, gap_eval=np_gap_eval, dir_stats=np_dir_stats, dir_update=np_dir_update,
     step_dots=np_step_dots, update=np_update, rescale=np_rescale, axpy_scale=np_axpy_scale,
+    release=np_release,
 )
 KERNELS = NUMPY
 
@@ -111,7 +137,7 @@ if os.environ.get("BEARING_ENVELOPE_NO_NUMBA", "") not in ("1", "true", "yes"):
         _jit = numba.njit(cache=True, nogil=True, fastmath=False)
 
         @_jit
-        def nb_gap_stats(gz, u, p, ny):  # pragma: no cover - compiled
+        def nb_gap_stats(gz, u, p, ny, H):  # pragma: no cover - compiled
             s = 0.0
             n = 0
             umax = -math.inf
@@ -127,7 +153,7 @@ if os.environ.get("BEARING_ENVELOPE_NO_NUMBA", "") not in ("1", "true", "yes"):
                     uk = u[k]
                     if uk > umax:
                         umax = uk
-                    if p[k] > 0.0:
+                    if p[k] > 0.0 and p[k] < H:
                         s += gz[k] + uk
                         n += 1
                         if ii < i0:
@@ -142,33 +168,37 @@ if os.environ.get("BEARING_ENVELOPE_NO_NUMBA", "") not in ("1", "true", "yes"):
             return s, n, umax, i0, i1, j0, j1
 
         @_jit
-        def nb_gap_eval(gz, u, p, mat, alpha, h):  # pragma: no cover - compiled
+        def nb_gap_eval(gz, u, p, mat, alpha, h, H):  # pragma: no cover - compiled
             err_in = 0.0
             err_out = 0.0
+            err_sat = 0.0
             G = 0.0
             for i in range(p.size):
                 if mat[i]:
                     hi = gz[i] + u[i] - alpha
                     h[i] = hi
-                    if p[i] > 0.0:
+                    if p[i] > 0.0 and p[i] < H:
                         a = abs(hi)
                         if a > err_in:
                             err_in = a
                         G += hi * hi
-                    elif -hi > err_out:
-                        err_out = -hi
+                    elif p[i] <= 0.0:
+                        if -hi > err_out:
+                            err_out = -hi
+                    elif hi > err_sat:
+                        err_sat = hi
                 else:
                     h[i] = math.inf
-            return err_in, err_out, G
+            return err_in, err_out, G, err_sat
 
         @_jit
-        def nb_dir_stats(z, h, p):  # pragma: no cover - compiled
+        def nb_dir_stats(z, h, p, H):  # pragma: no cover - compiled
             sz = 0.0
             shz = 0.0
             sh = 0.0
             n = 0
             for i in range(p.size):
-                if p[i] > 0.0:
+                if p[i] > 0.0 and p[i] < H:
                     sz += z[i]
                     shz += h[i] * z[i]
                     sh += h[i]
@@ -176,22 +206,22 @@ if os.environ.get("BEARING_ENVELOPE_NO_NUMBA", "") not in ("1", "true", "yes"):
             return sz, n, shz, sh
 
         @_jit
-        def nb_dir_update(z, p, t, zbar, beta):  # pragma: no cover - compiled
+        def nb_dir_update(z, p, t, zbar, beta, H):  # pragma: no cover - compiled
             for i in range(p.size):
-                if p[i] > 0.0:
+                if p[i] > 0.0 and p[i] < H:
                     t[i] = (z[i] - zbar) + beta * t[i]
                 else:
                     t[i] = 0.0
 
         @_jit
-        def nb_step_dots(r, t, h, p):  # pragma: no cover - compiled
+        def nb_step_dots(r, t, h, p, H):  # pragma: no cover - compiled
             sr = 0.0
             st = 0.0
             srt = 0.0
             sht = 0.0
             n = 0
             for i in range(p.size):
-                if p[i] > 0.0:
+                if p[i] > 0.0 and p[i] < H:
                     ti = t[i]
                     sr += r[i]
                     st += ti
@@ -201,7 +231,7 @@ if os.environ.get("BEARING_ENVELOPE_NO_NUMBA", "") not in ("1", "true", "yes"):
             return sr, st, srt, sht, n
 
         @_jit
-        def nb_update(p, t, h, tau, seed, pnew):  # pragma: no cover - compiled
+        def nb_update(p, t, h, tau, seed, pnew, H):  # pragma: no cover - compiled
             entered = False
             clipped = False
             s = 0.0
@@ -212,11 +242,46 @@ if os.environ.get("BEARING_ENVELOPE_NO_NUMBA", "") not in ("1", "true", "yes"):
                         clipped = True
                     v = 0.0
                     if h[i] < 0.0:
-                        v = -seed * h[i]
+                        v = min(-seed * h[i], H)
                         entered = True
+                elif v >= H:
+                    if v > H:
+                        clipped = True
+                    v = H
                 pnew[i] = v
                 s += v
             return entered, s, entered or clipped
+
+        @_jit
+        def nb_release(p, h, H, Hm, ny):  # pragma: no cover - compiled
+            nrel = 0
+            n = 0
+            G = 0.0
+            nx = p.size // ny
+            i0 = nx
+            i1 = -1
+            j0 = ny
+            j1 = -1
+            for ii in range(nx):
+                base = ii * ny
+                for jj in range(ny):
+                    k = base + jj
+                    if p[k] >= H and h[k] > 0.0:
+                        p[k] = Hm
+                        nrel += 1
+                    if p[k] > 0.0 and p[k] < H:
+                        n += 1
+                        G += h[k] * h[k]
+                        if ii < i0:
+                            i0 = ii
+                        i1 = ii
+                        if jj < j0:
+                            j0 = jj
+                        if jj > j1:
+                            j1 = jj
+            if n == 0:
+                return nrel, n, G, -1, -1, -1, -1
+            return nrel, n, G, i0, i1, j0, j1
 
         @_jit
         def nb_axpy_scale(u, r, tau, s):  # pragma: no cover - compiled
@@ -236,5 +301,6 @@ if os.environ.get("BEARING_ENVELOPE_NO_NUMBA", "") not in ("1", "true", "yes"):
         NUMBA = dict(
             gap_stats=nb_gap_stats, gap_eval=nb_gap_eval, dir_stats=nb_dir_stats, dir_update=nb_dir_update,
             step_dots=nb_step_dots, update=nb_update, rescale=nb_rescale, axpy_scale=nb_axpy_scale,
+            release=nb_release,
         )
         KERNELS = NUMBA

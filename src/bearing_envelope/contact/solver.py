@@ -73,6 +73,15 @@ class ContactSolution:
     preconditioner_dropped_at : int or None
         Iteration at which the stall guard switched the Fourier preconditioner off (see
         :func:`solve_contact`, Notes), or None.
+    hardness : float or None
+        The pressure bound ``H`` (Pa) the solve used, None = elastic.
+    plastic : ndarray of bool or None
+        Plastic cells, ``p = H`` (None without ``hardness``).
+    plastic_depth : ndarray or None
+        Permanent (plastic) indentation (m) of every cell: the interpenetration ``-h >= 0`` the
+        elastic surfaces would need where ``p = H``, zero elsewhere (None without ``hardness``).
+    plastic_area : float
+        Area of the plastic cells (m^2); 0 without ``hardness``.
     """
 
     pressure: np.ndarray
@@ -86,11 +95,20 @@ class ContactSolution:
     displacement: np.ndarray = field(repr=False)
     convolutions: int = 0
     preconditioner_dropped_at: int | None = None
+    hardness: float | None = None
+    plastic: np.ndarray | None = field(default=None, repr=False)
+    plastic_depth: np.ndarray | None = field(default=None, repr=False)
+    plastic_area: float = 0.0
 
     @property
     def p_max(self) -> float:
         """Maximum pressure (Pa)."""
         return float(self.pressure.max())
+
+    @property
+    def plastic_depth_max(self) -> float:
+        """Largest permanent indentation (m); 0 without ``hardness``."""
+        return 0.0 if self.plastic_depth is None else float(self.plastic_depth.max())
 
 
 def _check_scalar(name: str, value, allowed: str = "a finite number > 0") -> float:
@@ -154,6 +172,7 @@ def solve_contact(
     kernels: dict | None = None,
     element: str = "uniform",
     stall_window: int = 40,
+    hardness: float | None = None,
 ) -> ContactSolution:
     """Frictionless normal contact of two elastic half-spaces (Polonsky-Keer CG).
 
@@ -206,6 +225,10 @@ def solve_contact(
     stall_window : int
         Stall guard of the preconditioned iteration: if the residual has not halved within this
         many iterations, continue without the preconditioner (see Notes). >= 1.
+    hardness : float, optional
+        Indentation hardness ``H`` (Pa), > 0 and finite: elastic-perfectly-plastic surface, the
+        pressure is bounded by ``0 <= p <= H`` (see Notes). None (default) = elastic. A bound the
+        solution never reaches gives the elastic solution bit for bit.
 
     Returns
     -------
@@ -248,10 +271,32 @@ def solve_contact(
     :math:`h = 0` on the contact / :math:`h \\ge 0` outside, relative to the largest elastic
     displacement. :math:`p \\ge 0` and the force hold exactly at every iterate.
 
+    Hardness (elastic-perfectly-plastic surface, ``hardness=H``): the bounded problem
+
+    .. math::
+
+        0 \\le p \\le H,\\quad p = 0 \\Rightarrow h \\ge 0,\\quad 0 < p < H \\Rightarrow h = 0,
+        \\quad p = H \\Rightarrow h \\le 0,\\quad \\textstyle\\sum p\\,\\Delta x\\Delta y = F
+
+    is solved by the same iteration on the free set :math:`I_f = \\{0 < p < H\\}`: plastic
+    cells (:math:`p = H`) are fixed during a CG step like :math:`p = 0` cells, the approach is the
+    mean of :math:`g + Kp` on :math:`I_f`, a step is clipped to :math:`[0, H]`, plastic cells with
+    :math:`h > 0` (over-loaded) rejoin :math:`I_f` before a step, which restarts CG and lowers them
+    by its line search (cells with :math:`p = 0, h < 0` enter the contact as before), and the force is restored by scaling the free cells only (cells the scaling
+    lifts past ``H`` become plastic, iterated until none does), so :math:`0 \\le p \\le H` and
+    the force hold exactly at every iterate. The residual adds :math:`\\max_{p = H} h^+`. The
+    plastic interpenetration :math:`-h` on the plastic cells is the permanent indentation
+    (``plastic_depth``). This is the bounded Polonsky-Keer iteration of ContactMechanics'
+    ``hardness`` option (Weber et al. 2018) and of Almqvist et al. (2007).
+
     References
     ----------
     I. A. Polonsky, L. M. Keer, A numerical method for solving rough contact problems based on
     the multi-level multi-summation and conjugate gradient techniques, Wear 231 (1999) 206-219.
+    A. Almqvist, F. Sahlin, R. Larsson, S. Glavatskih, On the dry elasto-plastic contact of
+    nominally flat surfaces, Tribol. Int. 40 (2007) 574-579.
+    B. Weber, T. Suhina, T. Junge, L. Pastewka, A. M. Brouwer, D. Bonn, Molecular probes reveal
+    deviations from Amontons' law in multi-asperity frictional contacts, Nat. Commun. 9 (2018) 888.
     S. Liu, Q. Wang, G. Liu, A versatile method of discrete convolution and FFT (DC-FFT) for
     contact analyses, Wear 243 (2000) 101-111.
 
@@ -289,6 +334,13 @@ def solve_contact(
         raise ValueError(f"stall_window must be an integer >= 1, got {stall_window!r}")
     if boundary not in ("raise", "warn", "ignore"):
         raise ValueError(f"boundary must be 'raise', 'warn' or 'ignore', got {boundary!r}")
+    if hardness is None:
+        H = math.inf
+    else:
+        if isinstance(hardness, bool):
+            raise ValueError(f"hardness must be a finite number > 0 (Pa) or None, got {hardness!r}")
+        H = _check_scalar("hardness", hardness, "a finite number > 0 (Pa) or None")
+    hard = hardness is not None
     disp_control = approach is not None
     if disp_control:
         try:
@@ -320,6 +372,8 @@ def solve_contact(
             raise ValueError("p_init must be finite")
         p[~mat] = 0.0
         np.maximum(p, 0.0, out=p)
+        if hard:
+            np.minimum(p, H, out=p)
         if disp_control:
             # h = g + K p - alpha with K p >= 0: a cell with g > alpha can never touch, so warm
             # pressure there (e.g. where a defect has moved in) is dropped before the first step
@@ -333,18 +387,26 @@ def solve_contact(
             over = np.where(mat, np.clip(alpha_fixed - np.where(mat, g, 0.0), 0.0, None), 0.0)
             if not over.any():  # no overlap: no contact
                 z = np.zeros_like(g)
-                return ContactSolution(z, alpha_fixed, 0, 0.0, True, 0.0, 0.0, (0.0,), z.copy())
+                return ContactSolution(z, alpha_fixed, 0, 0.0, True, 0.0, 0.0, (0.0,), z.copy(),
+                                       hardness=H if hard else None,
+                                       plastic=np.zeros(g.shape, bool) if hard else None,
+                                       plastic_depth=z.copy() if hard else None)
             ku = hs.displacement(over)
             p = over * (np.sum(over * ku) / np.sum(ku * ku))
+            if hard:
+                np.minimum(p, H, out=p)
         else:
             p = _initial_guess(g, mat, force_v, e_star, cell)
     if not disp_control:
         p *= force_v / (p.sum() * cell)
+        if hard and p.max() > H:
+            p = _bounded_initial(p, g, mat, H, force_v / cell)
 
     # ---- Polonsky-Keer iterations -------------------------------------------------------
     kn = _kernels.KERNELS if kernels is None else kernels
     gap_stats, gap_eval, dir_stats, dir_update = kn["gap_stats"], kn["gap_eval"], kn["dir_stats"], kn["dir_update"]
     step_dots, update, rescale, axpy_scale = kn["step_dots"], kn["update"], kn["rescale"], kn["axpy_scale"]
+    H_below = float(np.nextafter(H, 0.0))
     pre = _get_preconditioner(g.shape, dx, dy, e_star, hs.workers) if precondition else None
     gz = np.ascontiguousarray(np.where(mat, g, 0.0))  # finite copy; non-material cells masked
     matf = np.ascontiguousarray(mat).ravel()
@@ -375,12 +437,12 @@ def solve_contact(
             hs.displacement(p, out=u)
             n_conv += 1
             u_exact, n_incr = True, 0
-        s_gu, n_c, umax, *bbox = gap_stats(gzf, uf, pf, ny)
-        if not disp_control:
+        s_gu, n_c, umax, *bbox = gap_stats(gzf, uf, pf, ny, H)
+        if not disp_control and n_c:
             alpha = s_gu / n_c
-        err_in, err_out, Gh = gap_eval(gzf, uf, pf, matf, alpha, hf)
+        err_in, err_out, Gh, err_sat = gap_eval(gzf, uf, pf, matf, alpha, hf, H)
         scale = umax if umax > 0 else 1.0
-        gap_res = max(err_in, err_out) / scale
+        gap_res = max(err_in, err_out, err_sat) / scale
         res = max(dp, gap_res)
         if res <= tol and n_incr:
             u_exact = False  # confirm with an exact displacement before accepting
@@ -389,7 +451,7 @@ def solve_contact(
         if res <= tol:
             converged = True
             break
-        if it >= max_iter or n_c == 0:
+        if it >= max_iter or (n_c == 0 and not hard):
             break
         if res <= 0.5 * anchor:
             anchor, it_anchor = res, it
@@ -397,10 +459,17 @@ def solve_contact(
             pre, delta, dropped_at = None, 0.0, it  # cycling: plain CG from here, restarted
             anchor, it_anchor = res, it
         it += 1
+        if err_sat > 0.0:
+            # plastic cells with h > 0 are over-loaded: they rejoin the free set (at the largest
+            # float below H) and this CG step, restarted, lowers them by its line search
+            _nrel, n_c, Gh, *bbox = kn["release"](pf, hf, H, H_below, ny)
+            delta = 0.0
         # CG direction on the contact set (preconditioned when `precondition`)
-        if pre is not None:
-            z, diag = pre.apply(h, p, bbox)
-            sz, n_c, shz, sh = dir_stats(z.ravel(), hf, pf)
+        if n_c == 0:  # every contact cell plastic: only entering / leaving cells can move
+            z, diag, zbar, G = h, 1.0, 0.0, 0.0
+        elif pre is not None:
+            z, diag = pre.apply(h, p, bbox, H)
+            sz, n_c, shz, sh = dir_stats(z.ravel(), hf, pf, H)
             zbar = sz / n_c if not disp_control else 0.0
             G = shz - zbar * sh
         else:
@@ -417,11 +486,11 @@ def solve_contact(
             t.fill(0.0)
         else:
             beta = delta * G / G_old
-            dir_update(z.ravel(), pf, tf, zbar, beta)
+            dir_update(z.ravel(), pf, tf, zbar, beta, H)
             G_old = G
             hs.displacement(t, out=r)
             n_conv += 1
-            sr, st, srt, sht, n_c = step_dots(rf, tf, hf, pf)
+            sr, st, srt, sht, n_c = step_dots(rf, tf, hf, pf, H)
             denom = srt - (sr / n_c) * st if not disp_control else srt
             if denom <= 0:  # only with t ~ 0 to rounding
                 if gap_res <= tol:
@@ -430,7 +499,7 @@ def solve_contact(
                 break
             tau = sht / denom
             seed = tau * diag
-        entered, psum, modified = update(pf, tf, hf, tau, seed, pnew.ravel())
+        entered, psum, modified = update(pf, tf, hf, tau, seed, pnew.ravel(), H)
         delta = 0.0 if entered else 1.0
         if psum <= 0:
             if disp_control:  # everything separated
@@ -440,7 +509,13 @@ def solve_contact(
                 continue
             raise ContactConvergenceError("all pressure vanished (no contact)", history)  # pragma: no cover
         sc = force_v / (psum * cell) if not disp_control else 1.0
-        dp = rescale(pnew.ravel(), pf, sc) / (psum * sc)
+        if hard and not disp_control and pnew.max() * max(sc, 1.0) >= H:
+            # bounded force balance: plastic cells stay at H, the free ones carry the rest
+            _project_force(pnew, H, force_v / cell, h)
+            dp = float(np.abs(pnew - p).sum()) / (force_v / cell)
+            modified = True
+        else:
+            dp = rescale(pnew.ravel(), pf, sc) / (psum * sc)
         p, pnew = pnew, p
         if not modified and n_incr < _MAX_INCREMENTAL:
             # no cell clipped or entered: p_new = sc (p - tau t), so K p_new = sc (u - tau K t)
@@ -450,6 +525,10 @@ def solve_contact(
             u_exact = False
 
     force_out = float(p.sum() * cell)
+    plastic = plastic_depth = None
+    if hard:
+        plastic = p >= H
+        plastic_depth = np.where(plastic, np.clip(-h, 0.0, None), 0.0)
     sol = ContactSolution(
         pressure=p,
         approach=float(alpha),
@@ -462,6 +541,10 @@ def solve_contact(
         displacement=u,
         convolutions=n_conv,
         preconditioner_dropped_at=dropped_at,
+        hardness=H if hard else None,
+        plastic=plastic,
+        plastic_depth=plastic_depth,
+        plastic_area=float(np.count_nonzero(plastic) * cell) if hard else 0.0,
     )
     if not converged:
         raise ContactConvergenceError(
@@ -472,6 +555,77 @@ def solve_contact(
         )
     _check_boundary(p, mat, boundary)
     return sol
+
+
+def _project_force(p: np.ndarray, H: float, target: float, h: np.ndarray) -> None:
+    """Restore ``sum p = target`` in place keeping ``0 <= p <= H`` (``p`` already in it).
+
+    Plastic cells (``p >= H``) stay at ``H`` and the free cells ``0 < p < H`` are scaled by one
+    factor to carry the rest; cells the factor lifts to ``H`` or past become plastic, repeated
+    until none does (the factor only grows, so at most as many rounds as cells, in practice 1-3).
+    If the plastic cells alone carry more than ``target``, every cell is scaled down instead. If
+    the contact cannot carry ``target`` at ``H`` (all of it plastic), the cells out of contact
+    with the smallest gap ``h`` (``+inf`` = no material) join at ``H``, the last one partly: the
+    contact grows as the approach would make it.
+    """
+    sat = p >= H
+    free = (p > 0) & ~sat
+    rem = target - H * np.count_nonzero(sat)
+    fsum = float(p[free].sum())
+    if rem < 0:  # scale down: stays within [0, H]
+        p *= target / float(p.sum())
+        return
+    c = 0.0
+    while fsum > 0:
+        c = rem / fsum
+        new = free & (c * p >= H)
+        if not new.any():
+            break
+        sat |= new
+        free &= ~new
+        rem = target - H * np.count_nonzero(sat)
+        fsum = float(p[free].sum())
+    if fsum > 0:
+        p[free] *= c
+        p[sat] = H
+        return
+    p[sat] = H
+    rem = target - H * np.count_nonzero(sat)
+    if rem <= 0:
+        return
+    out = np.where((p <= 0) & np.isfinite(h), h, np.inf).ravel()
+    k = int(rem // H)
+    cand = np.argpartition(out, min(k + 1, out.size - 1))[: k + 1]
+    cand = cand[np.argsort(out[cand], kind="stable")]
+    if not np.isfinite(out[cand[-1]]):
+        raise ContactConvergenceError(
+            f"hardness {H:.4g} Pa: the material area cannot carry the force at p = H", [])
+    pf = p.ravel()
+    pf[cand[:k]] = H
+    pf[cand[k]] = rem - k * H
+
+
+def _bounded_initial(p: np.ndarray, g: np.ndarray, mat: np.ndarray, H: float, target: float) -> np.ndarray:
+    """Initial guess in ``[0, H]`` carrying ``target`` (= force / cell area).
+
+    Clip ``p`` at ``H`` and restore the force on its support (:func:`_project_force`); if the
+    support cannot carry it at ``H``, fill cells in order of increasing gap at ``H`` instead
+    (the last one partly), which leaves at least one free cell.
+    """
+    q = np.minimum(p, H)
+    if np.count_nonzero(q > 0) * H > target * (1 + 1e-12):
+        _project_force(q, H, target, np.where(mat, g, np.inf))
+        if np.count_nonzero((q > 0) & (q < H)):
+            return q
+    order = np.argsort(np.where(mat, g, np.inf), axis=None, kind="stable")
+    k = int(target // H)
+    if k >= int(mat.sum()):
+        raise ValueError(f"hardness {H:.4g} Pa times the material area cannot carry the force")
+    q = np.zeros(p.size)
+    q[order[:k]] = H
+    q[order[k]] = max(target - k * H, 0.5 * H)
+    q *= target / q.sum()
+    return q.reshape(p.shape)
 
 
 _MAX_INCREMENTAL = 8  # at most this many incremental displacement updates between exact ones
@@ -505,9 +659,10 @@ class _FourierPreconditioner:
             self._symbols[key] = s
         return s
 
-    def apply(self, h: np.ndarray, p: np.ndarray, bbox):
-        """Return ``(z, d)``: ``z = P M^-1 P h`` (zero off ``p > 0``; a reused buffer) and ``d``,
-        the diagonal of ``M^-1``. ``bbox = (i0, i1, j0, j1)`` bounds ``p > 0`` (inclusive)."""
+    def apply(self, h: np.ndarray, p: np.ndarray, bbox, H: float = math.inf):
+        """Return ``(z, d)``: ``z = P M^-1 P h`` (zero off the free set ``0 < p < H``; a reused
+        buffer) and ``d``, the diagonal of ``M^-1``. ``bbox = (i0, i1, j0, j1)`` bounds the free
+        set (inclusive)."""
         import scipy.fft as sfft
 
         nx, ny = self.shape
@@ -520,7 +675,8 @@ class _FourierPreconditioner:
         i0 = min(i0, nx - mx)
         j0 = min(j0, ny - my)
         sl = (slice(i0, i0 + mx), slice(j0, j0 + my))
-        icb = p[sl] > 0
+        pb = p[sl]
+        icb = (pb > 0) & (pb < H)
         hb = np.where(icb, h[sl], 0.0)
         sym, diag = self._symbol(mx, my)
         w = self.workers
