@@ -3,6 +3,7 @@ import json
 import sys
 from pathlib import Path
 
+from bearing_envelope.figures import example_pairs
 from bearing_envelope.io import set_aside_unreadable
 from bearing_envelope.provenance import code_dependencies
 from bearing_envelope.settings import CASE_NAME_REGEX, CaseId, workflow_settings
@@ -69,13 +70,16 @@ def analysis_params(wildcards):
 
 
 def example_cases(wildcards=None):
-    """Cases drawn alone (Figs 4, 5, 7, 9, 11): the deepest defect and the healthy race
-    (or the shallowest depth) at the highest load."""
+    """Cases drawn alone (Figs 7, 9, 11): the deepest defect and the healthy race (or the
+    shallowest depth) at the highest load; and the pairs of Figs 4 and 5: the sweep's cases
+    nearest the study's 250 kN / 15 um, 500 kN / 50 um and 750 kN / 100 um, each with the
+    healthy race of its load (bearing_envelope.figures.example_pairs)."""
     load = max(LOADS)
     at_load = [c for c in CASE_IDS if c.load_kN == load]
     return {
         "defect": max(at_load, key=lambda c: (c.depth_um, c.width_um or 0.0)).name,
         "healthy": min(at_load, key=lambda c: (c.depth_um, c.width_um or 0.0)).name,
+        "pairs": example_pairs(CASE_IDS),
     }
 
 
