@@ -84,12 +84,20 @@ def example_cases(wildcards=None):
 
 
 def reference_case(wildcards):
-    """The healthy case of the same load, when the sweep has one (defines the defect part);
-    none for a healthy case itself (its SNR is that of its whole response)."""
+    """The healthy case of the same load for a defect case (defines the defect part); for a
+    healthy case, the shallowest defect case of its load (its noise defines the healthy cells'
+    noise: bearing_envelope.pipeline.case_diagnosability). None where the sweep lacks it."""
     case = CaseId.parse(wildcards.case)
-    if case.depth_um > 0 and 0.0 in DEPTHS:
-        return f"results/cases/{CaseId(case.load_kN, 0.0).name}.h5"
-    return []
+    if case.depth_um > 0:
+        return f"results/cases/{CaseId(case.load_kN, 0.0).name}.h5" if 0.0 in DEPTHS else []
+    peers = [c for c in CASE_IDS if c.load_kN == case.load_kN and c.depth_um > 0]
+    if not peers:
+        return []
+    return f"results/cases/{min(peers, key=lambda c: (c.depth_um, c.width_um or 0.0)).name}.h5"
+
+
+#: Healthy cases (depth 0): their false alarms are measured (rule false_alarms).
+HEALTHY = [c.name for c in CASE_IDS if c.depth_um == 0]
 
 
 # The files the analysis reads: the simulated cases, or their copies with the synthetic
