@@ -245,8 +245,41 @@ def case_summary(case) -> dict[str, Any]:
         "n_solves": stats.get("n_solves", np.nan),
         "simulate_wall_s": stats.get("wall_seconds", np.nan),
         "interp_max_rel_error_p_max": tget("interp_max_rel_error_p_max"),
+        **_axial_profile(case),
         "git_commit": case.attrs.get("git_commit", ""),
     }
+
+
+def _axial_profile(case) -> dict[str, float]:
+    """Centre and end pressures of the no-defect contact at the highest tabulated roller load.
+
+    From the global snapshot: the axial profile ``max_x p(x, y)``; ``p_centre_Pa`` at the
+    roller's mid-length, ``p_end_Pa`` the largest value in the outer quarter of the loaded
+    length on either side; ``edge_ratio = p_end / p_centre`` (> 1: edge overpressure, the
+    study's Fig. 4 at 500 and 750 kN; <= 1: a Hertzian, crowned pattern). NaN without
+    snapshots.
+    """
+    nan = {"snapshot_roller_load_N": np.nan, "p_centre_Pa": np.nan, "p_end_Pa": np.nan,
+           "edge_ratio": np.nan}
+    snaps = getattr(case, "snapshots", None) or {}
+    if not snaps:
+        return nan
+    key = max(snaps, key=lambda k: float(np.asarray(snaps[k]["roller_load"])))
+    s = snaps[key]
+    if "global_pressure" not in s:
+        return nan
+    prof = np.asarray(s["global_pressure"], dtype=float).max(axis=0)
+    y = np.asarray(s["global_y"], dtype=float)
+    loaded = np.flatnonzero(prof > 0)
+    if loaded.size < 3:
+        return nan
+    half = 0.5 * (y[loaded[-1]] - y[loaded[0]])
+    mid = 0.5 * (y[loaded[-1]] + y[loaded[0]])
+    centre = float(prof[int(np.argmin(np.abs(y - mid)))])
+    outer = np.abs(y - mid) >= 0.75 * half
+    end = float(prof[outer & (prof > 0)].max())
+    return {"snapshot_roller_load_N": float(np.asarray(s["roller_load"])), "p_centre_Pa": centre,
+            "p_end_Pa": end, "edge_ratio": end / centre if centre > 0 else np.nan}
 
 
 def _case_signals(case) -> dict:

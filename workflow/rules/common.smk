@@ -118,6 +118,8 @@ def all_targets():
         "results/tables/harmonics.csv",
         "results/tables/cases.csv",
         "results/figures",
+        "results/tables_html",
+        "results/paper/paper.md",
     ] + (
         ["results/tables/diagnosability.csv", "results/figures_diagnosability"]
         if config.get("sensor") and config.get("diagnosability", {}).get("enabled", True)
