@@ -483,12 +483,21 @@ def case_diagnosability(case, sensor: Mapping[str, Any], analysis: Mapping[str, 
 FALSE_ALARM_SEED_OFFSET = 100_000
 
 
+def _trial_seed(base: int, case, trial: int, snr: float) -> int:
+    """Independent seed of one false-alarm trial (numpy SeedSequence of its coordinates)."""
+    key = [int(base), FALSE_ALARM_SEED_OFFSET, int(round(float(case.load_kN) * 1000)),
+           int(round(float(case.depth_um) * 1000)), int(trial), int(round((float(snr) + 1000) * 1000))]
+    return int(np.random.SeedSequence(key).generate_state(1)[0])
+
+
 def case_false_alarms(case, sensor: Mapping[str, Any], analysis: Mapping[str, Any], snr_db,
                       n_trials: int, *, reference=None, kurtogram_from: str = "clean") -> pd.DataFrame:
     """Measured false alarms of the detection map on a healthy case: ``n_trials`` noise
     realisations per SNR, each tested in every band exactly as :func:`case_diagnosability`
-    tests the map's cells (same bands, same noise definition, other seeds: trial ``j`` uses
-    ``sensor.seed + FALSE_ALARM_SEED_OFFSET + j`` at every SNR, as the map uses one seed).
+    tests the map's cells (same bands, same noise definition), each trial with its own noise:
+    the seed derives from ``sensor.seed``, :data:`FALSE_ALARM_SEED_OFFSET`, the case, the trial
+    and the SNR (:func:`_trial_seed`), so trials are independent across cases, trials and SNRs
+    (the map's own cells share one realisation per case).
 
     Returns
     -------
@@ -511,7 +520,7 @@ def case_false_alarms(case, sensor: Mapping[str, Any], analysis: Mapping[str, An
     rows = []
     for trial in range(n_trials):
         for snr in snr_db:
-            seed = model.seed + FALSE_ALARM_SEED_OFFSET + trial
+            seed = _trial_seed(model.seed, case, trial, snr)
             acc, _ = synthesize_acceleration(exc, fs, model, reference=ref, seed=seed,
                                              fr=float(case.fr), snr_db=float(snr))
             if kurtogram_from == "record":
