@@ -236,11 +236,13 @@ def draw_band_limits(bands: pd.DataFrame, *, fs: float | None = None):
         g = bands[bands["band"] == name]
         centre = np.full((len(loads), len(depths)), np.nan)
         for r in g.itertuples():
-            i, j = loads.index(r.load_kN), depths.index(r.depth_um)
-            centre[i, j] = 0.5 * (r.low_hz + r.high_hz) / 1e3
-            ax.text(j, i, f"{r.low_hz / 1e3:.1f}-\n{r.high_hz / 1e3:.1f}" + ("*" if r.clamped else ""),
-                    ha="center", va="center", fontsize=6.5, color="w")
+            centre[loads.index(r.load_kN), depths.index(r.depth_um)] = 0.5 * (r.low_hz + r.high_hz) / 1e3
         im = ax.imshow(centre, origin="lower", aspect="auto", cmap="viridis")
+        for r in g.itertuples():
+            i, j = loads.index(r.load_kN), depths.index(r.depth_um)
+            bright = im.norm(centre[i, j]) > 0.6  # dark text on the bright end of viridis
+            ax.text(j, i, f"{r.low_hz / 1e3:.1f}-\n{r.high_hz / 1e3:.1f}" + ("*" if r.clamped else ""),
+                    ha="center", va="center", fontsize=6.5, color="k" if bright else "w")
         fig.colorbar(im, ax=ax, label="band centre (kHz)")
         ax.set_xticks(range(len(depths)), [f"{d:g}" for d in depths])
         ax.set_yticks(range(len(loads)), [f"{v:g}" for v in loads])
