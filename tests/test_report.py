@@ -141,6 +141,7 @@ def test_report_from_runtime_dependencies_renders_in_a_browser(draft_run, runtim
     fig10 = shown["fig10_band_limits.png"]
     assert fig10["height"] <= 1000 and fig10["width"] <= 2000, fig10  # was 1146 x 4605 px
     pages = {Path(p["path"]).name: p for p in out["pages"]}
-    for name in ("cases.html", "bands.html", "harmonics.html", "pivots.html", "paper.html"):
+    for name in ("cases.html", "bands.html", "harmonics.html", "pivots.html", "paper.html",
+                 "diagnosability.html", "false_alarms.html"):
         assert name in pages, f"{name} is not viewable in the report ({sorted(pages)})"
         assert pages[name]["shown"] and pages[name]["tables"] >= 1 and pages[name]["rows"] > 2, pages[name]

@@ -70,6 +70,12 @@ rule diagnosability:
             caption="../report/false_alarms.rst",
             category="Diagnosability",
         ),
+        pages=report(
+            directory("results/tables_html_diagnosability"),
+            patterns=["{name}.html"],
+            caption="../report/diagnosability.rst",
+            category="Diagnosability",
+        ),
         maps=report(
             directory("results/figures_diagnosability"),
             patterns=["{name}.png"],
