@@ -1,5 +1,6 @@
 # Config validation (before any job) and the small input helpers shared by every rule.
 import json
+import os
 import sys
 from pathlib import Path
 
@@ -125,3 +126,14 @@ def all_targets():
         if config.get("sensor") and config.get("diagnosability", {}).get("enabled", True)
         else []
     )
+
+
+def paper_run_tables(wildcards=None):
+    """Tables of a paper-conventions run (config key `paper_run`: its working directory), when
+    that run exists: the page then shows both columns."""
+    run = config.get("paper_run")
+    if not run:
+        return {}
+    names = ("cases", "harmonics", "bands")
+    paths = {n: os.path.join(run, "results", "tables", f"{n}.csv") for n in names}
+    return paths if all(os.path.exists(p) for p in paths.values()) else {}

@@ -1,18 +1,6 @@
 # Pages of the report that are read in place: every table as HTML (the CSVs stay downloadable)
 # and the "study vs this model" page (bearing_envelope.paper.compare), regenerated from the
-# sweep's tables whenever they change.
-import os
-
-
-def paper_run_tables(wildcards=None):
-    """Tables of a paper-conventions run (config key `paper_run`: its working directory), when
-    that run exists: the page then shows both columns."""
-    run = config.get("paper_run")
-    if not run:
-        return {}
-    names = ("cases", "harmonics", "bands")
-    paths = {n: os.path.join(run, "results", "tables", f"{n}.csv") for n in names}
-    return paths if all(os.path.exists(p) for p in paths.values()) else {}
+# sweep's tables whenever they change (paper_run_tables: common.smk).
 
 
 rule report_tables:
