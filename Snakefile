@@ -24,6 +24,7 @@ include: "workflow/rules/figures.smk"
 include: "workflow/rules/diagnosability.smk"
 include: "workflow/rules/sensor.smk"
 include: "workflow/rules/tradeoff.smk"
+include: "workflow/rules/report_pages.smk"
 
 
 rule all:

@@ -240,3 +240,39 @@ def test_detection_rate_decreases_as_snr_drops():
     assert rate[0] == 1.0 and rate[-1] <= 0.1
     assert all(r1 >= r2 for r1, r2 in zip(rate, rate[1:])), rate
     assert all(s1 > s2 for s1, s2 in zip(mean_stat[:-1], mean_stat[1:-1])), mean_stat
+
+
+# --- false-alarm rate with its confidence interval (issue 16) -------------------------------
+
+@pytest.mark.parametrize("k, n", [(0, 300), (1, 60), (3, 300), (60, 60), (7, 20)])
+def test_clopper_pearson_matches_the_binomial_tails(k, n):
+    from scipy.stats import binom
+
+    from bearing_envelope.diagnosis import clopper_pearson
+
+    lo, hi = clopper_pearson(k, n, 0.95)
+    # the exact interval: P(X >= k | lo) = 2.5 % and P(X <= k | hi) = 2.5 %
+    if k > 0:
+        assert binom.sf(k - 1, n, lo) == pytest.approx(0.025, rel=1e-6)
+    else:
+        assert lo == 0.0 and hi == pytest.approx(1 - 0.025 ** (1 / n), rel=1e-9)
+    if k < n:
+        assert binom.cdf(k, n, hi) == pytest.approx(0.025, rel=1e-6)
+    else:
+        assert hi == 1.0 and lo == pytest.approx(0.025 ** (1 / n), rel=1e-9)
+
+
+def test_false_alarm_rates_pool_trials():
+    import pandas as pd
+
+    from bearing_envelope.diagnosis import false_alarm_rates
+
+    trials = pd.DataFrame({"band": ["a"] * 200 + ["b"] * 100, "snr_db": [0.0] * 300,
+                           "detected": [True] * 2 + [False] * 198 + [False] * 100,
+                           "statistic_db": np.linspace(0, 12, 300), "threshold_db": 10.0})
+    r = false_alarm_rates(trials, by=["band"]).set_index("band")
+    assert r.loc["a", "n_trials"] == 200 and r.loc["a", "n_false_alarms"] == 2
+    assert r.loc["a", "rate"] == pytest.approx(0.01)
+    assert r.loc["b", "ci_low"] == 0.0 and r.loc["b", "ci_high"] == pytest.approx(1 - 0.025 ** 0.01)
+    overall = false_alarm_rates(trials, by=[])
+    assert overall["n_trials"].item() == 300 and overall["n_false_alarms"].item() == 2

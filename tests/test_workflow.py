@@ -42,11 +42,7 @@ def job_counts(output: str) -> dict[str, int]:
     return {line.split()[0]: int(line.split()[1]) for line in m.group(1).splitlines() if line.strip()}
 
 
-@pytest.fixture(scope="module")
-def draft_run(tmp_path_factory):
-    wd = tmp_path_factory.mktemp("sweep")
-    smk(wd)
-    return wd
+# draft_run (one draft sweep per session, shared with tests/test_report.py): tests/conftest.py
 
 
 def test_draft_sweep_tables(draft_run):
@@ -96,15 +92,67 @@ def test_diagnosability_map(draft_run):
     snrs = sorted(cfg["diagnosability"]["snr_db"])
     assert len(d) == 4 * len(snrs) * len(cfg["analysis"]["bands"])
     assert np.isfinite(d["statistic_db"]).all()
-    # The healthy race is never "detected"; the defect is, at the highest SNR, in every band.
+    # The healthy race is never "detected"; the defect is, at the highest SNR, in every band
+    # but the kurtogram's: on the noise-free acceleration it picks the top cell (the shortest
+    # transients), where little of the defect's energy lies (docs/sensor.md).
     assert not d[d["depth_um"] == 0]["detected"].any()
     top = d[(d["depth_um"] > 0) & (d["snr_db"] == snrs[-1])]
-    assert top["detected"].all()
+    assert top[top["band"] != "kurtogram"]["detected"].all()
     # Detection does not improve as the noise grows (rate over cases and bands).
     rate = d[d["depth_um"] > 0].groupby("snr_db")["detected"].mean().sort_index()
     assert (np.diff(rate.to_numpy()) >= 0).all(), rate
+    # One band per case at every SNR (chosen once, on the noise-free acceleration).
+    assert (d.groupby(["case", "band"])[["band_low_hz", "band_high_hz"]].nunique() == 1).all().all()
     maps = sorted(p.name for p in (draft_run / "results" / "figures_diagnosability").glob("*.png"))
     assert len(maps) == len(cfg["analysis"]["bands"])
+
+
+def test_detection_statistic_does_not_fall_as_snr_rises(draft_run):
+    """In every band the mean statistic over the defect cases and over noise realisations does
+    not fall as the SNR rises; the kurtogram band used to fall from 48 to 39 dB between 10 and
+    20 dB SNR (issue 16) because each noisy record picked its own band. The map's own cells
+    (one realisation each) are too few for a mean on the draft's short records, so the map's
+    test (case_diagnosability, same bands and noise definition) is rerun here over 24 seeds;
+    slack: three standard errors of the difference of two means."""
+    from bearing_envelope.io import read_case
+    from bearing_envelope.pipeline import case_diagnosability
+
+    cfg = yaml.safe_load(DRAFT.read_text())
+    snrs = sorted(cfg["diagnosability"]["snr_db"])
+    cases = draft_run / "results" / "cases"
+    rows = []
+    for load in cfg["sweep"]["loads_kN"]:
+        defect, healthy = read_case(cases / f"F{load:g}kN_h50um.h5"), read_case(cases / f"F{load:g}kN_h0um.h5")
+        for seed in range(24):
+            sensor = dict(cfg["sensor"], seed=1000 + seed)
+            rows.append(case_diagnosability(defect, sensor, cfg["analysis"], snrs, reference=healthy))
+    d = pd.concat(rows, ignore_index=True)
+    g = d.groupby(["band", "snr_db"])["statistic_db"]
+    mean = g.mean().unstack("band").sort_index()
+    se = (g.std(ddof=1) / np.sqrt(g.count())).unstack("band").sort_index()
+    steps = mean.diff().iloc[1:]
+    slack = 3.0 * np.sqrt(se.iloc[1:].to_numpy() ** 2 + se.iloc[:-1].to_numpy() ** 2)
+    assert (steps.to_numpy() >= -slack).all(), (mean.round(1), se.round(2))
+    rise = mean.iloc[-1] - mean.iloc[0]
+    assert (rise > 0.0).all(), mean.round(1)  # and it does rise, in every band; clearly where
+    assert (rise.drop("kurtogram") > 10.0).all(), mean.round(1)  # the band holds the resonance
+
+
+def test_false_alarm_rate_is_measured_and_at_its_design(draft_run):
+    """The map's test on healthy cases, many noise realisations: 1 % false alarms by design.
+    Every (band, SNR) cell's rate is consistent with it (its 95 % interval reaches down to
+    1 %) and the pooled rate is at most 1 %."""
+    cfg = yaml.safe_load(DRAFT.read_text())
+    n = cfg["diagnosability"]["false_alarm_trials"]
+    fa = pd.read_csv(draft_run / "results" / "tables" / "false_alarms.csv")
+    cells = fa[(fa["band"] != "all") & (fa["snr_db"] != "all")]
+    assert len(cells) == len(cfg["analysis"]["bands"]) * len(cfg["diagnosability"]["snr_db"])
+    assert (cells["n_trials"] == 2 * n).all()  # 2 healthy cases in the draft sweep
+    assert (cells["ci_low"] <= 0.01).all(), cells
+    overall = fa[(fa["band"] == "all") & (fa["snr_db"] == "all")].iloc[0]
+    assert overall["n_trials"] == len(cells) * 2 * n
+    assert overall["rate"] <= 0.01, overall
+    assert overall["ci_low"] <= 0.01 <= overall["ci_high"] or overall["n_false_alarms"] == 0
 
 
 def test_report_is_self_contained(draft_run):

@@ -45,6 +45,8 @@ __all__ = [
     "threshold_db",
     "detection_statistic",
     "detect",
+    "clopper_pearson",
+    "false_alarm_rates",
 ]
 
 #: Default false-alarm probability of :func:`detect` on a Gaussian-noise spectrum.
@@ -330,3 +332,56 @@ def detect(f, amplitude, line_hz: float, **kwargs) -> tuple[float, bool]:
     """``(statistic_db, detected)`` of :func:`detection_statistic` (same keyword arguments)."""
     d = detection_statistic(f, amplitude, line_hz, **kwargs)
     return d.statistic_db, d.detected
+
+
+def clopper_pearson(k: int, n: int, confidence: float = 0.95) -> tuple[float, float]:
+    """Exact (Clopper-Pearson) confidence interval of a binomial rate ``k / n``.
+
+    ``low = B^-1(a/2; k, n - k + 1)`` and ``high = B^-1(1 - a/2; k + 1, n - k)`` with
+    ``a = 1 - confidence`` and ``B^-1`` the inverse regularised incomplete beta function
+    (``low = 0`` for ``k = 0``, ``high = 1`` for ``k = n``).
+
+    Examples
+    --------
+    >>> lo, hi = clopper_pearson(0, 300)
+    >>> lo, round(hi, 5)
+    (0.0, 0.01222)
+    """
+    from scipy.stats import beta
+
+    k, n = int(k), _count("n", n, 1)
+    if not 0 <= k <= n:
+        raise ValueError(f"k must be in [0, n = {n}], got {k}")
+    a = 1.0 - float(confidence)
+    if not 0.0 < a < 1.0:
+        raise ValueError(f"confidence must be in (0, 1), got {confidence!r}")
+    low = 0.0 if k == 0 else float(beta.ppf(a / 2, k, n - k + 1))
+    high = 1.0 if k == n else float(beta.ppf(1 - a / 2, k + 1, n - k))
+    return low, high
+
+
+def false_alarm_rates(trials: pd.DataFrame, by=("band", "snr_db"),
+                      confidence: float = 0.95) -> pd.DataFrame:
+    """Pool false-alarm trials (one row per healthy record tested, column ``detected``).
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per group of ``by`` (all rows when ``by`` is empty): ``n_trials``,
+        ``n_false_alarms``, ``rate``, ``ci_low``, ``ci_high`` (Clopper-Pearson at
+        ``confidence``), ``statistic_db_mean``, ``statistic_db_max``, ``threshold_db``.
+    """
+    by = list(by)
+    groups = trials.groupby(by, sort=True) if by else [((), trials)]
+    rows = []
+    for key, g in groups:
+        key = key if isinstance(key, tuple) else (key,)
+        n, k = len(g), int(g["detected"].sum())
+        lo, hi = clopper_pearson(k, n, confidence)
+        rows.append({**dict(zip(by, key)), "n_trials": n, "n_false_alarms": k, "rate": k / n,
+                     "ci_low": lo, "ci_high": hi,
+                     "statistic_db_mean": float(g["statistic_db"].mean()),
+                     "statistic_db_std": float(g["statistic_db"].std(ddof=1)) if n > 1 else float("nan"),
+                     "statistic_db_max": float(g["statistic_db"].max()),
+                     "threshold_db": float(g["threshold_db"].median())})
+    return pd.DataFrame(rows)

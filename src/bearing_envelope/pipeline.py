@@ -13,7 +13,9 @@ or knows where the workflow keeps its results, so each works the same from a not
   ``docs/file-format.md``); ``case_envelope`` also returns the spectra the figures draw.
 - :func:`case_summary`: one row of peak pressures and simulation diagnostics per case.
 - :func:`case_acceleration`: the synthetic accelerometer signal of a case (``sensor:``).
-- :func:`case_diagnosability`: BPFI detection in that signal per SNR and band.
+- :func:`case_diagnosability`: BPFI detection in that signal per SNR and band (bands chosen
+  once per case by :func:`diagnosability_bands`); :func:`case_false_alarms`: the measured
+  false alarms of that test on a healthy case over many noise realisations.
 
 Units of the amplitudes: those of the signal named in the ``signal`` column (Pa for the pressure
 histories ``p_max`` and ``p_max_defect``, the sensor's units for ``acceleration``; squared for a
@@ -34,7 +36,8 @@ from .provenance import log_to
 from .tables import TIDY_COLUMNS, TIDY_EXTRA_COLUMNS, tidy_from_analysis
 
 __all__ = ["case_signal", "case_frequencies", "case_bands", "case_harmonics", "case_envelope",
-           "case_summary", "case_acceleration", "case_diagnosability", "log_to"]
+           "case_summary", "case_acceleration", "diagnosability_bands", "case_diagnosability",
+           "case_false_alarms", "FALSE_ALARM_SEED_OFFSET", "log_to"]
 
 
 def _case_id(case) -> str:
@@ -242,8 +245,41 @@ def case_summary(case) -> dict[str, Any]:
         "n_solves": stats.get("n_solves", np.nan),
         "simulate_wall_s": stats.get("wall_seconds", np.nan),
         "interp_max_rel_error_p_max": tget("interp_max_rel_error_p_max"),
+        **_axial_profile(case),
         "git_commit": case.attrs.get("git_commit", ""),
     }
+
+
+def _axial_profile(case) -> dict[str, float]:
+    """Centre and end pressures of the no-defect contact at the highest tabulated roller load.
+
+    From the global snapshot: the axial profile ``max_x p(x, y)``; ``p_centre_Pa`` at the
+    roller's mid-length, ``p_end_Pa`` the largest value in the outer quarter of the loaded
+    length on either side; ``edge_ratio = p_end / p_centre`` (> 1: edge overpressure, the
+    study's Fig. 4 at 500 and 750 kN; <= 1: a Hertzian, crowned pattern). NaN without
+    snapshots.
+    """
+    nan = {"snapshot_roller_load_N": np.nan, "p_centre_Pa": np.nan, "p_end_Pa": np.nan,
+           "edge_ratio": np.nan}
+    snaps = getattr(case, "snapshots", None) or {}
+    if not snaps:
+        return nan
+    key = max(snaps, key=lambda k: float(np.asarray(snaps[k]["roller_load"])))
+    s = snaps[key]
+    if "global_pressure" not in s:
+        return nan
+    prof = np.asarray(s["global_pressure"], dtype=float).max(axis=0)
+    y = np.asarray(s["global_y"], dtype=float)
+    loaded = np.flatnonzero(prof > 0)
+    if loaded.size < 3:
+        return nan
+    half = 0.5 * (y[loaded[-1]] - y[loaded[0]])
+    mid = 0.5 * (y[loaded[-1]] + y[loaded[0]])
+    centre = float(prof[int(np.argmin(np.abs(y - mid)))])
+    outer = np.abs(y - mid) >= 0.75 * half
+    end = float(prof[outer & (prof > 0)].max())
+    return {"snapshot_roller_load_N": float(np.asarray(s["roller_load"])), "p_centre_Pa": centre,
+            "p_end_Pa": end, "edge_ratio": end / centre if centre > 0 else np.nan}
 
 
 def _case_signals(case) -> dict:
@@ -311,16 +347,75 @@ def case_acceleration(case, sensor: Mapping[str, Any], *, reference=None, snr_db
     return acc, info
 
 
+def _sensor_setup(case, sensor, reference):
+    """Transfer model, excitation and reference excitation of a case (internal)."""
+    from .transfer import TransferModel, excitation_from_history, select_excitation
+
+    fs = float(case.fs)
+    model = TransferModel.from_mapping(sensor, fs=fs)
+    _, e = select_excitation(case.signals, model.excitation)
+    exc = excitation_from_history(e, scale=model.excitation_scale)
+    ref = None
+    if reference is not None:
+        _, er = select_excitation(reference.signals, model.excitation)
+        if er.size == e.size:
+            ref = excitation_from_history(er, scale=model.excitation_scale)
+    return model, exc, ref
+
+
+def _snr_definition(case, ref) -> str:
+    if ref is None:
+        return "whole response"
+    if float(case.depth_um) > 0:
+        return "defect part (H e - H e_ref)"
+    return "noise of the shallowest defect of this load (H e_peer - H e)"
+
+
+def diagnosability_bands(case, sensor: Mapping[str, Any], analysis: Mapping[str, Any], *,
+                         reference=None, record=None) -> list[tuple[dict, float, float]]:
+    """Demodulation bands of the detection map of one case.
+
+    By default chosen once per case: every band of ``analysis.bands`` is resolved on the case's
+    *noise-free* synthetic acceleration (structure response and tones, no noise; the kurtogram
+    band from its own kurtogram), the way the study picked its band on its noise-free signal,
+    and the same limits are used at every SNR. With ``record`` (a noisy acceleration) the
+    kurtogram band is that record's, as an analyst would pick it on each recording
+    (``diagnosability.kurtogram_from: record``); the statistic then falls where a higher SNR
+    makes the kurtogram prefer the short transients of the top cell over the resonance band
+    (issue 16).
+
+    Returns
+    -------
+    list of (band spec, low_hz, high_hz)
+    """
+    from .signal import resolve_band
+    from .transfer import synthesize_acceleration
+
+    fs = float(case.fs)
+    if record is None:
+        model, exc, ref = _sensor_setup(case, sensor, reference)
+        record, _ = synthesize_acceleration(exc, fs, model, reference=ref, seed=model.seed,
+                                            fr=float(case.fr), snr_db=None)
+    need_kg = any(b["strategy"] == "kurtogram" for b in analysis["bands"])
+    kg = _kurtogram(record, fs, analysis) if need_kg else None
+    freqs = case_frequencies(case)
+    out = []
+    for spec in analysis["bands"]:
+        (lo, hi), _prov = resolve_band(spec, fs, kurtogram=kg, frequencies=freqs)
+        out.append((dict(spec), float(lo), float(hi)))
+    return out
+
+
 def case_diagnosability(case, sensor: Mapping[str, Any], analysis: Mapping[str, Any],
-                        snr_db, *, reference=None) -> pd.DataFrame:
+                        snr_db, *, reference=None, kurtogram_from: str = "clean") -> pd.DataFrame:
     """Is BPFI detected in the synthetic acceleration of a case, per SNR and band strategy?
 
     The case's contact history goes through the transfer path of ``sensor`` (modes, noise at
     each SNR, tones: :mod:`bearing_envelope.transfer`); every band of ``analysis.bands`` is
-    resolved on the acceleration (the kurtogram band from the acceleration's own kurtogram),
-    demodulated, and the BPFI line of the envelope spectrum is tested with
-    :func:`bearing_envelope.diagnosis.detection_statistic` (line-to-median ratio against a
-    threshold at 1 % false-alarm probability).
+    resolved once per case (:func:`diagnosability_bands`: on the noise-free acceleration, the
+    kurtogram band from its kurtogram), demodulated at each SNR, and the BPFI line of the
+    envelope spectrum is tested with :func:`bearing_envelope.diagnosis.detection_statistic`
+    (line-to-median ratio against a threshold at 1 % false-alarm probability).
 
     Parameters
     ----------
@@ -330,10 +425,20 @@ def case_diagnosability(case, sensor: Mapping[str, Any], analysis: Mapping[str, 
     analysis : mapping
         The config's ``analysis`` section.
     snr_db : sequence of float
-        SNR levels (dB); the noise seed is ``sensor.seed + index``.
+        SNR levels (dB). Every level uses the same noise realisation (seed ``sensor.seed``),
+        scaled to its level (common random numbers): a row of the map is one recording at
+        several noise levels, so the statistic's changes along it are the SNR's, not another
+        draw's.
     reference : Case, optional
-        The healthy case of the same load. With it, the SNR is that of the defect-related part
-        ``H e - H e_ref``; without it (and for the healthy case itself), of the whole response.
+        For a defect case, the healthy case of the same load: the SNR is that of the
+        defect-related part ``H e - H e_ref``. For a healthy case, the shallowest defect case
+        of the same load (its *peer*): the noise is the one that defect's cells have at the
+        same SNR, ``var(H e_peer - H e) / 10^(SNR/10)``, so a healthy cell is the null
+        hypothesis of the cells next to it (same sensor noise, no defect). Without it, the SNR
+        is that of the whole response.
+    kurtogram_from : {"clean", "record"}
+        Where the bands come from (:func:`diagnosability_bands`): once per case from the
+        noise-free acceleration (default), or the kurtogram of each noisy record.
 
     Returns
     -------
@@ -343,42 +448,95 @@ def case_diagnosability(case, sensor: Mapping[str, Any], analysis: Mapping[str, 
         peak_hz, peak_amplitude``.
     """
     from .diagnosis import detection_statistic
-    from .signal import envelope_spectrum, resolve_band
-    from .transfer import (TransferModel, excitation_from_history, select_excitation,
-                           synthesize_acceleration)
+    from .signal import envelope_spectrum
+    from .transfer import synthesize_acceleration
 
+    if kurtogram_from not in ("clean", "record"):
+        raise ValueError(f"kurtogram_from must be 'clean' or 'record', got {kurtogram_from!r}")
     fs = float(case.fs)
-    model = TransferModel.from_mapping(sensor, fs=fs)
-    _, e = select_excitation(case.signals, model.excitation)
-    exc = excitation_from_history(e, scale=model.excitation_scale)
-    ref = None
-    if reference is not None and float(case.depth_um) > 0:
-        _, er = select_excitation(reference.signals, model.excitation)
-        if er.size == e.size:
-            ref = excitation_from_history(er, scale=model.excitation_scale)
-    freqs = case_frequencies(case)
+    model, exc, ref = _sensor_setup(case, sensor, reference)
+    bands = diagnosability_bands(case, sensor, analysis, reference=reference)
     rows = []
-    for i, snr in enumerate(snr_db):
-        acc, _info = synthesize_acceleration(exc, fs, model, reference=ref, seed=model.seed + i,
+    for snr in snr_db:
+        acc, _info = synthesize_acceleration(exc, fs, model, reference=ref, seed=model.seed,
                                              fr=float(case.fr), snr_db=float(snr))
-        need_kg = any(b["strategy"] == "kurtogram" for b in analysis["bands"])
-        kg = _kurtogram(acc, fs, analysis) if need_kg else None
-        for spec in analysis["bands"]:
-            (lo, hi), _prov = resolve_band(spec, fs, kurtogram=kg, frequencies=freqs)
+        if kurtogram_from == "record":
+            bands = diagnosability_bands(case, sensor, analysis, record=acc)
+        for spec, lo, hi in bands:
             f, a = envelope_spectrum(acc, fs, (lo, hi), order=int(analysis.get("filter_order", 4)),
                                      squared=bool(analysis.get("squared_envelope", False)))
             d = detection_statistic(f, a, float(case.bpfi), fr=float(case.fr))
             rows.append({
                 "case": _case_id(case), "load_kN": float(case.load_kN),
                 "depth_um": float(case.depth_um), "snr_db": float(snr),
-                "snr_definition": "defect part (H e - H e_ref)" if ref is not None else "whole response",
+                "snr_definition": _snr_definition(case, ref), "kurtogram_from": kurtogram_from,
                 "band": spec["name"], "band_strategy": spec["strategy"],
-                "band_low_hz": float(lo), "band_high_hz": float(hi),
+                "band_low_hz": lo, "band_high_hz": hi,
                 "statistic_db": d.statistic_db, "threshold_db": d.threshold_db,
                 "detected": bool(d.detected), "peak_hz": d.peak_hz,
                 "peak_amplitude": d.peak_amplitude,
             })
     return pd.DataFrame(rows)
+
+
+#: Seeds of the false-alarm trials start here (the map itself uses ``sensor.seed + index``).
+FALSE_ALARM_SEED_OFFSET = 100_000
+
+
+def _trial_seed(base: int, case, trial: int, snr: float) -> int:
+    """Independent seed of one false-alarm trial (numpy SeedSequence of its coordinates)."""
+    key = [int(base), FALSE_ALARM_SEED_OFFSET, int(round(float(case.load_kN) * 1000)),
+           int(round(float(case.depth_um) * 1000)), int(trial), int(round((float(snr) + 1000) * 1000))]
+    return int(np.random.SeedSequence(key).generate_state(1)[0])
+
+
+def case_false_alarms(case, sensor: Mapping[str, Any], analysis: Mapping[str, Any], snr_db,
+                      n_trials: int, *, reference=None, kurtogram_from: str = "clean") -> pd.DataFrame:
+    """Measured false alarms of the detection map on a healthy case: ``n_trials`` noise
+    realisations per SNR, each tested in every band exactly as :func:`case_diagnosability`
+    tests the map's cells (same bands, same noise definition), each trial with its own noise:
+    the seed derives from ``sensor.seed``, :data:`FALSE_ALARM_SEED_OFFSET`, the case, the trial
+    and the SNR (:func:`_trial_seed`), so trials are independent across cases, trials and SNRs
+    (the map's own cells share one realisation per case).
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per (snr_db, band, trial): ``case, load_kN, depth_um, snr_db, band, trial,
+        statistic_db, threshold_db, detected, peak_hz``
+        (:func:`bearing_envelope.diagnosis.false_alarm_rates` pools them).
+    """
+    from .diagnosis import detection_statistic
+    from .signal import envelope_spectrum
+    from .transfer import synthesize_acceleration
+
+    if float(case.depth_um) > 0:
+        raise ValueError(f"case_false_alarms needs a healthy case (depth 0), got {_case_id(case)}")
+    n_trials = int(n_trials)
+    fs = float(case.fs)
+    model, exc, ref = _sensor_setup(case, sensor, reference)
+    bands = diagnosability_bands(case, sensor, analysis, reference=reference)
+    snr_db = list(snr_db)
+    rows = []
+    for trial in range(n_trials):
+        for snr in snr_db:
+            seed = _trial_seed(model.seed, case, trial, snr)
+            acc, _ = synthesize_acceleration(exc, fs, model, reference=ref, seed=seed,
+                                             fr=float(case.fr), snr_db=float(snr))
+            if kurtogram_from == "record":
+                bands = diagnosability_bands(case, sensor, analysis, record=acc)
+            for spec, lo, hi in bands:
+                f, a = envelope_spectrum(acc, fs, (lo, hi),
+                                         order=int(analysis.get("filter_order", 4)),
+                                         squared=bool(analysis.get("squared_envelope", False)))
+                d = detection_statistic(f, a, float(case.bpfi), fr=float(case.fr))
+                rows.append({"case": _case_id(case), "load_kN": float(case.load_kN),
+                             "depth_um": float(case.depth_um), "snr_db": float(snr),
+                             "band": spec["name"], "trial": trial,
+                             "statistic_db": d.statistic_db, "threshold_db": d.threshold_db,
+                             "detected": bool(d.detected), "peak_hz": d.peak_hz})
+    return pd.DataFrame(rows, columns=["case", "load_kN", "depth_um", "snr_db", "band", "trial",
+                                       "statistic_db", "threshold_db", "detected", "peak_hz"])
 
 
 def _jsonable(obj):

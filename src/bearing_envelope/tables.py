@@ -31,6 +31,7 @@ __all__ = [
     "pivot_tables",
     "write_csv_atomic",
     "parse_case_name",
+    "table_html",
 ]
 
 from .vocabulary import (BAND_STRATEGIES, QUANTITIES, RAW_BAND, TIDY_COLUMNS,  # noqa: F401
@@ -150,3 +151,31 @@ def pivot_tables(tidy: pd.DataFrame, *, sideband: int = 0) -> dict[str, pd.DataF
         p.columns.name = "depth_um"
         out[f"{band}__{quantity}__{order:g}"] = p
     return out
+
+
+def table_html(tables, title: str, caption: str = "") -> str:
+    """A self-contained HTML page showing tables (the report's viewable tables).
+
+    Parameters
+    ----------
+    tables : mapping
+        Section title -> DataFrame, shown in order.
+    title, caption : str
+        Page title and a paragraph under it.
+    """
+    import html
+
+    style = ("body{font-family:sans-serif;font-size:12px;margin:1em}"
+             "table{border-collapse:collapse;margin-bottom:1.5em}"
+             "td,th{border:1px solid #bbb;padding:2px 5px;text-align:right}th{background:#eee}")
+    parts = [f"<!DOCTYPE html><html><head><meta charset=\"utf-8\"><title>{html.escape(title)}"
+             f"</title><style>{style}</style></head><body><h1>{html.escape(title)}</h1>"]
+    if caption:
+        parts.append(f"<p>{html.escape(caption)}</p>")
+    for name, df in tables.items():
+        if len(tables) > 1:
+            parts.append(f"<h2>{html.escape(str(name))}</h2>")
+        parts.append(df.to_html(index=False, float_format=lambda v: f"{v:.6g}", na_rep="",
+                                border=0))
+    parts.append("</body></html>\n")
+    return "\n".join(parts)

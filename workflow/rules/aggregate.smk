@@ -16,7 +16,9 @@ rule aggregate:
         cases=report(
             "results/tables/cases.csv", caption="../report/cases.rst", category="Tables"
         ),
-        bands="results/tables/bands.csv",
+        bands=report(
+            "results/tables/bands.csv", caption="../report/bands.rst", category="Tables"
+        ),
         pivots=report(
             directory("results/tables/pivots"),
             patterns=["{name}.csv"],

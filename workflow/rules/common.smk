@@ -1,8 +1,10 @@
 # Config validation (before any job) and the small input helpers shared by every rule.
 import json
+import os
 import sys
 from pathlib import Path
 
+from bearing_envelope.figures import example_pairs
 from bearing_envelope.io import set_aside_unreadable
 from bearing_envelope.provenance import code_dependencies
 from bearing_envelope.settings import CASE_NAME_REGEX, CaseId, workflow_settings
@@ -69,23 +71,34 @@ def analysis_params(wildcards):
 
 
 def example_cases(wildcards=None):
-    """Cases drawn alone (Figs 4, 5, 7, 9, 11): the deepest defect and the healthy race
-    (or the shallowest depth) at the highest load."""
+    """Cases drawn alone (Figs 7, 9, 11): the deepest defect and the healthy race (or the
+    shallowest depth) at the highest load; and the pairs of Figs 4 and 5: the sweep's cases
+    nearest the study's 250 kN / 15 um, 500 kN / 50 um and 750 kN / 100 um, each with the
+    healthy race of its load (bearing_envelope.figures.example_pairs)."""
     load = max(LOADS)
     at_load = [c for c in CASE_IDS if c.load_kN == load]
     return {
         "defect": max(at_load, key=lambda c: (c.depth_um, c.width_um or 0.0)).name,
         "healthy": min(at_load, key=lambda c: (c.depth_um, c.width_um or 0.0)).name,
+        "pairs": example_pairs(CASE_IDS),
     }
 
 
 def reference_case(wildcards):
-    """The healthy case of the same load, when the sweep has one (defines the defect part);
-    none for a healthy case itself (its SNR is that of its whole response)."""
+    """The healthy case of the same load for a defect case (defines the defect part); for a
+    healthy case, the shallowest defect case of its load (its noise defines the healthy cells'
+    noise: bearing_envelope.pipeline.case_diagnosability). None where the sweep lacks it."""
     case = CaseId.parse(wildcards.case)
-    if case.depth_um > 0 and 0.0 in DEPTHS:
-        return f"results/cases/{CaseId(case.load_kN, 0.0).name}.h5"
-    return []
+    if case.depth_um > 0:
+        return f"results/cases/{CaseId(case.load_kN, 0.0).name}.h5" if 0.0 in DEPTHS else []
+    peers = [c for c in CASE_IDS if c.load_kN == case.load_kN and c.depth_um > 0]
+    if not peers:
+        return []
+    return f"results/cases/{min(peers, key=lambda c: (c.depth_um, c.width_um or 0.0)).name}.h5"
+
+
+#: Healthy cases (depth 0): their false alarms are measured (rule false_alarms).
+HEALTHY = [c.name for c in CASE_IDS if c.depth_um == 0]
 
 
 # The files the analysis reads: the simulated cases, or their copies with the synthetic
@@ -106,8 +119,21 @@ def all_targets():
         "results/tables/harmonics.csv",
         "results/tables/cases.csv",
         "results/figures",
+        "results/tables_html",
+        "results/paper/paper.md",
     ] + (
         ["results/tables/diagnosability.csv", "results/figures_diagnosability"]
         if config.get("sensor") and config.get("diagnosability", {}).get("enabled", True)
         else []
     )
+
+
+def paper_run_tables(wildcards=None):
+    """Tables of a paper-conventions run (config key `paper_run`: its working directory), when
+    that run exists: the page then shows both columns."""
+    run = config.get("paper_run")
+    if not run:
+        return {}
+    names = ("cases", "harmonics", "bands")
+    paths = {n: os.path.join(run, "results", "tables", f"{n}.csv") for n in names}
+    return paths if all(os.path.exists(p) for p in paths.values()) else {}

@@ -13,6 +13,7 @@ rule diagnose:
         sensor=lambda w: json.dumps(config.get("sensor", {}), sort_keys=True),
         analysis=analysis_params,
         snr_db=lambda w: config.get("diagnosability", {}).get("snr_db", [20, 10, 0, -10, -20]),
+        kurtogram_from=lambda w: config.get("diagnosability", {}).get("kurtogram_from", "clean"),
     log:
         "logs/diagnose/{case}.log",
     benchmark:
@@ -27,12 +28,51 @@ rule diagnose:
         "../scripts/diagnose.py"
 
 
+rule false_alarms:
+    input:
+        case="results/cases/{case}.h5",
+        reference=reference_case,
+        code=SIGNAL_CODE + SENSOR_CODE,
+    output:
+        "results/false_alarms/{case}.csv",
+    params:
+        sensor=lambda w: json.dumps(config.get("sensor", {}), sort_keys=True),
+        analysis=analysis_params,
+        snr_db=lambda w: config.get("diagnosability", {}).get("snr_db", [20, 10, 0, -10, -20]),
+        n_trials=lambda w: config.get("diagnosability", {}).get("false_alarm_trials", 10),
+        kurtogram_from=lambda w: config.get("diagnosability", {}).get("kurtogram_from", "clean"),
+    log:
+        "logs/false_alarms/{case}.log",
+    benchmark:
+        "logs/benchmarks/false_alarms/{case}.tsv"
+    conda:
+        ENV
+    threads: 1
+    resources:
+        mem_mb=1500,
+        runtime=30,
+    script:
+        "../scripts/false_alarms.py"
+
+
 rule diagnosability:
     input:
-        expand("results/diagnosability/{case}.csv", case=CASES),
+        cells=expand("results/diagnosability/{case}.csv", case=CASES),
+        false_alarms=expand("results/false_alarms/{case}.csv", case=HEALTHY),
     output:
         table=report(
             "results/tables/diagnosability.csv",
+            caption="../report/diagnosability.rst",
+            category="Diagnosability",
+        ),
+        false_alarms=report(
+            "results/tables/false_alarms.csv",
+            caption="../report/false_alarms.rst",
+            category="Diagnosability",
+        ),
+        pages=report(
+            directory("results/tables_html_diagnosability"),
+            patterns=["{name}.html"],
             caption="../report/diagnosability.rst",
             category="Diagnosability",
         ),

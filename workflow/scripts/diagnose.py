@@ -14,5 +14,6 @@ with log_to(snakemake.log[0]):  # noqa: F821
         json.loads(snakemake.params.analysis),  # noqa: F821
         snakemake.params.snr_db,  # noqa: F821
         reference=ref,
+        kurtogram_from=snakemake.params.kurtogram_from,  # noqa: F821
     )
     write_csv_atomic(df, snakemake.output[0])  # noqa: F821

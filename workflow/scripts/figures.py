@@ -1,15 +1,19 @@
 """Rule figures: every PNG of the sweep (bearing_envelope.figures.make_figures)."""
 import json
+from pathlib import Path
 
 from bearing_envelope.figures import make_figures
 from bearing_envelope.pipeline import log_to
 
+inp = snakemake.input  # noqa: F821
 with log_to(snakemake.log[0]) as log:  # noqa: F821
     written = make_figures(
-        harmonics=snakemake.input.harmonics,  # noqa: F821
-        cases=snakemake.input.cases,  # noqa: F821
-        bands=snakemake.input.bands,  # noqa: F821
-        results_dir="results",
+        harmonics=inp.harmonics,
+        cases=inp.cases,
+        bands=inp.bands,
+        case_files={Path(p).stem: p for p in inp.case_files},
+        kurtogram_files={Path(p).stem.removesuffix("_kurtogram"): p for p in inp.kurtograms},
+        spectra_files={Path(p).stem: p for p in inp.spectra},
         example=snakemake.params.example,  # noqa: F821
         analysis=json.loads(snakemake.params.analysis),  # noqa: F821
         outdir=snakemake.output[0],  # noqa: F821

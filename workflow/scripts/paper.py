@@ -1,0 +1,15 @@
+"""Rule paper: the study's findings next to this sweep's numbers (bearing_envelope.paper)."""
+import pandas as pd
+
+from bearing_envelope.paper import compare, flat_band, render_html, render_markdown, write_page
+from bearing_envelope.pipeline import log_to
+
+inp, out = snakemake.input, snakemake.output  # noqa: F821
+with log_to(snakemake.log[0]):  # noqa: F821
+    paper = {k[len("paper_"):]: v for k, v in inp.items() if k.startswith("paper_")} or None
+    rows = compare(inp.cases, inp.harmonics, inp.bands, paper=paper)
+    bands = pd.read_csv(inp.bands)
+    flat = flat_band(bands) if (bands["band"] == "kurtogram").any() else None
+    text = render_markdown(rows, flat=flat)
+    write_page(text, out.md)
+    write_page(render_html(text), out.html)

@@ -1,0 +1,30 @@
+"""Rule report_tables: each sweep table as an HTML page the report shows in place."""
+from pathlib import Path
+
+import pandas as pd
+
+from bearing_envelope.paper import write_page
+from bearing_envelope.pipeline import log_to
+from bearing_envelope.tables import table_html
+
+inp, out = snakemake.input, Path(snakemake.output[0])  # noqa: F821
+with log_to(snakemake.log[0]) as log:  # noqa: F821
+    tmp = out.with_name(out.name + ".tmp")
+    tmp.mkdir(parents=True, exist_ok=True)
+    pages = {
+        "cases": ({"cases": pd.read_csv(inp.cases)}, "One row per case: peak pressures, "
+                  "end/centre pressure, roller load, BPFI, contact solves, simulation time."),
+        "bands": ({"bands": pd.read_csv(inp.bands)}, "Demodulation band limits per case and "
+                  "strategy (clamped = cut below Nyquist)."),
+        "harmonics": ({"harmonics": pd.read_csv(inp.harmonics)}, "Tidy table of every amplitude "
+                      "(docs/file-format.md, 'Tidy tables')."),
+        "pivots": ({p.stem: pd.read_csv(p) for p in sorted(Path(inp.pivots).glob("*.csv"))},
+                   "Load x depth pivots per (band, quantity, order), like the study's Figs 8 and 12-20."),
+    }
+    for name, (tables, caption) in pages.items():
+        write_page(table_html(tables, f"{name}.csv", caption), tmp / f"{name}.html")
+        print(name, sum(len(t) for t in tables.values()), "rows", file=log)
+    import shutil
+
+    shutil.rmtree(out, ignore_errors=True)
+    tmp.rename(out)
