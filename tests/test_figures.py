@@ -215,3 +215,20 @@ def test_diagnosability_map_labels_do_not_overlap_panels():
         assert a.x1 <= b.x0 + 1.0, (a, b)  # tight boxes (labels included) do not overlap
     assert sum(ax.get_ylabel() == "SNR (dB)" for ax in panels) == 1
     matplotlib.pyplot.close(fig)
+
+
+def test_figure_folders_are_swapped_whole_and_writers_never_share_a_temp_folder(tmp_path):
+    # issue 17 item 6: two runs (one started after --unlock beside another) shared
+    # results/figures.tmp/ and both failed
+    from bearing_envelope.figures import _new_temp_dir, _replace_dir
+
+    out = tmp_path / "figures"
+    a, b = _new_temp_dir(out), _new_temp_dir(out)
+    assert a != b and a.parent == b.parent == tmp_path
+    (a / "x.png").write_text("a")
+    (b / "x.png").write_text("b")
+    _replace_dir(a, out)
+    assert (out / "x.png").read_text() == "a"
+    _replace_dir(b, out)                      # the second writer replaces the whole folder
+    assert (out / "x.png").read_text() == "b"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["figures"]

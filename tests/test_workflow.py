@@ -285,3 +285,9 @@ def test_analysis_of_the_synthetic_acceleration(draft_run, tmp_path):
     env = h[(h["quantity"] == "envelope_bpfi") & (h["band"] == "fixed") & (h["order"] == 1)
             & (h["sideband"] == 0)].set_index("case")["amplitude"]
     assert env["F750kN_h50um"] > 3 * env["F750kN_h0um"]
+    # issue 15: the figures of an acceleration analysis are drawn from the sensor files (they
+    # asked results/cases for the acceleration signal: a KeyError in the default target)
+    smk(wd, "results/figures", configfile=new)
+    figs = sorted(p.name for p in (wd / "results" / "figures").iterdir())
+    assert "fig09_kurtogram_sk.png" in figs and "fig11_envelope_spectrum_fixed.png" in figs
+    assert not [p for p in (wd / "results").iterdir() if ".tmp" in p.name]

@@ -529,14 +529,10 @@ def make_figures(*, harmonics, cases, bands, case_files, kurtogram_files, spectr
     outdir : path
         Output folder.
     """
-    import shutil
-
     from .io import read_case
 
     outdir = Path(outdir)
-    tmp = outdir.with_name(outdir.name + ".tmp")
-    shutil.rmtree(tmp, ignore_errors=True)
-    tmp.mkdir(parents=True)
+    tmp = _new_temp_dir(outdir)
     tidy = pd.read_csv(harmonics)
     summary = pd.read_csv(cases)
     band_table = pd.read_csv(bands)
@@ -572,9 +568,33 @@ def make_figures(*, harmonics, cases, bands, case_files, kurtogram_files, spectr
         written.append(fig_harmonics_vs_depth(tidy, b["name"], tmp / f"fig{12 + i:02d}_harmonics_{b['name']}.png"))
     raw = tidy[(tidy["band"] == "raw") & (tidy["order"] <= 1)]
     written.append(_fig_raw_terms(raw, tmp / "fig08_raw_terms.png"))
-    shutil.rmtree(outdir, ignore_errors=True)
-    tmp.rename(outdir)
+    _replace_dir(tmp, outdir)
     return [outdir / p.name for p in written]
+
+
+def _new_temp_dir(outdir: Path) -> Path:
+    """A new, empty folder next to ``outdir`` for this process only (``.{name}.tmp-*``): two
+    writers of the same folder (e.g. a run started beside another after ``--unlock``) never
+    share one."""
+    outdir.parent.mkdir(parents=True, exist_ok=True)
+    return Path(tempfile.mkdtemp(prefix=f".{outdir.name}.tmp-", dir=outdir.parent))
+
+
+def _replace_dir(tmp: Path, outdir: Path) -> None:
+    """Put the complete folder ``tmp`` in place of ``outdir``: the old one is renamed aside
+    first and removed after, so ``outdir`` is always either the old or the new complete set."""
+    import shutil
+
+    aside = _new_temp_dir(outdir)
+    try:
+        if outdir.exists():
+            os.replace(outdir, aside / outdir.name)
+        os.replace(tmp, outdir)
+    except OSError:
+        shutil.rmtree(tmp, ignore_errors=True)
+        raise
+    finally:
+        shutil.rmtree(aside, ignore_errors=True)
 
 
 def _fig_raw_terms(raw: pd.DataFrame, path) -> Path:
@@ -623,19 +643,14 @@ def draw_diagnosability_map(g: pd.DataFrame, band: str, *, vmax: float | None = 
 def fig_diagnosability_maps(df: pd.DataFrame, outdir) -> list[Path]:
     """Heat maps of the BPFI detection statistic (:func:`draw_diagnosability_map`), one PNG per
     band, written to a temporary folder, then renamed to ``outdir``."""
-    import shutil
-
     outdir = Path(outdir)
-    tmp = outdir.with_name(outdir.name + ".tmp")
-    shutil.rmtree(tmp, ignore_errors=True)
-    tmp.mkdir(parents=True)
+    tmp = _new_temp_dir(outdir)
     written = []
     vmax = float(np.nanmax(df["statistic_db"])) if len(df) else 1.0
     for band, g in df.groupby("band", sort=False):
         written.append(save_figure(draw_diagnosability_map(g, band, vmax=vmax),
                                    tmp / f"diagnosability_{band}.png"))
-    shutil.rmtree(outdir, ignore_errors=True)
-    tmp.rename(outdir)
+    _replace_dir(tmp, outdir)
     return [outdir / p.name for p in written]
 
 

@@ -44,7 +44,6 @@ Model only what the scene requires (issue 3, design.md section 2):
 
 from __future__ import annotations
 
-import dataclasses
 import math
 import time as _time
 import warnings
