@@ -20,7 +20,7 @@ import bearing_envelope.contact as contact
 from bearing_envelope.contact import hertz
 from bearing_envelope.geometry import defect_depth
 from bearing_envelope.history import simulate
-from bearing_envelope.pipeline import case_bands, case_harmonics
+from bearing_envelope.pipeline import case_bands, case_harmonics, history_case
 from bearing_envelope.scene import Defect, Scene, default_scene_mapping
 from bearing_envelope.signal import analyze_signal, fast_kurtogram
 from bearing_envelope.tradeoff import DEFAULT_BANDS
@@ -113,19 +113,8 @@ def run(sc, fid=DRAFT):
     return h
 
 
-def in_memory_case(h):
-    sc = h.scene
-    ff = sc.frequencies()
-    from types import SimpleNamespace
-
-    return SimpleNamespace(signals={"p_max": h.p_max, "p_max_defect": h.p_max_defect},
-                           fs=sc.operation.fs_hz, fr=sc.operation.shaft_rate_hz, bpfi=sc.bpfi_hz,
-                           bpfo=ff.bpfo, ftf=ff.ftf, bsf=ff.bsf, load_kN=sc.load.load_kN,
-                           depth_um=sc.defect.depth_um)
-
-
 def analyse(h, analysis=ANALYSIS):
-    case = in_memory_case(h)
+    case = history_case(h)
     doc, _ = case_bands(case, analysis)
     df = case_harmonics(case, analysis, doc)
     assert np.isfinite(df["amplitude"].astype(float)).all()

@@ -35,7 +35,7 @@ from .io import BandLimits, CaseBands, CaseSpectra
 from .provenance import log_to
 from .tables import TIDY_COLUMNS, TIDY_EXTRA_COLUMNS, tidy_from_analysis
 
-__all__ = ["case_signal", "case_frequencies", "case_bands", "case_harmonics", "case_envelope",
+__all__ = ["history_case", "case_signal", "case_frequencies", "case_bands", "case_harmonics", "case_envelope",
            "case_summary", "case_acceleration", "diagnosability_bands", "case_diagnosability",
            "case_false_alarms", "FALSE_ALARM_SEED_OFFSET", "log_to"]
 
@@ -45,6 +45,20 @@ def _case_id(case) -> str:
     from .settings import CaseId
 
     return CaseId.from_case(case).name
+
+
+def history_case(history):
+    """A simulated :class:`bearing_envelope.history.History` as the in-memory case the functions
+    of this module take (what reading its case file gives them: signals, rates, fault
+    frequencies, the sweep values and the scene), without writing a file."""
+    from types import SimpleNamespace
+
+    sc = history.scene
+    ff = sc.frequencies()
+    return SimpleNamespace(
+        signals=dict(history.signals), fs=sc.operation.fs_hz, fr=sc.operation.shaft_rate_hz,
+        bpfi=sc.bpfi_hz, bpfo=ff.bpfo, ftf=ff.ftf, bsf=ff.bsf, load_kN=sc.load.load_kN,
+        depth_um=sc.defect.depth_um, scene=sc.to_mapping(), attrs={})
 
 
 def case_signal(case, name: str = "p_max") -> np.ndarray:

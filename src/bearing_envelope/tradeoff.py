@@ -57,7 +57,6 @@ import json
 import math
 import time
 from collections.abc import Mapping, Sequence
-from types import SimpleNamespace
 from typing import Any
 
 import numpy as np
@@ -184,17 +183,13 @@ def run_variant(scene, fidelity: Fidelity, analysis: Mapping[str, Any]) -> dict[
     (the history, Pa), and ``metrics``: ``{(metric, band): estimate}``.
     """
     from .history import simulate
-    from .pipeline import case_bands, case_harmonics
+    from .pipeline import case_bands, case_harmonics, history_case
 
     _clear_kernel_cache()
     c0, w0 = time.process_time(), time.perf_counter()
     hist = simulate(scene, fidelity)
     cpu, wall = time.process_time() - c0, time.perf_counter() - w0
-    ff = scene.frequencies()
-    case = SimpleNamespace(
-        signals=dict(hist.signals), fs=scene.operation.fs_hz,
-        fr=scene.operation.shaft_rate_hz, bpfi=scene.bpfi_hz, bpfo=ff.bpfo, ftf=ff.ftf, bsf=ff.bsf,
-        load_kN=scene.load.load_kN, depth_um=scene.defect.depth_um)
+    case = history_case(hist)
     sig = analysis.get("signal", "p_max")
     x = np.asarray(case.signals[sig], float)
     metrics: dict[tuple[str, str], float] = {("peak_pressure", ""): float(x.max()),
