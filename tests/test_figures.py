@@ -219,16 +219,21 @@ def test_diagnosability_map_labels_do_not_overlap_panels():
 
 def test_figure_folders_are_swapped_whole_and_writers_never_share_a_temp_folder(tmp_path):
     # issue 17 item 6: two runs (one started after --unlock beside another) shared
-    # results/figures.tmp/ and both failed
-    from bearing_envelope.figures import _new_temp_dir, _replace_dir
+    # results/figures.tmp/ and both failed; figures and report tables use io.atomic_dir
+    from bearing_envelope.io import atomic_dir
 
     out = tmp_path / "figures"
-    a, b = _new_temp_dir(out), _new_temp_dir(out)
-    assert a != b and a.parent == b.parent == tmp_path
-    (a / "x.png").write_text("a")
-    (b / "x.png").write_text("b")
-    _replace_dir(a, out)
-    assert (out / "x.png").read_text() == "a"
-    _replace_dir(b, out)                      # the second writer replaces the whole folder
-    assert (out / "x.png").read_text() == "b"
+    with atomic_dir(out) as a, atomic_dir(out) as b:
+        assert a != b and a.parent == b.parent == tmp_path
+        (a / "x.png").write_text("a")
+        (b / "x.png").write_text("b")
+    assert (out / "x.png").read_text() == "a"          # the outer writer finished last
+    with atomic_dir(out) as c:
+        (c / "y.png").write_text("c")
+    assert sorted(p.name for p in out.iterdir()) == ["y.png"]   # replaced whole
+    with pytest.raises(RuntimeError):
+        with atomic_dir(out) as d:
+            (d / "z.png").write_text("half")
+            raise RuntimeError("interrupted")
+    assert sorted(p.name for p in out.iterdir()) == ["y.png"]
     assert sorted(p.name for p in tmp_path.iterdir()) == ["figures"]

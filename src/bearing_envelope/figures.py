@@ -529,72 +529,46 @@ def make_figures(*, harmonics, cases, bands, case_files, kurtogram_files, spectr
     outdir : path
         Output folder.
     """
-    from .io import read_case
+    from .io import atomic_dir, read_case
 
     outdir = Path(outdir)
-    tmp = _new_temp_dir(outdir)
-    tidy = pd.read_csv(harmonics)
-    summary = pd.read_csv(cases)
-    band_table = pd.read_csv(bands)
-    read = {}
+    with atomic_dir(outdir) as tmp:
+        tidy = pd.read_csv(harmonics)
+        summary = pd.read_csv(cases)
+        band_table = pd.read_csv(bands)
+        read = {}
 
-    def case(name):
-        if name not in read:
-            read[name] = read_case(case_files[name])
-        return read[name]
+        def case(name):
+            if name not in read:
+                read[name] = read_case(case_files[name])
+            return read[name]
 
-    pairs = [(case(p["healthy"]), case(p["defect"])) for p in
-             (example.get("pairs") or [{"healthy": example["healthy"], "defect": example["defect"]}])]
-    cd = case(example["defect"])
-    written = [
-        fig_pressure_maps(pairs, tmp / "fig04_pressure_maps.png"),
-        fig_time_histories(pairs, tmp / "fig05_time_histories.png"),
-        fig_peak_pressure(summary, tmp / "fig06_peak_pressure.png", grid=_grid_text(cd)),
-        fig_raw_spectrum(spectra_files[example["defect"]], example["defect"], cd.fr, cd.bpfi,
-                         tmp / "fig07_raw_spectrum.png"),
-    ]
-    if any(b["strategy"] == "kurtogram" for b in analysis["bands"]):
-        x = np.asarray(cd.signals[analysis.get("signal", "p_max")], dtype=float)
-        written.append(fig_kurtogram(kurtogram_files[example["defect"]], example["defect"],
-                                     tmp / "fig09_kurtogram_sk.png", signal=x, fs=cd.fs))
-    written.append(fig_band_limits(band_table, tmp / "fig10_band_limits.png", fs=cd.fs))
-    for b in analysis["bands"]:
-        written.append(fig_envelope_spectrum(
-            spectra_files[example["defect"]], example["defect"], b["name"], cd.fr, cd.bpfi,
-            tmp / f"fig11_envelope_spectrum_{b['name']}.png",
-            n_harmonics=int(analysis.get("harmonics", 3)),
-            n_sidebands=int(analysis.get("sidebands", 2))))
-    for i, b in enumerate(analysis["bands"]):
-        written.append(fig_harmonics_vs_depth(tidy, b["name"], tmp / f"fig{12 + i:02d}_harmonics_{b['name']}.png"))
-    raw = tidy[(tidy["band"] == "raw") & (tidy["order"] <= 1)]
-    written.append(_fig_raw_terms(raw, tmp / "fig08_raw_terms.png"))
-    _replace_dir(tmp, outdir)
+        pairs = [(case(p["healthy"]), case(p["defect"])) for p in
+                 (example.get("pairs") or [{"healthy": example["healthy"], "defect": example["defect"]}])]
+        cd = case(example["defect"])
+        written = [
+            fig_pressure_maps(pairs, tmp / "fig04_pressure_maps.png"),
+            fig_time_histories(pairs, tmp / "fig05_time_histories.png"),
+            fig_peak_pressure(summary, tmp / "fig06_peak_pressure.png", grid=_grid_text(cd)),
+            fig_raw_spectrum(spectra_files[example["defect"]], example["defect"], cd.fr, cd.bpfi,
+                             tmp / "fig07_raw_spectrum.png"),
+        ]
+        if any(b["strategy"] == "kurtogram" for b in analysis["bands"]):
+            x = np.asarray(cd.signals[analysis.get("signal", "p_max")], dtype=float)
+            written.append(fig_kurtogram(kurtogram_files[example["defect"]], example["defect"],
+                                         tmp / "fig09_kurtogram_sk.png", signal=x, fs=cd.fs))
+        written.append(fig_band_limits(band_table, tmp / "fig10_band_limits.png", fs=cd.fs))
+        for b in analysis["bands"]:
+            written.append(fig_envelope_spectrum(
+                spectra_files[example["defect"]], example["defect"], b["name"], cd.fr, cd.bpfi,
+                tmp / f"fig11_envelope_spectrum_{b['name']}.png",
+                n_harmonics=int(analysis.get("harmonics", 3)),
+                n_sidebands=int(analysis.get("sidebands", 2))))
+        for i, b in enumerate(analysis["bands"]):
+            written.append(fig_harmonics_vs_depth(tidy, b["name"], tmp / f"fig{12 + i:02d}_harmonics_{b['name']}.png"))
+        raw = tidy[(tidy["band"] == "raw") & (tidy["order"] <= 1)]
+        written.append(_fig_raw_terms(raw, tmp / "fig08_raw_terms.png"))
     return [outdir / p.name for p in written]
-
-
-def _new_temp_dir(outdir: Path) -> Path:
-    """A new, empty folder next to ``outdir`` for this process only (``.{name}.tmp-*``): two
-    writers of the same folder (e.g. a run started beside another after ``--unlock``) never
-    share one."""
-    outdir.parent.mkdir(parents=True, exist_ok=True)
-    return Path(tempfile.mkdtemp(prefix=f".{outdir.name}.tmp-", dir=outdir.parent))
-
-
-def _replace_dir(tmp: Path, outdir: Path) -> None:
-    """Put the complete folder ``tmp`` in place of ``outdir``: the old one is renamed aside
-    first and removed after, so ``outdir`` is always either the old or the new complete set."""
-    import shutil
-
-    aside = _new_temp_dir(outdir)
-    try:
-        if outdir.exists():
-            os.replace(outdir, aside / outdir.name)
-        os.replace(tmp, outdir)
-    except OSError:
-        shutil.rmtree(tmp, ignore_errors=True)
-        raise
-    finally:
-        shutil.rmtree(aside, ignore_errors=True)
 
 
 def _fig_raw_terms(raw: pd.DataFrame, path) -> Path:
@@ -643,14 +617,15 @@ def draw_diagnosability_map(g: pd.DataFrame, band: str, *, vmax: float | None = 
 def fig_diagnosability_maps(df: pd.DataFrame, outdir) -> list[Path]:
     """Heat maps of the BPFI detection statistic (:func:`draw_diagnosability_map`), one PNG per
     band, written to a temporary folder, then renamed to ``outdir``."""
+    from .io import atomic_dir
+
     outdir = Path(outdir)
-    tmp = _new_temp_dir(outdir)
-    written = []
-    vmax = float(np.nanmax(df["statistic_db"])) if len(df) else 1.0
-    for band, g in df.groupby("band", sort=False):
-        written.append(save_figure(draw_diagnosability_map(g, band, vmax=vmax),
-                                   tmp / f"diagnosability_{band}.png"))
-    _replace_dir(tmp, outdir)
+    with atomic_dir(outdir) as tmp:
+        written = []
+        vmax = float(np.nanmax(df["statistic_db"])) if len(df) else 1.0
+        for band, g in df.groupby("band", sort=False):
+            written.append(save_figure(draw_diagnosability_map(g, band, vmax=vmax),
+                                       tmp / f"diagnosability_{band}.png"))
     return [outdir / p.name for p in written]
 
 

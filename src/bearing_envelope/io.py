@@ -512,7 +512,7 @@ from pathlib import Path as _Path  # noqa: E402
 from .vocabulary import BAND_TABLE_COLUMNS, CASE_TABLE_COLUMNS, TIDY_COLUMNS  # noqa: E402
 
 __all__ += [
-    "ARTEFACT_FORMATS", "ArtefactFormatError", "atomic_path", "write_csv_atomic",
+    "ARTEFACT_FORMATS", "ArtefactFormatError", "atomic_path", "atomic_dir", "write_csv_atomic",
     "BandLimits", "CaseBands", "write_bands", "read_bands",
     "KurtogramMap", "write_kurtogram", "read_kurtogram",
     "CaseSpectra", "write_spectra", "read_spectra",
@@ -561,6 +561,35 @@ def atomic_path(path: str | os.PathLike, suffix: str = ""):
         if os.path.exists(tmp):
             os.unlink(tmp)
         raise
+
+
+@_contextmanager
+def atomic_dir(path: str | os.PathLike):
+    """Yield a new, empty folder next to ``path`` (``.tmp-<name>.*``, this writer's own); on
+    success put it in place of ``path`` whole: an existing ``path`` is moved aside first and
+    removed after, so ``path`` is always either the old or the new complete set, and two
+    writers of the same folder never share a temporary one. Removed if the body raises."""
+    path = _Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = _Path(tempfile.mkdtemp(prefix=f".tmp-{path.name}.", dir=path.parent))
+    aside = None
+    try:
+        yield tmp
+        os.chmod(tmp, 0o777 & ~_umask())
+        aside = _Path(tempfile.mkdtemp(prefix=f".tmp-{path.name}.old.", dir=path.parent))
+        if path.exists():
+            os.replace(path, aside / path.name)
+        os.replace(tmp, path)
+    finally:
+        _shutil.rmtree(tmp, ignore_errors=True)
+        if aside is not None:
+            _shutil.rmtree(aside, ignore_errors=True)
+
+
+def _umask() -> int:
+    umask = os.umask(0)
+    os.umask(umask)
+    return umask
 
 
 def write_csv_atomic(df, path: str | os.PathLike, **kwargs) -> str:

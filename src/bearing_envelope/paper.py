@@ -465,18 +465,11 @@ def render_html(markdown_text: str) -> str:
 
 
 def write_page(text: str, path: str | os.PathLike) -> Path:
-    """Write ``text`` atomically (temporary file in the same folder, then rename)."""
-    import tempfile
+    """Write ``text`` atomically (:func:`bearing_envelope.io.atomic_path`)."""
+    from .io import atomic_path
 
     path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", dir=path.parent)
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8") as fh:
+    with atomic_path(path) as tmp:
+        with open(tmp, "w", encoding="utf-8") as fh:
             fh.write(text)
-        os.chmod(tmp, 0o644)
-        os.replace(tmp, path)
-    finally:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
     return path

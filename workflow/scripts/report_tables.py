@@ -3,14 +3,13 @@ from pathlib import Path
 
 import pandas as pd
 
+from bearing_envelope.io import atomic_dir
 from bearing_envelope.paper import write_page
 from bearing_envelope.pipeline import log_to
 from bearing_envelope.tables import table_html
 
 inp, out = snakemake.input, Path(snakemake.output[0])  # noqa: F821
-with log_to(snakemake.log[0]) as log:  # noqa: F821
-    tmp = out.with_name(out.name + ".tmp")
-    tmp.mkdir(parents=True, exist_ok=True)
+with log_to(snakemake.log[0]) as log, atomic_dir(out) as tmp:  # noqa: F821
     pages = {
         "cases": ({"cases": pd.read_csv(inp.cases)}, "One row per case: peak pressures, "
                   "end/centre pressure, roller load, BPFI, contact solves, simulation time."),
@@ -24,7 +23,3 @@ with log_to(snakemake.log[0]) as log:  # noqa: F821
     for name, (tables, caption) in pages.items():
         write_page(table_html(tables, f"{name}.csv", caption), tmp / f"{name}.html")
         print(name, sum(len(t) for t in tables.values()), "rows", file=log)
-    import shutil
-
-    shutil.rmtree(out, ignore_errors=True)
-    tmp.rename(out)
