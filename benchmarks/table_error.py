@@ -38,6 +38,13 @@ VARIANTS = {
     "rim strips 0.5 um": {"rim_dx_um": 0.5},
     "rim strips 0.5 um, offsets x2": {"rim_dx_um": 0.5, "offsets_per_width": 8.0, "offset_step_um": 6.0},
     "rim strips 0.5 um, n_loads=7": {"rim_dx_um": 0.5, "n_loads": 7},
+    # the candidates of benchmarks/accuracy.py (issue 13 part 4)
+    "rim strips 0.5 um, n_loads=7, offsets x2": {
+        "rim_dx_um": 0.5, "n_loads": 7, "n_offsets": 28, "offsets_per_width": 8.0,
+        "offset_step_um": 6.0, "max_offsets": 240},
+    "rim strips 0.5 um, n_loads=9, offsets x3": {
+        "rim_dx_um": 0.5, "n_loads": 9, "n_offsets": 42, "offsets_per_width": 12.0,
+        "offset_step_um": 4.0, "max_offsets": 360},
 }
 
 #: Fidelity fields that only change the table's nodes (direct solves are shared across them).

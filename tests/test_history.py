@@ -285,9 +285,12 @@ def test_auto_oversample_bounds_defect_travel():
     s = _scene(50.0)
     v = 2 * np.pi * (FR - s.cage_rate_hz) * s.bearing.inner_race_radius_m
     assert v == pytest.approx(4.24, abs=0.01)                   # defect speed past the rollers
-    for fid, dx in (("standard", 2e-6), ("paper", 1e-6)):
+    # the defect moves at most one table offset-node spacing per internal sample: 50 um deep,
+    # w = 100 um: standard min(100/4, 12) = 12 um, paper min(100/8, 4) = 4 um
+    for fid, dx, n_expected in (("standard", 12e-6, 6), ("paper", 4e-6, 17)):
         n = auto_oversample(s, fid)
         assert v / (FS * n) <= dx * (1 + 1e-9) < v / (FS * (n - 1))
+        assert n == n_expected
 
 
 # ---------------------------------------------------------------------------------------------

@@ -20,7 +20,8 @@ from typing import Any
 import numpy as np
 
 __all__ = ["FORMAT_VERSION", "Case", "CaseFormatError", "write_case", "read_case", "git_commit",
-           "case_file_problem", "set_aside_unreadable", "clean_stale_temps", "temp_path_for"]
+           "case_file_problem", "set_aside_unreadable", "clean_stale_temps", "temp_path_for",
+           "read_error_model"]
 
 #: Version of the layout written by :func:`write_case`; :func:`read_case` accepts only this one.
 #: 2: integral signals (removed_force, contact_force, approach, approach_change, contact_area),
@@ -266,6 +267,7 @@ def write_case(path: str | os.PathLike, history, *, extra_attrs: dict | None = N
                         unit = "Pa" if "pressure" in k else "m"
                         _dset(g, k, v, unit)
                 g.attrs["roller_load_units"] = "N"
+            _write_error_model(f, history)
         os.replace(tmp, path)
     except BaseException:
         try:
@@ -274,6 +276,43 @@ def write_case(path: str | os.PathLike, history, *, extra_attrs: dict | None = N
             pass
         raise
     return path
+
+
+def _write_error_model(f, history) -> None:
+    """Group ``discretisation_error``: the estimated relative error of each amplitude at the
+    case's fidelity (:func:`bearing_envelope.accuracy.error_model`)."""
+    import h5py
+
+    from .accuracy import error_model
+
+    em = error_model(history.fidelity, history.scene.defect.depth_um)
+    g = f.create_group("discretisation_error")
+    g.attrs["point"] = em.point or ""
+    g.attrs["kind"] = em.kind
+    g.attrs["basis"] = em.basis
+    for col in em.table.columns:
+        v = em.table[col].to_numpy()
+        if v.dtype == object or v.dtype.kind in "OUT":
+            g.create_dataset(col, data=np.asarray(v, dtype=object), dtype=h5py.string_dtype())
+        else:
+            g.create_dataset(col, data=v)
+
+
+def read_error_model(path: str | os.PathLike) -> tuple[dict[str, str], "pd.DataFrame"]:
+    """The ``discretisation_error`` group of a case file: its attributes (``point``, ``kind``,
+    ``basis``) and the table (empty when the fidelity has no estimate)."""
+    import h5py
+    import pandas as pd
+
+    with h5py.File(path, "r") as f:
+        if "discretisation_error" not in f:
+            return {"point": "", "kind": "", "basis": "not estimated: the case file predates "
+                    "error estimates"}, pd.DataFrame()
+        g = f["discretisation_error"]
+        attrs = {k: _attr(v) for k, v in g.attrs.items()}
+        cols = {k: [_attr(x) for x in g[k][()]] if g[k].dtype.kind == "O" else g[k][()]
+                for k in g}
+    return attrs, pd.DataFrame(cols)
 
 
 _TMP_PREFIX = ".tmp-"

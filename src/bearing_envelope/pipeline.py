@@ -31,6 +31,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
+from .accuracy import attach_errors
 from .io import BandLimits, CaseBands, CaseSpectra
 from .provenance import log_to
 from .tables import TIDY_COLUMNS, TIDY_EXTRA_COLUMNS, tidy_from_analysis
@@ -58,7 +59,8 @@ def history_case(history):
     return SimpleNamespace(
         signals=dict(history.signals), fs=sc.operation.fs_hz, fr=sc.operation.shaft_rate_hz,
         bpfi=sc.bpfi_hz, bpfo=ff.bpfo, ftf=ff.ftf, bsf=ff.bsf, load_kN=sc.load.load_kN,
-        depth_um=sc.defect.depth_um, scene=sc.to_mapping(), attrs={})
+        depth_um=sc.defect.depth_um, scene=sc.to_mapping(),
+        attrs={"fidelity_json": json.dumps(history.fidelity.to_dict())})
 
 
 def case_signal(case, name: str = "p_max") -> np.ndarray:
@@ -204,9 +206,23 @@ def case_harmonics(case, analysis: Mapping[str, Any], bands, *, full_output: boo
             "scaling": "kurtosis of the best kurtogram cell (order = level)",
             "signal": signal}])],
             ignore_index=True)
+    df = attach_errors(df.reset_index(drop=True), case_error_model(case), signal)
     keep = TIDY_COLUMNS + [c for c in TIDY_EXTRA_COLUMNS if c in df]
     df = df[keep].reset_index(drop=True)
     return (df, extra) if full_output else df
+
+
+def case_error_model(case):
+    """The estimated discretisation errors of a case's amplitudes at the fidelity it was
+    simulated with (:func:`bearing_envelope.accuracy.error_model`); no estimate, with the reason,
+    when the case records no fidelity."""
+    from .accuracy import ErrorModel, _as_fidelity, error_model
+
+    spec = (getattr(case, "attrs", None) or {}).get("fidelity_json")
+    if not spec:
+        return ErrorModel(None, "defect" if float(case.depth_um) > 0 else "healthy",
+                          "not estimated: the case records no fidelity", pd.DataFrame())
+    return error_model(_as_fidelity(spec), float(case.depth_um))
 
 
 #: Envelope spectra are kept up to (harmonics + SPECTRA_MARGIN_ORDERS) x BPFI for the figures.

@@ -361,9 +361,10 @@ class Acquisition:
         only (the source study's point sampling; features narrower than a sample alias).
     oversample : int or "auto"
         Internal rate factor ``N >= 1`` for ``antialiased``. ``auto``: the smallest ``N`` for
-        which the defect moves no more than the defect window's spacing across rolling per
-        internal sample (``N = ceil(v / (fs dx_window))``, ``v`` the defect's speed relative to
-        the cage; 33 at ``standard``, 66 at ``paper``). Ignored for ``point``.
+        which the defect moves no more than the table's offset-node spacing per internal sample
+        (``N = ceil(v / (fs dx_node))``, ``v`` the defect's speed relative to the cage; 6-9 at
+        ``standard``, 17-18 at ``paper``; :func:`bearing_envelope.history.auto_oversample`).
+        Ignored for ``point``.
     """
 
     mode: str = "antialiased"

@@ -33,9 +33,11 @@ TIDY_COLUMNS = [
 
 #: Optional columns that follow :data:`TIDY_COLUMNS` when present, in this order (``floor``,
 #: ``floor_ratio_db``, ``threshold_db``, ``detected``: the local spectral floor of a line and its
-#: detection, :mod:`bearing_envelope.signal.faults`).
+#: detection, :mod:`bearing_envelope.signal.faults`; ``rel_error_est``, ``error_est``,
+#: ``error_basis``: the estimated discretisation error, :mod:`bearing_envelope.accuracy`).
 TIDY_EXTRA_COLUMNS = ["base", "target_hz", "clamped", "scaling", "signal", "floor",
-                      "floor_ratio_db", "threshold_db", "detected"]
+                      "floor_ratio_db", "threshold_db", "detected", "rel_error_est", "error_est",
+                      "error_basis"]
 
 #: Row order of an aggregated tidy table.
 TIDY_SORT = ["load_kN", "depth_um", "band", "quantity", "order", "sideband"]
