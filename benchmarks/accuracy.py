@@ -394,17 +394,22 @@ def preset_markdown(err):
 
 
 def holdout_markdown(err):
-    """The held-out case's errors against the model's estimates (worst over CASES)."""
+    """The held-out case's errors against the model's estimates (:func:`write_model`: worst over
+    CASES, bands and orders per signal and quantity class)."""
+    from bearing_envelope.accuracy import quantity_class
+
+    err = err.copy()
+    err["quantity_class"] = [quantity_class(q, s) for q, s in zip(err["quantity"], err["sideband"])]
     e = _model_cases(err)
     e = e[e.depth_um > 0]
-    est = e.groupby(["run"] + KEYS[2:])["error"].max().rename("estimate")
+    est = e.groupby(["run", "signal", "quantity_class"])["error"].max().rename("estimate")
     lines = ["| point | held-out case | amplitudes | covered (error <= estimate) | "
              "worst error / estimate | median error / estimate |", "|---|---|---|---|---|---|"]
     for load, depth in HOLDOUT:
         h = err[(err.load_kN == load) & (err.depth_um == depth)]
         if h.empty:
             continue
-        h = h.join(est, on=["run"] + KEYS[2:], how="inner")
+        h = h.join(est, on=["run", "signal", "quantity_class"], how="inner")
         h = h[h.estimate > 0]
         h["main"] = [group_of(r) is not None for _, r in h.iterrows()]
         for run, g in h.groupby("run", sort=False):
