@@ -13,8 +13,11 @@ reference is the Richardson value of the three (observed order ``p = log2(|f1 - 
 |f05 - f025|)``, ``f* = f025 + (f025 - f05) / (2^p - 1)``, used when the three are monotone and
 0.5 <= p <= 4; otherwise the finest value, flagged). What the ladder does not refine is checked
 by a further halving at 0.5 um, the table layout (17 load nodes, offsets x6: ``ref_layout``),
-and by a ladder of its own, the window's axial spacing (``local_dy_um`` 40, 20, 10 um at the
-layout of ``standard`` + rim strips: ``AXIAL``; Richardson value minus the 40 um value). Both
+and by a ladder of its own, the window's axial spacing (``local_dy_um`` 40 ... 2.5 um at the
+layout of ``standard`` + rim strips: ``AXIAL``; Richardson value of the three finest minus the
+40 um value). The defect's axial ends sit a quarter cell from a cell edge at 40 um, half a cell
+at 20 um and on an edge at 10, 5 and 2.5 um, so 40 -> 20 -> 10 um oscillates and only the three
+finest are a consistent ladder. Both
 corrections are added to the rim ladder's value (to first order the errors of independent knobs
 add), so the reference is the rim-converged value at the finer layout and the axially converged
 window. ``ref_dy`` (global and window axial spacing 20 um at the reference's layout) cross-checks
@@ -87,6 +90,7 @@ POINTS: dict[str, dict] = {
     "rim0.5+dy20": {"preset": "standard", "rim_dx_um": 0.5, "local_dy_um": 20.0},
     "rim0.5+dy10": {"preset": "standard", "rim_dx_um": 0.5, "local_dy_um": 10.0},
     "rim0.5+dy5": {"preset": "standard", "rim_dx_um": 0.5, "local_dy_um": 5.0},
+    "rim0.5+dy2.5": {"preset": "standard", "rim_dx_um": 0.5, "local_dy_um": 2.5},
     "rim0.5+dy20+7loads": {"preset": "standard", "rim_dx_um": 0.5, "local_dy_um": 20.0,
                            "n_loads": 7},
     "rim0.5+dy20+9loads+x3": {"preset": "standard", "rim_dx_um": 0.5, "local_dy_um": 20.0,
@@ -116,7 +120,8 @@ CHECKS = {"ref_layout": {**REF_BASE, **X6, "n_loads": 17, "rim_dx_um": 0.5},
           "ref_dy": {**REF_BASE, "global_dy_um": 20.0, "rim_dx_um": 0.5}}
 #: the axial ladder of the window (local_dy 40, 20, 10 um) at the layout of standard + rim
 #: strips (the errors of independent knobs add, so the correction is measured where it is cheap)
-AXIAL = {40.0: "standard+rim0.5", 20.0: "rim0.5+dy20", 10.0: "rim0.5+dy10", 5.0: "rim0.5+dy5"}
+AXIAL = {40.0: "standard+rim0.5", 20.0: "rim0.5+dy20", 10.0: "rim0.5+dy10", 5.0: "rim0.5+dy5",
+         2.5: "rim0.5+dy2.5"}
 
 
 def all_runs() -> dict[str, dict]:
