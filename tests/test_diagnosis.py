@@ -167,6 +167,25 @@ def test_false_alarm_rate_with_an_estimated_median_is_the_design():
     assert clopper_pearson(asymptotic, spectra.shape[0], confidence=0.999)[0] > 0.01
 
 
+def test_two_sided_level_is_the_mean_of_the_medians_either_side():
+    """level="two_sided": the mean of the medians below and above the line, read at the line for
+    a background with a linear trend, with its own exact threshold (two medians' randomness)."""
+    f = np.arange(0.0, 400.0, 0.5)
+    a = 1.0 + 0.5 * (f - BPFI) / BPFI  # linear trend through 1 at BPFI
+    d = detection_statistic(f, a, BPFI, level="two_sided")
+    keep = (f >= 0.5 * BPFI) & (f <= 1.5 * BPFI) & (np.abs(f - BPFI) > 0.01 * BPFI)
+    below, above = keep & (f < BPFI), keep & (f > BPFI)
+    assert d.background == pytest.approx(0.5 * (np.median(a[below]) + np.median(a[above])))
+    assert d.background == pytest.approx(1.0, abs=0.01)
+    assert d.threshold_db == pytest.approx(
+        threshold_db(0.01, d.n_tolerance_bins, (int(below.sum()), int(above.sum()))))
+    # the mean of two medians of half the bins each is about as random as one median of all
+    assert d.threshold_db == pytest.approx(
+        threshold_db(0.01, d.n_tolerance_bins, d.n_background_bins), abs=0.01)
+    with pytest.raises(ValueError, match="level"):
+        detection_statistic(f, a, BPFI, level="mean")
+
+
 _BAND_SOS = sps.butter(4, [3000.0, 5000.0], btype="bandpass", fs=FS, output="sos")
 
 

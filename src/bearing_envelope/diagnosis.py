@@ -192,7 +192,8 @@ def fault_band_metrics(
     return pd.DataFrame(rows, columns=_COLUMNS)
 
 
-def threshold_db(pfa: float = DEFAULT_PFA, n_bins: int = 1, n_background: int | None = None) -> float:
+def threshold_db(pfa: float = DEFAULT_PFA, n_bins: int = 1,
+                 n_background: int | tuple[int, int] | None = None) -> float:
     """Detection threshold (dB) for a false-alarm probability on a Gaussian-noise spectrum.
 
     With Rayleigh-distributed bin amplitudes, ``P(a > t m) = 2^(-t^2)`` for the true median
@@ -214,12 +215,20 @@ def threshold_db(pfa: float = DEFAULT_PFA, n_bins: int = 1, n_background: int | 
     computed by quadrature over the distribution of ``U`` and solved for ``t``.
     It tends to the asymptotic threshold as ``N`` grows.
 
+    ``n_background = (N_low, N_high)`` is the threshold of the two-sided level of
+    :func:`detection_statistic` (``level="two_sided"``: the mean of the medians of the
+    ``N_low`` bins below the line and the ``N_high`` above it): with ``r_k = m_hat_k / m =
+    sqrt(-log2(1 - U_k))`` and ``r = (r_low + r_high) / 2``, ``P(a > t m r) = 2^(-t^2 r^2)``,
+    averaged over the two independent medians.
+
     Examples
     --------
     >>> round(threshold_db(0.01, 1), 2), round(threshold_db(0.01, 10), 2)
     (8.22, 9.98)
     >>> round(threshold_db(0.01, 29, n_background=843), 2), round(threshold_db(0.01, 29), 2)
     (10.64, 10.61)
+    >>> round(threshold_db(0.01, 29, n_background=(126, 126)), 2)
+    10.73
     """
     pfa = float(pfa)
     if not 0.0 < pfa < 1.0:
@@ -229,12 +238,18 @@ def threshold_db(pfa: float = DEFAULT_PFA, n_bins: int = 1, n_background: int | 
     t2_inf = -math.log2(q)
     if n_background is None:
         return 10.0 * math.log10(t2_inf)
-    return 10.0 * math.log10(_t2_estimated_median(pfa, n, _count("n_background", n_background, 1), t2_inf))
+    groups = tuple(n_background) if isinstance(n_background, (tuple, list)) else (n_background,)
+    if len(groups) not in (1, 2):
+        raise ValueError(f"n_background must be a count or a (low, high) pair of counts, got "
+                         f"{n_background!r}")
+    groups = tuple(_count("n_background", g, 1) for g in groups)
+    return 10.0 * math.log10(_t2_estimated_median(pfa, n, groups, t2_inf))
 
 
 @lru_cache(maxsize=256)
-def _t2_estimated_median(pfa: float, n: int, n_background: int, t2_inf: float) -> float:
-    """``t^2`` with ``pfa(t) = pfa`` for a median estimated from ``n_background`` bins."""
+def _t2_estimated_median(pfa: float, n: int, groups: tuple[int, ...], t2_inf: float) -> float:
+    """``t^2`` with ``pfa(t) = pfa`` for a level that is the mean of the sample medians of
+    ``groups`` (one or two counts) of background bins."""
     from scipy.optimize import brentq
     from scipy.stats import beta, norm
 
@@ -243,15 +258,23 @@ def _t2_estimated_median(pfa: float, n: int, n_background: int, t2_inf: float) -
     # small per-test pfa of the record-wise verdict).
     z = np.linspace(-_Z_MAX, _Z_MAX, _QUADRATURE_NODES)
     w = norm.pdf(z) * (z[1] - z[0])
-    half = 0.5 * (n_background + 1)
-    u = np.where(z < 0, beta.ppf(norm.cdf(z), half, half), beta.isf(norm.sf(z), half, half))
-    with np.errstate(divide="ignore"):  # U = 1 or a bin certain to pass: log 0 = -inf, exact
-        log1m_u = np.log1p(-u)  # log(1 - U) at the nodes
+    ratios = []  # r = m_hat / m at the nodes, per group
+    for count in groups:
+        half = 0.5 * (count + 1)
+        u = np.where(z < 0, beta.ppf(norm.cdf(z), half, half), beta.isf(norm.sf(z), half, half))
+        with np.errstate(divide="ignore"):  # U = 1: log 0 = -inf, exact
+            ratios.append(np.sqrt(-np.log1p(-u) / math.log(2.0)))
+    if len(ratios) == 1:
+        r2, weight = ratios[0] ** 2, w
+    else:
+        r2 = (0.5 * (ratios[0][:, None] + ratios[1][None, :])) ** 2
+        weight = w[:, None] * w[None, :]
+    ln2_r2 = math.log(2.0) * r2
 
     def excess(log_t2):
-        q = np.exp(math.exp(log_t2) * log1m_u)  # P(one bin > t m_hat | U)
+        q = np.exp(-math.exp(log_t2) * ln2_r2)  # P(one bin > t m_hat) given the medians
         with np.errstate(divide="ignore"):
-            p_fa = float(np.sum(w * -np.expm1(n * np.log1p(-q))))
+            p_fa = float(np.sum(weight * -np.expm1(n * np.log1p(-q))))
         return math.log(p_fa) - math.log(pfa)
 
     lo = math.log(t2_inf) - 0.05  # the estimated median raises the threshold: a sign change
@@ -279,7 +302,8 @@ class Detection:
     peak_amplitude, peak_hz : float
         Largest amplitude in the tolerance band and its frequency (Hz).
     background : float
-        Median amplitude of the background bins.
+        Background level: the median amplitude of the background bins (or the mean of the
+        medians below and above the line, ``level="two_sided"``).
     n_tolerance_bins, n_background_bins : int
         Bins in the tolerance band and in the background.
     threshold_db : float
@@ -312,6 +336,7 @@ def detection_statistic(
     exclude_hz: Iterable[float] = (),
     threshold: float | None = None,
     pfa: float = DEFAULT_PFA,
+    level: str = "median",
 ) -> Detection:
     """Line-to-background ratio of a fault line (BPFI by default) in dB.
 
@@ -337,6 +362,11 @@ def detection_statistic(
         n_background_bins)`` (exact for a median estimated from the background bins).
     pfa : float
         False-alarm probability used for the default threshold.
+    level : {"median", "two_sided"}
+        Background level: the median of all background bins, or the mean of the medians of
+        the bins below and above the line (``two_sided``: unbiased where the background varies
+        linearly across the line, e.g. the falling envelope spectrum of a band a few lines
+        wide; the threshold is :func:`threshold_db` ``(pfa, n, (n_low, n_high))``).
 
     Returns
     -------
@@ -374,16 +404,27 @@ def detection_statistic(
     if bg.sum() < 5:
         raise ValueError(f"too few background bins ({int(bg.sum())}) around {line:g} Hz: widen "
                          f"background={background!r} or use a finer spectrum")
-    level = float(np.median(a[bg]))
-    stat = 20.0 * math.log10(peak / level) if level > 0 and peak > 0 else \
+    if level == "median":
+        value = float(np.median(a[bg]))
+        counts = int(bg.sum())
+    elif level == "two_sided":
+        below, above = bg & (f < line), bg & (f > line)
+        if below.sum() < 3 or above.sum() < 3:
+            raise ValueError(f"level='two_sided' needs >= 3 background bins on each side of "
+                             f"{line:g} Hz, got {int(below.sum())} and {int(above.sum())}")
+        value = 0.5 * float(np.median(a[below]) + np.median(a[above]))
+        counts = (int(below.sum()), int(above.sum()))
+    else:
+        raise ValueError(f"level must be 'median' or 'two_sided', got {level!r}")
+    stat = 20.0 * math.log10(peak / value) if value > 0 and peak > 0 else \
         (math.inf if peak > 0 else -math.inf)
-    thr = threshold_db(pfa, int(tol_sel.sum()), int(bg.sum())) if threshold is None else float(threshold)
+    thr = threshold_db(pfa, int(tol_sel.sum()), counts) if threshold is None else float(threshold)
     # A line must be a local maximum: a "peak" on the edge of the tolerance band that keeps
     # rising outside it is the skirt of a neighbouring line (e.g. a shaft harmonic leaking into
     # the band of a short record), not a line at line_hz.
     skirt = (j == idx[0] and j > 0 and a[j - 1] > peak) or \
         (j == idx[-1] and j + 1 < a.size and a[j + 1] > peak)
-    return Detection(stat, peak, float(f[j]), level, int(tol_sel.sum()), int(bg.sum()), thr,
+    return Detection(stat, peak, float(f[j]), value, int(tol_sel.sum()), int(bg.sum()), thr,
                      bool(stat > thr and not skirt))
 
 
