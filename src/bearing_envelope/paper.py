@@ -238,9 +238,9 @@ def findings(t: Tables) -> list[Finding]:
             f"({', '.join(f'{r.low_hz / 1e3:.2f}-{r.high_hz / 1e3:.2f} kHz' for r in distinct.head(4).itertuples())})",
             "the same set of clamped cases as the study",
             "" if verdict == REPRODUCED else "every defect case's most impulsive cell is the top "
-            "one here, so every band touches Nyquist and none varies; likely the shorter events "
-            "of a finer rim resolution (not established: the paper-conventions run with the "
-            "study's point sampling is the test)"))
+            "one here, so every band touches Nyquist and none varies; not the sampling: the "
+            "paper-conventions run (the study's point sampling, 2026-11-24) picks the same top "
+            "cell; likely the shorter events of this model's resolved rim (not established)"))
         # Figs 12-13: kurtogram-band 1 x BPFI misleading
         kb = _amp(t, "kurtogram", "envelope_bpfi", 1)
         tr = _depth_trend(kb)
@@ -296,8 +296,9 @@ def findings(t: Tables) -> list[Finding]:
             f"{_trend_text(dt, 'kN')}; dip at 60 um: "
             f"{_dip_text(dip)}",
             "reproduced = the dip (60 um below 50 and 80 um) at every load",
-            "" if verdict == REPRODUCED else "no dip here; the study gives no mechanism for it "
-            "(point sampling of its history is one candidate, tested by the paper-conventions run)"))
+            "" if verdict == REPRODUCED else "no dip here; the study gives no mechanism for it, "
+            "and its point sampling is not one: the paper-conventions run (point sampling, the "
+            "flat-region band, 2026-11-24) shows no dip either"))
 
     # Figs 16-17: 3-6 x BPFI
     b36_1, b36_2 = _amp(t, "bpfi_3_6", "envelope_bpfi", 1), _amp(t, "bpfi_3_6", "envelope_bpfi", 2)
