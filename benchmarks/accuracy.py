@@ -467,8 +467,8 @@ def plot(err, path):
 def write_model(err, path, info):
     """Per point, case kind and (signal, quantity class): the worst relative error over the
     measured cases, the five bands and the orders (:func:`bearing_envelope.accuracy.quantity_class`).
-    Pooled so, the estimates covered 92-98 % of the held-out case's amplitudes at every point,
-    against 59-100 % kept per band and order (``docs/benchmarks.md``)."""
+    Pooled so, the estimates covered 95-100 % of the held-out case's amplitudes at every point,
+    against 41-100 % kept per band and order (``docs/benchmarks.md``)."""
     from bearing_envelope.accuracy import quantity_class
 
     e = _model_cases(err).copy()

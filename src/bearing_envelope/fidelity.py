@@ -187,7 +187,7 @@ PRESETS: dict[str, Fidelity] = {
     # issue 13 part 4 (docs/benchmarks.md, "Accuracy per CPU second"): the defect rims
     # re-solved in 0.5 um strips and the axial global grid halved (the roller-end peak in p_max)
     # take p_max's envelope lines from <= 29 % to <= 1.5 % (fixed bands; 1.8 % kurtogram band)
-    # of the converged reference, at 9.6 s CPU per case against 5.7 s
+    # of the converged reference, at 9.9 s CPU per case against 6.0 s
     "accurate": Fidelity(name="accurate", global_dy_um=40.0, rim_dx_um=0.5),
     "paper": Fidelity(
         name="paper", global_dx_um=5.0, global_dy_um=80.0, global_extent=1.3,
