@@ -95,8 +95,11 @@ def test_default_mapping_is_a_copy():
 
 
 def test_fidelity_presets():
-    assert set(PRESETS) == {"draft", "standard", "paper"}
+    assert set(PRESETS) == {"draft", "standard", "accurate", "paper"}
     assert fidelity_from(None).name == "standard"
+    acc = fidelity_from("accurate")        # standard + rim strips + a finer axial global grid
+    assert acc.rim_dx_um == 0.5 and acc.global_dy_um < PRESETS["standard"].global_dy_um
+    assert acc.local_dx_um == PRESETS["standard"].local_dx_um
     d = fidelity_from("draft")
     assert d.local_dx_um > PRESETS["paper"].local_dx_um
     f = fidelity_from({"preset": "draft", "n_loads": 4})

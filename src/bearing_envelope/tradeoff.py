@@ -62,7 +62,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from .fidelity import Fidelity, fidelity_from
+from .fidelity import PRESETS, Fidelity, fidelity_from
 from .settings import CaseId
 
 __all__ = ["DEFAULT_CASES", "DEFAULT_KNOBS", "DEFAULT_BANDS", "COLUMNS", "tradeoff_study",
@@ -331,7 +331,7 @@ def tradeoff_study(
         ref_f = dataclasses.replace(ref_f, name="reference")
     elif isinstance(reference, str) and reference == "per_knob":
         ref_f = None
-    elif isinstance(reference, (Mapping, Fidelity)) or reference in ("draft", "standard", "paper"):
+    elif isinstance(reference, (Mapping, Fidelity)) or reference in PRESETS:
         ref_f = dataclasses.replace(fidelity_from(reference), name="reference")
     else:
         raise ValueError(f"tradeoff.reference: got {reference!r}; allowed: finest | per_knob | "
