@@ -49,6 +49,17 @@ def test_unmeasured_fidelity_has_no_estimate_and_says_why():
     assert "not estimated" in m.basis and "custom" in m.basis
 
 
+def test_another_scene_has_no_estimate_and_names_the_difference():
+    base = Scene.from_mapping({"operation": {"revolutions": 3.0, "noise_snr_db": 10.0}},
+                              load_kN=250, depth_um=30)
+    assert error_model("standard", 30, base.to_mapping()).point == "standard"   # noise, length
+    other = Scene.from_mapping({"defect": {"edge_radius_um": 10.0}}, load_kN=250, depth_um=30)
+    m = error_model("standard", 30, other.to_mapping())
+    assert m.point is None and "defect.edge_radius_um: 10.0 vs 20.0" in m.basis
+    wide = Scene.from_mapping({"defect": {"width_um": 200.0}}, load_kN=250, depth_um=30)
+    assert "defect.width_um" in error_model("standard", 30, wide.to_mapping()).basis
+
+
 def _row(quantity="envelope_bpfi", order=1, sideband=0, amplitude=2.0):
     return {"case": "c", "load_kN": 500.0, "depth_um": 50.0, "band": "fixed",
             "band_strategy": "fixed", "band_low_hz": 8125.0, "band_high_hz": 16250.0,

@@ -49,7 +49,7 @@ import pandas as pd
 from .fidelity import Fidelity, fidelity_from
 
 __all__ = ["ErrorModel", "error_model", "attach_errors", "absolute_error", "measured_points",
-           "quantity_class", "signal_errors", "ERROR_COLUMNS"]
+           "quantity_class", "scene_differences", "signal_errors", "ERROR_COLUMNS"]
 
 #: Columns :func:`attach_errors` adds to a tidy table.
 ERROR_COLUMNS = ["rel_error_est", "error_est", "error_basis"]
@@ -127,7 +127,46 @@ class ErrorModel:
         return {"point": self.point, "kind": self.kind, "basis": self.basis}
 
 
-def error_model(fidelity: Fidelity | str | None, depth_um: float) -> ErrorModel:
+#: Scene keys that may differ from the default scene without voiding the estimate: the sweep
+#: values and what does not change the discretisation (duration, noise, seeds).
+_SCENE_FREE = ("operation.revolutions", "operation.noise_snr_db", "operation.noise_seed",
+               "operation.slip_seed", "load.value_kN", "defect.depth_um")
+
+
+def _flat(d: Any, prefix: str = "") -> dict[str, Any]:
+    out: dict[str, Any] = {}
+    for k, v in dict(d).items():
+        if isinstance(v, dict):
+            out.update(_flat(v, f"{prefix}{k}."))
+        else:
+            out[f"{prefix}{k}"] = v
+    return out
+
+
+def scene_differences(scene: Any, depth_um: float) -> list[str]:
+    """The keys (``section.key: value vs default``) in which a scene mapping differs from the
+    default scene the error model was measured on, with the same depth (and so the default width
+    ``w = 2 h``); the sweep values, duration, noise and seeds are not compared."""
+    from .scene import Scene
+
+    flat = _flat(scene)
+    ref = _flat(Scene.from_mapping({}, load_kN=float(flat.get("load.value_kN", 500.0)),
+                                   depth_um=float(depth_um)).to_mapping())
+    diff = []
+    for k in sorted(set(flat) | set(ref)):
+        if k in _SCENE_FREE:
+            continue
+        x, y = flat.get(k), ref.get(k)
+        same = (math.isclose(float(x), float(y), rel_tol=1e-9)
+                if isinstance(x, (int, float)) and isinstance(y, (int, float))
+                and not isinstance(x, bool) else x == y)
+        if not same:
+            diff.append(f"{k}: {x!r} vs {y!r}")
+    return diff
+
+
+def error_model(fidelity: Fidelity | str | None, depth_um: float,
+                scene: Any = None) -> ErrorModel:
     """The measured discretisation errors that apply to a case at ``fidelity``.
 
     Parameters
@@ -135,10 +174,21 @@ def error_model(fidelity: Fidelity | str | None, depth_um: float) -> ErrorModel:
     fidelity : Fidelity, preset name or None
     depth_um : float
         The case's defect depth (0 = healthy race: the healthy case's errors apply).
+    scene : mapping, optional
+        The case's scene (:meth:`bearing_envelope.scene.Scene.to_mapping`): if it differs from
+        the default scene in anything but the sweep values, duration, noise and seeds
+        (:func:`scene_differences`), there is no estimate and the basis names the keys.
     """
     fid = fidelity_from(fidelity)
     header, table = _load()
     kind = "healthy" if float(depth_um) <= 0 else "defect"
+    if scene is not None:
+        diff = scene_differences(scene, depth_um)
+        if diff:
+            return ErrorModel(None, kind, "not estimated: the scene differs from the measured "
+                              "default scene in " + "; ".join(diff[:4])
+                              + (f" (+{len(diff) - 4} more)" if len(diff) > 4 else ""),
+                              table.iloc[0:0].copy())
     match = next((name for name, f in measured_points().items() if _same(fid, f)), None)
     if match is None:
         return ErrorModel(None, kind, f"not estimated: fidelity {fid.name!r} is not one of the "

@@ -285,7 +285,7 @@ def _write_error_model(f, history) -> None:
 
     from .accuracy import error_model
 
-    em = error_model(history.fidelity, history.scene.defect.depth_um)
+    em = error_model(history.fidelity, history.scene.defect.depth_um, history.scene.to_mapping())
     g = f.create_group("discretisation_error")
     g.attrs["point"] = em.point or ""
     g.attrs["kind"] = em.kind

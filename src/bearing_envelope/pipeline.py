@@ -222,7 +222,7 @@ def case_error_model(case):
     if not spec:
         return ErrorModel(None, "defect" if float(case.depth_um) > 0 else "healthy",
                           "not estimated: the case records no fidelity", pd.DataFrame())
-    return error_model(_as_fidelity(spec), float(case.depth_um))
+    return error_model(_as_fidelity(spec), float(case.depth_um), getattr(case, "scene", None))
 
 
 #: Envelope spectra are kept up to (harmonics + SPECTRA_MARGIN_ORDERS) x BPFI for the figures.
