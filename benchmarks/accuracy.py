@@ -60,22 +60,31 @@ import numpy as np
 import pandas as pd
 
 from bearing_envelope.contact import halfspace as _hs
-from bearing_envelope.fidelity import fidelity_from
+from bearing_envelope.fidelity import PRESETS, fidelity_from
 from bearing_envelope.history import (SolveStats, acquisition_settings, build_table,
                                       synthesize_case)
 from bearing_envelope.loads import scene_load_distribution
 from bearing_envelope.pipeline import case_bands, case_harmonics
 from bearing_envelope.scene import Scene
 from bearing_envelope.settings import load_settings
+from bearing_envelope.tradeoff import _apply_knob
 
 CASES = ((250.0, 15.0), (250.0, 100.0), (750.0, 15.0), (750.0, 100.0), (500.0, 0.0))
 #: a case kept out of the error model: its measured errors test the model's estimates
 HOLDOUT = ((500.0, 50.0),)
 SIGNALS = ("p_max", "removed_force", "approach_change")
 OFF = {"n_checks": 0, "n_snapshot_offsets": 0}
-X2 = {"n_offsets": 28, "offsets_per_width": 8.0, "offset_step_um": 6.0, "max_offsets": 240}
-X3 = {"n_offsets": 42, "offsets_per_width": 12.0, "offset_step_um": 4.0, "max_offsets": 360}
-X6 = {"n_offsets": 84, "offsets_per_width": 24.0, "offset_step_um": 2.0, "max_offsets": 720}
+
+
+def offsets_x(factor: float) -> dict:
+    """The offset-node fields of ``standard`` with the table density in offset times ``factor``
+    (the trade study's ``offset_density`` knob)."""
+    fid, _ = _apply_knob(PRESETS["standard"], "offset_density", factor)
+    return {k: getattr(fid, k) for k in ("n_offsets", "offsets_per_width", "offset_step_um",
+                                         "max_offsets")}
+
+
+X2, X3, X6 = offsets_x(2.0), offsets_x(3.0), offsets_x(6.0)
 REF_BASE = {"preset": "standard", **X3, "n_loads": 9, "global_dy_um": 40.0, "tol": 1e-6}
 
 #: candidate points, cheapest first: name -> fidelity mapping
@@ -334,7 +343,7 @@ def summary(err):
     return cpu, worst
 
 
-def markdown(df, ref, err, info):
+def markdown(ref, err, info):
     cpu, worst = summary(err)
     order = list(cpu.index)
     groups = ["peak", "rms", "raw1x"] + [c for c in worst.columns if c.startswith("env1x")] + \
@@ -544,7 +553,7 @@ def main(argv=None):
     ref.to_csv(args.out / "reference.csv", index=False)
     err = errors(df, ref)
     err.to_csv(args.out / "errors.csv", index=False)
-    text = "\n\n".join([preset_markdown(err), markdown(df, ref, err, info),
+    text = "\n\n".join([preset_markdown(err), markdown(ref, err, info),
                           holdout_markdown(err)])
     (args.out / "accuracy.md").write_text(text)
     plot(err, args.out / "accuracy.png")

@@ -49,7 +49,7 @@ import pandas as pd
 from .fidelity import Fidelity, fidelity_from
 
 __all__ = ["ErrorModel", "error_model", "attach_errors", "absolute_error", "measured_points",
-           "quantity_class", "scene_differences", "signal_errors", "ERROR_COLUMNS"]
+           "quantity_class", "scene_differences", "ERROR_COLUMNS"]
 
 #: Columns :func:`attach_errors` adds to a tidy table.
 ERROR_COLUMNS = ["rel_error_est", "error_est", "error_basis"]
@@ -122,9 +122,6 @@ class ErrorModel:
     kind: str
     basis: str
     table: pd.DataFrame
-
-    def to_dict(self) -> dict[str, Any]:
-        return {"point": self.point, "kind": self.kind, "basis": self.basis}
 
 
 #: Scene keys that may differ from the default scene without voiding the estimate: the sweep
@@ -236,17 +233,6 @@ def absolute_error(rel_error, amplitude):
     a = np.abs(np.asarray(amplitude, dtype=float))
     with np.errstate(divide="ignore", invalid="ignore"):
         return np.where(e < 1, e / (1 - e) * a, np.where(np.isnan(e), np.nan, np.inf))
-
-
-def signal_errors(model: ErrorModel) -> dict[str, dict[str, float]]:
-    """Per signal, the estimated relative error of its ``peak`` and ``rms`` (NaN if none)."""
-    out: dict[str, dict[str, float]] = {}
-    t = model.table
-    if t.empty:
-        return out
-    for r in t[t["quantity_class"].isin(["peak", "rms"])].itertuples(index=False):
-        out.setdefault(r.signal, {})[r.quantity_class] = float(r.rel_error)
-    return out
 
 
 def _as_fidelity(obj) -> Fidelity:
