@@ -13,7 +13,7 @@ from .envelope import envelope_spectrum, peak_value, settling_samples
 from .faults import (DEFAULT_SEARCH_PERCENT, FaultFamily, fault_families, fault_verdict,
                      search_lines)
 from .kurtogram import fast_kurtogram, max_kurtogram_level
-from .spectrum import amplitude_spectrum
+from .spectrum import amplitude_spectrum, prewhiten
 
 __all__ = ["COLUMNS", "analyze_signal", "fault_frequency_map"]
 
@@ -91,6 +91,7 @@ def analyze_signal(
     search_percent: float = DEFAULT_SEARCH_PERCENT,
     sideband_spacing: Mapping[str, str | None] | None = None,
     pfa: float = DEFAULT_PFA,
+    kurtogram_min_orders: float | None = None,
     full_output: bool = False,
 ):
     r"""Run the envelope-analysis chain on one signal and return tidy records.
@@ -272,6 +273,10 @@ def analyze_signal(
         nl = nlevel
         if nl is not None:
             nl = max(1, min(int(nl), max_kurtogram_level(x.size)))
+        if kurtogram_min_orders is not None and min_bandwidth is None:
+            # a demodulation band narrower than the envelope lines searched cannot hold them
+            min_bandwidth = float(kurtogram_min_orders) * int(n_harmonics) * max(
+                fam.frequency_hz for fam in families)
         kg = fast_kurtogram(x, fs, nl, max_level=max_level, min_bandwidth=min_bandwidth,
                             demean=demean, level0=level0)
 
@@ -286,13 +291,19 @@ def analyze_signal(
                      "families": families, "fr": fr, "fs": fs, "squared": squared}
     env_scaling = (f"one-sided amplitude of the {'squared ' if squared else ''}envelope "
                    f"component, mean removed, {window} window ({unit})")
+    x_white = None
     for spec in bands:
         band, prov = resolve_band(spec, fs, kurtogram=kg_for, frequencies=freqs,
                                   margin=nyquist_margin)
         low, high = band
         common = dict(band=prov["name"], band_strategy=prov["strategy"], band_low_hz=low,
                       band_high_hz=high, clamped=bool(prov.get("clamped", False)))
-        f_env, a_env, y, _ = envelope_spectrum(x, fs, band, squared=squared, window=window,
+        xb = x
+        if prov.get("prewhiten"):
+            if x_white is None:
+                x_white = prewhiten(x)
+            xb = x_white
+        f_env, a_env, y, _ = envelope_spectrum(xb, fs, band, squared=squared, window=window,
                                                order=filter_order, return_signal=True)
         pk = peak_value(y, skip=settling_samples(fs, band, order=filter_order))
         if prov["strategy"] == "kurtogram":
@@ -321,7 +332,7 @@ def analyze_signal(
     for c in ("floor", "floor_ratio_db", "threshold_db"):
         table[c] = table[c].astype(float)
     details["verdict"] = fault_verdict(table, families, pfa=pfa, n_tests=n_tests, fr=fr,
-                                       search_percent=search_percent)
+                                       df_hz=fs / x.size)
     if full_output:
         return table, details
     return table
