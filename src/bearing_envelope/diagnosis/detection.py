@@ -40,6 +40,8 @@ from functools import lru_cache
 
 import numpy as np
 import pandas as pd
+from scipy.optimize import brentq
+from scipy.stats import beta, norm
 
 __all__ = [
     "DEFAULT_PFA",
@@ -250,9 +252,6 @@ def threshold_db(pfa: float = DEFAULT_PFA, n_bins: int = 1,
 def _t2_estimated_median(pfa: float, n: int, groups: tuple[int, ...], t2_inf: float) -> float:
     """``t^2`` with ``pfa(t) = pfa`` for a level that is the mean of the sample medians of
     ``groups`` (one or two counts) of background bins."""
-    from scipy.optimize import brentq
-    from scipy.stats import beta, norm
-
     # E_U[g(U)] = E_Z[g(B^-1(Phi(Z)))], Z standard normal: the trapezoidal rule on a smooth,
     # rapidly decaying integrand (machine precision against adaptive quadrature, also for the
     # small per-test pfa of the record-wise verdict).
@@ -447,8 +446,6 @@ def clopper_pearson(k: int, n: int, confidence: float = 0.95) -> tuple[float, fl
     >>> lo, round(hi, 5)
     (0.0, 0.01222)
     """
-    from scipy.stats import beta
-
     k, n = int(k), _count("n", n, 1)
     if not 0 <= k <= n:
         raise ValueError(f"k must be in [0, n = {n}], got {k}")
