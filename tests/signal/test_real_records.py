@@ -15,7 +15,7 @@ import pytest
 from scipy import signal as sps
 
 from bearing_envelope.physics.kinematics import fault_frequencies
-from bearing_envelope.diagnosis import analyze_signal
+from bearing_envelope.diagnosis import AnalysisOptions, analyze_signal
 
 DATA = Path(__file__).resolve().parents[1] / "data" / "real"
 INCH = 25.4e-3
@@ -42,8 +42,7 @@ def _faults(meta):
 def _analyse(name):
     x, fs, meta = _load(name)
     ff = _faults(meta)
-    table, det = analyze_signal(x, fs, fr=meta["shaft_hz"], fault_frequencies=ff,
-                                n_harmonics=3, full_output=True)
+    table, det = analyze_signal(x, fs, fr=meta["shaft_hz"], fault_frequencies=ff, full_output=True, options=AnalysisOptions(n_harmonics=3))
     return name, x, fs, meta, ff, table, det
 
 

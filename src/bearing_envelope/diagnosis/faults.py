@@ -54,12 +54,15 @@ from ..signal.spectrum import amplitude_at, default_tolerance
 from .detection import detection_statistic
 
 __all__ = [
+    "CANNOT_TELL",
+    "CONFIDENCE_LEVELS",
     "DEFAULT_SEARCH_PERCENT",
     "FAMILY_LABELS",
     "SIDEBAND_SPACING",
     "FaultFamily",
     "FamilyVerdict",
     "Verdict",
+    "evidence_level",
     "fault_families",
     "fault_verdict",
     "search_lines",

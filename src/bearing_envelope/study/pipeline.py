@@ -167,7 +167,7 @@ def case_harmonics(case, analysis: Mapping[str, Any], bands, *, full_output: boo
         ``clamped``, ``scaling``, ``signal``; one row per amplitude, the raw rows with band
         ``raw``, one ``kurtogram_kurtosis`` row (order = level) when a band uses the kurtogram.
     """
-    from ..diagnosis import analyze_signal
+    from ..diagnosis import AnalysisOptions, analyze_signal
 
     bands = _as_case_bands(bands)
     signal = analysis.get("signal", "p_max")
@@ -177,15 +177,14 @@ def case_harmonics(case, analysis: Mapping[str, Any], bands, *, full_output: boo
              for b in bands.bands]
     strategies = {b.name: b.strategy for b in bands.bands}
     clamped = {b.name: b.clamped for b in bands.bands}
-    res = analyze_signal(
-        x, fs, fr=float(case.fr), bpfi=float(case.bpfi), bands=specs,
-        n_harmonics=int(analysis.get("harmonics", 3)),
+    options = AnalysisOptions(
+        bands=specs, n_harmonics=int(analysis.get("harmonics", 3)),
         n_sidebands=int(analysis.get("sidebands", 2)),
         n_raw_harmonics=int(analysis.get("raw_orders_fr", 3)),
         nlevel=None, filter_order=int(analysis.get("filter_order", 4)),
-        squared=bool(analysis.get("squared_envelope", False)),
-        full_output=full_output,
-    )
+        squared=bool(analysis.get("squared_envelope", False)))
+    res = analyze_signal(x, fs, fr=float(case.fr), bpfi=float(case.bpfi), options=options,
+                         full_output=full_output)
     df, extra = (res if full_output else (res, None))
     df = tidy_from_analysis(df, strategies)
     df = df[df["quantity"] != "kurtogram_kurtosis"]
