@@ -44,6 +44,7 @@ from scipy.optimize import brentq
 from scipy.stats import beta, norm
 
 __all__ = [
+    "BACKGROUND_BAND",
     "DEFAULT_PFA",
     "Detection",
     "fault_band_metrics",
@@ -56,6 +57,10 @@ __all__ = [
 
 #: Default false-alarm probability of :func:`detect` on a Gaussian-noise spectrum.
 DEFAULT_PFA = 0.01
+
+#: Background band of :func:`detection_statistic`, ``(lo, hi)`` in multiples of the line's
+#: frequency (dimensionless): the floor is the median amplitude over ``[0.5, 1.5] x line``.
+BACKGROUND_BAND = (0.5, 1.5)
 
 _COLUMNS = [
     "spectrum", "target", "target_hz", "order", "sideband", "centre_hz", "band_low_hz",
@@ -330,7 +335,7 @@ def detection_statistic(
     fr: float | None = None,
     tolerance: float = 0.01,
     tolerance_hz: float | None = None,
-    background: tuple[float, float] = (0.5, 1.5),
+    background: tuple[float, float] = BACKGROUND_BAND,
     sidebands: int = 3,
     exclude_hz: Iterable[float] = (),
     threshold: float | None = None,

@@ -51,7 +51,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from ..signal.spectrum import amplitude_at, default_tolerance
-from .detection import detection_statistic
+from .detection import BACKGROUND_BAND, detection_statistic
 
 __all__ = [
     "CANNOT_TELL",
@@ -162,11 +162,12 @@ def fault_families(frequencies: Mapping[str, float], *, fr: float,
 def _score(f, a, line_hz, half, *, fr, exclude, pfa):
     """Detection of one line (``diagnosis.detection_statistic``); None when the spectrum is
     too short for a background around it."""
-    # only [0.5, 1.5] x line (+ the search window and the local-maximum check's neighbours)
-    # enters the statistic: pass that slice, not the whole spectrum
+    # only the background band [lo, hi] x line (+ the search window and the local-maximum
+    # check's neighbours) enters the statistic: pass that slice, not the whole spectrum
+    lo, hi = BACKGROUND_BAND
     df = f[1] - f[0]
-    i0 = max(0, int(math.floor((0.5 * line_hz - half) / df)) - 2)
-    i1 = min(f.size, int(math.ceil((1.5 * line_hz + half) / df)) + 3)
+    i0 = max(0, int(math.floor((lo * line_hz - half) / df)) - 2)
+    i1 = min(f.size, int(math.ceil((hi * line_hz + half) / df)) + 3)
     try:
         return detection_statistic(f[i0:i1], a[i0:i1], line_hz, fr=fr, tolerance_hz=half,
                                    sidebands=0, exclude_hz=exclude, pfa=pfa)
@@ -249,7 +250,8 @@ def search_lines(
     spacing = float(family.sideband_hz) if n_sidebands else 0.0
 
     def exclusions(f1, sp):
-        jmax = int(math.ceil(1.5 * (n_harmonics + 1))) + 1
+        # every line of the family inside the background band of the highest harmonic
+        jmax = int(math.ceil(BACKGROUND_BAND[1] * (n_harmonics + 1))) + 1
         out = [j * f1 for j in range(1, jmax + 1)]
         out += [j * f1 + m * sp for j in range(1, jmax + 1) for m in
                 range(-n_sidebands, n_sidebands + 1) if m and sp]

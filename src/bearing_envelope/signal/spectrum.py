@@ -12,7 +12,8 @@ from scipy.optimize import minimize_scalar
 
 from .validation import check_fs, check_signal
 
-__all__ = ["amplitude_spectrum", "amplitude_at", "default_tolerance", "prewhiten"]
+__all__ = ["TOLERANCE_FRACTION", "TOLERANCE_MAX_SPACING", "TOLERANCE_MIN_BINS",
+           "amplitude_spectrum", "amplitude_at", "default_tolerance", "prewhiten"]
 
 
 def _window(window, n: int) -> np.ndarray:
@@ -209,11 +210,23 @@ def amplitude_at(
     return freq, amp
 
 
+#: Default search half-width of a line, relative to its frequency (dimensionless): 0.2 %
+#: covers the residual speed uncertainty of a harmonic searched around k x a found line.
+TOLERANCE_FRACTION = 0.002
+#: ... and at least this many bins (the bin of the found line is uncertain by half a bin).
+TOLERANCE_MIN_BINS = 2.0
+#: ... and at most this fraction of the sideband spacing (Hz / Hz), so that neighbouring
+#: sidebands never share a search window.
+TOLERANCE_MAX_SPACING = 0.25
+
+
 def default_tolerance(target: float, df: float, fr: float | None = None) -> float:
-    """Default search half-width (Hz): ``max(2 df, 0.002 target)``, at most ``fr / 4``."""
-    tol = max(2.0 * df, 0.002 * abs(target))
+    """Default search half-width (Hz): ``max(TOLERANCE_MIN_BINS df, TOLERANCE_FRACTION
+    target)`` = ``max(2 df, 0.002 target)``, at most ``TOLERANCE_MAX_SPACING fr`` = ``fr / 4``
+    (``fr``: the sideband spacing, Hz; ``df``: the bin spacing, Hz)."""
+    tol = max(TOLERANCE_MIN_BINS * df, TOLERANCE_FRACTION * abs(target))
     if fr is not None:
-        tol = min(tol, 0.25 * fr)
+        tol = min(tol, TOLERANCE_MAX_SPACING * fr)
     return max(tol, 0.0)
 
 
