@@ -328,6 +328,10 @@ MEDIUM_MIN_BANDS = 2
 #: ... with the fundamental at least this far above its threshold (dB).
 MEDIUM_MIN_MARGIN_DB = 15.0
 
+#: A family sharing a harmonic with the diagnosis (3 BPFO = 2 BPFI) whose fundamental is within
+#: this many dB of the diagnosis's margin is a rival: the verdict cannot tell them apart.
+RIVAL_MARGIN_DB = 6.0
+
 #: Orders k <= EXPLAIN_MAX_ORDER and sidebands |m| <= EXPLAIN_MAX_SIDEBAND of a stronger family
 #: that explain a weaker family's fundamental.
 EXPLAIN_MAX_ORDER = 6
@@ -740,6 +744,16 @@ def _own_level(v: FamilyVerdict, shared: str) -> str | None:
     return evidence_level(replace(v, harmonics=tuple(h for h in v.harmonics if h != k)))
 
 
+def _rivals(own: str | None, v: FamilyVerdict, primary: FamilyVerdict) -> bool:
+    """A family sharing a harmonic with the diagnosis rivals it (cannot tell) when its own
+    evidence (without the shared harmonic) is at least ``medium`` and as strong as the
+    diagnosis's, or within :data:`RIVAL_MARGIN_DB` of its margin."""
+    if _RANK[own] < _RANK["medium"]:
+        return False
+    return _RANK[own] >= _RANK[primary.level] or \
+        primary.margin_db - v.margin_db <= RIVAL_MARGIN_DB
+
+
 def _rank(v: FamilyVerdict) -> tuple:
     """Sort key, strongest first: a cage family below the others unless its evidence is high,
     then level, agreeing bands, margin."""
@@ -759,7 +773,7 @@ def _decide(out: Sequence[FamilyVerdict], by_fam: Mapping[str, FaultFamily], fr:
         primary = accepted[0][0] if accepted else None
         if line:
             why[v.family] = line
-            tie = kind == "shared" and _RANK[_own_level(v, line)] >= _RANK[primary.level]
+            tie = kind == "shared" and _rivals(_own_level(v, line), v, primary)
             roles[v.family] = "candidate" if tie else "explained"
             continue
         strong = v.level in ("high", "medium") and v.family != CAGE_FAMILY
