@@ -746,12 +746,11 @@ def _own_level(v: FamilyVerdict, shared: str) -> str | None:
 
 def _rivals(own: str | None, v: FamilyVerdict, primary: FamilyVerdict) -> bool:
     """A family sharing a harmonic with the diagnosis rivals it (cannot tell) when its own
-    evidence (without the shared harmonic) is at least ``medium`` and as strong as the
-    diagnosis's, or within :data:`RIVAL_MARGIN_DB` of its margin."""
-    if _RANK[own] < _RANK["medium"]:
-        return False
-    return _RANK[own] >= _RANK[primary.level] or \
-        primary.margin_db - v.margin_db <= RIVAL_MARGIN_DB
+    evidence (without the shared harmonic) is at the diagnosis's level, or at least ``medium``
+    with a margin within :data:`RIVAL_MARGIN_DB` of the diagnosis's."""
+    if _RANK[own] >= _RANK[primary.level]:
+        return True
+    return _RANK[own] >= _RANK["medium"] and primary.margin_db - v.margin_db <= RIVAL_MARGIN_DB
 
 
 def _rank(v: FamilyVerdict) -> tuple:
@@ -784,9 +783,10 @@ def _decide(out: Sequence[FamilyVerdict], by_fam: Mapping[str, FaultFamily], fr:
             continue
         if primary is None:
             roles[v.family] = "diagnosis"
-        elif primary is not None and strong:
-            tie = _RANK[v.level] >= _RANK[primary.level]
-            roles[v.family] = "candidate" if tie else "second finding"
+        elif v.family != CAGE_FAMILY and _RANK[v.level] >= _RANK[primary.level]:
+            roles[v.family] = "candidate"  # evidence as strong as the diagnosis's: conflict
+        elif strong:
+            roles[v.family] = "second finding"
         else:
             roles[v.family] = "weak"
             continue
