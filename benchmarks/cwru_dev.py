@@ -13,8 +13,10 @@ A verdict is ``right`` (the labelled family; 2 x BSF counts for a ball), ``wrong
 family named) or ``abstain`` (no diagnosis: nothing detected, or "cannot tell").
 
 ``--variants`` repeats the evaluation with the kurtogram's former unlimited cell
-(``kurtogram_min_orders=None``) and with a fifth band, the full band of the cepstrum-pre-whitened
-signal (Borghesani et al. 2013). ``--lofo`` re-decides the stored tables with the tuned margins
+(``kurtogram_min_orders=None``), with a fifth band, the full band of the cepstrum-pre-whitened
+signal (Borghesani et al. 2013), and with the kurtogram band replaced by the infogram's (Antoni
+2016) or the protrugram's (Barszcz & Jabłoński 2011) choice among bands at least as wide as
+the kurtogram's limit (``bearing_envelope.signal.bandselect``). ``--lofo`` re-decides the stored tables with the tuned margins
 (``HIGH_MIN_MARGIN_DB``, ``MEDIUM_MIN_MARGIN_DB``) chosen on six fault sets and judged on the
 seventh (leave one fault set out). The Monte Carlo draws ``--trials`` records of Gaussian noise
 whose spectrum has the shape of the normal record's (Welch PSD, 1024-sample segments, after
@@ -34,10 +36,12 @@ import numpy as np
 import pandas as pd
 from scipy import signal as sps
 
-from bearing_envelope.diagnosis import AnalysisOptions, analyze_signal, faults
+from bearing_envelope.diagnosis import (KURTOGRAM_MIN_ORDERS, AnalysisOptions, analyze_signal,
+                                        faults)
 from bearing_envelope.diagnosis.detection import clopper_pearson
 from bearing_envelope.physics.kinematics import fault_frequencies
 from bearing_envelope.signal import DEFAULT_BANDS
+from bearing_envelope.signal.bandselect import infogram_band, protrugram_band
 
 INCH = 25.4e-3
 TRUTH = {"inner_race": "bpfi", "outer_race": "bpfo", "ball": "bsf", "normal": None}
@@ -79,13 +83,42 @@ def outcome(diagnosis: str | None, truth: str | None) -> str:
     return "right" if fam == truth else "wrong"
 
 
+def hold_width(rec) -> float:
+    """The narrowest band that can hold the lines searched (Hz): KURTOGRAM_MIN_ORDERS x
+    n_harmonics x the highest fault frequency (2 x BSF included)."""
+    ff = rec["ff"]
+    top = max(ff.bpfo, ff.bpfi, ff.ftf, 2.0 * ff.bsf)
+    return KURTOGRAM_MIN_ORDERS * OPTIONS.n_harmonics * top
+
+
+def selected_band(name: str, band) -> AnalysisOptions:
+    """The default bands with the kurtogram band replaced by a band chosen elsewhere."""
+    spec = {"name": name, "strategy": "fixed", "low_hz": band[0], "high_hz": band[1],
+            "clamp": True}
+    return dataclasses.replace(OPTIONS, bands=(spec, *DEFAULT_BANDS[1:]))
+
+
+def infogram_options(rec) -> AnalysisOptions:
+    band, _ = infogram_band(rec["x"], rec["fs"], min_bandwidth=hold_width(rec))
+    return selected_band("infogram", band)
+
+
+def protrugram_options(rec) -> AnalysisOptions:
+    w = hold_width(rec)
+    band, _ = protrugram_band(rec["x"], rec["fs"], bandwidth=w, fmax_env=w)
+    return selected_band("protrugram", band)
+
+
 def evaluate(records, options) -> tuple[pd.DataFrame, dict]:
-    """One row per record (verdict, confidence, outcome, evidence) and the stored tables."""
+    """One row per record (verdict, confidence, outcome, evidence) and the stored tables;
+    ``options`` is an AnalysisOptions or a function of the record giving one (its CPU time
+    counts)."""
     rows, stored = [], {}
     for rec in records:
         t0 = time.process_time()
+        opts = options(rec) if callable(options) else options
         table, det = analyze_signal(rec["x"], rec["fs"], fr=rec["fr"], fault_frequencies=rec["ff"],
-                                    options=options, full_output=True)
+                                    options=opts, full_output=True)
         v = det["verdict"]
         d = v.diagnosis
         kg = det["kurtogram"]
@@ -234,6 +267,10 @@ def main(argv=None) -> int:
         _print_evaluation("kurtogram cell unlimited (former)", evaluate(records, former)[0])
         cpw = dataclasses.replace(OPTIONS, bands=(*DEFAULT_BANDS, CPW_BAND))
         _print_evaluation("+ cepstrum-pre-whitened full band", evaluate(records, cpw)[0])
+        _print_evaluation("infogram band instead of the kurtogram's",
+                          evaluate(records, infogram_options)[0])
+        _print_evaluation("protrugram band instead of the kurtogram's",
+                          evaluate(records, protrugram_options)[0])
     if args.lofo:
         print("\n## leave one fault set out (margins chosen on the other six)\n")
         print(lofo(stored).to_markdown(index=False))
