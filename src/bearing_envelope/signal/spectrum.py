@@ -248,11 +248,12 @@ def prewhiten(x) -> np.ndarray:
     Returns
     -------
     ndarray
-        The whitened signal, same length, dimensionless (each bin has magnitude 1 before the
-        inverse transform; bins of zero magnitude stay zero).
+        The whitened signal, same length, dimensionless: each bin of its spectrum has
+        magnitude 1, except 0 Hz (and bins of zero magnitude), which are 0.
     """
     x = check_signal(x, "x", min_length=16)
     spec = sp_fft.rfft(x - x.mean())
     mag = np.abs(spec)
     spec = np.divide(spec, mag, out=np.zeros_like(spec), where=mag > 0)
+    spec[0] = 0.0  # the mean is removed: 0 Hz holds only rounding
     return sp_fft.irfft(spec, n=x.size)
