@@ -125,6 +125,8 @@ def evaluate(records, options) -> tuple[pd.DataFrame, dict]:
         rows.append({"record": rec["record"], "set": rec["set"], "truth": rec["truth"],
                      "diagnosis": None if d is None else d.family, "confidence": v.confidence,
                      "candidates": "/".join(v.candidates),
+                     "truth_in_candidates": rec["truth"] is not None and any(
+                         outcome(c, rec["truth"]) == "right" for c in v.candidates),
                      "outcome": outcome(None if d is None else d.family, rec["truth"]),
                      "bands": 0 if d is None else len(d.bands_agreeing),
                      "margin_db": np.nan if d is None else round(d.margin_db, 1),
@@ -156,7 +158,8 @@ def per_level(df: pd.DataFrame) -> pd.DataFrame:
         out.append({"confidence": level or "none (nothing detected)", "verdicts": len(g),
                     "right": int((g.outcome == "right").sum()),
                     "wrong": int((g.outcome == "wrong").sum()),
-                    "abstain": int((g.outcome == "abstain").sum())})
+                    "abstain": int((g.outcome == "abstain").sum()),
+                    "truth among candidates": int(g.truth_in_candidates.sum())})
     return pd.DataFrame(out)
 
 
@@ -261,7 +264,7 @@ def main(argv=None) -> int:
     records = load_records(args.data)
     df, stored = evaluate(records, OPTIONS)
     _print_evaluation("default (AnalysisOptions(n_harmonics=3))", df)
-    print("\n" + df.drop(columns=["cpu_s"]).to_markdown(index=False))
+    print("\n" + df.drop(columns=["cpu_s", "truth_in_candidates"]).to_markdown(index=False))
     if args.variants:
         former = dataclasses.replace(OPTIONS, kurtogram_min_orders=None)
         _print_evaluation("kurtogram cell unlimited (former)", evaluate(records, former)[0])
