@@ -29,17 +29,28 @@ of bins searched) and it is a local maximum.
 
 **Verdict.** A fault is a repetitive impulse train, so its envelope holds a harmonic series:
 a family is detected in a band when its fundamental *and* its second harmonic (at ``2 f_1``;
-only the fundamental when a single harmonic is asked for) are detected there. Testing F
-families in B bands makes ``F x B`` tests; each line is tested at ``pfa / (F x B)``
-(Bonferroni), so that on a record without any fault line the probability of any false
-"detected" in the verdict is at most ``pfa`` (default 1 %), whatever the dependence between
-the bands. Real envelope spectra are crowded (shaft harmonics, the fault's own sidebands, and
-kinematic coincidences: BPFO = n FTF, BPFI = n (fr - FTF)), so the families detected are
-ranked by their margin above the threshold; a weaker family whose fundamental falls on a line
-of a stronger detected family (``k f``, k <= 5, or ``k f +- m`` times that family's own
-sideband spacing, |m| <= 3) or on a shaft harmonic is marked as explained by it. The
-**diagnosis** is the strongest family; other unexplained families are listed as "also above
-threshold".
+only the fundamental when a single harmonic is asked for) are detected there, in a band that
+can hold them (at least :data:`HOLD_ORDERS` x its fundamental wide). Testing F families in B
+bands makes ``F x B`` tests; each line is tested at ``pfa / (F x B)`` (Bonferroni), so that on
+a record without any fault line the probability of any false "detected" in the verdict is at
+most ``pfa`` (default 1 %), whatever the dependence between the bands.
+
+**Confidence** (:func:`evidence_level`): what an analyst checks before acting. ``high``: the
+family found at one frequency (one shaft speed) in at least :data:`HIGH_MIN_BANDS` bands,
+every harmonic searched present, the modulation its fault shows (fr sidebands for an inner
+race turning through the load zone, FTF sidebands for a rolling element carried by the cage,
+none needed for a fixed outer-race defect), and a margin of :data:`HIGH_MIN_MARGIN_DB` over the
+threshold; ``medium``: that many bands without the rest, or :data:`MEDIUM_MIN_BANDS` bands with
+a margin of :data:`MEDIUM_MIN_MARGIN_DB`; ``low``: any other detection. Real envelope spectra
+are crowded (shaft harmonics, the fault's own sidebands, kinematic coincidences: BPFO = Z x FTF,
+3 BPFO = 2 BPFI on the 6205), so a weaker family is **explained** by a stronger one when its
+fundamental falls on ``k f +- m`` spacings of it or on a shaft harmonic, when it is the cage
+period of its train (FTF = BPFO / Z), or when one of its harmonics is a line of it (then it
+counts only with its own evidence, without that harmonic). The **diagnosis** is the strongest
+family; an unexplained family with ``medium`` evidence or better is a **second finding**; one
+with evidence as strong as the diagnosis's makes the verdict :data:`CANNOT_TELL`, and so do
+cage-rate lines alone (a cage fault or a rolling element's modulation). The levels' measured
+meaning on real records: ``benchmarks/cwru_dev.py`` and ``docs/benchmarks.md`` (issue 24).
 """
 
 from __future__ import annotations
