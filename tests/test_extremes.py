@@ -339,10 +339,40 @@ def test_band_past_nyquist_raises_or_clamps():
     fs = 65000.0
     x = _noise()
     with pytest.raises(ValueError, match="Nyquist"):
-        analyze_signal(x, fs, fr=15.8, bpfi=231.9, options=AnalysisOptions(bands=[{"name": "hi", "strategy": "fixed", "low_hz": 30000, "high_hz": 40000}]))
-    df = analyze_signal(x, fs, fr=15.8, bpfi=231.9, options=AnalysisOptions(bands=[
-        {"name": "hi", "strategy": "fixed", "low_hz": 30000, "high_hz": 40000, "clamp": True},
-        {"name": "ord", "strategy": "orders", "low": 130, "high": 200, "base": "bpfi", "clamp": True}]))
+        analyze_signal(
+            x,
+            fs,
+            fr=15.8,
+            bpfi=231.9,
+            options=AnalysisOptions(
+                bands=[{"name": "hi", "strategy": "fixed", "low_hz": 30000, "high_hz": 40000}]
+            ),
+        )
+    df = analyze_signal(
+        x,
+        fs,
+        fr=15.8,
+        bpfi=231.9,
+        options=AnalysisOptions(
+            bands=[
+                {
+                    "name": "hi",
+                    "strategy": "fixed",
+                    "low_hz": 30000,
+                    "high_hz": 40000,
+                    "clamp": True,
+                },
+                {
+                    "name": "ord",
+                    "strategy": "orders",
+                    "low": 130,
+                    "high": 200,
+                    "base": "bpfi",
+                    "clamp": True,
+                },
+            ]
+        ),
+    )
     bands = df[df["band_strategy"] != "raw"]
     assert bands["clamped"].all() and (bands["band_high_hz"] < fs / 2).all()
     assert np.isfinite(df["amplitude"].astype(float)).all()
@@ -359,7 +389,15 @@ def test_kurtogram_band_at_nyquist_is_clamped():
     for i in range(200, x.size - 64, 280):
         x[i:i + 64] += 3 * ring
     # the guard keeps the best cell at level <= 1: the top band [fs/4, fs/2] wins
-    df = analyze_signal(x, fs, fr=15.8, bpfi=231.9, options=AnalysisOptions(bands=[{"name": "kurtogram", "strategy": "kurtogram", "max_level": 1}]))
+    df = analyze_signal(
+        x,
+        fs,
+        fr=15.8,
+        bpfi=231.9,
+        options=AnalysisOptions(
+            bands=[{"name": "kurtogram", "strategy": "kurtogram", "max_level": 1}]
+        ),
+    )
     row = df[df["band_strategy"] == "kurtogram"].iloc[0]
     assert row["band_high_hz"] < fs / 2 and bool(row["clamped"])
     assert np.isfinite(df["amplitude"].astype(float)).all()
@@ -370,7 +408,9 @@ def test_constant_signal():
     x = np.full(65000, 3.0e9)
     with pytest.raises(ValueError, match="constant"):
         fast_kurtogram(x, fs, 6)
-    df = analyze_signal(x, fs, fr=15.8, bpfi=231.9, options=AnalysisOptions(bands=DEFAULT_BANDS[1:]))
+    df = analyze_signal(
+        x, fs, fr=15.8, bpfi=231.9, options=AnalysisOptions(bands=DEFAULT_BANDS[1:])
+    )
     amp = df["amplitude"].astype(float)
     assert np.isfinite(amp).all()
     raw_dc = df[(df["quantity"] == "raw_spectrum") & (df["base"] == "dc")]["amplitude"].iloc[0]
