@@ -14,14 +14,18 @@ passed to :func:`compare`; its numbers then stand in a second column.
 
 from __future__ import annotations
 
+import html
 import math
 import os
+import re
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
+
+from ..io import atomic_path
 
 __all__ = ["Finding", "Tables", "read_tables", "flat_band", "findings", "compare", "render_markdown",
            "render_html", "write_page"]
@@ -145,15 +149,33 @@ def flat_band(bands: pd.DataFrame, depths=(15.0, 50.0), band: str = "kurtogram")
 # --------------------------------------------------------------------------------------------
 # the findings
 
+@dataclass(frozen=True)
+class _Sweep:
+    """The axes of a sweep's cases table."""
+
+    c: pd.DataFrame  # cases sorted by load, depth
+    loads: list
+    depths: list
+    defect_depths: list
+
+
 def findings(t: Tables) -> list[Finding]:
     """Every finding of the study (Figs 4-20) measured on the tables ``t``."""
-    out = []
     c = t.cases.sort_values(["load_kN", "depth_um"])
-    loads = sorted(c["load_kN"].unique())
     depths = sorted(c["depth_um"].unique())
-    defect_depths = [d for d in depths if d > 0]
+    s = _Sweep(c, sorted(c["load_kN"].unique()), depths, [d for d in depths if d > 0])
+    out = []
+    for figure in (_pattern, _peak, _raw_small, _dc, _kurtogram, _raw_lines, _fixed, _bpfi_3_6,
+                   _bpfi_10_13):
+        out += figure(t, s)
+    return out
 
-    # Fig 4: Hertzian at 250 kN, edge overpressure at 500 and 750 kN
+
+def _pattern(t: Tables, s: _Sweep) -> list[Finding]:
+    """Fig 4: Hertzian at 250 kN, edge overpressure at 500 and 750 kN."""
+    c = s.c
+    depths = s.depths
+    out = []
     h0 = c[c["depth_um"] == min(depths)].set_index("load_kN")
     if "edge_ratio" in h0:
         ratio = h0["edge_ratio"]
@@ -172,8 +194,14 @@ def findings(t: Tables) -> list[Finding]:
         "of the healthy contact > 1 = edge overpressure",
         "" if verdict == REPRODUCED else "roller length and end relief are not given by the "
         "study; the defaults (34 mm, 1 mm blend) were chosen to reproduce it"))
+    return out
 
-    # Fig 6: peak pressure nonlinear in depth and load
+
+def _peak(t: Tables, s: _Sweep) -> list[Finding]:
+    """Fig 6: peak pressure nonlinear in depth and load."""
+    c = s.c
+    loads = s.loads
+    out = []
     rows = []
     nonlin = []
     for f in loads:
@@ -190,8 +218,13 @@ def findings(t: Tables) -> list[Finding]:
         "elastic, grid-dependent rim peaks (no plasticity; README, 'Fidelity presets'); at "
         "750 kN the peak is close to linear in depth"
         if verdict != REPRODUCED else "elastic and grid-dependent values (no plasticity)"))
+    return out
 
-    # Fig 7: small raw BPFI lines
+
+def _raw_small(t: Tables, s: _Sweep) -> list[Finding]:
+    """Fig 7: small raw BPFI lines."""
+    defect_depths = s.defect_depths
+    out = []
     dc = _amp(t, "raw", "raw_dc", 0)
     b1 = _amp(t, "raw", "raw_bpfi", 1)
     rel = (b1[defect_depths] / dc[defect_depths]).to_numpy()
@@ -204,8 +237,13 @@ def findings(t: Tables) -> list[Finding]:
         "no-defect value for a few samples (the elastic rim peaks of Fig. 6), so its BPFI line is "
         "several % of the mean; the study shows the lines only in a figure (reason for the "
         "difference not established)"))
+    return out
 
-    # Fig 8: the 0 Hz term "bilinear" in load and depth
+
+def _dc(t: Tables, s: _Sweep) -> list[Finding]:
+    """Fig 8: the 0 Hz term "bilinear" in load and depth."""
+    dc = _amp(t, "raw", "raw_dc", 0)
+    out = []
     long = dc.stack().rename("a").reset_index()
     X = np.column_stack([np.ones(len(long)), long["load_kN"], long["depth_um"],
                          long["load_kN"] * long["depth_um"]])
@@ -221,8 +259,14 @@ def findings(t: Tables) -> list[Finding]:
         f"{depth_span * 100:.2f} % of its mean", "bilinear = R² > 0.99 (partly: > 0.9)",
         "the mean is dominated by the load (the defect acts a few % of the time), so a bilinear "
         "fit holds with a tiny depth term" if verdict == REPRODUCED else ""))
+    return out
 
-    # Fig 10: kurtogram bands above Nyquist for the deepest cases only
+
+def _kurtogram(t: Tables, s: _Sweep) -> list[Finding]:
+    """Fig 10: kurtogram bands above Nyquist for the deepest cases only."""
+    loads = s.loads
+    defect_depths = s.defect_depths
+    out = []
     k = t.bands[t.bands["band"] == "kurtogram"]
     if not k.empty:
         clamped = k[(k["clamped"].astype(bool)) & (k["depth_um"] > 0)]
@@ -254,8 +298,14 @@ def findings(t: Tables) -> list[Finding]:
             "breaks (|Spearman| < 0.5 at some load)",
             "" if verdict == REPRODUCED else "one band for every defect case here: the amplitudes "
             "are comparable and the band is simply the top cell (see kurtogram_nyquist)"))
+    return out
 
-    # Fig 8: raw 1 x fr tracks load only; raw 1 x BPFI tracks load and depth
+
+def _raw_lines(t: Tables, s: _Sweep) -> list[Finding]:
+    """Fig 8: raw 1 x fr tracks load only; raw 1 x BPFI tracks load and depth."""
+    defect_depths = s.defect_depths
+    b1 = _amp(t, "raw", "raw_bpfi", 1)
+    out = []
     fr1 = _amp(t, "raw", "raw_fr", 1)
     spread_depth = float(((fr1.max(axis=1) - fr1.min(axis=1)) / fr1.mean(axis=1)).max())
     lt = _load_trend(fr1)
@@ -276,8 +326,12 @@ def findings(t: Tables) -> list[Finding]:
         verdict, f"Spearman with depth: {_trend_text(dt, 'kN')}; with load: "
         f"{_trend_text(lt, 'um')}", "both = Spearman > 0.8 with depth at every load and with "
         "load at every depth"))
+    return out
 
-    # Figs 14-15: fixed band, trends and the 60 um dip
+
+def _fixed(t: Tables, s: _Sweep) -> list[Finding]:
+    """Figs 14-15: fixed band, trends and the 60 um dip."""
+    out = []
     fx = _amp(t, "fixed", "envelope_bpfi", 1)
     if not fx.empty:
         dt = _depth_trend(fx)
@@ -299,8 +353,13 @@ def findings(t: Tables) -> list[Finding]:
             "" if verdict == REPRODUCED else "no dip here; the study gives no mechanism for it, "
             "and its point sampling is not one: the paper-conventions run (point sampling, the "
             "flat-region band, 2026-11-24) shows no dip either"))
+    return out
 
-    # Figs 16-17: 3-6 x BPFI
+
+def _bpfi_3_6(t: Tables, s: _Sweep) -> list[Finding]:
+    """Figs 16-17: 3-6 x BPFI."""
+    defect_depths = s.defect_depths
+    out = []
     b36_1, b36_2 = _amp(t, "bpfi_3_6", "envelope_bpfi", 1), _amp(t, "bpfi_3_6", "envelope_bpfi", 2)
     if not b36_1.empty:
         r2_1 = np.nanmean([_linear_r2(b36_1.index, b36_1[d]) for d in defect_depths])
@@ -318,8 +377,13 @@ def findings(t: Tables) -> list[Finding]:
             "" if verdict == REPRODUCED else "the 1 x BPFI line here grows with depth in every band, "
             "as the pressure the defect removes grows with depth; the study does not explain "
             "its flat trend (reason not established)"))
+    return out
 
-    # Figs 18-20: 10-13 x BPFI
+
+def _bpfi_10_13(t: Tables, s: _Sweep) -> list[Finding]:
+    """Figs 18-20: 10-13 x BPFI."""
+    defect_depths = s.defect_depths
+    out = []
     b1013_1 = _amp(t, "bpfi_10_13", "envelope_bpfi", 1)
     b1013_2 = _amp(t, "bpfi_10_13", "envelope_bpfi", 2)
     if not b1013_1.empty:
@@ -413,9 +477,6 @@ def render_markdown(rows, *, flat: tuple[float, float] | None = None, run_note: 
 def render_html(markdown_text: str) -> str:
     """A self-contained HTML page of :func:`render_markdown`'s text (headings, tables, lists,
     code blocks and paragraphs; enough for this page, no Markdown library needed)."""
-    import html
-    import re
-
     def inline(t):
         t = html.escape(t)
         t = re.sub(r"\*\*(.+?)\*\*", r"<b>\1</b>", t)
@@ -467,8 +528,6 @@ def render_html(markdown_text: str) -> str:
 
 def write_page(text: str, path: str | os.PathLike) -> Path:
     """Write ``text`` atomically (:func:`bearing_envelope.io.atomic_path`)."""
-    from ..io import atomic_path
-
     path = Path(path)
     with atomic_path(path) as tmp:
         with open(tmp, "w", encoding="utf-8") as fh:
