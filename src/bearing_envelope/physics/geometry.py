@@ -23,10 +23,13 @@ The undeformed gap between roller and inner raceway is
 from __future__ import annotations
 
 import math
+import os
 from dataclasses import dataclass
 from functools import lru_cache
 
 import numpy as np
+
+from ..contact import hertz
 
 __all__ = ["Grid", "make_grid", "read_profile", "axial_separation", "defect_depth", "gap_field",
            "hertz_estimate", "good_size"]
@@ -113,8 +116,6 @@ def read_profile(path: str) -> tuple[np.ndarray, np.ndarray]:
     Returns ``(y, deviation)`` in m. ``deviation`` is the drop of the roller surface from its
     generatrix at the centre (positive = material removed). ``#`` starts a comment.
     """
-    import os
-
     return _read_profile_cached(os.fspath(path), os.path.getmtime(path))
 
 
@@ -221,7 +222,5 @@ def hertz_estimate(scene, force: float):
     Uses :func:`bearing_envelope.contact.hertz.elliptical` with ``R_x``, ``R_y`` of the scene and
     ``E*`` of its materials. Used to size grids; the roller length is not taken into account.
     """
-    from ..contact import hertz
-
     b = scene.bearing
     return hertz.elliptical(force, b.rx_m, b.ry_m, scene.material.e_star_pa)
