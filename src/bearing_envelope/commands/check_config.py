@@ -31,7 +31,8 @@ def register(subparsers) -> None:
 
 
 def run(args) -> int:
-    from bearing_envelope.study.settings import load_settings  # lazy: keeps `bearing-envelope --help` ~0.4 s (numba, pandas: ~4 s)
+    # lazy: keeps `bearing-envelope --help` ~0.4 s (numba, pandas: ~4 s)
+    from bearing_envelope.study.settings import load_settings
 
     st = load_settings(args.config)
     cases = st.cases

@@ -24,7 +24,8 @@ def register(subparsers) -> None:
 def _run(args) -> int:
     import numpy as np
 
-    from ..contact import hertz, solve_contact  # lazy: keeps `bearing-envelope --help` ~0.4 s (numba: ~3 s)
+    # lazy: keeps `bearing-envelope --help` ~0.4 s (numba: ~3 s)
+    from ..contact import hertz, solve_contact
 
     if args.n < 8:
         raise ValueError(f"--n must be >= 8, got {args.n}")

@@ -47,7 +47,8 @@ def register(subparsers) -> None:
 
 
 def _read_case(path: str):
-    from bearing_envelope.io import read_case  # lazy: keeps `bearing-envelope --help` ~0.4 s (numba, pandas: ~4 s)
+    # lazy: keeps `bearing-envelope --help` ~0.4 s (numba, pandas: ~4 s)
+    from bearing_envelope.io import read_case
 
     return read_case(path)
 

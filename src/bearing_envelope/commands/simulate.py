@@ -63,7 +63,8 @@ def check_output(path: str) -> None:
 
 def resolve_config(path: str | None):
     """The config file simulate reads: ``--config``, else ``./config.yaml`` when present, else none."""
-    from bearing_envelope.study.settings import default_config_path  # lazy: keeps `bearing-envelope --help` ~0.4 s (numba, pandas: ~4 s)
+    # lazy: keeps `bearing-envelope --help` ~0.4 s (numba, pandas: ~4 s)
+    from bearing_envelope.study.settings import default_config_path
 
     if path is not None:
         return path

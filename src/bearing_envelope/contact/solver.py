@@ -556,7 +556,8 @@ class _PolonskyKeer:
         if res <= 0.5 * self.anchor:
             self.anchor, self.it_anchor = res, self.it
         elif self.pre is not None and self.it - self.it_anchor >= self.problem.stall_window:
-            self.pre, self.delta, self.dropped_at = None, 0.0, self.it  # cycling: plain CG from here, restarted
+            # cycling: plain CG from here, restarted
+            self.pre, self.delta, self.dropped_at = None, 0.0, self.it
             self.anchor, self.it_anchor = res, self.it
 
     def _direction(self, n_c: int, Gh: float, bbox):
@@ -614,7 +615,8 @@ class _PolonskyKeer:
                 self.dp = 0.0
                 self.u_exact = False
                 return
-            raise ContactConvergenceError("all pressure vanished (no contact)", self.history)  # pragma: no cover
+            raise ContactConvergenceError(  # pragma: no cover
+                "all pressure vanished (no contact)", self.history)
         target = problem.force_v / problem.cell
         sc = problem.force_v / (psum * problem.cell) if not problem.disp_control else 1.0
         if problem.hard and not problem.disp_control and pnew.max() * max(sc, 1.0) >= H:
