@@ -195,6 +195,33 @@ def test_false_alarm_rate_with_an_estimated_median_is_the_design():
     assert clopper_pearson(asymptotic, spectra.shape[0], confidence=0.999)[0] > 0.01
 
 
+def _two_sided_threshold(pfa: float, n: int, n_low: int, n_high: int) -> float:
+    """The threshold (dB) against the mean of two independent sample medians, from the laws
+    of :func:`_threshold_by_order_statistics`: ``U_k ~ Beta((N_k+1)/2, (N_k+1)/2)``, the median
+    over the true one ``r_k = sqrt(-log2(1 - U_k))`` (Rayleigh: ``F(m) = 1/2``), and one bin
+    exceeds ``t m (r_low + r_high) / 2`` with probability ``2^(-t^2 r^2)``. The expectation over
+    both Beta laws by a product Gauss-Legendre rule in ``u`` (not the module's rule)."""
+    from numpy.polynomial.legendre import leggauss
+    from scipy import optimize, stats
+
+    x, w = leggauss(400)
+    ratios, weights = [], []
+    for count in (n_low, n_high):
+        law = stats.beta(0.5 * (count + 1), 0.5 * (count + 1))
+        lo, hi = law.ppf(1e-15), law.isf(1e-15)
+        u = 0.5 * (hi - lo) * x + 0.5 * (hi + lo)
+        ratios.append(np.sqrt(-np.log2(1.0 - u)))
+        weights.append(0.5 * (hi - lo) * w * law.pdf(u))
+    r2 = (0.5 * (ratios[0][:, None] + ratios[1][None, :])) ** 2
+    weight = weights[0][:, None] * weights[1][None, :]
+
+    def rate(t2):
+        return float(np.sum(weight * -np.expm1(n * np.log1p(-(2.0 ** (-t2 * r2))))))
+
+    t2 = optimize.brentq(lambda t2: rate(t2) - pfa, 1.0, 100.0, xtol=1e-12, rtol=1e-12)
+    return 10.0 * math.log10(t2)
+
+
 def test_two_sided_level_is_the_mean_of_the_medians_either_side():
     """level="two_sided": the mean of the medians below and above the line, read at the line for
     a background with a linear trend, with its own exact threshold (two medians' randomness)."""
@@ -207,6 +234,8 @@ def test_two_sided_level_is_the_mean_of_the_medians_either_side():
     assert d.background == pytest.approx(1.0, abs=0.01)
     assert d.threshold_db == pytest.approx(
         threshold_db(0.01, d.n_tolerance_bins, (int(below.sum()), int(above.sum()))))
+    assert d.threshold_db == pytest.approx(_two_sided_threshold(
+        0.01, d.n_tolerance_bins, int(below.sum()), int(above.sum())), abs=1e-6)
     # the mean of two medians of half the bins each is about as random as one median of all
     assert d.threshold_db == pytest.approx(
         threshold_db(0.01, d.n_tolerance_bins, d.n_background_bins), abs=0.01)
