@@ -553,7 +553,7 @@ class _PolonskyKeer:
 
     def _stall_guard(self, res: float) -> None:
         """Drop the preconditioner when the residual has not halved within ``stall_window``."""
-        if res <= 0.5 * self.anchor:
+        if res <= _STALL_PROGRESS * self.anchor:
             self.anchor, self.it_anchor = res, self.it
         elif self.pre is not None and self.it - self.it_anchor >= self.problem.stall_window:
             # cycling: plain CG from here, restarted
@@ -743,12 +743,19 @@ def _bounded_initial(p: np.ndarray, g: np.ndarray, mat: np.ndarray, H: float, ta
 
 
 _MAX_INCREMENTAL = 8  # at most this many incremental displacement updates between exact ones
+#: Stall guard: the residual must fall to this fraction of the last anchor (halve) within
+#: ``stall_window`` iterations, or the preconditioner is dropped.
+_STALL_PROGRESS = 0.5
+#: Cells (each side) added to the bounding box of the free set for the preconditioner's FFT.
+_PRECONDITIONER_MARGIN = 4
+#: Preconditioners kept (per grid and thread; each holds a work array of the grid's size).
+_PRE_CACHE_SIZE = 4
 
 
 class _FourierPreconditioner:
     """Approximate inverse of the half-space operator on the bounding box of the contact set."""
 
-    def __init__(self, shape, dx, dy, e_star, margin: int = 4, workers: int = 1):
+    def __init__(self, shape, dx, dy, e_star, margin: int = _PRECONDITIONER_MARGIN, workers: int = 1):
         self.shape, self.dx, self.dy, self.e_star, self.margin = shape, dx, dy, e_star, margin
         self.workers = workers
         self._symbols: dict = {}
@@ -819,7 +826,7 @@ def _get_preconditioner(shape, dx, dy, e_star, workers):
     key = (tuple(shape), dx, dy, e_star, workers, get_ident())
     pre = _PRE_CACHE.get(key)
     if pre is None:
-        if len(_PRE_CACHE) >= 4:
+        if len(_PRE_CACHE) >= _PRE_CACHE_SIZE:
             _PRE_CACHE.pop(next(iter(_PRE_CACHE)))
         pre = _PRE_CACHE[key] = _FourierPreconditioner(shape, dx, dy, e_star, workers=workers)
     pre.reset()
