@@ -28,6 +28,8 @@ from functools import lru_cache
 
 import numpy as np
 
+from ..contact import hertz
+
 __all__ = ["Grid", "make_grid", "read_profile", "axial_separation", "defect_depth", "gap_field",
            "hertz_estimate", "good_size"]
 
@@ -221,7 +223,5 @@ def hertz_estimate(scene, force: float):
     Uses :func:`bearing_envelope.contact.hertz.elliptical` with ``R_x``, ``R_y`` of the scene and
     ``E*`` of its materials. Used to size grids; the roller length is not taken into account.
     """
-    from ..contact import hertz
-
     b = scene.bearing
     return hertz.elliptical(force, b.rx_m, b.ry_m, scene.material.e_star_pa)
