@@ -423,7 +423,7 @@ def fault_sources(args, fr: float, loaded: dict) -> dict[str, tuple[float, str]]
         if any(v is None for v in geometry):
             raise ValueError("bearing geometry: give --n-rollers, --roller-diameter-mm (or -in) "
                              "and --pitch-diameter-mm (or -in) together")
-        from bearing_envelope.kinematics import fault_frequencies
+        from bearing_envelope.physics.kinematics import fault_frequencies
 
         try:
             ff = fault_frequencies(fr, args.n_rollers, d_mm, p_mm, args.contact_angle_deg)
@@ -487,7 +487,8 @@ def run(args) -> int:
     """Execute ``bearing-envelope analyze``."""
     import pandas as pd
 
-    from bearing_envelope.signal import DEFAULT_BANDS, analyze_signal
+    from bearing_envelope.diagnosis import analyze_signal
+    from bearing_envelope.signal import DEFAULT_BANDS
 
     check_args(args)
     loaded = load_signal(args.file, column=args.column, signal=args.signal)
@@ -526,7 +527,7 @@ def run(args) -> int:
         window=args.window, interpolate=args.interpolate, level0=args.level0,
         search_percent=args.search_percent, pfa=args.pfa, full_output=True)
     # the sweep's tidy vocabulary (docs/file-format.md, "Tidy tables") in every output
-    from bearing_envelope.tables import tidy_from_analysis
+    from bearing_envelope.study.tables import tidy_from_analysis
 
     table = tidy_from_analysis(table)
     verdict = det["verdict"]
@@ -578,7 +579,7 @@ def run(args) -> int:
     if args.json is not None and not json_only:
         print(f"# JSON written to {args.json}", file=out)
     if args.plot:
-        from bearing_envelope.signal.plots import save_analysis_figures
+        from bearing_envelope.diagnosis.plots import save_analysis_figures
 
         stem = os.path.splitext(os.path.basename(args.file))[0]
         paths = save_analysis_figures(det, args.plot, prefix=f"{stem}_",

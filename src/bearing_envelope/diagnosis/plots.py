@@ -144,7 +144,7 @@ def plot_fault_lines(f, amplitude, lines: dict, *, fmax: float | None = None, ax
     f, amplitude : ndarray
         The spectrum.
     lines : mapping
-        ``family name -> records`` of :func:`bearing_envelope.signal.faults.search_lines`
+        ``family name -> records`` of :func:`bearing_envelope.diagnosis.faults.search_lines`
         (``analyze_signal(..., full_output=True)[1]["bands"][name]["lines"]``). Each harmonic
         is marked at the frequency found (dashed, one colour per family, a dot on the peak
         when detected), each sideband dotted in the same colour.
