@@ -5,8 +5,8 @@ import math
 
 import pytest
 
-from bearing_envelope import catalogue
-from bearing_envelope.scene import Scene
+from bearing_envelope.physics import catalogue
+from bearing_envelope.physics.scene import Scene
 
 INCH_MM = 25.4
 

@@ -59,6 +59,7 @@ from dataclasses import dataclass
 from typing import Any, Mapping
 
 from .catalogue import bearing_values, designations
+from .geometry import read_defect_profile, read_profile
 from .kinematics import FaultFrequencies, fault_frequencies
 
 __all__ = [
@@ -251,7 +252,7 @@ class Bearing:
         the roller's generatrix at its centre, positive = material removed), replacing the
         analytic crown and end relief; the raceway keeps its analytic radius ``c_i``.
     designation : str or None
-        Catalogue entry the values came from (:mod:`bearing_envelope.catalogue`), or None.
+        Catalogue entry the values came from (:mod:`bearing_envelope.physics.catalogue`), or None.
     kind : {"roller", "ball"}
         ``roller``: line contact with crown and end relief, load exponent 10/9; ``ball``: point
         contact in a groove of conformity ``f`` (``R_y`` from ``f``, no end relief; the axial
@@ -677,7 +678,7 @@ class Scene:
 
 def _base_mapping(given: Mapping[str, Any] | None) -> dict[str, Any]:
     """The defaults a mapping is merged over: :data:`DEFAULT_SCENE`, with the bearing of the
-    catalogue entry ``bearing.designation`` names (:mod:`bearing_envelope.catalogue`)."""
+    catalogue entry ``bearing.designation`` names (:mod:`bearing_envelope.physics.catalogue`)."""
     b = (given or {}).get("bearing") if isinstance(given, Mapping) else None
     des = b.get("designation") if isinstance(b, Mapping) else None
     if des is None:
@@ -740,8 +741,6 @@ def _build_bearing(m: Mapping[str, Any]) -> Bearing:
         if not isinstance(pf, (str, os.PathLike)):
             raise _bad(p + "profile_file", pf, "null or a path to a two-column file (y_mm, deviation_um)")
         pf = os.fspath(pf)
-        from .geometry import read_profile  # local import: geometry imports scene types lazily
-
         try:
             read_profile(pf)
         except (OSError, ValueError) as exc:
@@ -870,8 +869,6 @@ def _defect_profile(pf: Any, shape: str) -> str | None:
         return None
     if not isinstance(pf, (str, os.PathLike)):
         raise _bad(p, pf, "a path to a two-column file (x_um, depth_um) with defect.shape: profile")
-    from .geometry import read_defect_profile  # local import: geometry imports scene types lazily
-
     try:
         read_defect_profile(os.fspath(pf))
     except (OSError, ValueError) as exc:

@@ -24,7 +24,7 @@ import yaml
 __all__ = ["CATALOGUE_PATH", "designations", "bearing_values", "bearing_sources", "entry"]
 
 #: The catalogue file (package data).
-CATALOGUE_PATH = Path(__file__).resolve().parent / "data" / "bearings.yaml"
+CATALOGUE_PATH = Path(__file__).resolve().parent.parent / "data" / "bearings.yaml"
 
 #: Entry keys that are not ``scene.bearing`` fields.
 _META_KEYS = ("description",)
