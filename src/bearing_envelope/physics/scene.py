@@ -612,6 +612,16 @@ class Scene:
         return self.operation.shaft_rate_hz - self.bpfi_hz / self.bearing.rollers_per_row
 
     @property
+    def defect_speed_m_s(self) -> float:
+        """Speed (m/s) at which the defect sweeps through a contact: inner race
+        ``2 pi (f_r - f_c) R_i`` (4.24 m/s in the default scene), outer race ``2 pi f_c R_o``,
+        rolling element ``2 pi f_c R_o`` too (its surface rolls on the fixed outer race)."""
+        if self.defect.location == "inner_race":
+            return 2.0 * math.pi * (self.operation.shaft_rate_hz - self.cage_rate_hz) * \
+                self.bearing.inner_race_radius_m
+        return 2.0 * math.pi * self.cage_rate_hz * self.bearing.outer_race_radius_m
+
+    @property
     def n_samples(self) -> int:
         op = self.operation
         return int(round(op.revolutions / op.shaft_rate_hz * op.fs_hz))
