@@ -23,6 +23,7 @@ The undeformed gap between roller and inner raceway is
 from __future__ import annotations
 
 import math
+import os
 from dataclasses import dataclass
 from functools import lru_cache
 
@@ -143,8 +144,6 @@ def read_defect_profile(path: str) -> tuple[np.ndarray, np.ndarray]:
     point equals the case's depth and extruded over the defect's axial length
     (:func:`defect_depth`, ``shape: profile``). Returns ``(x, depth)`` in m.
     """
-    import os
-
     return _read_defect_profile_cached(os.fspath(path), os.path.getmtime(path))
 
 
