@@ -63,7 +63,7 @@ def auto_oversample(scene: Scene, fidelity: Fidelity | str | None = None) -> int
     second"). N = 9 (15 um defect) and 6 (100 um) at ``standard``."""
     fid = fidelity_from(fidelity)
     v = scene.defect_speed_m_s
-    step = 1e-6 * fid.offset_step_um
+    step = fid.offset_step_m
     if scene.defect.active:
         step = min(step, scene.defect.extent_x_m / fid.offsets_per_width)
         step = max(step, window_spec(scene, fid, 1.0, 1.0)[2])
