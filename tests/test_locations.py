@@ -110,3 +110,19 @@ def test_rolling_element_lines_at_twice_bsf_with_ftf_sidebands(ball):
     assert line > 0
     assert min(lo, hi) > 0.1 * line
     assert at_fr < 0.1 * line
+
+
+def test_case_file_holds_both_contact_tables(ball, outer, tmp_path):
+    from bearing_envelope.io import read_case, write_case
+
+    write_case(tmp_path / "ball.h5", ball)
+    c = read_case(tmp_path / "ball.h5")
+    assert c.scene["defect"]["location"] == "rolling_element"
+    assert c.table["race"] == "inner" and c.other_tables["outer"]["race"] == "outer"
+    assert set(c.other_tables) == {"outer"}
+    np.testing.assert_array_equal(c.other_tables["outer"]["p0"], ball.tables["outer"].p0)
+    np.testing.assert_array_equal(c.table["p0"], ball.tables["inner"].p0)
+    write_case(tmp_path / "outer.h5", outer)
+    c = read_case(tmp_path / "outer.h5")
+    assert c.other_tables == {} and c.table["race"] == "outer"
+    np.testing.assert_array_equal(c.table["p0"], outer.tables["outer"].p0)
