@@ -40,6 +40,11 @@ Model only what the scene requires (issue 3, design.md section 2):
    (maximum in the defect's neighbourhood: footprint grown by ``neighbourhood_um``), roller load
    and offset. Synthesis over all samples by a numba kernel (:func:`synthesize`) or numpy
    (:func:`synthesize_numpy`).
+
+This is the inner-race defect (the study's). An outer-race or rolling-element defect
+(``defect.location``, issue 23) takes its kinematics, loads and contact tables from
+:mod:`bearing_envelope.physics.locations`; :func:`simulate` and :func:`evaluate_signals`
+dispatch to it and leave the inner-race path untouched.
 """
 
 from __future__ import annotations

@@ -548,7 +548,7 @@ class Defect:
         ``axial``: ``l`` along the roller axis (y), ``w`` along rolling (x); ``circumferential``:
         swapped.
     location : {"inner_race", "outer_race", "rolling_element"}
-        Where the defect is (:data:`DEFECT_LOCATIONS`; :mod:`bearing_envelope.faults`).
+        Where the defect is (:data:`DEFECT_LOCATIONS`; :mod:`bearing_envelope.physics.locations`).
     position_deg : float
         ``outer_race``: the defect's angle from the load direction (deg, in [0, 360); 0 = the
         centre of the load zone, CWRU's 6:00 under a downward load; 90 = 3:00, 180 = 12:00).
