@@ -65,8 +65,7 @@ def auto_oversample(scene: Scene, fidelity: Fidelity | str | None = None) -> int
     ``standard`` agree to < 0.01 % in every amplitude (``docs/benchmarks.md``, "Accuracy per CPU
     second"). N = 9 (15 um defect) and 6 (100 um) at ``standard``."""
     fid = fidelity_from(fidelity)
-    v = 2.0 * math.pi * (scene.operation.shaft_rate_hz - scene.cage_rate_hz) * \
-        scene.bearing.inner_race_radius_m
+    v = scene.defect_speed_m_s
     step = fid.offset_step_m
     if scene.defect.active:
         step = min(step, scene.defect.extent_x_m / fid.offsets_per_width)
