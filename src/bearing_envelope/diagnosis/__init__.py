@@ -4,6 +4,7 @@ signal, and its plots.
 
 - :mod:`.faults`: fault families (BPFO, BPFI, BSF, 2 x BSF, FTF), line search, verdict;
 - :mod:`.detection`: line-to-floor statistic, exact threshold, false-alarm rates;
+- :mod:`.speed`: the shaft rate measured from the raw spectrum's shaft harmonics;
 - :mod:`.lines`: raw-spectrum terms and harmonic/sideband amplitudes of a base line;
 - :mod:`.analysis`: :func:`analyze_signal`, bands x envelope x lines in one call;
 - :mod:`.plots`: figures of an analysis (matplotlib, imported on demand).
@@ -15,9 +16,11 @@ from .faults import (CANNOT_TELL, CONFIDENCE_LEVELS, DEFAULT_SEARCH_PERCENT, Fam
                      FaultFamily, Verdict, evidence_level, fault_families, fault_verdict,
                      search_lines)
 from .lines import harmonic_amplitudes, raw_terms
+from .speed import ShaftRate, estimate_shaft_rate
 
 __all__ = ["COLUMNS", "KURTOGRAM_MIN_ORDERS", "AnalysisOptions", "analyze_signal",
            "fault_frequency_map", "CANNOT_TELL", "CONFIDENCE_LEVELS", "DEFAULT_SEARCH_PERCENT",
            "FamilyVerdict", "FaultFamily", "Verdict", "evidence_level", "fault_families",
            "fault_verdict",
-           "search_lines", "harmonic_amplitudes", "raw_terms"]
+           "search_lines", "harmonic_amplitudes", "raw_terms", "ShaftRate",
+           "estimate_shaft_rate"]

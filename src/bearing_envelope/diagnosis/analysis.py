@@ -16,6 +16,7 @@ from .faults import (DEFAULT_SEARCH_PERCENT, FaultFamily, fault_families, fault_
                      search_lines)
 from ..signal.kurtogram import fast_kurtogram, max_kurtogram_level
 from ..signal.spectrum import amplitude_spectrum, prewhiten
+from .speed import MEASURED_SPEED_SEARCH_PERCENT, estimate_shaft_rate
 
 __all__ = ["COLUMNS", "DEFAULT_PFA", "KURTOGRAM_MIN_ORDERS", "AnalysisOptions", "analyze_signal",
            "fault_frequency_map"]
@@ -154,6 +155,15 @@ class AnalysisOptions:
     pfa : float, default 0.01
         Record-wise false-alarm probability of the verdict: each of the F families x B bands
         tests runs at ``pfa / (F B)``.
+    measure_speed : bool, default False
+        Measure the shaft rate from the shaft harmonics of the raw spectrum
+        (:func:`~bearing_envelope.diagnosis.speed.estimate_shaft_rate`, around ``fr``), scale
+        ``fr`` and every fault frequency to it, and search each fundamental within
+        ``measured_speed_search_percent`` instead of ``search_percent``. Off by default (the
+        simulation sweep knows its speed exactly).
+    measured_speed_search_percent : float, default 0.5
+        :data:`~bearing_envelope.diagnosis.speed.MEASURED_SPEED_SEARCH_PERCENT`: what remains
+        once the speed is measured is the slip of the rolling elements.
     """
 
     bands: tuple[Mapping, ...] | None = None
@@ -175,6 +185,8 @@ class AnalysisOptions:
     search_percent: float = DEFAULT_SEARCH_PERCENT
     sideband_spacing: Mapping[str, str | None] | None = None
     pfa: float = DEFAULT_PFA
+    measure_speed: bool = False
+    measured_speed_search_percent: float = MEASURED_SPEED_SEARCH_PERCENT
 
     def __post_init__(self):
         if self.bands is not None:
@@ -193,6 +205,8 @@ class AnalysisOptions:
         _option_float("nyquist_margin", self.nyquist_margin, 0.0, 1.0 + 1e-12)
         _option_float("search_percent", self.search_percent, 0.0, 50.0)
         _option_float("pfa", self.pfa, 0.0, 1.0)
+        _option_float("measured_speed_search_percent", self.measured_speed_search_percent, 0.0,
+                      50.0)
         if self.level0 not in _LEVEL0:
             raise ValueError(f"AnalysisOptions.level0 = {self.level0!r}: allowed {_LEVEL0}")
 
@@ -234,7 +248,9 @@ def analyze_signal(x, fs: float, *, fr: float, bpfi: float | None = None,
         Also return a dict with the kurtogram, the bands with provenance and every spectrum
         (for plots): ``{"kurtogram", "bands": {name: {"band", "provenance", "f",
         "amplitude", "peak", "lines"}}, "raw": (f, amplitude), "frequencies", "families",
-        "verdict", "fr", "fs", "squared", "options"}`` (``verdict``: a
+        "verdict", "fr", "fs", "squared", "options", "speed"}`` (``speed``: the
+        :class:`~bearing_envelope.diagnosis.speed.ShaftRate` with ``measure_speed``, else None;
+        ``fr`` and ``frequencies`` are then the measured-speed values) (``verdict``: a
         :class:`~bearing_envelope.diagnosis.faults.Verdict`).
 
     Returns
@@ -277,21 +293,38 @@ def analyze_signal(x, fs: float, *, fr: float, bpfi: float | None = None,
     opt = AnalysisOptions() if options is None else options
     if not isinstance(opt, AnalysisOptions):
         raise ValueError(f"options = {opt!r}: allowed an AnalysisOptions or None")
+    speed, fr, bpfi, fault_frequencies = _measured_speed(x, fs, fr, bpfi, fault_frequencies,
+                                                         opt)
     fs, x, fr, families, bands = _check_inputs(x, fs, fr, bpfi, fault_frequencies, opt)
     n_tests = max(1, len(families) * len(bands))
     ctx = {"records": [], "search": dict(
-        search_percent=opt.search_percent, tolerance_hz=opt.tolerance_hz, pfa=opt.pfa / n_tests,
+        search_percent=(opt.measured_speed_search_percent if opt.measure_speed
+                        else opt.search_percent), tolerance_hz=opt.tolerance_hz, pfa=opt.pfa / n_tests,
         interpolate=opt.interpolate, window=opt.window, n=x.size)}
     f_raw, a_raw = _raw_rows(ctx, x, fs, fr, families, opt)
     kg = _kurtogram(x, fs, families, bands, opt)
     details = {"kurtogram": kg, "bands": {}, "raw": (f_raw, a_raw), "options": opt,
                "frequencies": {"fr": fr, **{f.name: f.frequency_hz for f in families}},
-               "families": families, "fr": fr, "fs": fs, "squared": opt.squared}
+               "families": families, "fr": fr, "fs": fs, "squared": opt.squared,
+               "speed": speed}
     _band_rows(ctx, details, x, bands, opt)
     table = _table(ctx["records"])
     details["verdict"] = fault_verdict(table, families, pfa=opt.pfa, n_tests=n_tests, fr=fr,
                                        df_hz=fs / x.size)
     return (table, details) if full_output else table
+
+
+def _measured_speed(x, fs, fr, bpfi, fault_frequencies, opt):
+    """``(speed, fr, bpfi, fault_frequencies)``: with ``opt.measure_speed`` the measured
+    :class:`~bearing_envelope.diagnosis.speed.ShaftRate` and the shaft rate and fault
+    frequencies scaled to it (every kinematic frequency is proportional to the shaft rate);
+    else ``None`` and the inputs unchanged."""
+    if not opt.measure_speed:
+        return None, fr, bpfi, fault_frequencies
+    speed = estimate_shaft_rate(check_signal(x, "x", min_length=16), check_fs(fs),
+                                check_positive(fr, "fr"), window=opt.window)
+    scaled = {k: v * speed.ratio for k, v in fault_frequency_map(bpfi, fault_frequencies).items()}
+    return speed, speed.hz, None, scaled
 
 
 def _check_inputs(x, fs, fr, bpfi, fault_frequencies, opt):
