@@ -60,14 +60,16 @@ import numpy as np
 import pandas as pd
 
 from bearing_envelope.contact import halfspace as _hs
-from bearing_envelope.fidelity import PRESETS, fidelity_from
-from bearing_envelope.history import (SolveStats, acquisition_settings, build_table,
-                                      synthesize_case)
-from bearing_envelope.loads import scene_load_distribution
-from bearing_envelope.pipeline import case_bands, case_harmonics
-from bearing_envelope.scene import Scene
-from bearing_envelope.settings import load_settings
-from bearing_envelope.tradeoff import _apply_knob
+from bearing_envelope.physics.fidelity import PRESETS, fidelity_from
+from bearing_envelope.physics.acquisition import acquisition_settings
+from bearing_envelope.physics.history import synthesize_case
+from bearing_envelope.physics.solves import SolveStats
+from bearing_envelope.physics.table import build_table
+from bearing_envelope.physics.loads import scene_load_distribution
+from bearing_envelope.study.pipeline import case_bands, case_harmonics
+from bearing_envelope.physics.scene import Scene
+from bearing_envelope.study.settings import load_settings
+from bearing_envelope.study.tradeoff import _apply_knob
 
 CASES = ((250.0, 15.0), (250.0, 100.0), (750.0, 15.0), (750.0, 100.0), (500.0, 0.0))
 #: a case kept out of the error model: its measured errors test the model's estimates
@@ -410,7 +412,7 @@ def preset_markdown(err):
 def holdout_markdown(err):
     """The held-out case's errors against the model's estimates (:func:`write_model`: worst over
     CASES, bands and orders per signal and quantity class)."""
-    from bearing_envelope.accuracy import quantity_class
+    from bearing_envelope.study.accuracy import quantity_class
 
     err = err.copy()
     err["quantity_class"] = [quantity_class(q, s) for q, s in zip(err["quantity"], err["sideband"])]
@@ -475,10 +477,10 @@ def plot(err, path):
 
 def write_model(err, path, info):
     """Per point, case kind and (signal, quantity class): the worst relative error over the
-    measured cases, the five bands and the orders (:func:`bearing_envelope.accuracy.quantity_class`).
+    measured cases, the five bands and the orders (:func:`bearing_envelope.study.accuracy.quantity_class`).
     Pooled so, the estimates covered 95-100 % of the held-out case's amplitudes at every point,
     against 41-100 % kept per band and order (``docs/benchmarks.md``)."""
-    from bearing_envelope.accuracy import quantity_class
+    from bearing_envelope.study.accuracy import quantity_class
 
     e = _model_cases(err).copy()
     e = e[np.isfinite(e["error"])]                 # a zero reference has no relative error

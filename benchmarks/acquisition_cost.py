@@ -15,11 +15,13 @@ import argparse
 import statistics
 import time
 
-from bearing_envelope.fidelity import fidelity_from
-from bearing_envelope.history import (SolveStats, acquisition_settings, build_table,
-                                      synthesize_case)
-from bearing_envelope.loads import scene_load_distribution
-from bearing_envelope.scene import Scene
+from bearing_envelope.physics.fidelity import fidelity_from
+from bearing_envelope.physics.acquisition import acquisition_settings
+from bearing_envelope.physics.history import synthesize_case
+from bearing_envelope.physics.solves import SolveStats
+from bearing_envelope.physics.table import build_table
+from bearing_envelope.physics.loads import scene_load_distribution
+from bearing_envelope.physics.scene import Scene
 
 
 def main(argv=None):

@@ -40,12 +40,15 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from bearing_envelope.fidelity import fidelity_from
-from bearing_envelope.history import (SolveStats, auto_oversample,
-                                      build_table, synthesize_case)
-from bearing_envelope.loads import scene_load_distribution
-from bearing_envelope.scene import Scene
-from bearing_envelope.signal import envelope_spectrum, harmonic_amplitudes
+from bearing_envelope.physics.fidelity import fidelity_from
+from bearing_envelope.physics.acquisition import auto_oversample
+from bearing_envelope.physics.history import synthesize_case
+from bearing_envelope.physics.solves import SolveStats
+from bearing_envelope.physics.table import build_table
+from bearing_envelope.physics.loads import scene_load_distribution
+from bearing_envelope.physics.scene import Scene
+from bearing_envelope.diagnosis import harmonic_amplitudes
+from bearing_envelope.signal import envelope_spectrum
 
 CASES = ((250.0, 15.0), (250.0, 100.0), (750.0, 15.0), (750.0, 100.0))
 SPACINGS = (8.0, 4.0, 2.0, 1.0)

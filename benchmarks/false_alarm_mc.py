@@ -35,7 +35,7 @@ import time
 
 import numpy as np
 
-from bearing_envelope.diagnosis import clopper_pearson, detection_statistic
+from bearing_envelope.diagnosis.detection import clopper_pearson, detection_statistic
 from bearing_envelope.signal import envelope_spectrum
 
 FS = 65000.0
@@ -115,8 +115,8 @@ def _background(f, lo, hi, half):
 def model(path, trials, seed):
     from scipy.ndimage import uniform_filter1d
 
-    from bearing_envelope.diagnosis import threshold_db
-    from bearing_envelope.pipeline import MAP_BACKGROUND
+    from bearing_envelope.diagnosis.detection import threshold_db
+    from bearing_envelope.study.pipeline import MAP_BACKGROUND
 
     saved = np.load(path)
     f = saved["f"].astype(float)

@@ -14,12 +14,12 @@ import pandas as pd
 import yaml
 
 from bearing_envelope.io import read_case
-from bearing_envelope.pipeline import (MAP_BACKGROUND, _case_id, _sensor_setup, _trial_seed,
+from bearing_envelope.study.pipeline import (MAP_BACKGROUND, _case_id, _sensor_setup, _trial_seed,
                                        diagnosability_bands)
-from bearing_envelope.diagnosis import detection_statistic
+from bearing_envelope.diagnosis.detection import detection_statistic
 from bearing_envelope.signal import envelope_spectrum
-from bearing_envelope.transfer import synthesize_acceleration
-from bearing_envelope.settings import workflow_settings
+from bearing_envelope.physics.transfer import synthesize_acceleration
+from bearing_envelope.study.settings import workflow_settings
 cfg = workflow_settings(yaml.safe_load(open("config.yaml")), ["config.yaml"]).config
 K0, K1 = int(sys.argv[1]), int(sys.argv[2])
 rows = []

@@ -25,10 +25,11 @@ import time
 
 import numpy as np
 
-from bearing_envelope.fidelity import fidelity_from
-from bearing_envelope.history import (SolveStats, direct_pressure, kinematics, simulate, synthesize,
-                                      synthesize_numpy)
-from bearing_envelope.scene import Scene
+from bearing_envelope.physics.fidelity import fidelity_from
+from bearing_envelope.physics.history import kinematics, simulate, synthesize, synthesize_numpy
+from bearing_envelope.physics.solves import SolveStats
+from bearing_envelope.physics.table import direct_pressure
+from bearing_envelope.physics.scene import Scene
 
 
 def per_case(fid, cases):
@@ -121,7 +122,7 @@ def synthesis(fid, load=500, depth=50, repeat=5):
 
 def convergence(load=500, depth=50, xs=(0.0, 0.1e-3)):
     s = Scene.default(load_kN=load, depth_um=depth)
-    from bearing_envelope.loads import scene_load_distribution
+    from bearing_envelope.physics.loads import scene_load_distribution
 
     q = scene_load_distribution(s).q_max
     rows = []

@@ -19,8 +19,8 @@ from pathlib import Path
 import pandas as pd
 
 from bearing_envelope.io import read_case
-from bearing_envelope.pipeline import case_diagnosability
-from bearing_envelope.settings import workflow_settings
+from bearing_envelope.study.pipeline import case_diagnosability
+from bearing_envelope.study.settings import workflow_settings
 
 
 def main(argv=None):

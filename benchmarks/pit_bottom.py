@@ -3,7 +3,7 @@
     nice -n 5 python benchmarks/pit_bottom.py --out results_bench/pit_bottom
 
 For each bearing load (250/500/750 kN, the most loaded roller's Q_max, defect at the centre of
-its contact and at 1/4, 1/2 of the Hertz half-width), :func:`bearing_envelope.pit.depth_threshold`
+its contact and at 1/4, 1/2 of the Hertz half-width), :func:`bearing_envelope.physics.pit.depth_threshold`
 bisects the depth (1 % bracket) at which the pit's deepest cells first carry pressure, for the
 default width rule w = 2 h and for fixed widths (60 um, 200 um), at ``standard`` and with the
 defect window's spacing halved (1 um). Next to it the plane-strain estimate of how far the
@@ -24,7 +24,7 @@ from pathlib import Path
 
 import pandas as pd
 
-from bearing_envelope.pit import depth_threshold, pit_scene, slot_estimate
+from bearing_envelope.physics.pit import depth_threshold, pit_scene, slot_estimate
 
 LOADS = (250.0, 500.0, 750.0)
 WIDTHS = (None, 60.0, 200.0)

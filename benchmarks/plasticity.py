@@ -4,7 +4,7 @@
 
 For each load (bearing mode, the most loaded roller Q_max), defect depth, hardness (None =
 elastic, and ``BEARING_STEEL_HARDNESS_GPA``) and spacing, one zoom solve as the history does it
-(``_solve_load`` + ``_defect_solve``, ``standard`` otherwise):
+(``solve_load`` + ``defect_solve``, ``standard`` otherwise):
 
 - rim peak: the maximum in the defect neighbourhood ``Pd`` over the defect offsets ``--offsets``
   (um), at window spacing ``local_dx_um`` = 2 (``standard``) and 1 um (``paper``);
@@ -23,10 +23,11 @@ import time
 
 import numpy as np
 
-from bearing_envelope import history as hi
-from bearing_envelope.fidelity import fidelity_from
-from bearing_envelope.loads import scene_load_distribution
-from bearing_envelope.scene import BEARING_STEEL_HARDNESS_GPA, Scene
+from bearing_envelope.physics import solves as hi
+from bearing_envelope.physics.fidelity import fidelity_from
+from bearing_envelope.physics.geometry import gap_field
+from bearing_envelope.physics.loads import scene_load_distribution
+from bearing_envelope.physics.scene import BEARING_STEEL_HARDNESS_GPA, Scene
 
 
 def _scene(load_kN, depth_um, hardness_GPa):
@@ -40,14 +41,14 @@ def rim(load_kN, depth_um, hardness_GPa, dx_um, offsets_um):
     fid = fidelity_from({"preset": "standard", "local_dx_um": dx_um})
     st = hi.SolveStats()
     t0 = time.process_time()
-    node = hi._solve_load(s, fid, q, 1.0, st)
+    node = hi.solve_load(s, fid, q, 1.0, st)
     out = []
     for xo in offsets_um:
         x = round(1e-6 * xo / node.window.dx) * node.window.dx
-        ds = hi._defect_solve(s, fid, node, x, st)
+        ds = hi.defect_solve(s, fid, node, x, st)
         win = node.window
         plastic = ds.pressure >= s.material.hardness_pa if hardness_GPa else np.zeros(win.shape, bool)
-        h = (hi.gap_field(s, win, x) + node.u_ext + node.halfspace.displacement(ds.pressure)
+        h = (gap_field(s, win, x) + node.u_ext + node.halfspace.displacement(ds.pressure)
              - node.approach)
         depth = float(np.max(-h[plastic])) if plastic.any() else 0.0
         out.append(dict(x_um=1e6 * x, Pd_GPa=ds.Pd / 1e9, P_GPa=ds.P / 1e9,
@@ -68,7 +69,7 @@ def roller_end(load_kN, hardness_GPa, dy_um):
     fid = fidelity_from({"preset": "standard", "global_dy_um": dy_um})
     st = hi.SolveStats()
     t0 = time.process_time()
-    p_end = hi._outside_max(s, fid, q, 1.0, st)
+    p_end = hi.outside_max(s, fid, q, 1.0, st)
     return dict(kind="roller_end", load_kN=load_kN, hardness_GPa=hardness_GPa, dy_um=dy_um,
                 q_max_N=q, end_peak_GPa=p_end / 1e9, cpu_s=time.process_time() - t0)
 

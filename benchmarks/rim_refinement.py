@@ -16,10 +16,10 @@ import argparse
 import json
 import time
 
-from bearing_envelope import history as hi
-from bearing_envelope.fidelity import fidelity_from
-from bearing_envelope.loads import scene_load_distribution
-from bearing_envelope.scene import Scene
+from bearing_envelope.physics import solves as hi
+from bearing_envelope.physics.fidelity import fidelity_from
+from bearing_envelope.physics.loads import scene_load_distribution
+from bearing_envelope.physics.scene import Scene
 
 
 def main(argv=None):
@@ -42,11 +42,11 @@ def main(argv=None):
         for name, spec in variants.items():
             fid = fidelity_from(spec)
             st = hi.SolveStats()
-            node = hi._solve_load(s, fid, q, 1.0, st)
+            node = hi.solve_load(s, fid, q, 1.0, st)
             for xo in a.offsets:
                 x = round(1e-6 * xo / node.window.dx) * node.window.dx
                 t0 = time.process_time()
-                ds = hi._defect_solve(s, fid, node, x, st)
+                ds = hi.defect_solve(s, fid, node, x, st)
                 cpu = time.process_time() - t0
                 print(json.dumps({"load_kN": load, "depth_um": a.depth, "hardness_GPa": a.hardness,
                                   "variant": name, "x_um": 1e6 * x, "P_GPa": ds.P / 1e9,

@@ -3,7 +3,7 @@
     nice -n 5 python benchmarks/roller_end.py
 
 Global no-defect solve over the whole roller (the route of the history table,
-``history._global_solve``) at the most loaded roller's Q_max of each bearing load, with the
+``history.global_solve``) at the most loaded roller's Q_max of each bearing load, with the
 ``standard`` global grid (10 um across rolling x 80 um axial) and the axial spacing halved down
 to 10 um (and 5 um across rolling at 20 um axial). Prints a markdown table: loaded half-length,
 pressure at the centre, maximum and where, end / centre; then the change of the end peak per
@@ -18,11 +18,11 @@ import time
 
 import numpy as np
 
-from bearing_envelope.fidelity import fidelity_from
-from bearing_envelope.geometry import hertz_estimate
-from bearing_envelope.history import SolveStats, _global_solve
-from bearing_envelope.loads import scene_load_distribution
-from bearing_envelope.scene import Scene
+from bearing_envelope.physics.fidelity import fidelity_from
+from bearing_envelope.physics.geometry import hertz_estimate
+from bearing_envelope.physics.solves import SolveStats, global_solve
+from bearing_envelope.physics.loads import scene_load_distribution
+from bearing_envelope.physics.scene import Scene
 
 LOADS = (250.0, 500.0, 750.0)
 GRIDS = ((10.0, 160.0), (10.0, 80.0), (10.0, 40.0), (10.0, 20.0), (10.0, 10.0), (5.0, 20.0))
@@ -34,7 +34,7 @@ def solve(load, dx, dy):
     fid = fidelity_from({"preset": "standard", "global_dx_um": dx, "global_dy_um": dy})
     a = hertz_estimate(sc, q).a
     c0 = time.process_time()
-    grid, sol = _global_solve(sc, fid, q, fid.global_extent * a, SolveStats())
+    grid, sol = global_solve(sc, fid, q, fid.global_extent * a, SolveStats())
     p = sol.pressure
     loaded_y = grid.y[np.any(p > 0, axis=0)]
     i, j = np.unravel_index(int(np.argmax(p)), p.shape)

@@ -19,11 +19,12 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from bearing_envelope.history import build_table, synthesize_case
-from bearing_envelope.loads import scene_load_distribution
-from bearing_envelope.scene import Scene
-from bearing_envelope.signal import (amplitude_at, amplitude_spectrum, envelope_spectrum,
-                                     harmonic_amplitudes)
+from bearing_envelope.physics.history import synthesize_case
+from bearing_envelope.physics.table import build_table
+from bearing_envelope.physics.loads import scene_load_distribution
+from bearing_envelope.physics.scene import Scene
+from bearing_envelope.diagnosis import harmonic_amplitudes
+from bearing_envelope.signal import amplitude_at, amplitude_spectrum, envelope_spectrum
 
 FID = {"preset": "standard", "n_checks": 0, "n_snapshot_offsets": 0}
 

@@ -73,7 +73,8 @@ def main() -> None:
     import numba
     import scipy
 
-    from bearing_envelope.signal import analyze_signal, fast_kurtogram
+    from bearing_envelope.diagnosis import analyze_signal
+    from bearing_envelope.signal import fast_kurtogram
 
     fs, fr, bpfi = 65000.0, 15.8, 231.9
     x = synthetic_case(args.n, fs, fr, bpfi)

@@ -24,9 +24,10 @@ import time
 
 import numpy as np
 
-from bearing_envelope.fidelity import fidelity_from
-from bearing_envelope.history import direct_pressure, kinematics, simulate
-from bearing_envelope.scene import Scene
+from bearing_envelope.physics.fidelity import fidelity_from
+from bearing_envelope.physics.history import kinematics, simulate
+from bearing_envelope.physics.table import direct_pressure
+from bearing_envelope.physics.scene import Scene
 
 VARIANTS = {
     "standard": {},

@@ -25,7 +25,7 @@ from pathlib import Path
 
 import pandas as pd
 
-from bearing_envelope.tradeoff import pareto_points, plot_tradeoff, tradeoff_study
+from bearing_envelope.study.tradeoff import pareto_points, plot_tradeoff, tradeoff_study
 
 DEPTHS = (0.0, 15.0, 100.0)
 NO_CHECKS = {"n_checks": 0, "n_snapshot_offsets": 0}

@@ -6,14 +6,14 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from bearing_envelope.accuracy import (ERROR_COLUMNS, absolute_error, attach_errors,
+from bearing_envelope.study.accuracy import (ERROR_COLUMNS, absolute_error, attach_errors, case_error_model,
                                        error_model, measured_points)
-from bearing_envelope.fidelity import PRESETS, fidelity_from
-from bearing_envelope.history import simulate
+from bearing_envelope.physics.fidelity import PRESETS, fidelity_from
+from bearing_envelope.physics.history import simulate
 from bearing_envelope.io import read_case, read_error_model, write_case
-from bearing_envelope.pipeline import case_bands, case_harmonics, history_case
-from bearing_envelope.scene import Scene
-from bearing_envelope.settings import load_settings
+from bearing_envelope.study.pipeline import case_bands, case_harmonics, history_case
+from bearing_envelope.physics.scene import Scene
+from bearing_envelope.study.settings import load_settings
 
 
 def test_presets_are_measured_points_and_errors_are_finite():
@@ -117,7 +117,8 @@ def test_estimates_bound_the_difference_between_two_fidelities(pair):
 
 
 def test_case_file_carries_the_error_table(tmp_path, pair):
-    path = write_case(tmp_path / "F500kN_h30um.h5", pair["standard"])
+    path = write_case(tmp_path / "F500kN_h30um.h5", pair["standard"],
+                      error_model=case_error_model(pair["standard"]))
     attrs, table = read_error_model(path)
     assert attrs["point"] == "standard" and attrs["kind"] == "defect"
     ref = error_model("standard", 30).table

@@ -2,7 +2,7 @@
 
 Each config in :data:`BAD_CONFIGS` is written to a file and run through
 
-* the workflow's pre-run check: :func:`bearing_envelope.settings.workflow_settings`, the function
+* the workflow's pre-run check: :func:`bearing_envelope.study.settings.workflow_settings`, the function
   ``workflow/rules/common.smk`` calls, given the config as Snakemake parses it (``yaml.safe_load``,
   which keeps the last of two equal keys) and the file (``tests/test_workflow.py`` runs a few of
   them through a real ``snakemake -n``);
@@ -22,7 +22,7 @@ import numpy as np
 import pytest
 import yaml
 
-from bearing_envelope.settings import ConfigError, workflow_settings
+from bearing_envelope.study.settings import ConfigError, workflow_settings
 
 ROOT = Path(__file__).resolve().parents[1]
 DRAFT = yaml.safe_load((ROOT / "tests" / "data" / "config_draft.yaml").read_text())
@@ -163,7 +163,7 @@ def _one_line(msg: str, pattern: str) -> None:
 def no_solver(monkeypatch):
     """Make any contact solve fail the test: rejection must come before expensive work."""
     import bearing_envelope.contact as contact
-    import bearing_envelope.history as history
+    import bearing_envelope.physics.history as history
 
     def boom(*a, **k):  # pragma: no cover - reached only by a bug
         raise AssertionError("a contact solve ran for a config that should have been rejected")

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 import yaml
 
-from bearing_envelope.settings import (
+from bearing_envelope.study.settings import (
     CaseId,
     ConfigError,
     SweepSettings,
@@ -59,11 +59,10 @@ def test_case_name_parse_refuses_non_canonical_and_garbage():
         CaseId(500, float("nan"))
 
 
-def test_former_helpers_delegate_to_case_id():
-    from bearing_envelope.config import case_name
-    from bearing_envelope.tables import parse_case_name
+def test_case_names_round_trip_exactly():
+    from bearing_envelope.study.tables import parse_case_name
 
-    assert case_name(333.3333, 50.0000001) == "F333.3333kN_h50.0000001um"
+    assert CaseId(333.3333, 50.0000001).name == "F333.3333kN_h50.0000001um"
     assert parse_case_name("F333.3333kN_h50.0000001um.csv") == (333.3333, 50.0000001)
 
 
@@ -92,7 +91,7 @@ def test_defaults_filled_as_snakemake_validate_does():
     """The workflow's params (and so Snakemake's rerun decisions) must not change with the loader."""
     from snakemake.utils import validate
 
-    from bearing_envelope.config import SCHEMA_PATH
+    from bearing_envelope.study.schema import SCHEMA_PATH
 
     for cfg in (copy.deepcopy(DRAFT), {"sweep": {"loads_kN": [1], "depths_um": [0]},
                                        "scene": {"material": {"roller": {}}},
@@ -108,7 +107,7 @@ def test_defaults_filled_as_snakemake_validate_does():
 def test_cage_slip_schema_matches_the_implementation():
     """cage_slip_percent is the mean slip s in [0, 50) (history.cage_angle draws U[0, 2s]); the
     schema and the scene agree on the bound, and the mean slip is s."""
-    from bearing_envelope.history import cage_angle
+    from bearing_envelope.physics.history import cage_angle
 
     cfg = copy.deepcopy(DRAFT)
     cfg["scene"]["operation"]["cage_slip_percent"] = 49.0
@@ -131,7 +130,7 @@ def test_fidelity_defaults_are_the_standard_preset():
     # so files claimed a preset they did not use
     import dataclasses
 
-    from bearing_envelope.fidelity import PRESETS, Fidelity, fidelity_from
+    from bearing_envelope.physics.fidelity import PRESETS, Fidelity, fidelity_from
 
     assert Fidelity() == PRESETS["standard"] == fidelity_from(None) == fidelity_from("standard")
     for name, preset in PRESETS.items():

@@ -8,14 +8,14 @@ import numpy as np
 import pytest
 from scipy import signal as sps
 
-from bearing_envelope.diagnosis import (
+from bearing_envelope.diagnosis.detection import (
     clopper_pearson,
     detect,
     detection_statistic,
     fault_band_metrics,
     threshold_db,
 )
-from bearing_envelope.transfer import Mode, NoiseSpec, TransferModel, synthesize_acceleration
+from bearing_envelope.physics.transfer import Mode, NoiseSpec, TransferModel, synthesize_acceleration
 
 FS = 20_000.0
 FR = 15.8
@@ -299,7 +299,7 @@ def test_detection_rate_decreases_as_snr_drops():
 def test_clopper_pearson_matches_the_binomial_tails(k, n):
     from scipy.stats import binom
 
-    from bearing_envelope.diagnosis import clopper_pearson
+    from bearing_envelope.diagnosis.detection import clopper_pearson
 
     lo, hi = clopper_pearson(k, n, 0.95)
     # the exact interval: P(X >= k | lo) = 2.5 % and P(X <= k | hi) = 2.5 %
@@ -316,7 +316,7 @@ def test_clopper_pearson_matches_the_binomial_tails(k, n):
 def test_false_alarm_rates_pool_trials():
     import pandas as pd
 
-    from bearing_envelope.diagnosis import false_alarm_rates
+    from bearing_envelope.diagnosis.detection import false_alarm_rates
 
     trials = pd.DataFrame({"band": ["a"] * 200 + ["b"] * 100, "snr_db": [0.0] * 300,
                            "detected": [True] * 2 + [False] * 198 + [False] * 100,

@@ -1,7 +1,7 @@
 """Numerical stability at the extremes (issue 6, item 4).
 
 Each test asserts finite, physically sane results or a clear error. Every contact solve made
-here, directly or inside :func:`bearing_envelope.history.simulate`, goes through
+here, directly or inside :func:`bearing_envelope.physics.history.simulate`, goes through
 :func:`checked_solve`, which asserts force balance (``sum(p) dx dy == F`` to 1e-9 relative
 under force control; the returned force equals ``sum(p) dx dy`` under displacement control),
 ``p >= 0``, no pressure on cells without material, and complementarity (``|h| <= tol max(u)``
@@ -18,12 +18,13 @@ import pytest
 
 import bearing_envelope.contact as contact
 from bearing_envelope.contact import hertz
-from bearing_envelope.geometry import defect_depth
-from bearing_envelope.history import simulate
-from bearing_envelope.pipeline import case_bands, case_harmonics, history_case
-from bearing_envelope.scene import Defect, Scene, default_scene_mapping
-from bearing_envelope.signal import analyze_signal, fast_kurtogram
-from bearing_envelope.tradeoff import DEFAULT_BANDS
+from bearing_envelope.physics.geometry import defect_depth
+from bearing_envelope.physics.history import simulate
+from bearing_envelope.study.pipeline import case_bands, case_harmonics, history_case
+from bearing_envelope.physics.scene import Defect, Scene, default_scene_mapping
+from bearing_envelope.diagnosis import analyze_signal
+from bearing_envelope.signal import fast_kurtogram
+from bearing_envelope.study.tradeoff import DEFAULT_BANDS
 
 E_STAR = 115.4e9
 _REAL_SOLVE = contact.solve_contact

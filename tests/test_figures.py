@@ -16,8 +16,8 @@ import pytest
 
 matplotlib.use("Agg")
 
-from bearing_envelope import figures  # noqa: E402
-from bearing_envelope.settings import CaseId  # noqa: E402
+from bearing_envelope.study import figures  # noqa: E402
+from bearing_envelope.study.settings import CaseId  # noqa: E402
 
 FS, FR, BPFI = 65000.0, 15.8, 231.9
 

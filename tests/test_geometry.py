@@ -4,10 +4,10 @@ import numpy as np
 import pytest
 
 from bearing_envelope.contact import hertz
-from bearing_envelope.fidelity import fidelity_from
-from bearing_envelope.geometry import (Grid, axial_separation, defect_depth, gap_field, good_size,
+from bearing_envelope.physics.fidelity import fidelity_from
+from bearing_envelope.physics.geometry import (Grid, axial_separation, defect_depth, gap_field, good_size,
                                        make_grid, read_profile)
-from bearing_envelope.scene import Scene
+from bearing_envelope.physics.scene import Scene
 
 
 def test_gap_curvatures_and_ends():
@@ -93,13 +93,13 @@ def test_grid_helpers():
 def test_global_no_defect_solve_matches_hertz():
     # Independent truth: Hertz ellipse (unbounded crown; at 250 kN bearing load the contact does
     # not reach the end relief). Draft grid: p0 within 1 %, half-width within two cells.
-    from bearing_envelope.history import SolveStats, _solve_load
-    from bearing_envelope.loads import scene_load_distribution
+    from bearing_envelope.physics.solves import SolveStats, solve_load
+    from bearing_envelope.physics.loads import scene_load_distribution
 
     s = Scene.default(load_kN=250, depth_um=0)
     q = scene_load_distribution(s).q_max
     h = hertz.elliptical(q, s.bearing.rx_m, s.bearing.ry_m, s.material.e_star_pa)
-    node = _solve_load(s, fidelity_from("draft"), q, 1.0, SolveStats())
+    node = solve_load(s, fidelity_from("draft"), q, 1.0, SolveStats())
     assert node.p0 == pytest.approx(h.p0, rel=0.01)
     assert abs(node.half_width - h.a) <= 2 * node.grid.dx
     # axial extent: Hertz b < relief start, so pressure vanishes before the roller ends
@@ -111,14 +111,14 @@ def test_global_no_defect_solve_matches_hertz():
 def test_default_roller_length_pattern(load_kN, ends_loaded):
     # issue 3: Hertzian pattern at 250 kN, overpressure at the roller ends at 500 and 750 kN
     # (bearing mode, default scene; docs/scene.md gives the half-lengths)
-    from bearing_envelope.history import SolveStats, _solve_load
-    from bearing_envelope.loads import scene_load_distribution
+    from bearing_envelope.physics.solves import SolveStats, solve_load
+    from bearing_envelope.physics.loads import scene_load_distribution
 
     s = Scene.default(load_kN=load_kN, depth_um=0)
     q = scene_load_distribution(s).q_max
     # the end peak needs the standard axial spacing (150 um; draft's 400 um smears it)
     fid = fidelity_from({"preset": "draft", "global_dy_um": 150.0})
-    node = _solve_load(s, fid, q, 1.0, SolveStats())
+    node = solve_load(s, fid, q, 1.0, SolveStats())
     prof = node.pressure.max(axis=0)
     y = node.grid.y
     centre = prof[np.argmin(np.abs(y))]

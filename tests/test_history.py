@@ -3,11 +3,11 @@ import math
 import numpy as np
 import pytest
 
-from bearing_envelope.fidelity import fidelity_from
-from bearing_envelope.history import (direct_pressure, kinematics, simulate, synthesize,
-                                      synthesize_numpy)
-from bearing_envelope.loads import palmgren_stiffness, solve_row
-from bearing_envelope.scene import Scene
+from bearing_envelope.physics.fidelity import fidelity_from
+from bearing_envelope.physics.history import kinematics, simulate, synthesize, synthesize_numpy
+from bearing_envelope.physics.table import direct_pressure
+from bearing_envelope.physics.loads import palmgren_stiffness, solve_row
+from bearing_envelope.physics.scene import Scene
 
 FR = 15.8
 
@@ -188,7 +188,7 @@ def test_noise_snr():
 # ---------------------------------------------------------------------------------------------
 # acquisition (issue 12 part 1)
 
-from bearing_envelope.history import acquire, antialias_filter, auto_oversample  # noqa: E402
+from bearing_envelope.physics.acquisition import acquire, antialias_filter, auto_oversample  # noqa: E402
 
 # an event every 280 samples (BPFI = 232.14 Hz, the study's 231.9 Hz gives 280.29): every event
 # then has the same sub-sample phase, and shifting the train moves all of them alike
@@ -227,7 +227,8 @@ def _event_train(shift):
 
 
 def _envelope_1x(x):
-    from bearing_envelope.signal import envelope_spectrum, harmonic_amplitudes
+    from bearing_envelope.diagnosis import harmonic_amplitudes
+    from bearing_envelope.signal import envelope_spectrum
 
     out = {}
     for name, band in FIXED_BANDS.items():
@@ -298,8 +299,8 @@ def test_auto_oversample_bounds_defect_travel():
 
 
 def _table(depth, edge_radius_um=2.0, load=250.0):
-    from bearing_envelope.history import build_table
-    from bearing_envelope.loads import scene_load_distribution
+    from bearing_envelope.physics.table import build_table
+    from bearing_envelope.physics.loads import scene_load_distribution
 
     s = Scene.from_mapping({"operation": {"revolutions": 0.1},
                             "defect": {"edge_radius_um": edge_radius_um}},
@@ -407,8 +408,9 @@ def test_outside_peak_grid_is_refined_where_the_roller_end_peak_bends():
     # at 750 kN the roller-end peak sets in inside the load range: the P_out(Q) grid is bisected
     # there, and the linear reading between its points meets fresh global solves (at the
     # midpoint of the coarsest interval, not a point of the build)
-    from bearing_envelope import history as hi
-    from bearing_envelope.fidelity import fidelity_from
+    from bearing_envelope.physics import solves as hi
+    from bearing_envelope.physics.fidelity import fidelity_from
+    from bearing_envelope.physics.table import OUTSIDE_REFINE_TOL
 
     s = _scene(0.0, load=750.0, revolutions=0.1)
     fid = fidelity_from("draft")
@@ -420,8 +422,8 @@ def test_outside_peak_grid_is_refined_where_the_roller_end_peak_bends():
     assert steps.min() < steps.max() / 4  # refined somewhere, not everywhere
     j = int(np.argmax(steps))
     qm = 0.5 * (q[j] + q[j + 1])
-    pm = hi._outside_max(s, fid, qm ** 3, t.kappa, hi.SolveStats())
-    assert abs(0.5 * (t.p_out[j] + t.p_out[j + 1]) - pm) <= hi.OUTSIDE_REFINE_TOL * pm
+    pm = hi.outside_max(s, fid, qm ** 3, t.kappa, hi.SolveStats())
+    assert abs(0.5 * (t.p_out[j] + t.p_out[j + 1]) - pm) <= OUTSIDE_REFINE_TOL * pm
 
 
 @pytest.mark.parametrize("spec, field", [
@@ -433,7 +435,7 @@ def test_outside_peak_grid_is_refined_where_the_roller_end_peak_bends():
     ({"rim_dx_um": 0.5, "rim_strip_um": 0.0}, "fidelity.rim_strip_um"),
 ])
 def test_bad_rim_refinement_named(spec, field):
-    from bearing_envelope.fidelity import fidelity_from
+    from bearing_envelope.physics.fidelity import fidelity_from
 
     with pytest.raises(ValueError, match=field.replace(".", r"\.")):
         fidelity_from({"preset": "standard", **spec})
@@ -442,8 +444,8 @@ def test_bad_rim_refinement_named(spec, field):
 def test_rim_strips_match_a_uniform_fine_window():
     # a 4 um window with 1 um strips around the rims against a uniform 1 um window (same
     # everything else): peak and removed force within 1 %; the 4 um window alone is further off
-    from bearing_envelope import history as hi
-    from bearing_envelope.fidelity import fidelity_from
+    from bearing_envelope.physics import solves as hi
+    from bearing_envelope.physics.fidelity import fidelity_from
 
     s = _scene(50.0, load=250.0, revolutions=0.1)
     q, x = 30e3, 0.0
@@ -451,8 +453,8 @@ def test_rim_strips_match_a_uniform_fine_window():
     for name, spec in {"coarse": {"local_dx_um": 4.0}, "strips": {"local_dx_um": 4.0, "rim_dx_um": 1.0},
                        "fine": {"local_dx_um": 1.0}}.items():
         fid = fidelity_from({"preset": "draft", "local_dy_um": 50.0, **spec})
-        node = hi._solve_load(s, fid, q, 1.0, hi.SolveStats())
-        out[name] = hi._defect_solve(s, fid, node, x, hi.SolveStats())
+        node = hi.solve_load(s, fid, q, 1.0, hi.SolveStats())
+        out[name] = hi.defect_solve(s, fid, node, x, hi.SolveStats())
     f, st, c = out["fine"], out["strips"], out["coarse"]
     assert st.Pd == pytest.approx(f.Pd, rel=0.01)
     assert st.removed_force == pytest.approx(f.removed_force, rel=0.01)

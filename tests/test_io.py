@@ -4,9 +4,9 @@ import h5py
 import numpy as np
 import pytest
 
-from bearing_envelope.history import simulate
+from bearing_envelope.physics.history import simulate
 from bearing_envelope.io import FORMAT_VERSION, Case, CaseFormatError, git_commit, read_case, write_case
-from bearing_envelope.scene import Scene
+from bearing_envelope.physics.scene import Scene
 
 
 @pytest.fixture(scope="module")
@@ -202,7 +202,7 @@ def _tidy():
 
 
 def test_tables_round_trip(tmp_path):
-    from bearing_envelope.tables import band_table, pivot_tables
+    from bearing_envelope.study.tables import band_table, pivot_tables
 
     tidy = _tidy()
     p = beio.write_tidy(tmp_path / "t" / "harmonics.csv", tidy)
@@ -256,7 +256,8 @@ def test_stale_temporary_files_of_dead_writers_are_removed_at_the_next_write(tmp
     import subprocess
     import sys
 
-    from bearing_envelope.io import _host, clean_stale_temps
+    from bearing_envelope.io import clean_stale_temps
+    from bearing_envelope.io.atomic import _host
 
     d = tmp_path / "cases"
     d.mkdir()

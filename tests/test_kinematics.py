@@ -3,7 +3,7 @@ import math
 import pytest
 from hypothesis import given, strategies as st
 
-from bearing_envelope.kinematics import fault_frequencies
+from bearing_envelope.physics.kinematics import fault_frequencies
 
 
 def test_skf6205_multipliers():

@@ -3,9 +3,9 @@ import math
 import numpy as np
 import pytest
 
-from bearing_envelope.loads import (load_zone_integral, palmgren_stiffness, scene_load_distribution,
+from bearing_envelope.physics.loads import (load_zone_integral, palmgren_stiffness, scene_load_distribution,
                                     solve_row)
-from bearing_envelope.scene import Scene
+from bearing_envelope.physics.scene import Scene
 
 
 @pytest.mark.parametrize("clearance", [0.0, 20e-6, 80e-6])

@@ -1,4 +1,4 @@
-"""bearing_envelope.paper: verdicts on tables built to reproduce (or contradict) each finding."""
+"""bearing_envelope.study.paper: verdicts on tables built to reproduce (or contradict) each finding."""
 
 from __future__ import annotations
 
@@ -6,7 +6,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from bearing_envelope import paper
+from bearing_envelope.study import paper
 
 LOADS = (250.0, 500.0, 750.0)
 DEPTHS = (0.0, 15.0, 20.0, 30.0, 40.0, 50.0, 60.0, 80.0, 100.0)

@@ -1,4 +1,4 @@
-"""Unit tests of bearing_envelope.pipeline on in-memory cases whose answer is known by
+"""Unit tests of bearing_envelope.study.pipeline on in-memory cases whose answer is known by
 construction (issue 15 part 5): an amplitude-modulated carrier with every line on an FFT bin,
 an impulsive burst train for the kurtogram band, the signal selection and its errors."""
 
@@ -10,9 +10,9 @@ import numpy as np
 import pytest
 
 from bearing_envelope.io import CaseBands
-from bearing_envelope.pipeline import (case_bands, case_frequencies, case_harmonics, case_signal,
+from bearing_envelope.study.pipeline import (case_bands, case_frequencies, case_harmonics, case_signal,
                                        case_summary)
-from bearing_envelope.vocabulary import TIDY_COLUMNS
+from bearing_envelope.io.vocabulary import TIDY_COLUMNS
 
 # fs / BPFI = 256 and fs / fr = 4096 samples: k x BPFI + m x fr lie on bins of a record of
 # 16 BPFI periods x 16 (65,536 samples), so the envelope lines carry no scalloping loss

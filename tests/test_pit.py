@@ -2,7 +2,7 @@
 
 A pit whose bottom the deformed roller never reaches changes the contact only through its width
 and rims, so two depths above the threshold give the same history and a depth below it does
-not. The threshold is measured by :func:`bearing_envelope.pit.depth_threshold` (direct window
+not. The threshold is measured by :func:`bearing_envelope.physics.pit.depth_threshold` (direct window
 solves at the most loaded roller) and checked against an independent answer: the roller sinks
 into a traction-free slot of half-width c by ``2 p0 c / E*`` (face displacement of a Griffith
 crack in plane strain; the rounded rims make the free slot a little narrower, so the measured
@@ -14,8 +14,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from bearing_envelope.history import simulate
-from bearing_envelope.pit import depth_threshold, pit_scene, slot_estimate
+from bearing_envelope.physics.history import simulate
+from bearing_envelope.physics.pit import depth_threshold, pit_scene, slot_estimate
 
 FID = {"preset": "draft", "n_checks": 0, "n_snapshot_offsets": 0}
 LOAD = 500.0

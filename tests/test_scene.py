@@ -2,8 +2,8 @@ import math
 
 import pytest
 
-from bearing_envelope.fidelity import PRESETS, Fidelity, fidelity_from
-from bearing_envelope.scene import DEFAULT_SCENE, Scene, default_scene_mapping
+from bearing_envelope.physics.fidelity import PRESETS, Fidelity, fidelity_from
+from bearing_envelope.physics.scene import DEFAULT_SCENE, Scene, default_scene_mapping
 
 
 def test_default_scene_numbers():
@@ -120,7 +120,7 @@ def test_bad_hardness_names_the_field(bad):
 
 
 def test_hardness_default_elastic_and_round_trip():
-    from bearing_envelope.scene import BEARING_STEEL_HARDNESS_GPA
+    from bearing_envelope.physics.scene import BEARING_STEEL_HARDNESS_GPA
 
     s = Scene.default()
     assert s.material.hardness_GPa is None and s.material.hardness_pa is None

@@ -1,4 +1,4 @@
-"""Unit tests of bearing_envelope.tables (issue 15 part 5): the tidy vocabulary conversion, the
+"""Unit tests of bearing_envelope.study.tables (issue 15 part 5): the tidy vocabulary conversion, the
 aggregation's checks and order, the band table and the load x depth pivots, on small frames
 whose content is known by construction."""
 
@@ -9,9 +9,9 @@ import pandas as pd
 import pytest
 
 from bearing_envelope.io import BandLimits, CaseBands
-from bearing_envelope.signal import analyze_signal
-from bearing_envelope.tables import band_table, concat_tidy, pivot_tables, tidy_from_analysis
-from bearing_envelope.vocabulary import BAND_STRATEGIES, TIDY_COLUMNS, TIDY_SORT
+from bearing_envelope.diagnosis import analyze_signal
+from bearing_envelope.study.tables import band_table, concat_tidy, pivot_tables, tidy_from_analysis
+from bearing_envelope.io.vocabulary import BAND_STRATEGIES, TIDY_COLUMNS, TIDY_SORT
 
 
 def tidy_frame(load, depth, bands=("fixed", "bpfi_10_13")):

@@ -1,4 +1,4 @@
-"""The speed-accuracy study (bearing_envelope.tradeoff) on a tiny setting: draft base, one
+"""The speed-accuracy study (bearing_envelope.study.tradeoff) on a tiny setting: draft base, one
 defect case and one healthy case, one revolution, two knobs."""
 
 from __future__ import annotations
@@ -7,7 +7,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from bearing_envelope.tradeoff import (COLUMNS, pareto_front, pareto_points, pareto_table,
+from bearing_envelope.study.tradeoff import (COLUMNS, pareto_front, pareto_points, pareto_table,
                                        plot_tradeoff, study_from_config, tradeoff_study)
 
 KNOBS = {"local_dx_um": [20.0, 10.0, 5.0], "tol": [1e-4, 1e-5]}

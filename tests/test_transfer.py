@@ -9,7 +9,7 @@ import pytest
 from scipy import optimize
 from scipy import signal as sps
 
-from bearing_envelope.transfer import (
+from bearing_envelope.physics.transfer import (
     Mode,
     NoiseSpec,
     Tone,
@@ -343,7 +343,7 @@ def test_cli_sensor_on_real_case_file(tmp_path):
     """End to end through bearing_envelope.io.read_case: the output is a case with a 2nd signal."""
     io = pytest.importorskip("bearing_envelope.io", reason="bearing_envelope.io not written yet")
     from bearing_envelope import cli
-    from bearing_envelope.diagnosis import detect
+    from bearing_envelope.diagnosis.detection import detect
 
     case_path = _write_minimal_case(tmp_path / "F500kN_h50um.h5", _fake_case())
     cfg = _write_config(tmp_path, snr=0.0)

@@ -115,7 +115,7 @@ def test_detection_statistic_does_not_fall_as_snr_rises(draft_run):
     test (case_diagnosability, same bands and noise definition) is rerun here over 24 seeds;
     slack: three standard errors of the difference of two means."""
     from bearing_envelope.io import read_case
-    from bearing_envelope.pipeline import case_diagnosability
+    from bearing_envelope.study.pipeline import case_diagnosability
 
     cfg = yaml.safe_load(DRAFT.read_text())
     snrs = sorted(cfg["diagnosability"]["snr_db"])
@@ -255,7 +255,7 @@ def test_invalid_config_fails_before_any_job(tmp_path, mutate, expected):
 
 def test_config_yaml_scene_matches_library_defaults():
     """config.yaml states the default scene explicitly; it must equal the library's defaults."""
-    from bearing_envelope.scene import DEFAULT_SCENE
+    from bearing_envelope.physics.scene import DEFAULT_SCENE
 
     cfg = yaml.safe_load((ROOT / "config.yaml").read_text())
     assert cfg["scene"] == DEFAULT_SCENE

@@ -2,8 +2,8 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from bearing_envelope.kinematics import fault_frequencies
-from bearing_envelope.signal import COLUMNS, analyze_signal
+from bearing_envelope.physics.kinematics import fault_frequencies
+from bearing_envelope.diagnosis import COLUMNS, analyze_signal
 
 
 def test_columns_and_whole_chain(fault):

@@ -1,15 +1,8 @@
 import numpy as np
 import pytest
 
-from bearing_envelope.signal import (
-    amplitude_at,
-    bandpass,
-    envelope,
-    envelope_spectrum,
-    fast_kurtogram,
-    harmonic_amplitudes,
-    peak_value,
-)
+from bearing_envelope.diagnosis import harmonic_amplitudes
+from bearing_envelope.signal import amplitude_at, bandpass, envelope, envelope_spectrum, fast_kurtogram, peak_value
 
 
 def am(fs=20000.0, n=40000, fc=5000.0, fm=50.0, m=0.4, a=2.0):
@@ -123,7 +116,8 @@ def test_bandpass_peak_ignores_edge_transients(n_end):
     # a steady AM carrier, the record cut at several phases of the 12 kHz carrier: the even
     # padding of the forward-backward filter puts a kink at the ends whose ringing reached
     # 1.10 x the true peak A (1 + m) before the settling samples were excluded
-    from bearing_envelope.signal import analyze_signal, settling_samples
+    from bearing_envelope.diagnosis import analyze_signal
+    from bearing_envelope.signal import settling_samples
 
     fs, a, m, fc, fm = 64000.0, 2.0, 0.25, 12000.0, 250.0
     t = np.arange(65536 - n_end) / fs

@@ -6,8 +6,9 @@ import json
 import numpy as np
 import pytest
 
-from bearing_envelope.signal import analyze_signal, envelope_spectrum
-from bearing_envelope.signal.faults import (FaultFamily, fault_families, search_lines)
+from bearing_envelope.diagnosis import analyze_signal
+from bearing_envelope.signal import envelope_spectrum
+from bearing_envelope.diagnosis.faults import (FaultFamily, fault_families, search_lines)
 
 FS, N, FC = 12000.0, 2**17, 3500.0
 FR_NOM = 30.0  # nominal shaft rate; the actual one is 0.5 % lower

@@ -1,8 +1,9 @@
 import numpy as np
 from matplotlib.figure import Figure
 
-from bearing_envelope.signal import analyze_signal, envelope_spectrum, fast_kurtogram
-from bearing_envelope.signal.plots import (
+from bearing_envelope.diagnosis import analyze_signal
+from bearing_envelope.signal import envelope_spectrum, fast_kurtogram
+from bearing_envelope.diagnosis.plots import (
     plot_envelope_spectrum,
     plot_kurtogram,
     save_analysis_figures,
@@ -39,8 +40,8 @@ def test_save_analysis_figures(fault, tmp_path):
 def test_every_family_marked(fault, tmp_path):
     """plot_fault_lines draws one dashed line per harmonic and one dotted per sideband of every
     family (at the frequencies found), and one dot per detected line."""
-    from bearing_envelope.kinematics import fault_frequencies
-    from bearing_envelope.signal.plots import plot_fault_lines
+    from bearing_envelope.physics.kinematics import fault_frequencies
+    from bearing_envelope.diagnosis.plots import plot_fault_lines
 
     ff = fault_frequencies(fault["fr"], 9, 7.94, 39.04)
     faults = {"bpfo": ff.bpfo, "bpfi": fault["bpfi"], "bsf": ff.bsf, "ftf": ff.ftf}

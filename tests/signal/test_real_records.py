@@ -14,8 +14,8 @@ import numpy as np
 import pytest
 from scipy import signal as sps
 
-from bearing_envelope.kinematics import fault_frequencies
-from bearing_envelope.signal import analyze_signal
+from bearing_envelope.physics.kinematics import fault_frequencies
+from bearing_envelope.diagnosis import analyze_signal
 
 DATA = Path(__file__).resolve().parents[1] / "data" / "real"
 INCH = 25.4e-3

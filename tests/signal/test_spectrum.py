@@ -1,7 +1,8 @@
 import numpy as np
 import pytest
 
-from bearing_envelope.signal import amplitude_at, amplitude_spectrum, raw_terms
+from bearing_envelope.diagnosis import raw_terms
+from bearing_envelope.signal import amplitude_at, amplitude_spectrum
 
 
 @pytest.mark.parametrize("window", ["hann", "boxcar", "flattop", ("tukey", 0.25), "hamming"])

@@ -8,7 +8,7 @@ import types
 import numpy as np
 import pytest
 
-from bearing_envelope.pipeline import case_bands, case_harmonics
+from bearing_envelope.study.pipeline import case_bands, case_harmonics
 from bearing_envelope.signal import amplitude_spectrum, envelope_spectrum
 
 FS, FR, BPFI, N = 65000.0, 15.8, 231.9, 2**18

@@ -4,14 +4,14 @@ import os
 import sys
 from pathlib import Path
 
-from bearing_envelope.figures import example_pairs
+from bearing_envelope.study.figures import example_pairs
 from bearing_envelope.io import set_aside_unreadable
-from bearing_envelope.provenance import code_dependencies
-from bearing_envelope.settings import CASE_NAME_REGEX, CaseId, workflow_settings
+from bearing_envelope.study.provenance import code_dependencies
+from bearing_envelope.study.settings import CASE_NAME_REGEX, CaseId, workflow_settings
 
 
 def load_workflow_settings():
-    """The one validating loader (bearing_envelope.settings.workflow_settings) on the files
+    """The one validating loader (bearing_envelope.study.settings.workflow_settings) on the files
     Snakemake read: on error one line naming the field, and no job runs. The schema defaults are
     filled into `config` as snakemake.utils.validate would."""
     try:
@@ -74,7 +74,7 @@ def example_cases(wildcards=None):
     """Cases drawn alone (Figs 7, 9, 11): the deepest defect and the healthy race (or the
     shallowest depth) at the highest load; and the pairs of Figs 4 and 5: the sweep's cases
     nearest the study's 250 kN / 15 um, 500 kN / 50 um and 750 kN / 100 um, each with the
-    healthy race of its load (bearing_envelope.figures.example_pairs)."""
+    healthy race of its load (bearing_envelope.study.figures.example_pairs)."""
     load = max(LOADS)
     at_load = [c for c in CASE_IDS if c.load_kN == load]
     return {
@@ -87,7 +87,7 @@ def example_cases(wildcards=None):
 def reference_case(wildcards):
     """The healthy case of the same load for a defect case (defines the defect part); for a
     healthy case, the shallowest defect case of its load (its noise defines the healthy cells'
-    noise: bearing_envelope.pipeline.case_diagnosability). None where the sweep lacks it."""
+    noise: bearing_envelope.study.pipeline.case_diagnosability). None where the sweep lacks it."""
     case = CaseId.parse(wildcards.case)
     if case.depth_um > 0:
         return f"results/cases/{CaseId(case.load_kN, 0.0).name}.h5" if 0.0 in DEPTHS else []

@@ -5,7 +5,7 @@
 import sys as _sys
 from pathlib import Path as _Path
 
-from bearing_envelope.settings import ConfigError as _ConfigError, read_yaml as _read_yaml
+from bearing_envelope.study.settings import ConfigError as _ConfigError, read_yaml as _read_yaml
 
 if not workflow.overwrite_configfiles and _Path("config.yaml").is_file():
     try:

@@ -1,5 +1,5 @@
 # Pages of the report that are read in place: every table as HTML (the CSVs stay downloadable)
-# and the "study vs this model" page (bearing_envelope.paper.compare), regenerated from the
+# and the "study vs this model" page (bearing_envelope.study.paper.compare), regenerated from the
 # sweep's tables whenever they change (paper_run_tables: common.smk).
 
 

@@ -3,9 +3,9 @@ import pandas as pd
 
 from bearing_envelope.io import (read_bands, read_case, read_tidy, write_band_table,
                                  write_case_table, write_pivots, write_tidy)
-from bearing_envelope.pipeline import case_summary
-from bearing_envelope.provenance import log_to
-from bearing_envelope.tables import band_table, concat_tidy, pivot_tables
+from bearing_envelope.study.pipeline import case_summary
+from bearing_envelope.study.provenance import log_to
+from bearing_envelope.study.tables import band_table, concat_tidy, pivot_tables
 
 with log_to(snakemake.log[0]):  # noqa: F821
     inp, out = snakemake.input, snakemake.output  # noqa: F821

@@ -1,9 +1,9 @@
-"""Rule bands: kurtogram and band limits of one case (bearing_envelope.pipeline.case_bands)."""
+"""Rule bands: kurtogram and band limits of one case (bearing_envelope.study.pipeline.case_bands)."""
 import json
 
 from bearing_envelope.io import read_case, write_bands, write_kurtogram
-from bearing_envelope.pipeline import case_bands
-from bearing_envelope.provenance import log_to
+from bearing_envelope.study.pipeline import case_bands
+from bearing_envelope.study.provenance import log_to
 
 with log_to(snakemake.log[0]):  # noqa: F821
     bands, kurtogram = case_bands(read_case(snakemake.input.case),  # noqa: F821

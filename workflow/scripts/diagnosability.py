@@ -2,11 +2,11 @@
 heat map per band strategy."""
 import pandas as pd
 
-from bearing_envelope.diagnosis import false_alarm_rates
-from bearing_envelope.figures import fig_diagnosability_maps
-from bearing_envelope.paper import write_page
-from bearing_envelope.pipeline import log_to
-from bearing_envelope.tables import table_html, write_csv_atomic
+from bearing_envelope.diagnosis.detection import false_alarm_rates
+from bearing_envelope.study.figures import fig_diagnosability_maps
+from bearing_envelope.study.paper import write_page
+from bearing_envelope.study.pipeline import log_to
+from bearing_envelope.study.tables import table_html, write_csv_atomic
 
 with log_to(snakemake.log[0]) as log:  # noqa: F821
     inp, out = snakemake.input, snakemake.output  # noqa: F821

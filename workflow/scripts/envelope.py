@@ -2,8 +2,8 @@
 import json
 
 from bearing_envelope.io import read_bands, read_case, write_spectra, write_tidy
-from bearing_envelope.pipeline import case_envelope
-from bearing_envelope.provenance import log_to
+from bearing_envelope.study.pipeline import case_envelope
+from bearing_envelope.study.provenance import log_to
 
 with log_to(snakemake.log[0]):  # noqa: F821
     inp, out = snakemake.input, snakemake.output  # noqa: F821

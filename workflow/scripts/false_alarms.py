@@ -2,8 +2,8 @@
 import json
 
 from bearing_envelope.io import read_case
-from bearing_envelope.pipeline import case_false_alarms, log_to
-from bearing_envelope.tables import write_csv_atomic
+from bearing_envelope.study.pipeline import case_false_alarms, log_to
+from bearing_envelope.study.tables import write_csv_atomic
 
 with log_to(snakemake.log[0]):  # noqa: F821
     inp = snakemake.input  # noqa: F821

@@ -1,9 +1,9 @@
-"""Rule figures: every PNG of the sweep (bearing_envelope.figures.make_figures)."""
+"""Rule figures: every PNG of the sweep (bearing_envelope.study.figures.make_figures)."""
 import json
 from pathlib import Path
 
-from bearing_envelope.figures import make_figures
-from bearing_envelope.pipeline import log_to
+from bearing_envelope.study.figures import make_figures
+from bearing_envelope.study.pipeline import log_to
 
 inp = snakemake.input  # noqa: F821
 with log_to(snakemake.log[0]) as log:  # noqa: F821

@@ -1,8 +1,8 @@
-"""Rule paper: the study's findings next to this sweep's numbers (bearing_envelope.paper)."""
+"""Rule paper: the study's findings next to this sweep's numbers (bearing_envelope.study.paper)."""
 import pandas as pd
 
-from bearing_envelope.paper import compare, flat_band, render_html, render_markdown, write_page
-from bearing_envelope.pipeline import log_to
+from bearing_envelope.study.paper import compare, flat_band, render_html, render_markdown, write_page
+from bearing_envelope.study.pipeline import log_to
 
 inp, out = snakemake.input, snakemake.output  # noqa: F821
 with log_to(snakemake.log[0]):  # noqa: F821

@@ -4,9 +4,9 @@ from pathlib import Path
 import pandas as pd
 
 from bearing_envelope.io import atomic_dir
-from bearing_envelope.paper import write_page
-from bearing_envelope.pipeline import log_to
-from bearing_envelope.tables import table_html
+from bearing_envelope.study.paper import write_page
+from bearing_envelope.study.pipeline import log_to
+from bearing_envelope.study.tables import table_html
 
 inp, out = snakemake.input, Path(snakemake.output[0])  # noqa: F821
 with log_to(snakemake.log[0]) as log, atomic_dir(out) as tmp:  # noqa: F821

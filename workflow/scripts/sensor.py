@@ -2,8 +2,8 @@
 import json
 
 from bearing_envelope.io import read_case, write_sensor_case
-from bearing_envelope.pipeline import case_acceleration
-from bearing_envelope.provenance import log_to
+from bearing_envelope.study.pipeline import case_acceleration
+from bearing_envelope.study.provenance import log_to
 
 with log_to(snakemake.log[0]):  # noqa: F821
     inp, out = snakemake.input, snakemake.output[0]  # noqa: F821

@@ -1,11 +1,12 @@
-"""Rule simulate: one load x depth case -> HDF5 (bearing_envelope.history.simulate)."""
+"""Rule simulate: one load x depth case -> HDF5 (bearing_envelope.physics.history.simulate)."""
 import json
 
-from bearing_envelope.fidelity import fidelity_from
-from bearing_envelope.history import simulate
+from bearing_envelope.physics.fidelity import fidelity_from
+from bearing_envelope.physics.history import simulate
 from bearing_envelope.io import write_case
-from bearing_envelope.provenance import log_to
-from bearing_envelope.settings import CaseId
+from bearing_envelope.study.accuracy import case_error_model
+from bearing_envelope.study.provenance import log_to
+from bearing_envelope.study.settings import CaseId
 
 with log_to(snakemake.log[0]) as log:  # noqa: F821
     setup = json.loads(snakemake.params.setup)  # noqa: F821
@@ -13,5 +14,6 @@ with log_to(snakemake.log[0]) as log:  # noqa: F821
     scene = case.scene(setup["scene"])
     hist = simulate(scene, fidelity_from(setup["fidelity"]), progress=False)
     write_case(snakemake.output[0], hist,  # noqa: F821
-               extra_attrs={"workflow_rule": "simulate", "case": case.name})
+               extra_attrs={"workflow_rule": "simulate", "case": case.name},
+               error_model=case_error_model(hist))
     print(json.dumps(hist.stats, default=float), file=log)

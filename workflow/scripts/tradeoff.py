@@ -1,9 +1,9 @@
-"""Rule tradeoff: the speed-accuracy study (bearing_envelope.tradeoff) -> CSV, Pareto CSV, PNG."""
+"""Rule tradeoff: the speed-accuracy study (bearing_envelope.study.tradeoff) -> CSV, Pareto CSV, PNG."""
 import json
 
-from bearing_envelope.provenance import log_to
-from bearing_envelope.tables import write_csv_atomic
-from bearing_envelope.tradeoff import pareto_points, plot_tradeoff, study_from_config
+from bearing_envelope.study.provenance import log_to
+from bearing_envelope.study.tables import write_csv_atomic
+from bearing_envelope.study.tradeoff import pareto_points, plot_tradeoff, study_from_config
 
 with log_to(snakemake.log[0]) as log:  # noqa: F821
     setup = json.loads(snakemake.params.setup)  # noqa: F821

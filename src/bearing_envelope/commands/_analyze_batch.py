@@ -71,12 +71,12 @@ def _warm_up(args, fig_dir) -> None:
 
     import bearing_envelope.commands.analyze  # noqa: F401
     import bearing_envelope.diagnosis  # noqa: F401
-    import bearing_envelope.records  # noqa: F401
-    import bearing_envelope.tables  # noqa: F401
+    import bearing_envelope.io.records  # noqa: F401
+    import bearing_envelope.study.tables  # noqa: F401
     from bearing_envelope.signal.kurtogram import fast_kurtogram
 
     if fig_dir is not None:
-        import bearing_envelope.signal.plots  # noqa: F401
+        import bearing_envelope.diagnosis.plots  # noqa: F401
         import matplotlib.backends.backend_agg  # noqa: F401
         import matplotlib.figure  # noqa: F401
     fast_kurtogram(np.random.default_rng(0).standard_normal(4096), 1000.0, 2)
@@ -193,7 +193,7 @@ def _line_columns(table, family: str, band, n_harmonics: int) -> dict:
 
 
 def _band_metrics(det: dict, fam, band, args) -> dict:
-    from bearing_envelope.diagnosis import fault_band_metrics
+    from bearing_envelope.diagnosis.detection import fault_band_metrics
 
     k_max = args.harmonics
     out = {f"h{k}_{c}": None for k in range(1, k_max + 1)

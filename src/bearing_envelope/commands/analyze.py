@@ -279,7 +279,7 @@ def geometry_args(args) -> dict | None:
         if any(v is not None for v in given) or args.contact_angle_deg is not None:
             raise ValueError("--bearing: give the bearing by designation or by its geometry "
                              "(--n-rollers, --roller-diameter-*, --pitch-diameter-*), not both")
-        from bearing_envelope.records import bearing_geometry  # numpy: start-up time
+        from bearing_envelope.io.records import bearing_geometry  # numpy: start-up time
 
         return bearing_geometry(args.bearing)
     if all(v is None for v in given):
@@ -442,7 +442,7 @@ def fault_sources(args, fr: float, loaded: dict, geometry: dict | None
     name); a case file's BPFI unless one of them gives BPFI."""
     out: dict[str, tuple[float, str]] = {}
     if geometry is not None:
-        from bearing_envelope.kinematics import fault_frequencies
+        from bearing_envelope.physics.kinematics import fault_frequencies
 
         label = f"--bearing {geometry['designation']}" if geometry.get("designation") \
             else "bearing geometry"
@@ -521,8 +521,8 @@ def analyze_record(task: dict, args) -> dict:
         ``file, loaded, fs, fr, bearing, sources, nlevel, table`` (tidy) and ``det`` (the
         details of :func:`bearing_envelope.signal.analyze_signal`).
     """
-    from bearing_envelope.records import bearing_geometry, read_record
-    from bearing_envelope.tables import tidy_from_analysis
+    from bearing_envelope.io.records import bearing_geometry, read_record
+    from bearing_envelope.study.tables import tidy_from_analysis
 
     path = task["file"]
     delim = {"tab": "\t"}.get(args.delimiter, args.delimiter)
@@ -548,7 +548,7 @@ def analyze_record(task: dict, args) -> dict:
 
 def run_chain(x, fs, fr, faults, bands, nlevel, args):
     """``analyze_signal`` with the command's options (the one call of the library)."""
-    from bearing_envelope.signal import analyze_signal
+    from bearing_envelope.diagnosis import analyze_signal
 
     return analyze_signal(
         x, fs, fr=fr, fault_frequencies=faults, bands=bands,
@@ -609,7 +609,7 @@ def write_text(path: str, text: str) -> None:
 # ---------------------------------------------------------------------------------- run
 def record_tasks(args) -> list[dict]:
     """The records to analyse: the manifest's rows, then the files (folders expanded)."""
-    from bearing_envelope.records import collect_records, read_manifest  # numpy: start-up
+    from bearing_envelope.io.records import collect_records, read_manifest  # numpy: start-up
 
     tasks = read_manifest(args.manifest) if args.manifest is not None else []
     for f in collect_records(args.files):
@@ -694,7 +694,7 @@ def write_record_outputs(args, res: dict) -> None:
                    + "\n")
         print(f"# JSON written to {args.json}", file=out)
     if args.plot:
-        from bearing_envelope.signal.plots import save_analysis_figures
+        from bearing_envelope.diagnosis.plots import save_analysis_figures
 
         stem = os.path.splitext(os.path.basename(res["file"]))[0]
         paths = save_analysis_figures(res["det"], args.plot, prefix=f"{stem}_",
@@ -723,7 +723,7 @@ def finish_record(res: dict, args, fig_dir: str | None) -> dict:
     """The compact, picklable result of one record: its verdict-table rows, its lines (for
     ``--csv``), its JSON (for ``--json``), its verdict lines and its figure."""
     from bearing_envelope.commands._analyze_batch import record_rows
-    from bearing_envelope.signal.plots import save_record_figure
+    from bearing_envelope.diagnosis.plots import save_record_figure
 
     fig = None
     if fig_dir is not None:

@@ -2,7 +2,7 @@
 
 Reads the file with the project's strict loader (duplicate keys refused, YAML errors with their
 line), validates it against the schema and runs every cross-field check
-(:func:`bearing_envelope.settings.load_settings`); prints the cases it defines, or one line naming
+(:func:`bearing_envelope.study.settings.load_settings`); prints the cases it defines, or one line naming
 the field that is wrong. No simulation runs. Use it when Snakemake itself rejects a
 ``--configfile`` (a missing file, or "Config file is not valid JSON or YAML" without a line).
 
@@ -31,7 +31,7 @@ def register(subparsers) -> None:
 
 
 def run(args) -> int:
-    from bearing_envelope.settings import load_settings
+    from bearing_envelope.study.settings import load_settings
 
     st = load_settings(args.config)
     cases = st.cases

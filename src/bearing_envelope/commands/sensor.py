@@ -4,7 +4,7 @@ Reads a case file (:func:`bearing_envelope.io.read_case`), takes the contact sig
 ``sensor:`` section of the config (``excitation``: ``pressure`` = p_max, ``pressure_defect`` =
 p_max_defect, ``force`` = contact_force, the roller load minus the force the defect removes at
 fixed approach: the blocked force, docs/sensor.md), passes it through the structural modes,
-adds noise at the target SNR and the interfering tones (:mod:`bearing_envelope.transfer`), and
+adds noise at the target SNR and the interfering tones (:mod:`bearing_envelope.physics.transfer`), and
 writes the acceleration with its provenance: ``.h5`` = a copy of the case file with the
 acceleration added as ``signals/acceleration`` (readable by ``read_case`` like any case), ``.npz`` =
 the acceleration, time, frequencies and provenance alone. See ``docs/sensor.md``.
@@ -64,14 +64,14 @@ def write_sensor_case(case_path, section, output, *, snr_db="model", seed=None, 
                       reference=None, config_label=None) -> dict[str, Any]:
     """Synthesise the acceleration of a case file and write it with its provenance.
 
-    Reads the case(s), calls :func:`bearing_envelope.pipeline.case_acceleration` and writes with
+    Reads the case(s), calls :func:`bearing_envelope.study.pipeline.case_acceleration` and writes with
     :func:`bearing_envelope.io.write_sensor_case` (``.h5``: a copy of the case with
     ``signals/acceleration``; ``.npz``: the signal alone; atomic). ``config_label`` (where the
     section came from) is recorded in the provenance. Returns the provenance (achieved SNR in
     ``snr_db_achieved``).
     """
     from bearing_envelope.io import check_sensor_output, write_sensor_case as write
-    from bearing_envelope.pipeline import case_acceleration
+    from bearing_envelope.study.pipeline import case_acceleration
 
     check_sensor_output(output)
     case = _read_case(str(case_path))

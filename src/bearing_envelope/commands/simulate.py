@@ -2,9 +2,9 @@
 
 Reads the ``scene:`` section (and ``fidelity:``, a preset name or a mapping) of a YAML config
 (``--config``, default ``./config.yaml`` when present; the whole file is validated by the same
-loader as the workflow's, :func:`bearing_envelope.settings.load_settings`), says which file it read,
-builds the scene (:meth:`bearing_envelope.scene.Scene.from_mapping`, validated before any solve),
-simulates the history (:func:`bearing_envelope.history.simulate`) and writes the case file
+loader as the workflow's, :func:`bearing_envelope.study.settings.load_settings`), says which file it read,
+builds the scene (:meth:`bearing_envelope.physics.scene.Scene.from_mapping`, validated before any solve),
+simulates the history (:func:`bearing_envelope.physics.history.simulate`) and writes the case file
 (:func:`bearing_envelope.io.write_case`, layout in ``docs/file-format.md``).
 
 Example::
@@ -64,7 +64,7 @@ def check_output(path: str) -> None:
 
 def resolve_config(path: str | None):
     """The config file simulate reads: ``--config``, else ``./config.yaml`` when present, else none."""
-    from bearing_envelope.settings import default_config_path
+    from bearing_envelope.study.settings import default_config_path
 
     if path is not None:
         return path
@@ -73,10 +73,11 @@ def resolve_config(path: str | None):
 
 
 def run(args) -> int:
-    from bearing_envelope.fidelity import fidelity_from
-    from bearing_envelope.history import simulate
+    from bearing_envelope.physics.fidelity import fidelity_from
+    from bearing_envelope.physics.history import simulate
     from bearing_envelope.io import write_case
-    from bearing_envelope.settings import CaseId, load_settings
+    from bearing_envelope.study.accuracy import case_error_model
+    from bearing_envelope.study.settings import CaseId, load_settings
 
     path = resolve_config(args.config)
     if path is None:
@@ -93,7 +94,8 @@ def run(args) -> int:
     scene = case.scene(scene_map)
     check_output(args.output)
     hist = simulate(scene, fid, progress=not args.quiet, use_numba=not args.numpy)
-    write_case(args.output, hist, extra_attrs={"config_file": str(path or ""), "case": case.name})
+    write_case(args.output, hist, extra_attrs={"config_file": str(path or ""), "case": case.name},
+               error_model=case_error_model(hist))
     if not args.quiet:
         s = hist.stats
         info = hist.table.info

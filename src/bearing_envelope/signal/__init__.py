@@ -1,13 +1,15 @@
-"""Envelope analysis of bearing signals: spectra, fast kurtogram, spectral kurtosis, bands,
-Hilbert envelope, harmonic and sideband amplitudes, and the whole chain in one call.
+"""Signal processing for bearing diagnostics, free of bearing words: spectra, fast kurtogram,
+spectral kurtosis, bands, band-pass and Hilbert envelope.
 
-Usable on the simulated pressure histories and on measured vibration recordings alike.
-Plot helpers live in :mod:`bearing_envelope.signal.plots` (imported on demand: matplotlib).
+Usable on the simulated pressure histories and on measured vibration recordings alike. What
+knows about fault families (line search, verdicts, the whole analysis chain in
+:func:`~bearing_envelope.diagnosis.analysis.analyze_signal`) lives one layer up, in
+:mod:`bearing_envelope.diagnosis`; its public names are still reachable from here
+(``from bearing_envelope.signal import analyze_signal``) for code written before the split.
 """
 
-from .analysis import COLUMNS, analyze_signal, fault_frequency_map
-from .faults import (DEFAULT_SEARCH_PERCENT, FaultFamily, FamilyVerdict, Verdict,
-                     fault_families, fault_verdict, search_lines)
+import importlib
+
 from .bands import (
     DEFAULT_BANDS,
     NYQUIST_MARGIN,
@@ -18,24 +20,35 @@ from .bands import (
     clamp_band,
     resolve_band,
 )
-from .envelope import (bandpass, envelope, envelope_spectrum, harmonic_amplitudes, peak_value,
-                       settling_samples)
+from .envelope import bandpass, envelope, envelope_spectrum, peak_value, settling_samples
 from .kurtogram import Kurtogram, fast_kurtogram, kurtogram_levels, max_kurtogram_level
 from .sk import spectral_kurtosis
-from .spectrum import amplitude_at, amplitude_spectrum, raw_terms
+from .spectrum import amplitude_at, amplitude_spectrum
+
+#: Names that moved to :mod:`bearing_envelope.diagnosis` (module of each), still importable
+#: from here. Resolved on first use (PEP 562), so importing ``signal`` never imports the layer
+#: above it.
+MOVED_TO_DIAGNOSIS = {
+    "COLUMNS": "analysis",
+    "analyze_signal": "analysis",
+    "fault_frequency_map": "analysis",
+    "DEFAULT_SEARCH_PERCENT": "faults",
+    "FaultFamily": "faults",
+    "FamilyVerdict": "faults",
+    "Verdict": "faults",
+    "fault_families": "faults",
+    "fault_verdict": "faults",
+    "search_lines": "faults",
+    "harmonic_amplitudes": "lines",
+    "raw_terms": "lines",
+}
 
 __all__ = [
-    "COLUMNS",
     "DEFAULT_BANDS",
-    "DEFAULT_SEARCH_PERCENT",
-    "FamilyVerdict",
-    "FaultFamily",
     "NYQUIST_MARGIN",
     "Kurtogram",
-    "Verdict",
     "amplitude_at",
     "amplitude_spectrum",
-    "analyze_signal",
     "band_fixed",
     "band_fraction",
     "band_from_kurtogram",
@@ -45,16 +58,18 @@ __all__ = [
     "envelope",
     "envelope_spectrum",
     "fast_kurtogram",
-    "fault_families",
-    "fault_frequency_map",
-    "fault_verdict",
-    "harmonic_amplitudes",
     "kurtogram_levels",
     "max_kurtogram_level",
     "peak_value",
-    "raw_terms",
     "resolve_band",
     "settling_samples",
-    "search_lines",
     "spectral_kurtosis",
 ]
+
+
+def __getattr__(name):
+    """The names of :data:`MOVED_TO_DIAGNOSIS`, from their new module."""
+    if name in MOVED_TO_DIAGNOSIS:
+        module = importlib.import_module(f"bearing_envelope.diagnosis.{MOVED_TO_DIAGNOSIS[name]}")
+        return getattr(module, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -19,7 +19,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 
-from ._validation import check_fs, check_positive
+from .validation import check_fs, check_positive
 
 __all__ = [
     "DEFAULT_BANDS",

@@ -1,19 +1,18 @@
-"""Zero-phase band-pass, Hilbert envelope, envelope spectrum and harmonic/sideband amplitudes."""
+"""Zero-phase band-pass, Hilbert envelope and envelope spectrum."""
 
 from __future__ import annotations
 
 import numpy as np
 from scipy import signal as sp_signal
 
-from ._validation import check_fs, check_positive, check_signal
 from .bands import NYQUIST_MARGIN, clamp_band
 from .spectrum import amplitude_spectrum
+from .validation import check_fs, check_signal
 
 __all__ = [
     "bandpass",
     "envelope",
     "envelope_spectrum",
-    "harmonic_amplitudes",
     "peak_value",
     "settling_samples",
 ]
@@ -205,73 +204,3 @@ def peak_value(x, *, skip: int = 0):
     return float(np.max(np.abs(x[k: x.size - k])))
 
 
-def harmonic_amplitudes(
-    f,
-    amplitude,
-    base: float,
-    *,
-    fr: float | None = None,
-    n_harmonics: int = 2,
-    n_sidebands: int = 1,
-    search_percent: float | None = None,
-    tolerance: float | None = None,
-    interpolate: bool = False,
-    window="hann",
-    n: int | None = None,
-) -> list[dict]:
-    r"""Amplitudes at the fundamental near :math:`f_b`, its harmonics and sidebands.
-
-    The search of :func:`bearing_envelope.signal.faults.search_lines`: the fundamental
-    :math:`f_1` is the largest bin within :math:`f_b (1 \pm p/100)`; harmonic k is searched
-    around :math:`k f_1`, its sidebands around :math:`k f_1 \pm m s f_r` with
-    :math:`s = f_1/f_b` (the speed error moves every line by the same ratio), within
-    ``max(2 df, 0.002 f)`` (at most ``fr/4``).
-
-    Parameters
-    ----------
-    f, amplitude : ndarray
-        An (envelope) spectrum.
-    base : float
-        Nominal base frequency :math:`f_b` (Hz), e.g. BPFI.
-    fr : float, optional
-        Sideband spacing (Hz), the shaft rate. Needed when ``n_sidebands > 0``.
-    n_harmonics : int, default 2
-        Orders k = 1..K.
-    n_sidebands : int, default 1
-        Sidebands m = 1..M on each side.
-    search_percent : float, optional
-        Half-width ``p`` of the fundamental's search (percent); default
-        :data:`~bearing_envelope.signal.faults.DEFAULT_SEARCH_PERCENT` (1 %).
-    tolerance : float, optional
-        A fixed search half-width (Hz) for every line instead.
-    interpolate, window, n
-        See :func:`amplitude_at`.
-
-    Returns
-    -------
-    list of dict
-        Records with ``order`` (k), ``sideband`` (signed m, 0 for the harmonic itself),
-        ``target_hz`` (the nominal base for k = 1, m = 0, else the speed-corrected centre),
-        ``frequency_hz`` (the peak found) and ``amplitude`` (unit of ``amplitude``), plus
-        ``floor``, ``floor_ratio_db``, ``threshold_db``, ``detected`` (see
-        :func:`~bearing_envelope.signal.faults.search_lines`). Lines beyond the spectrum are
-        skipped.
-    """
-    from .faults import DEFAULT_SEARCH_PERCENT, FaultFamily, search_lines
-
-    base = check_positive(base, "base")
-    n_harmonics = int(n_harmonics)
-    n_sidebands = int(n_sidebands)
-    if n_harmonics < 1:
-        raise ValueError(f"n_harmonics must be >= 1, got {n_harmonics}")
-    if n_sidebands < 0:
-        raise ValueError(f"n_sidebands must be >= 0, got {n_sidebands}")
-    if n_sidebands > 0:
-        fr = check_positive(fr, "fr")
-    fam = FaultFamily("base", base, "fr" if n_sidebands else None, fr if n_sidebands else None,
-                      "base line")
-    return search_lines(f, amplitude, fam, fr=fr, n_harmonics=n_harmonics,
-                        n_sidebands=n_sidebands,
-                        search_percent=DEFAULT_SEARCH_PERCENT if search_percent is None
-                        else search_percent,
-                        tolerance_hz=tolerance, interpolate=interpolate, window=window, n=n)

@@ -14,7 +14,7 @@ from numba import njit
 from scipy import fft as sp_fft
 from scipy import signal as sp_signal
 
-from ._validation import check_fs, check_positive, check_signal
+from .validation import check_fs, check_positive, check_signal
 
 __all__ = ["Kurtogram", "fast_kurtogram", "kurtogram_levels", "max_kurtogram_level"]
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 from scipy import signal as sp_signal
 
-from ._validation import check_fs, check_signal
+from .validation import check_fs, check_signal
 
 __all__ = ["spectral_kurtosis"]
 

@@ -9,9 +9,9 @@ import numpy as np
 from scipy import fft as sp_fft
 from scipy import signal as sp_signal
 
-from ._validation import check_fs, check_positive, check_signal
+from .validation import check_fs, check_signal
 
-__all__ = ["amplitude_spectrum", "amplitude_at", "raw_terms"]
+__all__ = ["amplitude_spectrum", "amplitude_at", "default_tolerance"]
 
 
 def _window(window, n: int) -> np.ndarray:
@@ -208,75 +208,6 @@ def amplitude_at(
         freq = float(f[i] + delta * df)
         amp = amp / resp if resp > 0 else amp
     return freq, amp
-
-
-def raw_terms(
-    x,
-    fs: float,
-    *,
-    fr: float,
-    bpfi: float,
-    n_harmonics: int = 1,
-    tolerance: float | None = None,
-    window="hann",
-    interpolate: bool = False,
-    search_percent: float | None = None,
-) -> list[dict]:
-    """Raw-spectrum terms: the 0 Hz term, k x fr and k x BPFI (k = 1..n_harmonics).
-
-    Parameters
-    ----------
-    x : array_like, 1-D
-        Real signal (unit ``U``), not de-meaned: the 0 Hz term is its mean.
-    fs, fr, bpfi : float
-        Sampling frequency, nominal shaft rate and inner-race fault frequency (Hz).
-    n_harmonics : int, default 1
-        Orders k of fr and BPFI.
-    tolerance : float, optional
-        A fixed search half-width (Hz) around every target instead of the default search.
-    window, interpolate
-        See :func:`amplitude_spectrum` and :func:`amplitude_at`.
-    search_percent : float, optional
-        Half-width of the search for fr and BPFI, percent of the nominal value (default 1 %);
-        their harmonics are searched around k x the line found within
-        ``max(2 df, 0.002 f)`` (:func:`bearing_envelope.signal.faults.search_lines`).
-
-    Returns
-    -------
-    list of dict
-        One record per term with keys ``base`` ("dc", "fr", "bpfi"), ``order``,
-        ``target_hz``, ``frequency_hz`` and ``amplitude`` (in ``U``; the 0 Hz amplitude is the
-        signal mean, the others the amplitude of the sinusoid, window-corrected), and for the
-        lines ``floor``, ``floor_ratio_db``, ``threshold_db``, ``detected``.
-    """
-    from .faults import DEFAULT_SEARCH_PERCENT, FaultFamily, search_lines
-
-    fs = check_fs(fs)
-    fr = check_positive(fr, "fr")
-    bpfi = check_positive(bpfi, "bpfi")
-    x = check_signal(x, "x")
-    f, a = amplitude_spectrum(x, fs, window=window)
-    out = [
-        {
-            "base": "dc",
-            "order": 0,
-            "target_hz": 0.0,
-            "frequency_hz": 0.0,
-            # exact mean (the windowed 0 Hz bin equals it only for a constant signal)
-            "amplitude": float(np.mean(x)),
-        }
-    ]
-    p = DEFAULT_SEARCH_PERCENT if search_percent is None else search_percent
-    for name, base in (("fr", fr), ("bpfi", bpfi)):
-        if base >= fs / 2:
-            continue
-        fam = FaultFamily(name, base, None, None, name)
-        for r in search_lines(f, a, fam, fr=fr, n_harmonics=int(n_harmonics), n_sidebands=0,
-                              search_percent=p, tolerance_hz=tolerance,
-                              interpolate=interpolate, window=window, n=x.size):
-            r.pop("sideband")
-            out.append({"base": name, **r})
-    return out
 
 
 def default_tolerance(target: float, df: float, fr: float | None = None) -> float:

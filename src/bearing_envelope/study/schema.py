@@ -1,11 +1,11 @@
-"""The sweep configuration: the schema's location, band limits and dict-level helpers.
+"""The sweep configuration's schema: where it lives, and the static band limits and scene
+frequencies the settings checks need (a leaf of :mod:`bearing_envelope.study`).
 
 The structure of ``config.yaml`` is described by ``bearing_envelope/data/config.schema.yaml`` (JSON
 Schema, package data). Loading, validation and the cross-field checks a schema cannot express
 (every case's scene builds, every fixed or order band and sensor mode below Nyquist, unique band
-names, finite numbers) live in :mod:`bearing_envelope.settings`, the one loader used by the CLI and
-the workflow; :func:`load_config` and :func:`check_config` here are its dict-level views. All of it
-runs before any job, so a bad value stops the sweep at once with the field named.
+names, finite numbers) live in :mod:`bearing_envelope.study.settings`, the one loader used by the CLI and
+the workflow. All of it runs before any job, so a bad value stops the sweep at once with the field named.
 """
 
 from __future__ import annotations
@@ -14,20 +14,10 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
-__all__ = ["case_name", "check_config", "load_config", "band_limits_static", "SCHEMA_PATH"]
+__all__ = ["band_limits_static", "scene_frequencies", "SCHEMA_PATH"]
 
 #: The JSON schema of ``config.yaml``, shipped as package data (the workflow validates against it too).
-SCHEMA_PATH = Path(__file__).resolve().parent / "data" / "config.schema.yaml"
-
-
-def case_name(load_kN: float, depth_um: float, width_um: float | None = None) -> str:
-    """Canonical case name: :attr:`bearing_envelope.settings.CaseId.name` (numbers exact).
-
-    Kept for callers of the former helper; new code uses :class:`~bearing_envelope.settings.CaseId`.
-    """
-    from .settings import CaseId
-
-    return CaseId(load_kN, depth_um, width_um).name
+SCHEMA_PATH = Path(__file__).resolve().parent.parent / "data" / "config.schema.yaml"
 
 
 def band_limits_static(band: Mapping[str, Any], fs: float, freqs: Mapping[str, float]) -> tuple[float, float] | None:
@@ -77,34 +67,7 @@ def band_limits_static(band: Mapping[str, Any], fs: float, freqs: Mapping[str, f
     return lo, hi
 
 
-def check_config(config: Mapping[str, Any]) -> None:
-    """Validate a configuration mapping; raises ``ValueError`` naming the field.
-
-    The schema, the finite-number check and every cross-field check of
-    :func:`bearing_envelope.settings.settings_from_mapping` (cheap: no contact solve).
-    """
-    from .settings import settings_from_mapping
-
-    settings_from_mapping(config)
-
-
 def scene_frequencies(scene) -> dict[str, float]:
     """Base frequencies (Hz) of a scene by name: fr, bpfi (the one used), bpfo, ftf, bsf."""
     ff = scene.frequencies()
     return {"fr": ff.fr, "bpfi": scene.bpfi_hz, "bpfo": ff.bpfo, "ftf": ff.ftf, "bsf": ff.bsf}
-
-
-def load_config(path: str | Path) -> dict[str, Any]:
-    """Read, validate and check a YAML config; returns the mapping with the schema defaults filled.
-
-    The dict view of :func:`bearing_envelope.settings.load_settings` (the one validating loader).
-
-    Raises
-    ------
-    ValueError
-        One line with the file, the dotted path of the offending field, its value and what is
-        allowed.
-    """
-    from .settings import load_settings
-
-    return load_settings(path).config

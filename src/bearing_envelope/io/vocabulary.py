@@ -1,7 +1,7 @@
 """The one vocabulary of the tidy tables: column names, band strategies, quantity names.
 
-Used by :mod:`bearing_envelope.tables` (the sweep's tables and ``bearing-envelope analyze``
-through :func:`bearing_envelope.tables.tidy_from_analysis`) and by :mod:`bearing_envelope.io`
+Used by :mod:`bearing_envelope.study.tables` (the sweep's tables and ``bearing-envelope analyze``
+through :func:`bearing_envelope.study.tables.tidy_from_analysis`) and by :mod:`bearing_envelope.io`
 (the readers check the columns). Documented once, in ``docs/file-format.md`` ("Tidy tables").
 A leaf module: it imports nothing from the package.
 """
@@ -33,8 +33,8 @@ TIDY_COLUMNS = [
 
 #: Optional columns that follow :data:`TIDY_COLUMNS` when present, in this order (``floor``,
 #: ``floor_ratio_db``, ``threshold_db``, ``detected``: the local spectral floor of a line and its
-#: detection, :mod:`bearing_envelope.signal.faults`; ``rel_error_est``, ``error_est``,
-#: ``error_basis``: the estimated discretisation error, :mod:`bearing_envelope.accuracy`).
+#: detection, :mod:`bearing_envelope.diagnosis.detection.faults`; ``rel_error_est``, ``error_est``,
+#: ``error_basis``: the estimated discretisation error, :mod:`bearing_envelope.study.accuracy`).
 TIDY_EXTRA_COLUMNS = ["base", "target_hz", "clamped", "scaling", "signal", "floor",
                       "floor_ratio_db", "threshold_db", "detected", "rel_error_est", "error_est",
                       "error_basis"]
@@ -61,7 +61,7 @@ QUANTITIES = {
                           "frequency_hz = its centre",
 }
 
-#: The measure names of :func:`bearing_envelope.signal.analyze_signal` whose tidy quantity name
+#: The measure names of :func:`bearing_envelope.diagnosis.analyze_signal` whose tidy quantity name
 #: joins a prefix and the ``base`` (``raw_spectrum`` + ``bpfi`` -> ``raw_bpfi``).
 _MEASURE_PREFIX = {"raw_spectrum": "raw", "envelope_spectrum": "envelope"}
 

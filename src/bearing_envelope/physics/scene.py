@@ -349,7 +349,7 @@ ROLLER_LOAD_MODELS = ("smooth", "discrete")
 
 @dataclass(frozen=True)
 class Acquisition:
-    """How the history is sampled at ``fs`` (:func:`bearing_envelope.history.acquire`).
+    """How the history is sampled at ``fs`` (:func:`bearing_envelope.physics.history.acquire`).
 
     Attributes
     ----------
@@ -363,7 +363,7 @@ class Acquisition:
         Internal rate factor ``N >= 1`` for ``antialiased``. ``auto``: the smallest ``N`` for
         which the defect moves no more than the table's offset-node spacing per internal sample
         (``N = ceil(v / (fs dx_node))``, ``v`` the defect's speed relative to the cage; 6-9 at
-        ``standard``, 17-18 at ``paper``; :func:`bearing_envelope.history.auto_oversample`).
+        ``standard``, 17-18 at ``paper``; :func:`bearing_envelope.physics.history.auto_oversample`).
         Ignored for ``point``.
     """
 
@@ -381,7 +381,7 @@ class Operation:
         Shaft (inner-ring) rotation rate ``f_r``, Hz.
     bpfi_override_hz : float or None
         BPFI to reproduce, Hz; ``None`` uses the geometric BPFI. The override is realised through
-        the implied cage rate ``f_c = f_r - BPFI/Z`` (see :mod:`bearing_envelope.history`).
+        the implied cage rate ``f_c = f_r - BPFI/Z`` (see :mod:`bearing_envelope.physics.history`).
     fs_hz : float
         Sampling rate, Hz; must be at least ``2 * 13 * BPFI`` (the analysis band 10-13 x BPFI
         below Nyquist).
@@ -416,7 +416,7 @@ class Load:
     """The load: ``value_N`` and ``mode``.
 
     ``bearing``: ``value_N`` is the radial load on the whole bearing, shared by the rows and the
-    rollers (:mod:`bearing_envelope.loads`). ``contact``: ``value_N`` is the force on the modelled
+    rollers (:mod:`bearing_envelope.physics.loads`). ``contact``: ``value_N`` is the force on the modelled
     contact when it sits at the centre of the load zone; the roller load elsewhere follows the same
     load-zone shape as in ``bearing`` mode.
 
@@ -495,7 +495,7 @@ class Scene:
 
     # derived -----------------------------------------------------------------------------
     def frequencies(self) -> FaultFrequencies:
-        """Geometric fault frequencies (:func:`bearing_envelope.kinematics.fault_frequencies`)."""
+        """Geometric fault frequencies (:func:`bearing_envelope.physics.kinematics.fault_frequencies`)."""
         b = self.bearing
         return fault_frequencies(self.operation.shaft_rate_hz, b.rollers_per_row,
                                  b.roller_diameter_mm, b.pitch_diameter_mm, b.contact_angle_deg)

@@ -13,7 +13,7 @@ The undeformed gap between roller and inner raceway is
   raceway radius at the contact (7.68 mm for the default scene);
 * axial: ``s(y) = y^2 / (2 R_y)``, ``1/R_y = 1/c_r - 1/c_i`` (roller crown ``c_r`` convex,
   raceway ``c_i`` concave; 4233 mm), plus the roller end relief
-  (:class:`bearing_envelope.scene.EndRelief`); ``+inf`` beyond the roller ends ``|y| > L/2``.
+  (:class:`bearing_envelope.physics.scene.EndRelief`); ``+inf`` beyond the roller ends ``|y| > L/2``.
   With a measured ``profile_file`` the roller part is the file's deviation (linearly
   interpolated) instead: ``s(y) = dev(y) - y^2/(2 c_i)``;
 * the defect ``D >= 0`` (a pit in the raceway), centred at ``(x_d, y_d)``
@@ -123,7 +123,7 @@ def axial_separation(bearing, y) -> np.ndarray:
 
     Parameters
     ----------
-    bearing : bearing_envelope.scene.Bearing
+    bearing : bearing_envelope.physics.scene.Bearing
     y : array_like
         Axial positions from the roller centre (m).
     """
@@ -182,7 +182,7 @@ def gap_field(scene, grid: Grid, x_d: float | None = None, *,
 
     Parameters
     ----------
-    scene : bearing_envelope.scene.Scene
+    scene : bearing_envelope.physics.scene.Scene
     grid : Grid
     x_d : float or None
         Defect offset from the contact centre along rolling (m); ``None`` = no defect (also when
@@ -221,7 +221,7 @@ def hertz_estimate(scene, force: float):
     Uses :func:`bearing_envelope.contact.hertz.elliptical` with ``R_x``, ``R_y`` of the scene and
     ``E*`` of its materials. Used to size grids; the roller length is not taken into account.
     """
-    from .contact import hertz
+    from ..contact import hertz
 
     b = scene.bearing
     return hertz.elliptical(force, b.rx_m, b.ry_m, scene.material.e_star_pa)

@@ -7,7 +7,7 @@ One loader, used by the CLI (``bearing-envelope simulate --config``) and by the 
    syntax errors with their line and column;
 2. :func:`settings_from_mapping` rejects NaN and infinities anywhere (JSON Schema bounds do not
    catch NaN), validates against the schema shipped as package data
-   (:data:`bearing_envelope.config.SCHEMA_PATH`) with a one-line message per error (the field,
+   (:data:`bearing_envelope.study.schema.SCHEMA_PATH`) with a one-line message per error (the field,
    the value, what is allowed; never the schema), fills the schema defaults, and builds the typed
    settings, whose constructors run the cross-field checks a schema cannot express (every case's
    scene builds, bands and sensor modes below Nyquist, ``max_level <= nlevel`` ...).
@@ -175,8 +175,8 @@ class CaseId:
         return m
 
     def scene(self, scene: Mapping[str, Any] | None = None):
-        """Build and validate this case's :class:`bearing_envelope.scene.Scene`."""
-        from .scene import Scene
+        """Build and validate this case's :class:`bearing_envelope.physics.scene.Scene`."""
+        from ..physics.scene import Scene
 
         return Scene.from_mapping(self.scene_mapping(scene), load_kN=self.load_kN,
                                   depth_um=self.depth_um)
@@ -282,7 +282,7 @@ class AnalysisSettings:
     def from_mapping(cls, m: Mapping[str, Any], *, fs: float, freqs: Mapping[str, float],
                      has_sensor: bool) -> "AnalysisSettings":
         """Build and cross-check (needs the sampling rate and base frequencies of the scene)."""
-        from .config import band_limits_static
+        from .schema import band_limits_static
 
         kw = {k: m[k] for k in ("signal", "nlevel", "max_level", "min_bandwidth_hz", "filter_order",
                                 "squared_envelope", "harmonics", "sidebands", "raw_orders_fr")
@@ -340,14 +340,14 @@ class Settings:
         The validated mapping with the schema defaults filled (what the workflow passes to jobs).
     sweep : SweepSettings or None
         ``None`` only for a partial config (``simulate --config`` with just ``scene:``).
-    fidelity : bearing_envelope.fidelity.Fidelity
+    fidelity : bearing_envelope.physics.fidelity.Fidelity
     scene_mapping : dict
         The ``scene:`` section (build a case's scene with :meth:`scene`).
     analysis : AnalysisSettings or None
-    sensor : bearing_envelope.transfer.TransferModel or None
+    sensor : bearing_envelope.physics.transfer.TransferModel or None
     diagnosability : DiagnosabilitySettings
     tradeoff : dict
-        The ``tradeoff:`` section as given (read by :func:`bearing_envelope.tradeoff.study_from_config`).
+        The ``tradeoff:`` section as given (read by :func:`bearing_envelope.study.tradeoff.study_from_config`).
     """
 
     source: str
@@ -466,7 +466,7 @@ def _check_finite(obj: Any, path: tuple = ()) -> None:
 def _schema(partial: bool) -> dict:
     import yaml
 
-    from .config import SCHEMA_PATH
+    from .schema import SCHEMA_PATH
 
     with open(SCHEMA_PATH, encoding="utf-8") as fh:
         schema = yaml.safe_load(fh)
@@ -570,11 +570,11 @@ def settings_from_mapping(config: Mapping[str, Any], *, source: str = "<mapping>
 
 
 def _build(cfg: dict, source: str, partial: bool) -> Settings:
-    from .config import scene_frequencies
-    from .fidelity import fidelity_from
-    from .geometry import hertz_estimate
-    from .loads import scene_load_distribution
-    from .transfer import TransferModel
+    from .schema import scene_frequencies
+    from ..physics.fidelity import fidelity_from
+    from ..physics.geometry import hertz_estimate
+    from ..physics.loads import scene_load_distribution
+    from ..physics.transfer import TransferModel
 
     fidelity = fidelity_from(cfg.get("fidelity", "standard"))
     scene_map = cfg.get("scene") or {}
@@ -598,7 +598,7 @@ def _build(cfg: dict, source: str, partial: bool) -> Settings:
                           {"scene.defect.width_um": float(scene_map["defect"]["width_um"])})
         scene0 = next(iter(scenes.values()))
     else:
-        from .scene import Scene
+        from ..physics.scene import Scene
 
         scene0 = Scene.from_mapping(scene_map, load_kN=500.0, depth_um=0.0)
     fs = float(scene0.operation.fs_hz)

@@ -27,7 +27,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
 
-from .tables import _public_mode  # noqa: E402
+from .tables import public_mode  # noqa: E402
 
 __all__ = [
     "STUDY_EXAMPLES",
@@ -74,7 +74,7 @@ def example_pairs(cases, study=STUDY_EXAMPLES) -> list[dict]:
     ----------
     cases : iterable
         The sweep's cases: objects with ``load_kN``, ``depth_um`` and ``name`` (e.g.
-        :class:`bearing_envelope.settings.CaseId`).
+        :class:`bearing_envelope.study.settings.CaseId`).
     study : sequence of (load_kN, depth_um)
         Target cases; default :data:`STUDY_EXAMPLES` (250 kN / 15 um, 500 kN / 50 um,
         750 kN / 100 um).
@@ -138,7 +138,7 @@ def save_figure(fig, path: str | os.PathLike, dpi: int = 120) -> Path:
     os.close(fd)
     try:
         fig.savefig(tmp, dpi=dpi, bbox_inches="tight")
-        _public_mode(tmp)
+        public_mode(tmp)
         os.replace(tmp, path)
     finally:
         plt.close(fig)
@@ -465,7 +465,7 @@ def draw_kurtogram(kurtogram, case: str, *, signal=None, fs=None, nperseg=None):
         ax.set_xlabel("frequency (kHz)")
         ax.set_ylabel("level")
     if signal is not None:
-        from .signal import spectral_kurtosis
+        from ..signal import spectral_kurtosis
 
         if nperseg is None:
             nperseg = sk_window(level if level is not None else 7.0)
@@ -529,7 +529,7 @@ def make_figures(*, harmonics, cases, bands, case_files, kurtogram_files, spectr
     outdir : path
         Output folder.
     """
-    from .io import atomic_dir, read_case
+    from ..io import atomic_dir, read_case
 
     outdir = Path(outdir)
     with atomic_dir(outdir) as tmp:
@@ -617,7 +617,7 @@ def draw_diagnosability_map(g: pd.DataFrame, band: str, *, vmax: float | None = 
 def fig_diagnosability_maps(df: pd.DataFrame, outdir) -> list[Path]:
     """Heat maps of the BPFI detection statistic (:func:`draw_diagnosability_map`), one PNG per
     band, written to a temporary folder, then renamed to ``outdir``."""
-    from .io import atomic_dir
+    from ..io import atomic_dir
 
     outdir = Path(outdir)
     with atomic_dir(outdir) as tmp:

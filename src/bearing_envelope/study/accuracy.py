@@ -46,9 +46,9 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from .fidelity import Fidelity, fidelity_from
+from ..physics.fidelity import Fidelity, fidelity_from
 
-__all__ = ["ErrorModel", "error_model", "attach_errors", "absolute_error", "measured_points",
+__all__ = ["ErrorModel", "error_model", "case_error_model", "attach_errors", "absolute_error", "measured_points",
            "quantity_class", "scene_differences", "ERROR_COLUMNS"]
 
 #: Columns :func:`attach_errors` adds to a tidy table.
@@ -144,7 +144,7 @@ def scene_differences(scene: Any, depth_um: float) -> list[str]:
     """The keys (``section.key: value vs default``) in which a scene mapping differs from the
     default scene the error model was measured on, with the same depth (and so the default width
     ``w = 2 h``); the sweep values, duration, noise and seeds are not compared."""
-    from .scene import Scene
+    from ..physics.scene import Scene
 
     flat = _flat(scene)
     ref = _flat(Scene.from_mapping({}, load_kN=float(flat.get("load.value_kN", 500.0)),
@@ -172,7 +172,7 @@ def error_model(fidelity: Fidelity | str | None, depth_um: float,
     depth_um : float
         The case's defect depth (0 = healthy race: the healthy case's errors apply).
     scene : mapping, optional
-        The case's scene (:meth:`bearing_envelope.scene.Scene.to_mapping`): if it differs from
+        The case's scene (:meth:`bearing_envelope.physics.scene.Scene.to_mapping`): if it differs from
         the default scene in anything but the sweep values, duration, noise and seeds
         (:func:`scene_differences`), there is no estimate and the basis names the keys.
     """
@@ -199,6 +199,13 @@ def error_model(fidelity: Fidelity | str | None, depth_um: float,
              f"{', '.join(header.get('bands', []))} against a converged reference, "
              f"{header['source']} {header['date']}")
     return ErrorModel(match, kind, basis, rows)
+
+
+def case_error_model(history) -> ErrorModel:
+    """The error model of a simulated case (:class:`~bearing_envelope.physics.history.History`):
+    :func:`error_model` at its fidelity, defect depth and scene; what
+    :func:`bearing_envelope.io.write_case` stores as the ``discretisation_error`` group."""
+    return error_model(history.fidelity, history.scene.defect.depth_um, history.scene.to_mapping())
 
 
 def attach_errors(table: pd.DataFrame, model: ErrorModel, signal: str) -> pd.DataFrame:

@@ -16,7 +16,7 @@ from pathlib import Path
 __all__ = ["PACKAGE_DIR", "code_dependencies", "module_imports", "log_to"]
 
 #: Folder of this package's sources.
-PACKAGE_DIR = Path(__file__).resolve().parent
+PACKAGE_DIR = Path(__file__).resolve().parent.parent
 _PACKAGE = PACKAGE_DIR.name
 
 

@@ -8,7 +8,7 @@ width and the rim shape are. This module measures, for one roller load and defec
 depth below which the deepest cells of the pit carry load:
 
 - :func:`bottom_loaded` solves the zoom window with the defect (the same route as the history
-  table, :func:`bearing_envelope.history._defect_solve`) and says whether any of the pit's
+  table, :func:`bearing_envelope.physics.history.defect_solve`) and says whether any of the pit's
   deepest cells (rigid cell-averaged depth within ``1e-3`` of the pit's largest) has pressure;
 - :func:`depth_threshold` bisects on the depth (geometrically, between ``h_lo`` and ``h_hi``)
   for a fixed width or for the default rule ``w = 2 h``.
@@ -34,7 +34,7 @@ import numpy as np
 
 from .fidelity import Fidelity, fidelity_from
 from .geometry import gap_field
-from .history import SolveStats, _defect_solve, _solve_load
+from .solves import SolveStats, defect_solve, solve_load
 from .loads import scene_load_distribution
 from .scene import Scene
 
@@ -88,8 +88,8 @@ def bottom_loaded(scene: Scene, fidelity: Fidelity | str | dict | None, q_load: 
     fid = fidelity_from(fidelity)
     stats = stats or SolveStats()
     if node is None:
-        node = _solve_load(scene, fid, q_load, 1.0, stats)
-    ds = _defect_solve(scene, fid, node, x_d, stats)
+        node = solve_load(scene, fid, q_load, 1.0, stats)
+    ds = defect_solve(scene, fid, node, x_d, stats)
     win = node.window
     depth = gap_field(scene, win, x_d) - gap_field(scene, win, None)
     depth = np.where(np.isfinite(depth), depth, 0.0)
@@ -127,7 +127,7 @@ def depth_threshold(load_kN: float, width_um: float | None, fidelity="standard",
         key = width_um if width_um is not None else 2.0 * h
         if key not in nodes:   # the window depends on the width, not on the depth
             nodes.clear()
-            nodes[key] = _solve_load(sc, fid, q_load, 1.0, stats)
+            nodes[key] = solve_load(sc, fid, q_load, 1.0, stats)
         return bottom_loaded(sc, fid, q_load, x_d, node=nodes[key], stats=stats)
 
     log = []

@@ -7,13 +7,13 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 
-from ._validation import check_fs, check_positive, check_signal
-from .bands import DEFAULT_BANDS, NYQUIST_MARGIN, resolve_band
-from .envelope import envelope_spectrum, peak_value, settling_samples
+from ..signal.validation import check_fs, check_positive, check_signal
+from ..signal.bands import DEFAULT_BANDS, NYQUIST_MARGIN, resolve_band
+from ..signal.envelope import envelope_spectrum, peak_value, settling_samples
 from .faults import (DEFAULT_SEARCH_PERCENT, FaultFamily, fault_families, fault_verdict,
                      search_lines)
-from .kurtogram import fast_kurtogram, max_kurtogram_level
-from .spectrum import amplitude_spectrum
+from ..signal.kurtogram import fast_kurtogram, max_kurtogram_level
+from ..signal.spectrum import amplitude_spectrum
 
 __all__ = ["COLUMNS", "analyze_signal", "fault_frequency_map"]
 
@@ -46,8 +46,8 @@ def fault_frequency_map(bpfi=None, fault_frequencies=None) -> dict[str, float]:
     """Named fault frequencies (Hz) from ``bpfi`` and/or ``fault_frequencies``.
 
     ``fault_frequencies`` may be a mapping ``name -> Hz`` or an object with attributes
-    ``bpfo``, ``bpfi``, ``ftf``, ``bsf`` (:class:`bearing_envelope.kinematics.FaultFrequencies`;
-    its ``bsf2`` = 2 BSF joins in :func:`~bearing_envelope.signal.faults.fault_families`).
+    ``bpfo``, ``bpfi``, ``ftf``, ``bsf`` (:class:`bearing_envelope.physics.kinematics.FaultFrequencies`;
+    its ``bsf2`` = 2 BSF joins in :func:`~bearing_envelope.diagnosis.faults.fault_families`).
     ``bpfi`` overrides the mapping's ``"bpfi"``.
     """
     out: dict[str, float] = {}
@@ -98,7 +98,7 @@ def analyze_signal(
     Steps: raw amplitude spectrum (0 Hz, k x fr, k x fault frequency); fast kurtogram (only
     when a ``kurtogram`` band is requested); for every band: zero-phase Butterworth band-pass,
     peak of the band-passed signal, Hilbert envelope, envelope spectrum and, for every fault
-    family (:mod:`bearing_envelope.signal.faults`), the fundamental found within
+    family (:mod:`bearing_envelope.diagnosis.faults`), the fundamental found within
     ``+- search_percent`` of its nominal frequency, the harmonics k = 1..K around
     ``k f_found`` and the sidebands ``+- m`` times the family's own spacing (fr for BPFI, FTF
     for BSF and 2 x BSF, none for BPFO and FTF), each with its local floor and detection; then
@@ -168,7 +168,7 @@ def analyze_signal(
         lines sit 0.2-0.7 % off when the nominal shaft speed is not the actual one).
     sideband_spacing : mapping, optional
         ``family -> spacing name`` overriding the defaults
-        (:data:`bearing_envelope.signal.faults.SIDEBAND_SPACING`).
+        (:data:`bearing_envelope.diagnosis.faults.SIDEBAND_SPACING`).
     pfa : float, default 0.01
         Record-wise false-alarm probability of the verdict: each of the F families x B bands
         tests runs at ``pfa / (F B)``.
@@ -176,7 +176,7 @@ def analyze_signal(
         Also return a dict with the kurtogram, the bands with provenance and every spectrum
         (for plots): ``{"kurtogram", "bands": {name: {"band", "provenance", "f",
         "amplitude", "peak"}}, "raw": (f, amplitude), "frequencies", "families", "verdict",
-        "fr", "fs"}`` (``verdict``: a :class:`~bearing_envelope.signal.faults.Verdict`).
+        "fr", "fs"}`` (``verdict``: a :class:`~bearing_envelope.diagnosis.faults.Verdict`).
 
     Returns
     -------
@@ -185,7 +185,7 @@ def analyze_signal(
 
         - ``band``: the band's name (``"raw"`` for the raw spectrum);
           ``band_strategy``: how it was chosen (``raw``, ``kurtogram``, ``fraction``,
-          ``orders``, ``fixed``: the names of :mod:`bearing_envelope.vocabulary`); ``band_low_hz``, ``band_high_hz``: the band used
+          ``orders``, ``fixed``: the names of :mod:`bearing_envelope.io.vocabulary`); ``band_low_hz``, ``band_high_hz``: the band used
           (0 .. fs/2 for raw); ``clamped``: upper edge clamped below Nyquist.
         - ``quantity``: ``"raw_spectrum"`` (amplitude of the sinusoid at the target, one-sided,
           window-corrected, unit ``U``; for ``base == "dc"`` the signal mean),
@@ -208,7 +208,7 @@ def analyze_signal(
     Examples
     --------
     >>> import numpy as np
-    >>> from bearing_envelope.signal import analyze_signal
+    >>> from bearing_envelope.diagnosis import analyze_signal
     >>> fs = 20000.0
     >>> t = np.arange(2**16) / fs
     >>> x = (1 + 0.5 * np.cos(2 * np.pi * 100.0 * t)) * np.cos(2 * np.pi * 6000.0 * t)

@@ -3,7 +3,7 @@
 The tidy table has one row per amplitude with the columns :data:`TIDY_COLUMNS` (then the extra
 columns :data:`TIDY_EXTRA_COLUMNS` where present). The same column and quantity names are used
 by the sweep's ``harmonics.csv`` and by ``bearing-envelope analyze``: :func:`tidy_from_analysis`
-maps the long form returned by :func:`bearing_envelope.signal.analyze_signal` onto them, and
+maps the long form returned by :func:`bearing_envelope.diagnosis.analyze_signal` onto them, and
 both sides call it. The vocabulary is documented once, in ``docs/file-format.md`` ("Tidy
 tables"). Pivots turn one (band, quantity, order, sideband) slice into a load x depth grid,
 like the study's Figs 8, 12 and 14-20. Files are written and read by :mod:`bearing_envelope.io`.
@@ -34,13 +34,13 @@ __all__ = [
     "table_html",
 ]
 
-from .vocabulary import (BAND_STRATEGIES, QUANTITIES, RAW_BAND, TIDY_COLUMNS,  # noqa: F401
+from ..io.vocabulary import (BAND_STRATEGIES, QUANTITIES, RAW_BAND, TIDY_COLUMNS,  # noqa: F401
                          TIDY_EXTRA_COLUMNS, TIDY_SORT, quantity_name)
 
 
 def tidy_from_analysis(table: pd.DataFrame, strategies: Mapping[str, str] | None = None
                        ) -> pd.DataFrame:
-    """The long table of :func:`bearing_envelope.signal.analyze_signal` in the tidy vocabulary:
+    """The long table of :func:`bearing_envelope.diagnosis.analyze_signal` in the tidy vocabulary:
     its columns already are (``band`` = name, ``band_strategy`` = how it was chosen); its
     measure names ``quantity`` + ``base`` become one :data:`QUANTITIES` name (``raw_spectrum``
     + ``bpfi`` -> ``raw_bpfi``, ``envelope_spectrum`` + ``bpfi`` -> ``envelope_bpfi``).
@@ -48,7 +48,7 @@ def tidy_from_analysis(table: pd.DataFrame, strategies: Mapping[str, str] | None
     Parameters
     ----------
     table : DataFrame
-        As returned by ``analyze_signal`` (columns ``bearing_envelope.signal.COLUMNS``).
+        As returned by ``analyze_signal`` (columns ``bearing_envelope.diagnosis.COLUMNS``).
     strategies : mapping, optional
         Band name -> strategy, overriding ``band_strategy`` (the sweep applies its bands as fixed
         limits, so the strategy that chose them comes from the bands file).
@@ -70,7 +70,7 @@ def tidy_from_analysis(table: pd.DataFrame, strategies: Mapping[str, str] | None
 
 
 def parse_case_name(name: str) -> tuple[float, float]:
-    """Return ``(load_kN, depth_um)`` of a case name (:meth:`bearing_envelope.settings.CaseId.parse`).
+    """Return ``(load_kN, depth_um)`` of a case name (:meth:`bearing_envelope.study.settings.CaseId.parse`).
 
     Kept for callers of the former helper; new code uses ``CaseId.parse`` (which also gives the
     width of a ``..._w{width}um`` name).
@@ -81,16 +81,16 @@ def parse_case_name(name: str) -> tuple[float, float]:
     return c.load_kN, c.depth_um
 
 
-def _public_mode(path) -> None:
-    """Alias of :func:`bearing_envelope.io._public_mode` (kept for existing callers)."""
-    from .io import _public_mode as mode
+def public_mode(path) -> None:
+    """Alias of :func:`bearing_envelope.io.public_mode` (kept for existing callers)."""
+    from ..io import public_mode as mode
 
     mode(path)
 
 
 def write_csv_atomic(df: pd.DataFrame, path: str | os.PathLike, **kwargs) -> None:
     """Write ``df`` to CSV atomically: :func:`bearing_envelope.io.write_csv_atomic`."""
-    from .io import write_csv_atomic as write
+    from ..io import write_csv_atomic as write
 
     write(df, path, **kwargs)
 

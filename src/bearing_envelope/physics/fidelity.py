@@ -89,7 +89,7 @@ class Fidelity:
     rim_dx_um : float or None
         Spacing across rolling (um) of a further refinement level around the defect's rims:
         strips of ``rim_strip_um`` on each side of each rim zone are solved again at this
-        spacing under the window solve's displacement (``bearing_envelope.history``,
+        spacing under the window solve's displacement (``bearing_envelope.physics.history``,
         ``_refine_rims``). None = off. Must divide ``local_dx_um`` (an integer ratio >= 2);
         uniform elements only.
     rim_strip_um : float

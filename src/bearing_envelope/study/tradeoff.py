@@ -2,8 +2,8 @@
 
 For a few representative load x depth cases, :func:`tradeoff_study` varies **one knob at a
 time** around a base fidelity (the ``standard`` preset by default), simulates each variant
-(:func:`bearing_envelope.history.simulate`), runs the signal chain on it
-(:func:`bearing_envelope.pipeline.case_bands` and :func:`~bearing_envelope.pipeline.case_harmonics`
+(:func:`bearing_envelope.physics.history.simulate`), runs the signal chain on it
+(:func:`bearing_envelope.study.pipeline.case_bands` and :func:`~bearing_envelope.study.pipeline.case_harmonics`
 on in-memory data) and compares every metric with a converged reference:
 
 ========================  ===========================================================================
@@ -26,11 +26,11 @@ numeric knob at its finest listed value at once (grid spacings, tolerance, table
 ``reference_element`` and the scene's nominal edge radius. Rows carry ``error`` (against it) and
 ``error_knob`` (against the finest value of the same knob, everything else at the base: the
 knob's own contribution). ``reference="per_knob"`` uses the latter as ``error`` and skips the
-common reference run. A :class:`~bearing_envelope.fidelity.Fidelity` or mapping gives an
+common reference run. A :class:`~bearing_envelope.physics.fidelity.Fidelity` or mapping gives an
 explicit common reference.
 
 **Knobs** (``knobs`` argument, name -> values listed from coarse to fine): any numeric field of
-:class:`~bearing_envelope.fidelity.Fidelity` (``global_dx_um``, ``global_dy_um``,
+:class:`~bearing_envelope.physics.fidelity.Fidelity` (``global_dx_um``, ``global_dy_um``,
 ``local_dx_um``, ``local_dy_um``, ``tol``, ``n_loads``, ...), ``offset_density`` (a factor ``f`` on
 ``n_offsets``, ``offsets_per_width``, ``max_offsets`` and ``1/offset_step_um`` together: the
 table density in offset),
@@ -62,7 +62,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from .fidelity import PRESETS, Fidelity, fidelity_from
+from ..physics.fidelity import PRESETS, Fidelity, fidelity_from
 from .settings import CaseId
 
 __all__ = ["DEFAULT_CASES", "DEFAULT_KNOBS", "DEFAULT_BANDS", "COLUMNS", "tradeoff_study",
@@ -144,7 +144,7 @@ def _apply_knob(base: Fidelity, knob: str, value) -> tuple[Fidelity, dict]:
 def _base_value(base: Fidelity, scene_map: Mapping, knob: str):
     k = knob[:-len("[linear]")] if knob.endswith("[linear]") else knob
     if k in _SCENE_KNOBS:
-        from .scene import DEFAULT_SCENE
+        from ..physics.scene import DEFAULT_SCENE
 
         return float((scene_map.get("defect", {}) or {}).get(k, DEFAULT_SCENE["defect"][k]))
     if k == "offset_density":
@@ -168,7 +168,7 @@ def _merge(a: Mapping, b: Mapping) -> dict:
 
 def _clear_kernel_cache() -> None:
     try:
-        from .contact import halfspace as _hs
+        from ..contact import halfspace as _hs
 
         with _hs._CACHE_LOCK:
             _hs._CACHE.clear()
@@ -182,7 +182,7 @@ def run_variant(scene, fidelity: Fidelity, analysis: Mapping[str, Any]) -> dict[
     Returns a dict with ``cpu_s``, ``wall_s``, ``n_solves``, ``n_iterations``, ``p_max``
     (the history, Pa), and ``metrics``: ``{(metric, band): estimate}``.
     """
-    from .history import simulate
+    from ..physics.history import simulate
     from .pipeline import case_bands, case_harmonics, history_case
 
     _clear_kernel_cache()
@@ -285,7 +285,7 @@ def tradeoff_study(
         base point of each knob (repeated under every knob), ``knob = "reference"`` the
         reference run (error 0).
     """
-    from .scene import Scene
+    from ..physics.scene import Scene
 
     if not (isinstance(revolutions, (int, float)) and revolutions > 0):
         raise ValueError(f"tradeoff.revolutions must be > 0, got {revolutions!r}")

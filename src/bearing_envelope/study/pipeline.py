@@ -9,7 +9,7 @@ or knows where the workflow keeps its results, so each works the same from a not
   :class:`bearing_envelope.io.CaseBands`.
 - :func:`case_harmonics` / :func:`case_envelope`: raw-spectrum terms and, for every band, the
   envelope harmonics k x BPFI with sidebands k x BPFI +- m x fr and the band-passed peak, as a
-  tidy table (vocabulary of :mod:`bearing_envelope.tables`, documented in
+  tidy table (vocabulary of :mod:`bearing_envelope.study.tables`, documented in
   ``docs/file-format.md``); ``case_envelope`` also returns the spectra the figures draw.
 - :func:`case_summary`: one row of peak pressures and simulation diagnostics per case.
 - :func:`case_acceleration`: the synthetic accelerometer signal of a case (``sensor:``).
@@ -32,7 +32,7 @@ import numpy as np
 import pandas as pd
 
 from .accuracy import attach_errors
-from .io import BandLimits, CaseBands, CaseSpectra
+from ..io import BandLimits, CaseBands, CaseSpectra
 from .provenance import log_to
 from .tables import TIDY_COLUMNS, TIDY_EXTRA_COLUMNS, tidy_from_analysis
 
@@ -42,14 +42,14 @@ __all__ = ["history_case", "case_signal", "case_frequencies", "case_bands", "cas
 
 
 def _case_id(case) -> str:
-    """The case's canonical name (:class:`bearing_envelope.settings.CaseId`)."""
+    """The case's canonical name (:class:`bearing_envelope.study.settings.CaseId`)."""
     from .settings import CaseId
 
     return CaseId.from_case(case).name
 
 
 def history_case(history):
-    """A simulated :class:`bearing_envelope.history.History` as the in-memory case the functions
+    """A simulated :class:`bearing_envelope.physics.history.History` as the in-memory case the functions
     of this module take (what reading its case file gives them: signals, rates, fault
     frequencies, the sweep values and the scene), without writing a file."""
     from types import SimpleNamespace
@@ -82,7 +82,7 @@ def case_frequencies(case) -> dict[str, float]:
 
 
 def _kurtogram(x, fs, analysis: Mapping[str, Any]):
-    from .signal import fast_kurtogram, max_kurtogram_level
+    from ..signal import fast_kurtogram, max_kurtogram_level
 
     nlevel = int(analysis.get("nlevel", 8))
     nlevel = min(nlevel, max_kurtogram_level(x.size))
@@ -114,7 +114,7 @@ def case_bands(case, analysis: Mapping[str, Any]) -> tuple[CaseBands, Any]:
         None when no band uses the kurtogram strategy
         (:func:`bearing_envelope.io.write_kurtogram` stores it).
     """
-    from .signal import resolve_band
+    from ..signal import resolve_band
 
     signal = analysis.get("signal", "p_max")
     x = case_signal(case, signal)
@@ -127,7 +127,7 @@ def case_bands(case, analysis: Mapping[str, Any]) -> tuple[CaseBands, Any]:
         (lo, hi), prov = resolve_band(spec, fs, kurtogram=kg, frequencies=freqs)
         bands.append(BandLimits(name=spec["name"], strategy=spec["strategy"], low_hz=float(lo),
                                 high_hz=float(hi), clamped=bool(prov.get("clamped", False)),
-                                provenance=_jsonable(prov)))
+                                provenance=jsonable(prov)))
     doc = CaseBands(
         case=_case_id(case),
         load_kN=float(case.load_kN), depth_um=float(case.depth_um), fs=fs, signal=signal,
@@ -158,16 +158,16 @@ def case_harmonics(case, analysis: Mapping[str, Any], bands, *, full_output: boo
     bands : bearing_envelope.io.CaseBands
         The case's band limits (a mapping as in the bands file is accepted too).
     full_output : bool
-        Also return the details of :func:`bearing_envelope.signal.analyze_signal` (spectra).
+        Also return the details of :func:`bearing_envelope.diagnosis.analyze_signal` (spectra).
 
     Returns
     -------
     DataFrame
-        Columns :data:`bearing_envelope.tables.TIDY_COLUMNS` then ``base``, ``target_hz``,
+        Columns :data:`bearing_envelope.study.tables.TIDY_COLUMNS` then ``base``, ``target_hz``,
         ``clamped``, ``scaling``, ``signal``; one row per amplitude, the raw rows with band
         ``raw``, one ``kurtogram_kurtosis`` row (order = level) when a band uses the kurtogram.
     """
-    from .signal import analyze_signal
+    from ..diagnosis import analyze_signal
 
     bands = _as_case_bands(bands)
     signal = analysis.get("signal", "p_max")
@@ -214,7 +214,7 @@ def case_harmonics(case, analysis: Mapping[str, Any], bands, *, full_output: boo
 
 def case_error_model(case):
     """The estimated discretisation errors of a case's amplitudes at the fidelity it was
-    simulated with (:func:`bearing_envelope.accuracy.error_model`); no estimate, with the reason,
+    simulated with (:func:`bearing_envelope.study.accuracy.error_model`); no estimate, with the reason,
     when the case records no fidelity."""
     from .accuracy import ErrorModel, _as_fidelity, error_model
 
@@ -326,13 +326,13 @@ def case_acceleration(case, sensor: Mapping[str, Any], *, reference=None, snr_db
 
     The contact signal named by ``sensor.excitation`` (``pressure`` = p_max, ``pressure_defect``
     = p_max_defect, ``force`` = roller load) passes through the structural modes; noise at the
-    target SNR and the interfering tones are added (:mod:`bearing_envelope.transfer`).
+    target SNR and the interfering tones are added (:mod:`bearing_envelope.physics.transfer`).
 
     Parameters
     ----------
     case : bearing_envelope.io.Case
     sensor : mapping
-        The config's ``sensor:`` section (:meth:`bearing_envelope.transfer.TransferModel.from_mapping`).
+        The config's ``sensor:`` section (:meth:`bearing_envelope.physics.transfer.TransferModel.from_mapping`).
     reference : Case, optional
         No-defect case of the same load: the SNR is that of the defect part ``H e - H e_ref``.
     snr_db : float, None or "model"
@@ -351,7 +351,7 @@ def case_acceleration(case, sensor: Mapping[str, Any], *, reference=None, snr_db
         ``excitation_signal``, ``n_samples``, ...; :func:`bearing_envelope.io.write_sensor_case`
         stores it with the signal.
     """
-    from .transfer import (TransferModel, excitation_from_history, select_excitation,
+    from ..physics.transfer import (TransferModel, excitation_from_history, select_excitation,
                            synthesize_acceleration)
 
     section = dict(sensor)
@@ -379,7 +379,7 @@ def case_acceleration(case, sensor: Mapping[str, Any], *, reference=None, snr_db
 
 def _sensor_setup(case, sensor, reference):
     """Transfer model, excitation and reference excitation of a case (internal)."""
-    from .transfer import TransferModel, excitation_from_history, select_excitation
+    from ..physics.transfer import TransferModel, excitation_from_history, select_excitation
 
     fs = float(case.fs)
     model = TransferModel.from_mapping(sensor, fs=fs)
@@ -429,8 +429,8 @@ def diagnosability_bands(case, sensor: Mapping[str, Any], analysis: Mapping[str,
     -------
     list of (band spec, low_hz, high_hz)
     """
-    from .signal import resolve_band
-    from .transfer import synthesize_acceleration
+    from ..signal import resolve_band
+    from ..physics.transfer import synthesize_acceleration
 
     fs = float(case.fs)
     if record is None:
@@ -452,10 +452,10 @@ def case_diagnosability(case, sensor: Mapping[str, Any], analysis: Mapping[str, 
     """Is BPFI detected in the synthetic acceleration of a case, per SNR and band strategy?
 
     The case's contact history goes through the transfer path of ``sensor`` (modes, noise at
-    each SNR, tones: :mod:`bearing_envelope.transfer`); every band of ``analysis.bands`` is
+    each SNR, tones: :mod:`bearing_envelope.physics.transfer`); every band of ``analysis.bands`` is
     resolved once per case (:func:`diagnosability_bands`: on the noise-free acceleration, the
     kurtogram band from its kurtogram), demodulated at each SNR, and the BPFI line of the
-    envelope spectrum is tested with :func:`bearing_envelope.diagnosis.detection_statistic`
+    envelope spectrum is tested with :func:`bearing_envelope.diagnosis.detection.detection_statistic`
     (line-to-median ratio against a threshold at 1 % false-alarm probability).
 
     Parameters
@@ -488,9 +488,9 @@ def case_diagnosability(case, sensor: Mapping[str, Any], analysis: Mapping[str, 
         band_strategy, band_low_hz, band_high_hz, statistic_db, threshold_db, detected,
         peak_hz, peak_amplitude``.
     """
-    from .diagnosis import detection_statistic
-    from .signal import envelope_spectrum
-    from .transfer import synthesize_acceleration
+    from ..diagnosis.detection import detection_statistic
+    from ..signal import envelope_spectrum
+    from ..physics.transfer import synthesize_acceleration
 
     if kurtogram_from not in ("clean", "record"):
         raise ValueError(f"kurtogram_from must be 'clean' or 'record', got {kurtogram_from!r}")
@@ -546,11 +546,11 @@ def case_false_alarms(case, sensor: Mapping[str, Any], analysis: Mapping[str, An
     pandas.DataFrame
         One row per (snr_db, band, trial): ``case, load_kN, depth_um, snr_db, band, trial,
         statistic_db, threshold_db, detected, peak_hz``
-        (:func:`bearing_envelope.diagnosis.false_alarm_rates` pools them).
+        (:func:`bearing_envelope.diagnosis.detection.false_alarm_rates` pools them).
     """
-    from .diagnosis import detection_statistic
-    from .signal import envelope_spectrum
-    from .transfer import synthesize_acceleration
+    from ..diagnosis.detection import detection_statistic
+    from ..signal import envelope_spectrum
+    from ..physics.transfer import synthesize_acceleration
 
     if float(case.depth_um) > 0:
         raise ValueError(f"case_false_alarms needs a healthy case (depth 0), got {_case_id(case)}")
@@ -582,11 +582,11 @@ def case_false_alarms(case, sensor: Mapping[str, Any], analysis: Mapping[str, An
                                        "statistic_db", "threshold_db", "detected", "peak_hz"])
 
 
-def _jsonable(obj):
+def jsonable(obj):
     if isinstance(obj, Mapping):
-        return {str(k): _jsonable(v) for k, v in obj.items()}
+        return {str(k): jsonable(v) for k, v in obj.items()}
     if isinstance(obj, (list, tuple)):
-        return [_jsonable(v) for v in obj]
+        return [jsonable(v) for v in obj]
     if isinstance(obj, np.generic):
         return obj.item()
     if isinstance(obj, np.ndarray):

@@ -19,11 +19,11 @@ the narrow :func:`~bearing_envelope.signal.spectrum.default_tolerance`
 uncertainty (``k df / 2`` from the bin of ``f_1``). A line reported is the largest bin of its
 window: a plain arg-max that anyone can recompute.
 
-**Floor and detection.** Each line is scored by :func:`bearing_envelope.diagnosis.
+**Floor and detection.** Each line is scored by :func:`bearing_envelope.diagnosis.detection.
 detection_statistic`: ``floor`` is the median amplitude over ``[0.5, 1.5] x`` the line's
 frequency with every harmonic and sideband of the family and every shaft harmonic removed
 (the local spectral floor), ``floor_ratio_db = 20 log10(amplitude / floor)``, and the line is
-``detected`` when the ratio exceeds ``threshold_db`` (:func:`bearing_envelope.diagnosis.
+``detected`` when the ratio exceeds ``threshold_db`` (:func:`bearing_envelope.diagnosis.detection.
 threshold_db`: the false-alarm design on a Rayleigh-distributed noise spectrum, for the number
 of bins searched) and it is a local maximum.
 
@@ -50,7 +50,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from .spectrum import amplitude_at, default_tolerance
+from ..signal.spectrum import amplitude_at, default_tolerance
 
 __all__ = [
     "DEFAULT_SEARCH_PERCENT",
@@ -158,7 +158,7 @@ def fault_families(frequencies: Mapping[str, float], *, fr: float,
 def _score(f, a, line_hz, half, *, fr, exclude, pfa):
     """Detection of one line (``diagnosis.detection_statistic``); None when the spectrum is
     too short for a background around it."""
-    from ..diagnosis import detection_statistic
+    from .detection import detection_statistic
 
     # only [0.5, 1.5] x line (+ the search window and the local-maximum check's neighbours)
     # enters the statistic: pass that slice, not the whole spectrum

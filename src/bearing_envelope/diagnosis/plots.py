@@ -11,6 +11,9 @@ import os
 
 import numpy as np
 
+from ..signal.envelope import bandpass, envelope
+from .faults import display_name
+
 __all__ = ["FAMILY_COLORS", "plot_envelope_spectrum", "plot_envelope_waveform",
            "plot_fault_lines", "plot_kurtogram", "plot_raw_spectrum", "plot_record_lines",
            "save_analysis_figures", "save_record_figure", "shown_family"]
@@ -145,7 +148,7 @@ def plot_fault_lines(f, amplitude, lines: dict, *, fmax: float | None = None, ax
     f, amplitude : ndarray
         The spectrum.
     lines : mapping
-        ``family name -> records`` of :func:`bearing_envelope.signal.faults.search_lines`
+        ``family name -> records`` of :func:`bearing_envelope.diagnosis.faults.search_lines`
         (``analyze_signal(..., full_output=True)[1]["bands"][name]["lines"]``). Each harmonic
         is marked at the frequency found (dashed, one colour per family, a dot on the peak
         when detected), each sideband dotted in the same colour.
@@ -158,8 +161,6 @@ def plot_fault_lines(f, amplitude, lines: dict, *, fmax: float | None = None, ax
     -------
     matplotlib Axes
     """
-    from .faults import display_name
-
     ax = _axes(ax, (8.0, 4.0))
     f = np.asarray(f)
     amplitude = np.asarray(amplitude)
@@ -344,7 +345,6 @@ def plot_envelope_waveform(x, details: dict, band: str, ax=None, *, periods: flo
     -------
     matplotlib Axes
     """
-    from .envelope import bandpass, envelope
 
     ax = _axes(ax, (8.0, 2.6))
     fs = float(details["fs"])
@@ -371,8 +371,6 @@ def plot_envelope_waveform(x, details: dict, band: str, ax=None, *, periods: flo
     ax.set_ylabel("amplitude")
     title = f"envelope waveform, band {band} ({lo:.0f}-{hi:.0f} Hz)"
     if f1:
-        from .faults import display_name
-
         title += f"; dotted: period of {display_name(family)} ({1e3 / f1:.2f} ms)"
     ax.set_title(title, fontsize=9)
     ax.legend(loc="upper right", fontsize=7)
@@ -418,8 +416,6 @@ def plot_record_lines(details: dict, band: str, family: str | None = None, ax=No
     -------
     matplotlib Axes
     """
-    from .faults import display_name
-
     ax = _axes(ax, (8.0, 3.6))
     b = details["bands"][band]
     f, a = np.asarray(b["f"]), np.asarray(b["amplitude"])

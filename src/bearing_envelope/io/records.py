@@ -40,6 +40,8 @@ from importlib import resources
 import numpy as np
 from numpy.lib import format as npf
 
+from .. import io as _io  # read_case looked up at call time (callers may substitute it)
+
 __all__ = ["SUFFIXES", "MEMORY_FACTOR", "read_record", "sniff_csv", "read_manifest",
            "collect_records", "bearing_geometry", "known_bearings", "check_memory"]
 
@@ -553,9 +555,7 @@ def _read_wav(path, column) -> dict:
 
 # --------------------------------------------------------------------------------- case
 def _read_case(path, signal) -> dict:
-    from bearing_envelope.io import read_case  # HDF5 (h5py) only for case files: start-up time
-
-    case = read_case(path)
+    case = _io.read_case(path)
     signals = dict(getattr(case, "signals", {}) or {})
     if signal not in signals and getattr(case, signal, None) is not None:
         signals[signal] = getattr(case, signal)

@@ -1,0 +1,103 @@
+"""sha256 of every array of every case file and of every table of a sweep's ``results/``.
+
+For refactors that must not change a number: run the same sweep before and after, then
+``python benchmarks/result_digests.py results_before results_after``; prints one line per item
+and the items that differ. HDF5 datasets are hashed by their bytes (dtype and shape included);
+attributes holding provenance (creation time, host, git commit, package version, paths, wall
+times) are skipped, the others are hashed. CSV tables are hashed as text with columns named
+like wall or CPU times dropped.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import sys
+from pathlib import Path
+
+import h5py
+import numpy as np
+import pandas as pd
+
+#: Attributes and columns that record provenance or timing, not results.
+VOLATILE = ("created_utc", "host", "git_commit", "package_version", "version", "config_file",
+            "wall", "seconds", "cpu", "time_s", "python", "numpy", "scipy", "numba", "h5py",
+            "workflow", "source_file", "code_")
+
+
+def _volatile(name: str) -> bool:
+    return any(v in name.lower() for v in VOLATILE)
+
+
+def _h(data: bytes) -> str:
+    return hashlib.sha256(data).hexdigest()[:16]
+
+
+def _array_digest(a: np.ndarray) -> str:
+    """Bytes of a numeric array; the values of a string (object) array."""
+    if a.dtype.kind == "O":
+        return _h(repr((a.shape, [x.decode() if isinstance(x, bytes) else x
+                                   for x in a.ravel().tolist()])).encode())
+    return _h(repr((a.dtype.str, a.shape)).encode() + a.tobytes())
+
+
+def _drop_volatile(obj):
+    if isinstance(obj, dict):
+        return {k: _drop_volatile(v) for k, v in obj.items() if not _volatile(k)}
+    return obj
+
+
+def case_digests(path: Path) -> dict[str, str]:
+    """``{item: digest}`` for every dataset and non-volatile attribute of an HDF5 file."""
+    out = {}
+    with h5py.File(path, "r") as f:
+        def visit(name, obj):
+            if isinstance(obj, h5py.Dataset):
+                out[f"{name}"] = _array_digest(np.asarray(obj[()]))
+            for k, v in obj.attrs.items():
+                if k.endswith("_json"):
+                    v = _drop_volatile(json.loads(v))
+                if not _volatile(k):
+                    out[f"{name}@{k}"] = _h(repr(v).encode())
+        visit("/", f)
+        f.visititems(visit)
+    return out
+
+
+def table_digest(path: Path) -> str:
+    df = pd.read_csv(path)
+    df = df[[c for c in df.columns if not _volatile(c)]]
+    return _h(df.to_csv(index=False).encode())
+
+
+def digests(results: Path) -> dict[str, str]:
+    out = {}
+    for p in sorted(results.rglob("*.h5")):
+        for k, v in case_digests(p).items():
+            out[f"{p.relative_to(results)}:{k}"] = v
+    for p in sorted(results.rglob("*.csv")):
+        out[str(p.relative_to(results))] = table_digest(p)
+    for p in sorted(results.rglob("*.npz")):
+        with np.load(p, allow_pickle=False) as z:
+            for k in sorted(z.files):
+                out[f"{p.relative_to(results)}:{k}"] = _array_digest(z[k])
+    return out
+
+
+def main(argv: list[str]) -> int:
+    runs = [digests(Path(a)) for a in argv]
+    if len(runs) == 1:
+        for k, v in runs[0].items():
+            print(f"{v}  {k}")
+        return 0
+    a, b = runs
+    keys = sorted(set(a) | set(b))
+    diff = [k for k in keys if a.get(k) != b.get(k)]
+    print(f"{len(keys)} items, {len(diff)} differ")
+    for k in diff:
+        print(f"  {k}: {a.get(k)} -> {b.get(k)}")
+    return 1 if diff else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))

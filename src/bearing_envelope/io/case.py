@@ -1,0 +1,458 @@
+"""HDF5 case format: one file per load x depth case (layout in ``docs/file-format.md``).
+
+:func:`write_case` stores a :class:`bearing_envelope.physics.history.History` atomically (temporary file
+in the same directory, then :func:`os.replace`); :func:`read_case` returns a typed :class:`Case`.
+A file of another format version, or one missing a required dataset, raises :class:`CaseFormatError`
+(a ``ValueError``) naming the problem.
+"""
+
+from __future__ import annotations
+
+import datetime as _dt
+import json
+import os
+import subprocess
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from .atomic import clean_stale_temps, temp_path_for
+
+__all__ = ["FORMAT_VERSION", "Case", "CaseFormatError", "write_case", "read_case", "git_commit",
+           "case_file_problem", "set_aside_unreadable", "read_error_model", "jsonable"]
+
+#: Version of the layout written by :func:`write_case`; :func:`read_case` accepts only this one.
+#: 2: integral signals (removed_force, contact_force, approach, approach_change, contact_area),
+#: their tables, and the acquisition (root attribute ``acquisition_json``).
+FORMAT_VERSION = 2
+
+_REQUIRED = ("time", "signals/p_max", "signals/p_max_defect", "signals/roller_load",
+             "signals/defect_offset")
+_COMPRESSION = dict(compression="gzip", compression_opts=4, shuffle=True)
+
+
+_SIGNAL_DESCRIPTIONS = {
+    "p_max": "maximum contact pressure over the whole contact",
+    "p_max_defect": "maximum pressure in the defect neighbourhood",
+    "removed_force": "force the defect removes from the contact at the no-defect approach",
+    "contact_force": "roller load minus removed force: the force through the contact at fixed "
+                     "approach (blocked force)",
+    "approach": "approach delta(t) at the roller load (no-defect curve at Q + removed force)",
+    "approach_change": "approach minus the no-defect approach at the same roller load (>= 0)",
+    "contact_area": "contact area at the roller load",
+}
+
+
+class CaseFormatError(ValueError):
+    """The file is not a case file of the supported format version."""
+
+
+@dataclass
+class Case:
+    """A case file's content (SI units).
+
+    Attributes
+    ----------
+    fs, fr : float
+        Sampling rate and shaft rate (Hz).
+    bpfi : float
+        BPFI used by the history (the override if any), Hz.
+    bpfi_geometry, bpfo, ftf, bsf : float
+        Geometric fault frequencies (Hz).
+    time : ndarray
+        Sample times (s).
+    p_max, p_max_defect : ndarray
+        Maximum pressure over the whole contact / in the defect neighbourhood (Pa); with noise on,
+        the noisy signals (the clean ones are in ``signals``).
+    roller_load : ndarray
+        Load of the roller at the defect (N).
+    defect_offset : ndarray
+        Arc-length offset of the defect from that roller's contact centre (m).
+    load_kN, depth_um : float
+        The case's sweep values.
+    scene : dict
+        Scene mapping (:meth:`bearing_envelope.physics.scene.Scene.to_mapping`).
+    attrs : dict
+        All root attributes (versions, commit, fidelity, solver settings, diagnostics).
+    signals : dict
+        Name -> 1-D array: ``p_max``, ``p_max_defect``, ``roller_load``, ``defect_offset``, the
+        integral signals ``removed_force`` (N), ``contact_force`` (N), ``approach`` (m),
+        ``approach_change`` (m), ``contact_area`` (m^2) and, with noise, ``p_max_clean``,
+        ``p_max_defect_clean``.
+    snapshots : dict
+        ``load_<i>`` -> dict of pressure fields and coordinates.
+    table : dict
+        The ``P(Q, x)`` table and its diagnostics.
+    """
+
+    fs: float
+    fr: float
+    bpfi: float
+    bpfi_geometry: float
+    bpfo: float
+    ftf: float
+    bsf: float
+    time: np.ndarray
+    p_max: np.ndarray
+    p_max_defect: np.ndarray
+    roller_load: np.ndarray
+    defect_offset: np.ndarray
+    load_kN: float
+    depth_um: float
+    scene: dict
+    attrs: dict
+    signals: dict = field(default_factory=dict)
+    snapshots: dict = field(default_factory=dict)
+    table: dict = field(default_factory=dict)
+
+
+def git_commit(path: str | None = None) -> str:
+    """Commit hash of the repository holding ``path`` (this package by default), ``+dirty`` if
+    the tree has changes; ``"unknown"`` without git."""
+    cwd = path or os.path.dirname(os.path.abspath(__file__))
+    try:
+        out = subprocess.run(["git", "rev-parse", "HEAD"], cwd=cwd, capture_output=True, text=True,
+                             timeout=10)
+        if out.returncode != 0:
+            return "unknown"
+        commit = out.stdout.strip()
+        st = subprocess.run(["git", "status", "--porcelain", "--untracked-files=no"], cwd=cwd,
+                            capture_output=True, text=True, timeout=10)
+        return commit + ("+dirty" if st.returncode == 0 and st.stdout.strip() else "")
+    except (OSError, subprocess.SubprocessError):
+        return "unknown"
+
+
+def jsonable(obj):
+    if isinstance(obj, dict):
+        return {str(k): jsonable(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [jsonable(v) for v in obj]
+    if isinstance(obj, np.ndarray):
+        return obj.tolist()
+    if isinstance(obj, (np.floating, np.integer, np.bool_)):
+        return obj.item()
+    return obj
+
+
+def _dset(group, name, data, units: str, description: str = "", chunk: bool = True):
+    data = np.asarray(data)
+    kw = dict(_COMPRESSION) if (chunk and data.size > 16) else {}
+    if kw and data.ndim == 1:
+        kw["chunks"] = (min(data.size, 65536),)
+    ds = group.create_dataset(name, data=data, **kw)
+    ds.attrs["units"] = units
+    if description:
+        ds.attrs["description"] = description
+    return ds
+
+
+def write_case(path: str | os.PathLike, history, *, extra_attrs: dict | None = None,
+               error_model=None) -> str:
+    """Write a simulated case atomically to ``path`` (HDF5; layout ``docs/file-format.md``).
+
+    Parameters
+    ----------
+    path : path-like
+        Output file; its directory is created if needed.
+    history : bearing_envelope.physics.history.History
+    extra_attrs : dict, optional
+        More root attributes (e.g. the config file name).
+
+    Returns
+    -------
+    str
+        The path written.
+    """
+    import h5py
+
+    from .. import __version__
+    from ..physics.history import SIGNAL_UNITS
+
+    path = os.fspath(path)
+    directory = os.path.dirname(os.path.abspath(path))
+    os.makedirs(directory, exist_ok=True)
+    sc = history.scene
+    ff = sc.frequencies()
+    clean_stale_temps(directory, path)
+    tmp = temp_path_for(path)
+    umask = os.umask(0)
+    os.umask(umask)
+    os.chmod(tmp, 0o666 & ~umask)
+    try:
+        with h5py.File(tmp, "w") as f:
+            a = f.attrs
+            a["format"] = "bearing_envelope.case"
+            a["format_version"] = FORMAT_VERSION
+            a["package_version"] = __version__
+            a["git_commit"] = git_commit()
+            a["created_utc"] = _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds")
+            a["load_kN"] = sc.load.load_kN
+            a["depth_um"] = sc.defect.depth_um
+            a["load_mode"] = sc.load.mode
+            a["fs"] = sc.operation.fs_hz
+            a["fr"] = sc.operation.shaft_rate_hz
+            a["bpfi"] = sc.bpfi_hz
+            a["bpfi_geometry"] = ff.bpfi
+            a["bpfo"] = ff.bpfo
+            a["ftf"] = ff.ftf
+            a["bsf"] = ff.bsf
+            a["cage_rate_used"] = sc.cage_rate_hz
+            a["scene_json"] = json.dumps(jsonable(sc.to_mapping()), sort_keys=True)
+            a["fidelity_json"] = json.dumps(jsonable(history.fidelity.to_dict()), sort_keys=True)
+            a["solver_json"] = json.dumps({
+                "solver": "bearing_envelope.contact.solve_contact (Polonsky-Keer CG, DC-FFT)",
+                "tol": history.fidelity.tol, "max_iter": history.fidelity.max_iter,
+                "hardness_Pa": sc.material.hardness_pa,
+                "route": "zoom: global no-defect solve per roller load + local window under "
+                         "displacement control with far-field displacement and approach",
+            }, sort_keys=True)
+            a["stats_json"] = json.dumps(jsonable(history.stats), sort_keys=True)
+            ld = history.load_distribution
+            a["load_distribution_json"] = json.dumps({
+                "force_row_N": ld.force_row, "q_max_N": ld.q_max, "delta_r_m": ld.delta_r,
+                "epsilon": ld.epsilon, "half_angle_rad": ld.half_angle,
+                "clearance_m": ld.clearance, "stiffness_N_per_m_n": ld.stiffness,
+                "exponent": ld.exponent}, sort_keys=True)
+            for k, v in (extra_attrs or {}).items():
+                a[k] = v
+            a["acquisition_json"] = json.dumps(jsonable(getattr(history, "acquisition", {})),
+                                               sort_keys=True)
+            _dset(f, "time", history.time, "s", "sample times")
+            sg = f.create_group("signals")
+            for name, arr in history.signals.items():
+                base = name[:-6] if name.endswith("_clean") else name
+                _dset(sg, name, arr, SIGNAL_UNITS.get(base, ""), _SIGNAL_DESCRIPTIONS.get(base, ""))
+            _dset(sg, "roller_load", history.roller_load, "N", "load of the roller at the defect")
+            _dset(sg, "defect_offset", history.defect_offset, "m",
+                  "arc-length offset of the defect from the nearest roller's contact centre")
+            tg = f.create_group("table")
+            tb = history.table
+            _dset(tg, "roller_load", tb.q_nodes, "N", "roller-load nodes")
+            _dset(tg, "xi", tb.xi_nodes, "1", "normalised offset nodes |x|/s(Q)")
+            _dset(tg, "offset", tb.offsets(), "m", "offset nodes x = xi s(Q), (load, xi)")
+            _dset(tg, "p0", tb.p0, "Pa", "no-defect maximum pressure P0(Q)")
+            _dset(tg, "w0", tb.w0, "Pa", "no-defect maximum in the window's read strip W0(Q)")
+            _dset(tg, "q_out", tb.q_out, "N", "dense roller loads of p_out")
+            _dset(tg, "p_out", tb.p_out, "Pa", "no-defect maximum outside the read strip (ends)")
+            _dset(tg, "p_max", tb.p_max_nodes(), "Pa", "P(Q, x), whole contact")
+            _dset(tg, "p_max_defect", tb.w0[:, None] * tb.ratio_defect, "Pa",
+                  "P_d(Q, x), defect neighbourhood")
+            tg.attrs["out_density"] = tb.out_density
+            _dset(tg, "removed_force", tb.q_nodes[:, None] * tb.ratio_force, "N",
+                  "force the defect removes at the no-defect approach, dF(Q, x)")
+            _dset(tg, "area_change", tb.area0[:, None] * tb.ratio_area, "m^2",
+                  "contact-area change with the defect at the no-defect approach, dA(Q, x)")
+            _dset(tg, "approach0", tb.approach0, "m", "no-defect approach delta0(Q) (global solves)")
+            _dset(tg, "area0", tb.area0, "m^2", "no-defect contact area A0(Q) (global solves)")
+            tg.attrs["a_coef"] = tb.a_coef
+            tg.attrs["kappa"] = tb.kappa
+            tg.attrs["s_const"] = tb.s_const
+            tg.attrs["s_max"] = tb.s_max
+            for k, v in tb.info.items():
+                if isinstance(v, np.ndarray):
+                    _dset(tg, k, v, "", "")
+                else:
+                    tg.attrs[k] = v
+            if "interp_checks" in tg:
+                tg["interp_checks"].attrs["columns"] = "Q_N, x_m, P_direct, Pd_direct, P_interp, Pd_interp, P0"
+            sn = f.create_group("snapshots")
+            for key, snap in history.snapshots.items():
+                g = sn.create_group(key)
+                for k, v in snap.items():
+                    if np.ndim(v) == 0:
+                        g.attrs[k] = v
+                    else:
+                        unit = "Pa" if "pressure" in k else "m"
+                        _dset(g, k, v, unit)
+                g.attrs["roller_load_units"] = "N"
+            if error_model is not None:
+                _write_error_model(f, error_model)
+        os.replace(tmp, path)
+    except BaseException:
+        try:
+            os.unlink(tmp)
+        except OSError:
+            pass
+        raise
+    return path
+
+
+def _write_error_model(f, em) -> None:
+    """Group ``discretisation_error``: the estimated relative error of each amplitude at the
+    case's fidelity, as given (:func:`bearing_envelope.study.accuracy.error_model` makes it)."""
+    import h5py
+
+    g = f.create_group("discretisation_error")
+    g.attrs["point"] = em.point or ""
+    g.attrs["kind"] = em.kind
+    g.attrs["basis"] = em.basis
+    for col in em.table.columns:
+        v = em.table[col].to_numpy()
+        if v.dtype == object or v.dtype.kind in "OUT":
+            g.create_dataset(col, data=np.asarray(v, dtype=object), dtype=h5py.string_dtype())
+        else:
+            g.create_dataset(col, data=v)
+
+
+def read_error_model(path: str | os.PathLike) -> tuple[dict[str, str], "pd.DataFrame"]:
+    """The ``discretisation_error`` group of a case file: its attributes (``point``, ``kind``,
+    ``basis``) and the table (empty when the fidelity has no estimate)."""
+    import h5py
+    import pandas as pd
+
+    with h5py.File(path, "r") as f:
+        if "discretisation_error" not in f:
+            return {"point": "", "kind": "", "basis": "not estimated: the case file predates "
+                    "error estimates"}, pd.DataFrame()
+        g = f["discretisation_error"]
+        attrs = {k: _attr(v) for k, v in g.attrs.items()}
+        cols = {k: [_attr(x) for x in g[k][()]] if g[k].dtype.kind == "O" else g[k][()]
+                for k in g}
+    return attrs, pd.DataFrame(cols)
+
+
+def case_file_problem(path: str | os.PathLike) -> str | None:
+    """Why an existing case file cannot be used (``None`` when it reads).
+
+    Opens the file, checks the format attributes and the required datasets, and reads the last
+    element of each (a truncated file fails there). Cheap: no full read.
+    """
+    import h5py
+
+    path = os.fspath(path)
+    try:
+        with h5py.File(path, "r") as f:
+            fmt = _attr(f.attrs.get("format"))
+            if fmt != "bearing_envelope.case":
+                return f"not a bearing_envelope case file (format attribute {fmt!r})"
+            ver = _attr(f.attrs.get("format_version"))
+            if ver != FORMAT_VERSION:
+                return f"format_version {ver!r} is not supported (this reader: {FORMAT_VERSION})"
+            for name in _REQUIRED:
+                if name not in f:
+                    return f"required dataset '/{name}' is missing"
+                d = f[name]
+                if d.shape and d.shape[0]:
+                    d[-1]
+    except (OSError, KeyError, ValueError, RuntimeError) as exc:
+        return f"unreadable HDF5 ({' '.join(str(exc).split())[:160]})"
+    return None
+
+
+def set_aside_unreadable(path: str | os.PathLike, *, warn=None) -> str | None:
+    """Move an unreadable case file aside so that the workflow rebuilds it.
+
+    If ``path`` exists and :func:`case_file_problem` finds a problem, the file is renamed to
+    ``{path}.unreadable-{UTC time}`` (kept for inspection, never deleted) and a one-line warning
+    naming both paths and the problem goes to ``warn`` (default: stderr). Returns the new path, or
+    ``None`` when the file is missing or fine.
+    """
+    import sys
+
+    path = os.fspath(path)
+    if not os.path.isfile(path):
+        return None
+    problem = case_file_problem(path)
+    if problem is None:
+        return None
+    stamp = _dt.datetime.now(_dt.timezone.utc).strftime("%Y%m%dT%H%M%SZ")
+    aside = f"{path}.unreadable-{stamp}"
+    os.replace(path, aside)
+    msg = (f"warning: {path}: {problem}; moved aside to {aside}; it will be rebuilt as a "
+           f"missing file")
+    (warn or (lambda m: print(m, file=sys.stderr)))(msg)
+    return aside
+
+
+def _read_group(g) -> dict:
+    import h5py
+
+    out: dict[str, Any] = {k: _attr(v) for k, v in g.attrs.items()}
+    for k, v in g.items():
+        out[k] = _read_group(v) if isinstance(v, h5py.Group) else v[()]
+    return out
+
+
+def _attr(v):
+    if isinstance(v, bytes):
+        return v.decode()
+    if isinstance(v, np.generic):
+        return v.item()
+    return v
+
+
+def read_case(path: str | os.PathLike) -> Case:
+    """Read a case file written by :func:`write_case`.
+
+    Raises
+    ------
+    FileNotFoundError
+        No such file.
+    CaseFormatError
+        Not a case file, another format version, a required dataset is missing, or the file is
+        unreadable (truncated, corrupt); the message says how to rebuild it.
+    """
+    path = os.fspath(path)
+    rebuild = (f"; rebuild it with `snakemake -j1 -f {path}` (or delete it: the next run of the "
+               f"workflow moves an unreadable case file aside and rebuilds it)")
+    try:
+        return _read_case(path)
+    except CaseFormatError as exc:
+        raise CaseFormatError(f"{exc}{rebuild}") from exc
+    except (OSError, RuntimeError, KeyError) as exc:
+        if isinstance(exc, FileNotFoundError):
+            raise
+        raise CaseFormatError(f"{path}: unreadable ({' '.join(str(exc).split())[:160]}){rebuild}") \
+            from exc
+
+
+def _read_case(path: str | os.PathLike) -> Case:
+    """Read a case file written by :func:`write_case` (errors not yet given the rebuild hint).
+
+    Raises
+    ------
+    FileNotFoundError
+        No such file.
+    CaseFormatError
+        Not a case file, another format version, or a required dataset is missing.
+    """
+    import h5py
+
+    path = os.fspath(path)
+    if not os.path.exists(path):
+        raise FileNotFoundError(f"case file not found: {path}")
+    try:
+        f = h5py.File(path, "r")
+    except OSError as exc:
+        raise CaseFormatError(f"{path}: not an HDF5 file ({exc})") from exc
+    with f:
+        attrs = {k: _attr(v) for k, v in f.attrs.items()}
+        if attrs.get("format") != "bearing_envelope.case":
+            raise CaseFormatError(f"{path}: not a bearing_envelope case file (format attribute "
+                                  f"{attrs.get('format')!r})")
+        ver = attrs.get("format_version")
+        if ver != FORMAT_VERSION:
+            raise CaseFormatError(f"{path}: format_version {ver!r} is not supported (this reader: "
+                                  f"{FORMAT_VERSION})")
+        for name in _REQUIRED:
+            if name not in f:
+                raise CaseFormatError(f"{path}: required dataset '/{name}' is missing")
+        signals = {k: v[()] for k, v in f["signals"].items()}
+        table = _read_group(f["table"]) if "table" in f else {}
+        snaps = _read_group(f["snapshots"]) if "snapshots" in f else {}
+        time = f["time"][()]
+    for k in ("scene_json", "fidelity_json", "solver_json", "stats_json", "load_distribution_json",
+              "acquisition_json"):
+        if k in attrs:
+            attrs[k[:-5]] = json.loads(attrs[k])
+    return Case(
+        fs=float(attrs["fs"]), fr=float(attrs["fr"]), bpfi=float(attrs["bpfi"]),
+        bpfi_geometry=float(attrs["bpfi_geometry"]), bpfo=float(attrs["bpfo"]),
+        ftf=float(attrs["ftf"]), bsf=float(attrs["bsf"]), time=time,
+        p_max=signals["p_max"], p_max_defect=signals["p_max_defect"],
+        roller_load=signals["roller_load"], defect_offset=signals["defect_offset"],
+        load_kN=float(attrs["load_kN"]), depth_um=float(attrs["depth_um"]),
+        scene=attrs.get("scene", {}), attrs=attrs, signals=signals, snapshots=snaps, table=table,
+    )

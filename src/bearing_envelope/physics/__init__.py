@@ -1,0 +1,17 @@
+"""The bearing and its contact history, on top of :mod:`bearing_envelope.contact`.
+
+- :mod:`.scene`: the scene (bearing, materials, operation, defect, load) and its checks;
+- :mod:`.kinematics`: fault frequencies (BPFO, BPFI, BSF, FTF) from the geometry;
+- :mod:`.loads`: the load zone (roller loads around the race);
+- :mod:`.geometry`: contact grids, the gap with the defect, the Hertz estimate;
+- :mod:`.fidelity`: numerical settings (grids, table nodes, tolerances) and presets;
+- :mod:`.solves`: the global no-defect and local window solves with the defect;
+- :mod:`.table`: the pressure table ``P(Q, x)`` built from those solves;
+- :mod:`.kernels`: numba kernels of the table reading and the synthesis;
+- :mod:`.acquisition`: point or anti-aliased sampling, noise;
+- :mod:`.history`: kinematics of the defect, synthesis, :func:`~.history.simulate`;
+- :mod:`.pit`: when the bottom of a pit carries load;
+- :mod:`.transfer`: the structural path to a synthetic accelerometer.
+
+Nothing here imports from the layers above (signal, diagnosis, io, study, cli).
+"""
