@@ -270,6 +270,26 @@ def shown_family(details: dict) -> tuple[str | None, str | None]:
     return (bands[0] if bands else None), None
 
 
+def _peak_hold(x, y, columns: int = 3000):
+    """At most ``2 columns`` points of a long curve for display: per column its minimum and
+    maximum (every peak stays visible; the data are not changed)."""
+    x = np.asarray(x, dtype=float)
+    y = np.asarray(y, dtype=float)
+    if x.size <= 2 * columns:
+        return x, y
+    step = x.size // columns
+    m = step * columns
+    yy = y[:m].reshape(columns, step)
+    xx = x[:m].reshape(columns, step)
+    lo, hi = yy.argmin(axis=1), yy.argmax(axis=1)
+    rows = np.arange(columns)
+    first = np.minimum(lo, hi)
+    second = np.maximum(lo, hi)
+    xs = np.column_stack([xx[rows, first], xx[rows, second]]).ravel()
+    ys = np.column_stack([yy[rows, first], yy[rows, second]]).ravel()
+    return np.r_[xs, x[m:]], np.r_[ys, y[m:]]
+
+
 def _db(a, ref):
     """``20 log10(a / ref)``, floored at -120 dB."""
     a = np.asarray(a, dtype=float)
@@ -308,7 +328,7 @@ def plot_raw_spectrum(details: dict, ax=None, *, db: bool = False, orders: bool 
     f, a = details["raw"]
     scale, xlabel = _xscale(orders, details.get("fr"))
     y = _db(a, np.max(a) or 1.0) if db else a
-    ax.plot(np.asarray(f) * scale, y, color="0.25", linewidth=0.5)
+    ax.plot(*_peak_hold(np.asarray(f) * scale, y), color="0.25", linewidth=0.5)
     if band is not None and band in details.get("bands", {}):
         lo, hi = details["bands"][band]["band"]
         ax.axvspan(lo * scale, hi * scale, color="tab:blue", alpha=0.12,
@@ -363,9 +383,8 @@ def plot_envelope_waveform(x, details: dict, band: str, ax=None, *, periods: flo
     ax.plot(t, y[i0:i0 + n_show], color="0.7", linewidth=0.5, label="band-passed")
     ax.plot(t, env[i0:i0 + n_show], color="tab:blue", linewidth=0.9, label="envelope")
     if f1:
-        for k in range(int(periods) + 1):
-            ax.axvline(k * 1e3 / f1, color=FAMILY_COLORS.get(family, "tab:red"),
-                       linestyle=":", linewidth=0.6)
+        ax.vlines(np.arange(int(periods) + 1) * 1e3 / f1, 0, 1, transform=ax.get_xaxis_transform(),
+                  color=FAMILY_COLORS.get(family, "tab:red"), linestyle=":", linewidth=0.6)
     ax.set_xlim(0, t[-1])
     ax.set_xlabel("time (ms)")
     ax.set_ylabel("amplitude")
@@ -430,32 +449,29 @@ def plot_record_lines(details: dict, band: str, family: str | None = None, ax=No
     scale, xlabel = _xscale(orders, details.get("fr"))
     ref = float(np.max(a[sel])) if sel.any() and np.max(a[sel]) > 0 else 1.0
     y = _db(a, ref) if db else a
-    ax.plot(f[sel] * scale, y[sel], color="C0", linewidth=0.7)
-    grey_done = False
-    for name, recs in lines.items():
-        if name == family:
-            continue
-        for r in recs:
-            if r["sideband"] == 0 and r["frequency_hz"] <= fmax:
-                ax.axvline(r["frequency_hz"] * scale, color="0.65", linestyle="--",
-                           linewidth=0.6, label=None if grey_done else "other families searched")
-                grey_done = True
-    if family is not None:
+    ax.plot(*_peak_hold(f[sel] * scale, y[sel]), color="C0", linewidth=0.7)
+    xaxis = ax.get_xaxis_transform()
+    grey = [r["frequency_hz"] * scale for name, recs in lines.items() if name != family
+            for r in recs if r["sideband"] == 0 and r["frequency_hz"] <= fmax]
+    if grey:
+        ax.vlines(grey, 0, 1, transform=xaxis, color="0.65", linestyle="--", linewidth=0.6,
+                  label="other families searched")
+    recs = [r for r in (lines.get(family) or []) if r["frequency_hz"] <= fmax]
+    if family is not None and recs:
         c = FAMILY_COLORS.get(family, "tab:red")
-        for r in lines.get(family) or []:
-            fk = r["frequency_hz"]
-            if fk > fmax:
-                continue
-            yk = _db(r["amplitude"], ref) if db else r["amplitude"]
-            if r["sideband"] == 0:
-                ax.axvline(fk * scale, color=c, linestyle="--", linewidth=0.9)
-                ax.annotate(f"{r['order']}x{display_name(family)}", (fk * scale, 0.97),
-                            xycoords=ax.get_xaxis_transform(), xytext=(2, -8),
-                            textcoords="offset points", fontsize=7, color=c)
-            else:
-                ax.axvline(fk * scale, color=c, linestyle=":", linewidth=0.7)
-            if r.get("detected"):
-                ax.plot([fk * scale], [yk], "o", color=c, markersize=3.5)
+        harm = [r for r in recs if r["sideband"] == 0]
+        ax.vlines([r["frequency_hz"] * scale for r in harm], 0, 1, transform=xaxis, color=c,
+                  linestyle="--", linewidth=0.9)
+        ax.vlines([r["frequency_hz"] * scale for r in recs if r["sideband"] != 0], 0, 1,
+                  transform=xaxis, color=c, linestyle=":", linewidth=0.7)
+        for r in harm:
+            ax.annotate(f"{r['order']}x{display_name(family)}", (r["frequency_hz"] * scale, 0.97),
+                        xycoords=xaxis, xytext=(2, -8), textcoords="offset points", fontsize=7,
+                        color=c)
+        det = [r for r in recs if r.get("detected")]
+        ax.plot([r["frequency_hz"] * scale for r in det],
+                [_db(r["amplitude"], ref) if db else r["amplitude"] for r in det], "o", color=c,
+                markersize=3.5)
     ax.set_xlim(0, fmax * scale)
     if not db:
         ax.set_ylim(bottom=0)
@@ -465,7 +481,7 @@ def plot_record_lines(details: dict, band: str, family: str | None = None, ax=No
     what = (f"{display_name(family)} ({f1:.2f} Hz) marked; dots: detected" if f1
             else "no family found")
     ax.set_title(f"envelope spectrum, band {band} ({lo:.0f}-{hi:.0f} Hz): {what}", fontsize=9)
-    if grey_done:
+    if grey:
         ax.legend(loc="upper right", fontsize=7)
     return ax
 
@@ -501,8 +517,9 @@ def save_record_figure(x, details: dict, path, *, n_harmonics: int = 3, db: bool
     from matplotlib.figure import Figure
 
     band, family = shown_family(details)
-    fig = Figure(figsize=(9.0, 8.5), layout="constrained")
+    fig = Figure(figsize=(9.0, 8.5))  # fixed margins: constrained layout doubles the cost
     ax_raw, ax_wave, ax_env = fig.subplots(3, 1, height_ratios=[1.0, 0.9, 1.4])
+    fig.subplots_adjust(left=0.08, right=0.98, bottom=0.06, top=0.9, hspace=0.45)
     plot_raw_spectrum(details, ax_raw, db=db, orders=orders, band=band)
     if band is not None:
         plot_envelope_waveform(x, details, band, ax_wave, family=family)

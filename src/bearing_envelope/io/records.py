@@ -698,7 +698,7 @@ def _manifest_row(row: dict, line: int, path: str, base: str) -> dict:
                                      f"allowed: a number > 0")
                 out[key] = v
                 break
-    rpm = out.pop("rpm")
+    rpm = out.pop("rpm", None)
     if out["fr"] is None and rpm is not None:
         out["fr"] = rpm / 60.0
     return out
