@@ -247,7 +247,7 @@ def test_memory_checked_before_reading(tmp_path, capsys, monkeypatch):
     assert main(["analyze", str(tmp_path / "x.npy"), "--fs", "2000", "--fr", "10", "--bpfi",
                  "55"]) == 2
     _one_line(capsys.readouterr().err, r"file: .*x\.npy: analysing its 100000 samples needs "
-                                       r"about 16 MB of memory .* 10 MB available")
+                                       r"about 19.2 MB of memory .* 10 MB available")
 
 
 def test_bearing_catalogue_matches_published_factors():
