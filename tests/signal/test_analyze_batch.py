@@ -2,8 +2,6 @@
 (issue 22 part 6): every bad input is one line naming the file or the option."""
 
 import re
-import wave
-import zipfile
 
 import numpy as np
 import pandas as pd
@@ -153,7 +151,8 @@ BAD = {
     "truncated-npz": (lambda d: _truncated(d / "t.npz"), [],
                       r"file: .*t\.npz is not a readable \.npz"),
     "lying-npy-header": (lambda d: _lying(d / "l.npy"), [],
-                         r"file: .*l\.npy: the array's header claims shape \(1000000000000,\) .* "
+                         r"file: .*l\.npy: the array has a header that claims shape "
+                         r"\(1000000000000,\) .* "
                          r"truncated or its header is wrong"),
     "complex-npy": (lambda d: _npy(d / "c.npy", np.ones(4096) * (1 + 1j)), [],
                     r"file: .*c\.npy: the array holds complex values"),

@@ -343,9 +343,9 @@ def _npy_header(fh, path: str, what: str):
 def _check_size(shape, dtype, have: int, path: str, what: str) -> None:
     need = math.prod(shape) * dtype.itemsize
     if need > have:
-        raise ValueError(f"file: {path}: {what}'s header claims shape {shape} of {dtype} "
-                         f"({_human_bytes(need)}) but only {_human_bytes(have)} of data follow; "
-                         f"the file is truncated or its header is wrong")
+        raise ValueError(f"file: {path}: {what} has a header that claims shape {shape} of "
+                         f"{dtype} ({_human_bytes(need)}) but only {_human_bytes(have)} of data "
+                         f"follow; the file is truncated or its header is wrong")
 
 
 def _channel_of(shape, column, path: str) -> tuple[int | None, int]:
