@@ -152,8 +152,8 @@ def record_rows(res: dict, args) -> list[dict]:
             "n_samples": int(loaded["x"].size), "fs_hz": res["fs"], "fr_hz": res["fr"],
             "bearing": res["bearing"], "verdict": (vd.get("summary") or [None])[0]}
     for k, v in vd.items():
-        if k not in ("families", "summary", "statistic") and _scalar(v):
-            head[f"record_{k}"] = v
+        if k not in ("families", "summary", "statistic") and _flat(v):
+            head[f"record_{k}"] = _joined(v)
     fams = {f.name: f for f in det["families"]}
     rows = []
     for fv in vd["families"]:
@@ -161,8 +161,8 @@ def record_rows(res: dict, args) -> list[dict]:
         row = dict(head, family=name, nominal_hz=fams[name].frequency_hz,
                    diagnosis=name == vd.get("diagnosis"))
         for k, v in fv.items():
-            if k != "family" and (_scalar(v) or isinstance(v, (list, tuple))):
-                row[k] = ";".join(map(str, v)) if isinstance(v, (list, tuple)) else v
+            if k != "family" and _flat(v):
+                row[k] = _joined(v)
         sr, th = fv.get("floor_ratio_db"), fv.get("threshold_db")
         row["margin_db"] = sr - th if sr is not None and th is not None else None
         row.update(_line_columns(res["table"], name, fv.get("band"), args.harmonics))
@@ -173,6 +173,15 @@ def record_rows(res: dict, args) -> list[dict]:
 
 def _scalar(v) -> bool:
     return v is None or isinstance(v, (str, bool, int, float))
+
+
+def _flat(v) -> bool:
+    """A scalar, or a list of scalars (a table cell joined by ``;``)."""
+    return _scalar(v) or (isinstance(v, (list, tuple)) and all(_scalar(u) for u in v))
+
+
+def _joined(v):
+    return ";".join(map(str, v)) if isinstance(v, (list, tuple)) else v
 
 
 def _line_columns(table, family: str, band, n_harmonics: int) -> dict:
