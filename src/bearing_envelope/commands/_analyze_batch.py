@@ -278,15 +278,17 @@ def html_page(results: list[dict], args) -> str:
     """A static HTML page: the verdict of every record, then each record's figure."""
     base = os.path.dirname(os.path.abspath(args.html))
     e = html.escape
-    conf = any("confidence" in row for r in results for row in r["rows"])
+    conf = any("confidence" in row or "record_confidence" in row
+               for r in results for row in r["rows"])
     head = ["record", "status", "diagnosis"] + (["confidence"] if conf else []) + ["verdict"]
     rows = []
     for i, r in enumerate(results):
         diag = next((row for row in r["rows"] if row.get("diagnosis")), {})
+        first = r["rows"][0]
+        label = diag.get("family") or first.get("record_diagnosis_label") or "no fault"
         cells = [f'<a href="#r{i}">{e(r["file"])}</a>', "ok" if r["ok"] else "failed",
-                 e(str(diag.get("family") or ("-" if not r["ok"] else "no fault")))]
+                 e(str(label if r["ok"] else "-"))]
         if conf:
-            first = r["rows"][0]
             cells.append(e(str(diag.get("confidence", first.get("record_confidence", "")))))
         cells.append(e(r["summary"][0] if r["ok"] else r["error"]))
         rows.append(f'<tr class="{"ok" if r["ok"] else "error"}">'
