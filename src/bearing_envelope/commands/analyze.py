@@ -539,8 +539,14 @@ def analyze_record(task: dict, args) -> dict:
     check_frequencies({"fr": (fr, "--fr"), **sources}, fs, x.size)
     check_orders(args, sources, fr, fs)
     bands = record_bands(args, fs)
-    table, det = run_chain(x, fs, fr, {k: v for k, (v, _) in sources.items()}, bands, nlevel,
-                           args)
+    try:
+        table, det = run_chain(x, fs, fr, {k: v for k, (v, _) in sources.items()}, bands,
+                               nlevel, args)
+    except (ValueError, KeyError) as exc:  # the library's own checks: name the record too
+        msg = exc.args[0] if isinstance(exc, KeyError) and exc.args else str(exc)
+        where = "--bands" if args.bands is not None else "bands"
+        raise ValueError(f"file: {path}: {where}: {msg}" if "band" in str(msg)
+                         else f"file: {path}: {msg}") from None
     return {"file": path, "loaded": loaded, "fs": fs, "fr": fr, "sources": sources,
             "bearing": None if geometry is None else geometry.get("designation"),
             "nlevel": nlevel, "table": tidy_from_analysis(table), "det": det}
