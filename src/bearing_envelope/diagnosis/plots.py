@@ -519,7 +519,7 @@ def save_record_figure(x, details: dict, path, *, n_harmonics: int = 3, db: bool
     band, family = shown_family(details)
     fig = Figure(figsize=(9.0, 8.5))  # fixed margins: constrained layout doubles the cost
     ax_raw, ax_wave, ax_env = fig.subplots(3, 1, height_ratios=[1.0, 0.9, 1.4])
-    fig.subplots_adjust(left=0.08, right=0.98, bottom=0.06, top=0.9, hspace=0.45)
+    fig.subplots_adjust(left=0.08, right=0.98, bottom=0.06, top=0.88, hspace=0.45)
     plot_raw_spectrum(details, ax_raw, db=db, orders=orders, band=band)
     if band is not None:
         plot_envelope_waveform(x, details, band, ax_wave, family=family)
