@@ -21,8 +21,9 @@ the option) and what is allowed, instead of guessing:
 
 Complex, boolean and object data are refused (an imaginary part is never dropped silently).
 
-The bearing catalogue (:func:`bearing_geometry`) reads ``data/bearings.csv`` (designation,
-geometry and its published source), so that a later catalogue can absorb it.
+Bearings named by designation (:func:`bearing_geometry`) come from the bearing catalogue
+(:mod:`bearing_envelope.physics.catalogue`, ``data/bearings.yaml``): ``6205`` is ``SKF
+6205-2RS``, ``6203`` is ``SKF 6203``.
 """
 
 # pandas (CSV) and scipy.io (.mat, .wav) are imported by the reader that needs them: reading an
@@ -36,13 +37,12 @@ import os
 import re
 import zipfile
 import zlib
-from functools import lru_cache
-from importlib import resources
 
 import numpy as np
 from numpy.lib import format as npf
 
 from .. import io as _io  # read_case looked up at call time (callers may substitute it)
+from ..physics.catalogue import bearing_sources, bearing_values, designations
 
 __all__ = ["SUFFIXES", "MEMORY_FACTOR", "read_record", "sniff_csv", "read_manifest",
            "collect_records", "bearing_geometry", "known_bearings", "check_memory"]
@@ -709,19 +709,16 @@ def _manifest_row(row: dict, line: int, path: str, base: str) -> dict:
 
 
 # ------------------------------------------------------------------------------ bearings
-@lru_cache(maxsize=1)
-def known_bearings() -> dict[str, dict]:
-    """``designation -> geometry`` of ``data/bearings.csv`` (aliases included)."""
-    text = resources.files("bearing_envelope").joinpath("data/bearings.csv").read_text("utf-8")
-    out: dict[str, dict] = {}
-    for row in csv.DictReader(text.splitlines()):
-        geo = {"designation": row["designation"], "n_rollers": int(row["n_rollers"]),
-               "roller_diameter_mm": float(row["roller_diameter_in"]) * _MM_PER_INCH,
-               "pitch_diameter_mm": float(row["pitch_diameter_in"]) * _MM_PER_INCH,
-               "contact_angle_deg": float(row["contact_angle_deg"]), "source": row["source"]}
-        for name in [row["designation"], *row["aliases"].split(";")]:
-            if name.strip():
-                out[_key(name)] = geo
+def _aliases(designation: str) -> set[str]:
+    """Names a catalogue entry answers to: ``"SKF 6205-2RS"`` -> itself, ``"6205-2RS"``,
+    ``"6205"``."""
+    out = {_key(designation)}
+    words = designation.split()
+    if len(words) > 1:
+        out.add(_key(" ".join(words[1:])))
+    m = re.search(r"\d{3,}", designation)
+    if m:
+        out.add(m.group(0))
     return out
 
 
@@ -729,14 +726,26 @@ def _key(name: str) -> str:
     return re.sub(r"[\s_]+", "-", str(name).strip().upper())
 
 
+def known_bearings() -> dict[str, str]:
+    """``alias -> catalogue designation`` of every entry of the bearing catalogue
+    (:mod:`bearing_envelope.physics.catalogue`, ``data/bearings.yaml``)."""
+    out: dict[str, str] = {}
+    for d in designations():
+        for a in _aliases(d):
+            out.setdefault(a, d)
+    return out
+
+
 def bearing_geometry(designation: str) -> dict:
-    """Geometry of a bearing named by designation (``"6205"``, ``"6205-2RS JEM SKF"``).
+    """Geometry of a catalogue bearing named by designation (``"6205"``, ``"SKF 6205-2RS"``,
+    ``"6205-2RS JEM SKF"``): the catalogue's rolling elements, their diameter, the pitch
+    diameter (``(bore + OD) / 2`` where the catalogue gives none) and contact angle.
 
     Returns
     -------
     dict
-        ``designation``, ``n_rollers``, ``roller_diameter_mm``, ``pitch_diameter_mm``,
-        ``contact_angle_deg``, ``source``.
+        ``designation`` (the catalogue's), ``n_rollers``, ``roller_diameter_mm``,
+        ``pitch_diameter_mm``, ``contact_angle_deg``, ``source`` (of each value).
 
     Raises
     ------
@@ -744,10 +753,24 @@ def bearing_geometry(designation: str) -> dict:
         ``--bearing: ... allowed: ...`` for an unknown designation.
     """
     table = known_bearings()
-    geo = table.get(_key(designation))
-    if geo is None:
-        names = sorted({g["designation"] for g in table.values()})
+    key = _key(designation)
+    name = table.get(key)
+    if name is None:  # "6205-2RS JEM SKF": its first designation number
+        m = re.search(r"\d{3,}", key)
+        name = table.get(m.group(0)) if m else None
+    if name is None:
         raise ValueError(f"--bearing: unknown bearing {designation!r}; allowed: "
-                         f"{', '.join(names)} (or give the geometry: --n-rollers, "
-                         f"--roller-diameter-mm/-in, --pitch-diameter-mm/-in)")
-    return dict(geo)
+                         f"{', '.join(designations())} (or 6205, 6203, ...; or give the "
+                         f"geometry: --n-rollers, --roller-diameter-mm/-in, "
+                         f"--pitch-diameter-mm/-in)")
+    v, src = bearing_values(name), bearing_sources(name)
+    pitch = v["pitch_diameter_mm"]
+    if pitch is None:
+        pitch = 0.5 * (v["bore_mm"] + v["outside_diameter_mm"])
+    return {"designation": name, "n_rollers": int(v["rollers_per_row"]),
+            "roller_diameter_mm": float(v["roller_diameter_mm"]),
+            "pitch_diameter_mm": float(pitch),
+            "contact_angle_deg": float(v.get("contact_angle_deg") or 0.0),
+            "source": {k: src[k] for k in ("rollers_per_row", "roller_diameter_mm",
+                                           "pitch_diameter_mm", "contact_angle_deg")
+                       if k in src}}
