@@ -7,16 +7,21 @@ one-line reason and the others still run. The results are put back in input orde
 tables do not depend on ``--jobs``.
 """
 
-# Only the standard library at module level: run() calls single_threaded() before numpy is
-# imported (the thread-count variables are read when numpy/numba load). numpy, pandas and the
-# package's modules are imported inside the functions for that reason.
+# Only the standard library (and ._analyze_record, itself standard library only) at module
+# level: run() calls single_threaded() before numpy is imported (the thread-count variables are
+# read when numpy/numba load). numpy, pandas and the package's modules are imported inside the
+# functions for that reason.
 from __future__ import annotations
 
 import html
 import json
-import math
 import os
 import sys
+
+from ._analyze_record import analyze_record, figure_dir, finish_record, write_text
+
+#: Exit code of a batch where at least one record failed (the others' results are written).
+EXIT_SOME_FAILED = 1
 
 #: Environment variables that make numpy's BLAS, OpenMP and numba use one thread.
 THREAD_VARIABLES = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS",
@@ -53,8 +58,6 @@ def failed(task: dict, reason: str) -> dict:
 
 def work(task: dict, args, fig_dir: str | None) -> dict:
     """Analyse one record; any error becomes a failed result (one line)."""
-    from bearing_envelope.commands.analyze import analyze_record, finish_record
-
     try:
         return finish_record(analyze_record(task, args), args, fig_dir)
     except (ValueError, KeyError, OSError, MemoryError) as exc:
@@ -69,7 +72,7 @@ def _warm_up(args, fig_dir) -> None:
     process otherwise). Results do not change."""
     import numpy as np
 
-    import bearing_envelope.commands.analyze  # noqa: F401
+    import bearing_envelope.commands._analyze_record  # noqa: F401
     import bearing_envelope.diagnosis  # noqa: F401
     import bearing_envelope.io.records  # noqa: F401
     import bearing_envelope.study.tables  # noqa: F401
@@ -104,8 +107,6 @@ def run_batch(tasks: list[dict], args) -> int:
     """Analyse every task, write the outputs; exit code 0, or 1 if any record failed."""
     from tqdm import tqdm
 
-    from bearing_envelope.commands.analyze import EXIT_SOME_FAILED, figure_dir
-
     jobs = args.jobs or os.cpu_count() or 1
     jobs = max(1, min(jobs, len(tasks)))
     fig_dir = figure_dir(args)
@@ -133,100 +134,18 @@ def run_batch(tasks: list[dict], args) -> int:
 
 
 # ------------------------------------------------------------------------- verdict table
-def record_rows(res: dict, args) -> list[dict]:
-    """Rows of the verdict table for one analysed record: one per fault family.
-
-    Columns: the record (``file, record, status, error, source, n_samples, fs_hz, fr_hz,
-    bearing``), the record's verdict (``verdict`` = its summary line, ``record_*`` = every
-    scalar of ``Verdict.to_dict()``), the family (``family, nominal_hz, diagnosis`` and every
-    scalar of its ``FamilyVerdict``, lists joined by ``;``, and ``margin_db``), its lines in
-    the band of its verdict (``h{k}_hz, h{k}_amplitude, h{k}_db, h{k}_detected``) and the
-    fault-band metrics there (:func:`bearing_envelope.diagnosis.fault_band_metrics`:
-    ``h{k}_band_peak, h{k}_band_peak_hz, h{k}_band_power, total_band_power``).
-    """
-    det = res["det"]
-    vd = det["verdict"].to_dict()
-    loaded = res["loaded"]
-    head = {"file": res["file"], "record": os.path.splitext(os.path.basename(res["file"]))[0],
-            "status": "ok", "error": None, "source": loaded["source"],
-            "n_samples": int(loaded["x"].size), "fs_hz": res["fs"], "fr_hz": res["fr"],
-            "bearing": res["bearing"], "verdict": (vd.get("summary") or [None])[0]}
-    for k, v in vd.items():
-        if k not in ("families", "summary", "statistic") and _flat(v):
-            head[f"record_{k}"] = _joined(v)
-    fams = {f.name: f for f in det["families"]}
-    rows = []
-    for fv in vd["families"]:
-        name = fv["family"]
-        row = dict(head, family=name, nominal_hz=fams[name].frequency_hz,
-                   diagnosis=name == vd.get("diagnosis"))
-        for k, v in fv.items():
-            if k != "family" and _flat(v):
-                row[k] = _joined(v)
-        sr, th = fv.get("floor_ratio_db"), fv.get("threshold_db")
-        row["margin_db"] = sr - th if sr is not None and th is not None else None
-        row.update(_line_columns(res["table"], name, fv.get("band"), args.harmonics))
-        row.update(_band_metrics(det, fams[name], fv.get("band"), args))
-        rows.append(row)
-    return rows
 
 
-def _scalar(v) -> bool:
-    return v is None or isinstance(v, (str, bool, int, float))
 
 
-def _flat(v) -> bool:
-    """A scalar, or a list of scalars (a table cell joined by ``;``)."""
-    return _scalar(v) or (isinstance(v, (list, tuple)) and all(_scalar(u) for u in v))
 
 
-def _joined(v):
-    return ";".join(map(str, v)) if isinstance(v, (list, tuple)) else v
 
 
-def _line_columns(table, family: str, band, n_harmonics: int) -> dict:
-    out = {}
-    sel = table[(table["band"] == band) & (table["base"] == family)
-                & (table["sideband"] == 0)
-                & table["quantity"].astype(str).str.startswith("envelope")] \
-        if band is not None else table.iloc[0:0]
-    by_k = {int(r["order"]): r for _, r in sel.iterrows()}
-    for k in range(1, n_harmonics + 1):
-        r = by_k.get(k)
-        out[f"h{k}_hz"] = None if r is None else float(r["frequency_hz"])
-        out[f"h{k}_amplitude"] = None if r is None else float(r["amplitude"])
-        out[f"h{k}_db"] = None if r is None else float(r["floor_ratio_db"])
-        out[f"h{k}_detected"] = None if r is None or r["detected"] is None or \
-            str(r["detected"]) == "<NA>" else bool(r["detected"])
-    return out
 
 
-def _band_metrics(det: dict, fam, band, args) -> dict:
-    from bearing_envelope.diagnosis.detection import fault_band_metrics
-
-    k_max = args.harmonics
-    out = {f"h{k}_{c}": None for k in range(1, k_max + 1)
-           for c in ("band_peak", "band_peak_hz", "band_power")}
-    out["total_band_power"] = None
-    b = det["bands"].get(band) if band is not None else None
-    if b is None:
-        return out
-    m = fault_band_metrics(b["f"], b["amplitude"], {fam.name: fam.frequency_hz},
-                           harmonics=k_max, sidebands=0,
-                           bandwidth=2.0 * args.search_percent / 100.0,
-                           enbw=1.5 if args.window == "hann" else 1.0)
-    for _, r in m.iterrows():
-        k = int(r["order"])
-        out[f"h{k}_band_peak"] = _num(r["peak_amplitude"])
-        out[f"h{k}_band_peak_hz"] = _num(r["peak_hz"])
-        out[f"h{k}_band_power"] = _num(r["band_power"])
-        out["total_band_power"] = _num(r["total_band_power"])
-    return out
 
 
-def _num(v):
-    v = float(v)
-    return v if math.isfinite(v) else None
 
 
 def verdict_table(results: list[dict]):
@@ -240,8 +159,6 @@ def verdict_table(results: list[dict]):
 # ------------------------------------------------------------------------------ outputs
 def write_batch_outputs(results: list[dict], args, *, out, lines_and_json: bool = True) -> None:
     """``--table``, ``--html`` and (``lines_and_json``) ``--csv`` and ``--json``."""
-    from bearing_envelope.commands.analyze import write_text
-
     if args.table:
         os.makedirs(os.path.dirname(os.path.abspath(args.table)), exist_ok=True)
         verdict_table(results).to_csv(args.table, index=False)
