@@ -279,3 +279,16 @@ def test_plot_options(folder, tmp_path):
         png = d / "r_figures" / "a_fault_analysis.png"
         sizes.append(png.read_bytes())
     assert sizes[0] != sizes[1]
+
+
+def test_batch_json_on_stdout_and_no_progress_bar_off_a_terminal(folder, capsys):
+    import json
+
+    assert main(["analyze", str(folder / "a_fault.npz"), str(folder / "b_noise.npz"), "--fr",
+                 str(FR), "--bearing", "6205", "--nlevel", "5", "--json", "-"]) == 0
+    cap = capsys.readouterr()
+    doc = json.loads(cap.out)
+    assert [r["file"].split("/")[-1] for r in doc["records"]] == ["a_fault.npz", "b_noise.npz"]
+    assert doc["records"][0]["verdict"]["diagnosis"] == "bpfi"
+    assert "analyze:" not in cap.err and "record/s" not in cap.err  # no tqdm bar off a TTY
+    assert "# 2 records: 2 analysed, 0 failed" in cap.err
