@@ -292,3 +292,17 @@ def test_batch_json_on_stdout_and_no_progress_bar_off_a_terminal(folder, capsys)
     assert doc["records"][0]["verdict"]["diagnosis"] == "bpfi"
     assert "analyze:" not in cap.err and "record/s" not in cap.err  # no tqdm bar off a TTY
     assert "# 2 records: 2 analysed, 0 failed" in cap.err
+
+
+@pytest.mark.parametrize("column, value, pattern", [
+    ("bearing", "6299", r"--manifest: .*manifest\.csv line 3: unknown bearing '6299'"),
+    ("channel", "XY", r"--manifest: .*manifest\.csv line 3: channel = 'XY'; allowed: DE, FE, BA"),
+    ("fs", "-5", r"--manifest: .*manifest\.csv line 3: fs = '-5'; allowed: a number > 0"),
+])
+def test_bad_manifest_is_refused_before_any_record(folder, capsys, column, value, pattern):
+    m = pd.read_csv(folder / "manifest.csv")
+    m[column] = m[column].astype(object) if column in m else None
+    m.loc[1, column] = value
+    m.to_csv(folder / "manifest.csv", index=False)
+    assert main(["analyze", "--manifest", str(folder / "manifest.csv")]) == 2
+    _one_line(capsys.readouterr().err, pattern)

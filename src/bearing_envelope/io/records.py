@@ -705,6 +705,17 @@ def _manifest_row(row: dict, line: int, path: str, base: str) -> dict:
     rpm = out.pop("rpm", None)
     if out["fr"] is None and rpm is not None:
         out["fr"] = rpm / 60.0
+    if out["channel"] is not None and out["channel"].upper() not in ("DE", "FE", "BA"):
+        raise ValueError(f"--manifest: {path} line {line}: channel = {out['channel']!r}; "
+                         f"allowed: DE, FE, BA")
+    if out["channel"] is not None:
+        out["channel"] = out["channel"].upper()
+    if out["bearing"] is not None:
+        try:
+            bearing_geometry(out["bearing"])
+        except ValueError as exc:
+            raise ValueError(f"--manifest: {path} line {line}: "
+                             f"{str(exc).replace('--bearing: ', '')}") from None
     return out
 
 
