@@ -546,7 +546,7 @@ def _read_wav(path, column) -> dict:
 
     try:
         fs, a = wavfile.read(path, mmap=False)
-    except (ValueError, EOFError, OSError) as exc:
+    except Exception as exc:  # scipy raises ValueError, EOFError, struct.error, ... on junk
         raise ValueError(f"file: {path} is not a readable WAV file "
                          f"({str(exc).splitlines()[0] if str(exc) else type(exc).__name__})"
                          ) from None
