@@ -134,20 +134,6 @@ def run_batch(tasks: list[dict], args) -> int:
 
 
 # ------------------------------------------------------------------------- verdict table
-
-
-
-
-
-
-
-
-
-
-
-
-
-
 def verdict_table(results: list[dict]):
     """The verdict table (a DataFrame) of every result, in input order."""
     import pandas as pd

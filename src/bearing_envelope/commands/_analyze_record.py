@@ -298,7 +298,6 @@ def finish_record(res: dict, args, fig_dir: str | None) -> dict:
             "summary": res["det"]["verdict"].summary_lines(), "figure": fig}
 
 
-
 # ------------------------------------------------------------------------- verdict table
 def record_rows(res: dict, args) -> list[dict]:
     """Rows of the verdict table for one analysed record: one per fault family.

@@ -41,7 +41,6 @@ from ._analyze_record import (analyze_record, figure_dir, finish_record, is_batc
 _MM_PER_INCH = 25.4
 
 
-
 def plain_text(text: str) -> str:
     """Help text without reStructuredText markup: ``:func:`x``` -> ``x``, double back-quotes
     and ``::`` removed, escaped backslashes unescaped."""
@@ -368,31 +367,6 @@ def load_bands(text: str | None):
     return data
 
 
-
-
-
-
-
-
-
-
-# ---------------------------------------------------------------------------- one record
-
-
-
-
-
-
-
-
-
-
-
-
-
-
-
-
 # ---------------------------------------------------------------------------------- run
 def record_tasks(args) -> list[dict]:
     """The records to analyse: the manifest's rows, then the files (folders expanded)."""
@@ -403,8 +377,6 @@ def record_tasks(args) -> list[dict]:
         tasks.append({"file": f, "fs": None, "fr": None, "bearing": None, "column": None,
                       "channel": None})
     return tasks
-
-
 
 
 def run(args) -> int:
@@ -484,7 +456,3 @@ def write_record_outputs(args, res: dict) -> None:
     if args.table or args.html:
         write_batch_outputs([finish_record(res, args, figure_dir(args))], args, out=out,
                             lines_and_json=False)
-
-
-
-
