@@ -61,8 +61,6 @@ EXEMPT_FUNCTIONS = {(f"{PACKAGE}.signal", "__getattr__")}
 #: applies).
 KNOWN_LONG_FUNCTIONS = {
     (f"{PACKAGE}.diagnosis.analysis", "analyze_signal"): "issue 21 part 3 (diagnosis/analysis.py)",
-    (f"{PACKAGE}.commands.analyze", "run"): "issue 21 part 3 (commands/analyze.py)",
-    (f"{PACKAGE}.commands.analyze", "register"): "issue 21 part 3 (commands/analyze.py)",
     (f"{PACKAGE}.io.case", "write_case"): "issue 21 part 3 (io/case.py)",
 }
 
