@@ -14,8 +14,6 @@ import numpy as np
 from matplotlib.figure import Figure  # this module only draws: it is imported on demand
 from matplotlib.patches import Rectangle
 
-from .faults import display_name
-
 from ..signal.envelope import bandpass, envelope
 from .faults import display_name
 
@@ -509,10 +507,6 @@ def save_record_figure(x, details: dict, path, *, n_harmonics: int = 3, db: bool
     str
         ``path``.
     """
-    import textwrap
-
-    from matplotlib.figure import Figure
-
     band, family = shown_family(details)
     fig = Figure(figsize=(9.0, 8.5))  # fixed margins: constrained layout doubles the cost
     ax_raw, ax_wave, ax_env = fig.subplots(3, 1, height_ratios=[1.0, 0.9, 1.4])
