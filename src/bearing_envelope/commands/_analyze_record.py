@@ -195,7 +195,8 @@ def analyze_record(task: dict, args) -> dict:
         where = "--bands" if args.bands is not None else "bands"
         raise ValueError(f"file: {path}: {where}: {msg}" if "band" in str(msg)
                          else f"file: {path}: {msg}") from None
-    return {"file": path, "loaded": loaded, "fs": fs, "fr": fr, "sources": sources,
+    return {"file": path, "name": task.get("name"), "loaded": loaded, "fs": fs, "fr": fr,
+            "sources": sources,
             "bearing": None if geometry is None else geometry.get("designation"),
             "nlevel": nlevel, "table": tidy_from_analysis(table), "det": det}
 
@@ -288,7 +289,7 @@ def finish_record(res: dict, args, fig_dir: str | None) -> dict:
 
     fig = None
     if fig_dir is not None:
-        stem = os.path.splitext(os.path.basename(res["file"]))[0]
+        stem = res.get("name") or os.path.splitext(os.path.basename(res["file"]))[0]
         fig = save_record_figure(res["loaded"]["x"], res["det"], os.path.join(
             fig_dir, f"{stem}_analysis.png"), n_harmonics=args.harmonics, db=args.db,
             fmax=args.fmax, orders=args.orders, title=res["file"])

@@ -376,6 +376,11 @@ def record_tasks(args) -> list[dict]:
     for f in collect_records(args.files):
         tasks.append({"file": f, "fs": None, "fr": None, "bearing": None, "column": None,
                       "channel": None})
+    seen: dict[str, int] = {}
+    for t in tasks:  # figure names: the file's stem, numbered when two records share it
+        stem = os.path.splitext(os.path.basename(t["file"]))[0]
+        seen[stem] = seen.get(stem, 0) + 1
+        t["name"] = stem if seen[stem] == 1 else f"{stem}_{seen[stem]}"
     return tasks
 
 
