@@ -36,6 +36,8 @@ from ..diagnosis import analyze_signal
 from ..diagnosis.detection import detection_statistic
 from ..io import BandLimits, CaseBands, CaseSpectra
 from ..physics.fidelity import Fidelity
+from ..physics.locations import LOCATION_FAMILIES, event_frequencies
+from ..physics.scene import DEFECT_LOCATIONS
 from ..physics.transfer import (TransferModel, excitation_from_history, select_excitation,
                                 synthesize_acceleration)
 from ..signal import envelope_spectrum, fast_kurtogram, max_kurtogram_level, resolve_band
@@ -44,7 +46,8 @@ from .provenance import log_to
 from .settings import AnalysisSettings, CaseId
 from .tables import TIDY_COLUMNS, TIDY_EXTRA_COLUMNS, tidy_from_analysis
 
-__all__ = ["history_case", "case_signal", "case_frequencies", "case_bands", "case_harmonics", "case_envelope",
+__all__ = ["history_case", "case_signal", "case_frequencies", "case_location", "case_fault_lines",
+           "case_bands", "case_harmonics", "case_envelope",
            "case_summary", "case_acceleration", "diagnosability_bands", "case_diagnosability",
            "case_false_alarms", "FALSE_ALARM_SEED_OFFSET", "log_to"]
 
@@ -86,6 +89,45 @@ def case_frequencies(case) -> dict[str, float]:
     """Base frequencies (Hz) of a case: fr, the BPFI used, and the geometric BPFO, FTF, BSF."""
     return {"fr": float(case.fr), "bpfi": float(case.bpfi), "bpfo": float(case.bpfo),
             "ftf": float(case.ftf), "bsf": float(case.bsf)}
+
+
+def case_location(case) -> str:
+    """The defect location of a case (``defect.location`` of its scene; the inner race for a
+    case file that records none)."""
+    defect = (getattr(case, "scene", None) or {}).get("defect") or {}
+    return str(defect.get("location") or DEFECT_LOCATIONS[0])
+
+
+def case_fault_lines(case) -> tuple[dict[str, float], dict[str, tuple[str, float]] | None]:
+    """The fault family the sweep searches in a case's spectra, from its scene.
+
+    Inner race: ``{"bpfi": BPFI used}`` with the default fr sidebands (today's analysis);
+    outer race: ``{"bpfo": Z f_c}`` with fr sidebands as a check; rolling element:
+    ``{"bsf2": 2 BSF}`` with FTF sidebands (:data:`bearing_envelope.physics.locations.
+    LOCATION_FAMILIES`). The rates are those of the history's cage rate
+    (:func:`bearing_envelope.physics.locations.event_frequencies`).
+
+    Returns
+    -------
+    frequencies : dict
+        ``family -> Hz`` for :func:`bearing_envelope.diagnosis.analyze_signal`.
+    sideband_spacing : dict or None
+        ``family -> (spacing name, Hz)``; None for the inner race (the default spacing).
+    """
+    loc = case_location(case)
+    if loc == DEFECT_LOCATIONS[0]:
+        return {"bpfi": float(case.bpfi)}, None
+    b = case.scene["bearing"]
+    ev = event_frequencies(float(case.fr), float(case.bpfi), int(b["rollers_per_row"]),
+                           float(b["roller_diameter_mm"]), float(b["pitch_diameter_mm"]),
+                           float(b["contact_angle_deg"]))
+    family, spacing = LOCATION_FAMILIES[loc]
+    return {family: ev[family]}, {family: (spacing, ev[spacing])}
+
+
+def _fundamental(case) -> float:
+    """Nominal fundamental (Hz) of the case's fault family (:func:`case_fault_lines`)."""
+    return float(next(iter(case_fault_lines(case)[0].values())))
 
 
 def _kurtogram(x, fs, analysis: AnalysisSettings):
@@ -177,8 +219,9 @@ def case_harmonics(case, analysis: AnalysisSettings, bands, *, full_output: bool
              for b in bands.bands]
     strategies = {b.name: b.strategy for b in bands.bands}
     clamped = {b.name: b.clamped for b in bands.bands}
+    faults, spacing = case_fault_lines(case)
     res = analyze_signal(
-        x, fs, fr=float(case.fr), bpfi=float(case.bpfi), bands=specs,
+        x, fs, fr=float(case.fr), fault_frequencies=faults, sideband_spacing=spacing, bands=specs,
         n_harmonics=analysis.harmonics,
         n_sidebands=analysis.sidebands,
         n_raw_harmonics=analysis.raw_orders_fr,
@@ -240,7 +283,7 @@ def case_envelope(case, analysis: AnalysisSettings, bands) -> tuple[pd.DataFrame
         ``(harmonics + 1.5) x BPFI`` (:data:`SPECTRA_MARGIN_ORDERS`).
     """
     df, extra = case_harmonics(case, analysis, bands, full_output=True)
-    fmax = (analysis.harmonics + SPECTRA_MARGIN_ORDERS) * case.bpfi
+    fmax = (analysis.harmonics + SPECTRA_MARGIN_ORDERS) * _fundamental(case)
     env = {}
     for name, b in extra["bands"].items():
         keep = b["f"] <= fmax
@@ -491,8 +534,8 @@ def case_diagnosability(case, sensor: TransferModel, analysis: AnalysisSettings,
         for spec, lo, hi in bands:
             f, a = envelope_spectrum(acc, fs, (lo, hi), order=analysis.filter_order,
                                      squared=analysis.squared_envelope)
-            d = detection_statistic(f, a, float(case.bpfi), fr=float(case.fr),
-                                        background=MAP_BACKGROUND, level="two_sided")
+            d = detection_statistic(f, a, _fundamental(case), fr=float(case.fr),
+                                    background=MAP_BACKGROUND, level="two_sided")
             rows.append({
                 "case": _case_id(case), "load_kN": float(case.load_kN),
                 "depth_um": float(case.depth_um), "snr_db": float(snr),
@@ -551,7 +594,7 @@ def case_false_alarms(case, sensor: TransferModel, analysis: AnalysisSettings, s
             for spec, lo, hi in bands:
                 f, a = envelope_spectrum(acc, fs, (lo, hi), order=analysis.filter_order,
                                          squared=analysis.squared_envelope)
-                d = detection_statistic(f, a, float(case.bpfi), fr=float(case.fr),
+                d = detection_statistic(f, a, _fundamental(case), fr=float(case.fr),
                                         background=MAP_BACKGROUND, level="two_sided")
                 rows.append({"case": _case_id(case), "load_kN": float(case.load_kN),
                              "depth_um": float(case.depth_um), "snr_db": float(snr),
