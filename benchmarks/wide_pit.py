@@ -11,7 +11,12 @@ depth 279.4 um (0.011 in) centred in the contact:
 - ``C``: pit, **force control at Q** (the ball sinks until the rest of the ellipse carries Q):
   extra approach, peak, area.
 
-Run: ``python benchmarks/wide_pit.py`` (about 10 CPU s). Prints one row per diameter.
+Then the sweep's own route against an independent answer, the scene's pit (cylinder, 20 um rim
+radius): the window solve at the no-defect window approach (``physics.solves.defect_solve``,
+``standard`` fidelity) and a whole-ellipse solve of the same gap field at the whole-ellipse
+no-defect approach (no window, no frozen far field): removed force and peak pressure.
+
+Run: ``python benchmarks/wide_pit.py`` (about a minute of CPU). Prints two tables.
 """
 
 from __future__ import annotations
@@ -22,9 +27,11 @@ import time
 import numpy as np
 
 from bearing_envelope.contact import solve_contact
-from bearing_envelope.physics.geometry import hertz_estimate
+from bearing_envelope.physics.fidelity import fidelity_from
+from bearing_envelope.physics.geometry import gap_field, hertz_estimate, make_grid
 from bearing_envelope.physics.loads import scene_load_distribution
 from bearing_envelope.physics.scene import Scene
+from bearing_envelope.physics.solves import SolveStats, defect_solve, solve_load
 from bearing_envelope.study.settings import read_yaml
 
 #: CWRU pit diameters (um): 0.007, 0.014, 0.021 in.
@@ -38,6 +45,32 @@ HALF_X_UM, HALF_Y_UM = 420.0, 1400.0
 TOL, MAX_ITER = 1e-8, 5000
 #: Assumed CWRU bearing load (kN), as in config_cwru.yaml.
 LOAD_KN = 1.0
+#: Whole-ellipse grid of the window comparison: spacing (um) across rolling x axial.
+WHOLE_DX_UM, WHOLE_DY_UM = 2.0, 20.0
+#: Fidelity preset of the window solves (the sweep's default).
+FIDELITY = "standard"
+
+
+def window_vs_whole(diameter_um: float) -> dict:
+    """Removed force (N) and peak (Pa) of the window solve and of a whole-ellipse solve, both at
+    their no-defect approach, for the scene's cylindrical pit of ``diameter_um`` at x_d = 0."""
+    m = read_yaml("config_cwru.yaml")["scene"]
+    m["defect"]["width_um"] = diameter_um
+    sc = Scene.from_mapping(m, load_kN=LOAD_KN, depth_um=PIT_DEPTH_UM)
+    q = scene_load_distribution(sc).q_max
+    fid, stats = fidelity_from(FIDELITY), SolveStats()
+    node = solve_load(sc, fid, q, 1.0, stats)
+    ds = defect_solve(sc, fid, node, 0.0, stats)
+    grid = make_grid(-HALF_X_UM * 1e-6, HALF_X_UM * 1e-6, -HALF_Y_UM * 1e-6, HALF_Y_UM * 1e-6,
+                     WHOLE_DX_UM * 1e-6, WHOLE_DY_UM * 1e-6)
+    kw = dict(tol=TOL, max_iter=MAX_ITER)
+    e = sc.material.e_star_pa
+    s0 = solve_contact(gap_field(sc, grid, None), grid.dx, grid.dy, q, e, **kw)
+    s1 = solve_contact(gap_field(sc, grid, 0.0), grid.dx, grid.dy, None, e,
+                       approach=s0.approach, **kw)
+    removed = q - float(s1.pressure.sum()) * grid.dx * grid.dy
+    return {"q": q, "window_removed": ds.removed_force, "whole_removed": removed,
+            "window_peak": ds.P, "whole_peak": float(s1.pressure.max())}
 
 
 def scene_and_load():
@@ -89,6 +122,16 @@ def main() -> None:
               f"{c.pressure.max() / 1e9:.3f} | {c.contact_area / area0:.3f} | {bottom} |")
     print(f"CPU {time.process_time() - t0:.1f} s; grid {DX_UM:g} x {DY_UM:g} um")
     assert math.isfinite(a.approach)
+    print("\n| D (um) | removed force / Q: window | whole ellipse | peak (GPa): window | "
+          "whole ellipse |")
+    print("|---|---|---|---|---|")
+    t0 = time.process_time()
+    for d in PIT_DIAMETERS_UM:
+        r = window_vs_whole(d)
+        print(f"| {d:g} | {r['window_removed'] / r['q']:.4f} | {r['whole_removed'] / r['q']:.4f} "
+              f"| {r['window_peak'] / 1e9:.3f} | {r['whole_peak'] / 1e9:.3f} |")
+    print(f"CPU {time.process_time() - t0:.1f} s; window {FIDELITY}, whole ellipse "
+          f"{WHOLE_DX_UM:g} x {WHOLE_DY_UM:g} um")
 
 
 if __name__ == "__main__":
