@@ -41,6 +41,7 @@ from ..physics.scene import DEFECT_LOCATIONS
 from ..physics.transfer import (TransferModel, excitation_from_history, select_excitation,
                                 synthesize_acceleration)
 from ..signal import envelope_spectrum, fast_kurtogram, max_kurtogram_level, resolve_band
+from ..signal.bands import clamp_band
 from .accuracy import ErrorModel, attach_errors, error_model
 from .provenance import log_to
 from .settings import AnalysisSettings, CaseId
@@ -165,10 +166,14 @@ def case_bands(case, analysis: AnalysisSettings) -> tuple[CaseBands, Any]:
     x = case_signal(case, signal)
     fs = float(case.fs)
     freqs = case_frequencies(case)
-    kg = _kurtogram(x, fs, analysis) if analysis.needs_kurtogram else None
+    constant = bool(np.ptp(x) == 0.0)
+    kg = _kurtogram(x, fs, analysis) if analysis.needs_kurtogram and not constant else None
     bands = []
     for spec in analysis.bands:
-        (lo, hi), prov = resolve_band(spec.to_mapping(), fs, kurtogram=kg, frequencies=freqs)
+        if constant and spec.strategy == "kurtogram":
+            (lo, hi), prov = _constant_signal_band(spec.name, fs)
+        else:
+            (lo, hi), prov = resolve_band(spec.to_mapping(), fs, kurtogram=kg, frequencies=freqs)
         bands.append(BandLimits(name=spec.name, strategy=spec.strategy, low_hz=float(lo),
                                 high_hz=float(hi), clamped=bool(prov.get("clamped", False)),
                                 provenance=jsonable(prov)))
@@ -181,6 +186,16 @@ def case_bands(case, analysis: AnalysisSettings) -> tuple[CaseBands, Any]:
             "kurtosis": float(kg.kurtosis)},
     )
     return doc, kg
+
+
+def _constant_signal_band(name: str, fs: float):
+    """The kurtogram band of a constant signal, whose kurtogram is undefined: the level-0 cell,
+    the whole band with its upper edge clamped below Nyquist. A healthy outer race under a
+    steady load gives one (the contact at the fixed defect position never changes with the
+    ``smooth`` load law); its envelope is zero in every band."""
+    lo, hi, info = clamp_band(0.0, fs / 2.0, fs, clamp=True, field="kurtogram")
+    return (lo, hi), {"name": name, "strategy": "kurtogram", "constant_signal": True,
+                      "level": 0, **info}
 
 
 def _as_case_bands(bands) -> CaseBands:
