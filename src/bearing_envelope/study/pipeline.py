@@ -32,7 +32,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from ..diagnosis import analyze_signal
+from ..diagnosis import AnalysisOptions, analyze_signal
 from ..diagnosis.detection import detection_statistic
 from ..io import BandLimits, CaseBands, CaseSpectra
 from ..physics.fidelity import Fidelity
@@ -235,15 +235,13 @@ def case_harmonics(case, analysis: AnalysisSettings, bands, *, full_output: bool
     strategies = {b.name: b.strategy for b in bands.bands}
     clamped = {b.name: b.clamped for b in bands.bands}
     faults, spacing = case_fault_lines(case)
-    res = analyze_signal(
-        x, fs, fr=float(case.fr), fault_frequencies=faults, sideband_spacing=spacing, bands=specs,
-        n_harmonics=analysis.harmonics,
-        n_sidebands=analysis.sidebands,
-        n_raw_harmonics=analysis.raw_orders_fr,
-        nlevel=None, filter_order=analysis.filter_order,
-        squared=analysis.squared_envelope,
-        full_output=full_output,
-    )
+    options = AnalysisOptions(
+        bands=specs, n_harmonics=analysis.harmonics, n_sidebands=analysis.sidebands,
+        n_raw_harmonics=analysis.raw_orders_fr, nlevel=None,
+        filter_order=analysis.filter_order, squared=analysis.squared_envelope,
+        sideband_spacing=spacing)
+    res = analyze_signal(x, fs, fr=float(case.fr), fault_frequencies=faults, options=options,
+                         full_output=full_output)
     df, extra = (res if full_output else (res, None))
     df = tidy_from_analysis(df, strategies)
     df = df[df["quantity"] != "kurtogram_kurtosis"]
