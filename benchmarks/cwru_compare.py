@@ -26,7 +26,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
 
-from bearing_envelope.diagnosis import analyze_signal  # noqa: E402
+from bearing_envelope.diagnosis import AnalysisOptions, analyze_signal  # noqa: E402
 from bearing_envelope.diagnosis.faults import display_name  # noqa: E402
 from bearing_envelope.io import read_case  # noqa: E402
 from bearing_envelope.study.pipeline import case_fault_lines  # noqa: E402
@@ -51,10 +51,11 @@ AGREE_FRACTION = 0.01
 
 def analyse(x, fs, fr, lines, spacing):
     """analyze_signal with the kurtogram band and the location's family; (table, spectrum)."""
-    table, det = analyze_signal(
-        x, fs, fr=fr, fault_frequencies=lines, sideband_spacing=spacing,
-        bands=[{"name": "kurtogram", "strategy": "kurtogram"}], n_harmonics=HARMONICS,
-        n_sidebands=SIDEBANDS, nlevel=NLEVEL, full_output=True)
+    options = AnalysisOptions(bands=[{"name": "kurtogram", "strategy": "kurtogram"}],
+                              n_harmonics=HARMONICS, n_sidebands=SIDEBANDS, nlevel=NLEVEL,
+                              sideband_spacing=spacing)
+    table, det = analyze_signal(x, fs, fr=fr, fault_frequencies=lines, options=options,
+                                full_output=True)
     b = det["bands"]["kurtogram"]
     env = table[(table["quantity"] == "envelope_spectrum")].copy()
     return env, (b["f"], b["amplitude"], b["band"])
