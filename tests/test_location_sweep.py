@@ -18,6 +18,7 @@ from bearing_envelope.physics.scene import Scene
 from bearing_envelope.study.pipeline import case_bands, case_fault_lines, case_harmonics
 from bearing_envelope.study.settings import (AnalysisSettings, CaseId, ConfigError,
                                              SweepSettings, read_yaml, settings_from_mapping)
+from bearing_envelope.study.figures import fig_diagnosability_maps, fig_harmonics_vs_depth
 from bearing_envelope.study.tables import add_location, concat_tidy, pivot_tables
 
 #: CWRU Bearing Data Center, drive-end bearing SKF 6205-2RS, multipliers of the shaft rate.
@@ -196,3 +197,24 @@ def test_tables_get_a_location_column_and_one_pivot_per_location():
     assert set(piv) == {"fixed__envelope_bpfo__1__outer_race",
                         "fixed__envelope_2bsf__1__rolling_element"}
     assert piv["fixed__envelope_bpfo__1__outer_race"].loc[1.0].tolist() == [1.0, 6.0]
+
+
+def test_figures_and_detection_maps_carry_the_location(tmp_path):
+    rows, cells = [], []
+    for loc, q in (("outer_race", "envelope_bpfo"), ("rolling_element", "envelope_2bsf")):
+        for depth in (0.0, 10.0):
+            name = CaseId(1.0, depth, None, loc).name
+            for k in (1, 2):
+                rows.append({"case": name, "load_kN": 1.0, "depth_um": depth, "band": "fixed",
+                             "band_strategy": "fixed", "band_low_hz": 1.0, "band_high_hz": 2.0,
+                             "quantity": q, "order": k, "sideband": 0, "frequency_hz": 1.0,
+                             "amplitude": 1e6 * (depth + k)})
+            for snr in (0.0, 10.0):
+                cells.append({"case": name, "load_kN": 1.0, "depth_um": depth, "snr_db": snr,
+                              "band": "fixed", "statistic_db": snr + depth, "detected": depth > 0})
+    tidy = concat_tidy([pd.DataFrame(rows)])
+    fig_harmonics_vs_depth(tidy, "fixed", tmp_path / "h.png")
+    assert (tmp_path / "h.png").stat().st_size > 0
+    out = fig_diagnosability_maps(add_location(pd.DataFrame(cells)), tmp_path / "maps")
+    assert sorted(p.name for p in out) == ["diagnosability_fixed_outer_race.png",
+                                           "diagnosability_fixed_rolling_element.png"]
