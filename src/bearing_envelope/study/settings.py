@@ -814,7 +814,8 @@ def _check_widths(sweep: SweepSettings, scenes, load_distribution, hertz_estimat
                for loc, c in per_loc.items()}
     loc = min(ellipse, key=lambda k: ellipse[k].a)
     sc = scenes[per_loc[loc]]
-    two_a_um, two_b_um = 2e6 * ellipse[loc].a, 2e6 * ellipse[loc].b
+    # the narrowest contact sets 2a, the shortest 2b (each may be another location's)
+    two_a_um, two_b_um = 2e6 * ellipse[loc].a, 2e6 * min(e.b for e in ellipse.values())
     d = sc.defect
     for field, w in widths.items():
         if d.orientation != "axial" or w < two_a_um:
