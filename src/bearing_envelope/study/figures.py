@@ -217,7 +217,8 @@ def fig_harmonics_vs_depth(tidy: pd.DataFrame, band: str, path, *, orders=(1, 2)
         g = sel[sel["order"] == k]
         _per_load(ax, g, "amplitude", 1e-6)
         ax.set_ylabel("envelope amplitude (MPa)")
-        ax.set_title(f"{k} x {family}")
+        ax.set_title(f"{k} x {family}" if "/" not in family
+                     else f"{k} x each location's line ({family})")
     lo_hi = sel[["band_low_hz", "band_high_hz"]].drop_duplicates()
     span = (
         f"{lo_hi.iloc[0, 0]:.0f}-{lo_hi.iloc[0, 1]:.0f} Hz" if len(lo_hi) == 1 else "band per case"
