@@ -202,21 +202,17 @@ def analyze_record(task: dict, args) -> dict:
 
 
 def run_chain(x, fs, fr, faults, bands, nlevel, args):
-    """``analyze_signal`` with the command's options (the one call of the library; with its
-    typed ``AnalysisOptions`` when the library has them)."""
-    from bearing_envelope.diagnosis import analysis
+    """``analyze_signal`` with the command's options (the one call of the library)."""
+    from bearing_envelope.diagnosis import AnalysisOptions, analyze_signal
 
-    kw = dict(bands=bands, n_harmonics=args.harmonics, n_sidebands=args.sidebands,
-              n_raw_harmonics=args.raw_harmonics, nlevel=nlevel, max_level=args.max_level,
-              min_bandwidth=args.min_bandwidth, filter_order=args.filter_order,
-              squared=args.squared, window=args.window, interpolate=args.interpolate,
-              level0=args.level0, search_percent=args.search_percent, pfa=args.pfa)
-    options = getattr(analysis, "AnalysisOptions", None)
-    if options is None:
-        return analysis.analyze_signal(x, fs, fr=fr, fault_frequencies=faults,
-                                       full_output=True, **kw)
-    return analysis.analyze_signal(x, fs, fr=fr, fault_frequencies=faults,
-                                   options=options(**kw), full_output=True)
+    options = AnalysisOptions(
+        bands=bands, n_harmonics=args.harmonics, n_sidebands=args.sidebands,
+        n_raw_harmonics=args.raw_harmonics, nlevel=nlevel, max_level=args.max_level,
+        min_bandwidth=args.min_bandwidth, filter_order=args.filter_order, squared=args.squared,
+        window=args.window, interpolate=args.interpolate, level0=args.level0,
+        search_percent=args.search_percent, pfa=args.pfa)
+    return analyze_signal(x, fs, fr=fr, fault_frequencies=faults, options=options,
+                          full_output=True)
 
 
 def _clean(v):
