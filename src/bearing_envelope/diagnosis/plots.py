@@ -249,13 +249,19 @@ def save_analysis_figures(details: dict, outdir, *, prefix: str = "", base: str 
 
 # --------------------------------------------------------------- one record, for an analyst
 def shown_family(details: dict) -> tuple[str | None, str | None]:
-    """``(band, family)`` a record's figure shows: the diagnosis, else the family closest to
-    its threshold, else the first band and no family."""
+    """``(band, family)`` a record's figure shows: the diagnosis, else the first candidate of a
+    "cannot tell", else the family closest to its threshold, else the first band and no
+    family."""
     verdict = details.get("verdict")
     if verdict is not None:
         diag = verdict.diagnosis
         if diag is not None:
             return diag.band, diag.family
+        by_name = {v.family: v for v in verdict.families}
+        for name in getattr(verdict, "candidates", ()):  # "cannot tell": the first candidate
+            v = by_name.get(name)
+            if v is not None and v.band is not None:
+                return v.band, v.family
         searched = [v for v in verdict.families if v.band is not None]
         if searched:
             best = max(searched, key=lambda v: v.margin_db
@@ -477,7 +483,7 @@ def plot_record_lines(details: dict, band: str, family: str | None = None, ax=No
             else "no family found")
     ax.set_title(f"envelope spectrum, band {band} ({lo:.0f}-{hi:.0f} Hz): {what}", fontsize=9)
     if grey:
-        ax.legend(loc="upper right", fontsize=7)
+        ax.legend(loc="center right", fontsize=7, framealpha=0.8)  # the top holds the labels
     return ax
 
 
@@ -510,7 +516,7 @@ def save_record_figure(x, details: dict, path, *, n_harmonics: int = 3, db: bool
     band, family = shown_family(details)
     fig = Figure(figsize=(9.0, 8.5))  # fixed margins: constrained layout doubles the cost
     ax_raw, ax_wave, ax_env = fig.subplots(3, 1, height_ratios=[1.0, 0.9, 1.4])
-    fig.subplots_adjust(left=0.08, right=0.98, bottom=0.06, top=0.88, hspace=0.45)
+    fig.subplots_adjust(left=0.1, right=0.98, bottom=0.06, top=0.88, hspace=0.45)
     plot_raw_spectrum(details, ax_raw, db=db, orders=orders, band=band)
     if band is not None:
         plot_envelope_waveform(x, details, band, ax_wave, family=family)
