@@ -29,6 +29,7 @@ __all__ = [
     "tidy_from_analysis",
     "concat_tidy",
     "band_table",
+    "add_location",
     "pivot_tables",
     "write_csv_atomic",
     "parse_case_name",
@@ -113,9 +114,28 @@ def concat_tidy(frames: Iterable[pd.DataFrame]) -> pd.DataFrame:
     if bad.any():
         rows = df.loc[bad, ["case", "band", "quantity", "order", "sideband"]].head(5)
         raise ValueError(f"non-finite amplitudes in {int(bad.sum())} rows, e.g.\n{rows}")
-    extra = [c for c in df.columns if c not in TIDY_COLUMNS]
-    df = df[TIDY_COLUMNS + extra]
-    return df.sort_values(TIDY_SORT, kind="stable").reset_index(drop=True)
+    lead, sort = list(TIDY_COLUMNS), list(TIDY_SORT)
+    df = add_location(df)
+    if "location" in df.columns:
+        # a key like load and depth, the first of the sort
+        lead.insert(lead.index("depth_um") + 1, "location")
+        sort.insert(0, "location")
+    extra = [c for c in df.columns if c not in lead]
+    df = df[lead + extra]
+    return df.sort_values(sort, kind="stable").reset_index(drop=True)
+
+
+def add_location(df: pd.DataFrame) -> pd.DataFrame:
+    """``df`` with a ``location`` column after ``depth_um`` (``inner_race``, ``outer_race``,
+    ``rolling_element``) read from its case names, when a name carries one (a sweep over
+    locations, or a scene's location other than the inner race); else ``df`` unchanged, so the
+    default sweep's tables stay as they were."""
+    locations = [CaseId.parse(c).location for c in df["case"]]
+    if all(loc is None for loc in locations):
+        return df
+    df = df.drop(columns=["location"], errors="ignore")
+    df.insert(list(df.columns).index("depth_um") + 1, "location", locations)
+    return df
 
 
 def band_table(bands: Iterable) -> pd.DataFrame:
@@ -136,19 +156,34 @@ def band_table(bands: Iterable) -> pd.DataFrame:
 def pivot_tables(tidy: pd.DataFrame, *, sideband: int = 0) -> dict[str, pd.DataFrame]:
     """Load x depth pivot of every (band, quantity, order) at one sideband index.
 
+    With a ``location`` column (a sweep over defect locations) there is one pivot per location
+    that has the quantity, named with ``__{location}`` (each location searches its own family:
+    ``envelope_bpfi``, ``envelope_bpfo``, ``envelope_2bsf``).
+
     Returns
     -------
     dict
-        ``"{band}__{quantity}__{order}"`` -> DataFrame indexed by load (kN), columns depth (um).
+        ``"{band}__{quantity}__{order}[__{location}]"`` -> DataFrame indexed by load (kN),
+        columns depth (um).
     """
     sel = tidy[tidy["sideband"] == sideband]
     out: dict[str, pd.DataFrame] = {}
     for (band, quantity, order), g in sel.groupby(["band", "quantity", "order"], sort=True):
-        p = g.pivot_table(index="load_kN", columns="depth_um", values="amplitude", aggfunc="first")
-        p.index.name = "load_kN"
-        p.columns.name = "depth_um"
-        out[f"{band}__{quantity}__{order:g}"] = p
+        stem = f"{band}__{quantity}__{order:g}"
+        if "location" not in g.columns:
+            out[stem] = _pivot(g)
+            continue
+        for loc, gl in g.groupby("location", sort=False):
+            out[f"{stem}__{loc}"] = _pivot(gl)
     return out
+
+
+def _pivot(g: pd.DataFrame) -> pd.DataFrame:
+    """Load x depth pivot of the amplitudes of ``g``."""
+    p = g.pivot_table(index="load_kN", columns="depth_um", values="amplitude", aggfunc="first")
+    p.index.name = "load_kN"
+    p.columns.name = "depth_um"
+    return p
 
 
 def table_html(tables, title: str, caption: str = "") -> str:
