@@ -3,12 +3,15 @@ drive-end development set, per fault set and per confidence level, and the false
 noise shaped like the normal record.
 
     nice -n 5 python benchmarks/cwru_dev.py [--data /work/shared/data/real] [--trials 500]
-        [--variants] [--lofo] [--no-mc]
+        [--variants] [--lofo] [--no-mc] [--only-mc]
 
 Records: the 28 of ``cwru_de12/`` (seven fault sets x four loads; truth in its ``index.csv``)
 and the normal record ``cwru_097_normal_0hp.npz`` (48 kHz). Each goes through
 ``analyze_signal`` with the ``bearing-envelope analyze`` defaults (default bands, 3 harmonics,
-1 sideband, pfa 1 %) and the fault frequencies of the SKF 6205 at the record's nominal speed.
+1 sideband, pfa 1 %) and the fault frequencies of the SKF 6205 at the record's nominal speed,
+twice: before (:data:`NOMINAL_OPTIONS`: nominal speed, fundamentals within +- 1 %) and after
+(:data:`OPTIONS`: ``measure_speed=True``, the shaft rate read from the raw spectrum and the
+fundamentals searched within 0.5 % of their kinematic value at it).
 A verdict is ``right`` (the labelled family; 2 x BSF counts for a ball), ``wrong`` (another
 family named) or ``abstain`` (no diagnosis: nothing detected, or "cannot tell").
 
@@ -18,7 +21,8 @@ signal (Borghesani et al. 2013), and with the kurtogram band replaced by the inf
 2016) or the protrugram's (Barszcz & Jabłoński 2011) choice among bands at least as wide as
 the kurtogram's limit (``bearing_envelope.signal.bandselect``). ``--lofo`` re-decides the stored tables with the tuned margins
 (``HIGH_MIN_MARGIN_DB``, ``MEDIUM_MIN_MARGIN_DB``) chosen on six fault sets and judged on the
-seventh (leave one fault set out). The Monte Carlo draws ``--trials`` records of Gaussian noise
+seventh (leave one fault set out), and the search window at the measured speed
+(:data:`SPEED_WINDOW_GRID`) likewise. The Monte Carlo draws ``--trials`` records of Gaussian noise
 whose spectrum has the shape of the normal record's (Welch PSD, 1024-sample segments, after
 decimation to 12 kHz), as long as a development record, and counts any diagnosis (or "cannot
 tell") as a false alarm; 95 % Clopper-Pearson interval. CPU seconds: ``time.process_time``.
