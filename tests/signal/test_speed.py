@@ -107,3 +107,14 @@ def test_cwru_speed(name, rpm, family):
     v = analyze_signal(x, fs, fr=meta["shaft_hz"], fault_frequencies=faults, full_output=True,
                        options=AnalysisOptions(n_harmonics=3, measure_speed=True))[1]["verdict"]
     assert v.diagnosis.family == family and v.confidence == "high"
+
+
+def test_cwru_ball_record_not_confident_at_the_measured_speed():
+    """Ball record 118 (no usable ball signature, Smith & Randall 2015): the narrower search at
+    the measured speed must not turn its BPFO-like series into a confident verdict."""
+    with np.load(DATA / "cwru_118_B007_0hp_DE12.npz", allow_pickle=False) as z:
+        x, fs, meta = z["x"], float(z["fs"]), json.loads(str(z["meta_json"]))
+    faults = {k.lower(): v for k, v in meta["fault_freqs_hz"].items()}
+    v = analyze_signal(x, fs, fr=meta["shaft_hz"], fault_frequencies=faults, full_output=True,
+                       options=AnalysisOptions(n_harmonics=3, measure_speed=True))[1]["verdict"]
+    assert v.confidence not in ("high", "medium")
