@@ -39,8 +39,10 @@ def _former(f, a, target, fr):
 
 
 def test_sweep_table_lines_unchanged(case):
+    # the former rule read the largest bin: compare the search with the peak-bin estimator
+    # (the sweep's default, the interpolated peak, is tested in test_amplitude_estimator.py)
     analysis = {"signal": "p_max", "harmonics": 3, "sidebands": 2, "raw_orders_fr": 3,
-                "nlevel": 6, "bands": [
+                "amplitude": "peak_bin", "nlevel": 6, "bands": [
                     {"name": "kurtogram", "strategy": "kurtogram"},
                     {"name": "fixed", "strategy": "fixed", "low_hz": 15000.0,
                      "high_hz": 25000.0}]}

@@ -34,11 +34,30 @@ import pandas as pd
 from .accuracy import attach_errors
 from ..io import BandLimits, CaseBands, CaseSpectra
 from .provenance import log_to
+from .schema import schema_default
 from .tables import TIDY_COLUMNS, TIDY_EXTRA_COLUMNS, tidy_from_analysis
 
-__all__ = ["history_case", "case_signal", "case_frequencies", "case_bands", "case_harmonics", "case_envelope",
+__all__ = ["AMPLITUDE_ESTIMATORS", "amplitude_estimator", "history_case", "case_signal", "case_frequencies", "case_bands", "case_harmonics", "case_envelope",
            "case_summary", "case_acceleration", "diagnosability_bands", "case_diagnosability",
            "case_false_alarms", "FALSE_ALARM_SEED_OFFSET", "log_to"]
+
+
+#: ``analysis.amplitude`` -> the statement appended to the ``scaling`` of every spectral line
+#: (raw and envelope) read that way (issue 25: the estimator of every amplitude is stated).
+AMPLITUDE_ESTIMATORS = {
+    "interpolated": "interpolated peak: the window's response fitted to the 3 bins around the "
+                    "largest, scalloping-corrected",
+    "peak_bin": "largest bin, no scalloping correction (up to 15 % low between bins)",
+}
+
+
+def amplitude_estimator(analysis: Mapping[str, Any]) -> str:
+    """``analysis.amplitude`` (default from the config schema: ``interpolated``), checked."""
+    name = analysis.get("amplitude") or schema_default("analysis", "amplitude")
+    if name not in AMPLITUDE_ESTIMATORS:
+        raise ValueError(f"analysis.amplitude: got {name!r}; allowed: "
+                         f"{' | '.join(AMPLITUDE_ESTIMATORS)}")
+    return name
 
 
 def _case_id(case) -> str:
@@ -154,7 +173,8 @@ def case_harmonics(case, analysis: Mapping[str, Any], bands, *, full_output: boo
     case : bearing_envelope.io.Case
     analysis : mapping
         The config's ``analysis`` section (``signal``, ``harmonics``, ``sidebands``,
-        ``raw_orders_fr``, ``filter_order``, ``squared_envelope``).
+        ``raw_orders_fr``, ``filter_order``, ``squared_envelope``, ``amplitude``: the line
+        estimator, :data:`AMPLITUDE_ESTIMATORS`, stated in each line's ``scaling``).
     bands : bearing_envelope.io.CaseBands
         The case's band limits (a mapping as in the bands file is accepted too).
     full_output : bool
@@ -171,6 +191,7 @@ def case_harmonics(case, analysis: Mapping[str, Any], bands, *, full_output: boo
 
     bands = _as_case_bands(bands)
     signal = analysis.get("signal", "p_max")
+    estimator = amplitude_estimator(analysis)
     x = case_signal(case, signal)
     fs = float(case.fs)
     specs = [{"name": b.name, "strategy": "fixed", "low_hz": b.low_hz, "high_hz": b.high_hz}
@@ -184,9 +205,11 @@ def case_harmonics(case, analysis: Mapping[str, Any], bands, *, full_output: boo
         n_raw_harmonics=int(analysis.get("raw_orders_fr", 3)),
         nlevel=None, filter_order=int(analysis.get("filter_order", 4)),
         squared=bool(analysis.get("squared_envelope", False)),
-        full_output=full_output,
+        interpolate=estimator == "interpolated", full_output=full_output,
     )
     df, extra = (res if full_output else (res, None))
+    lines = df["quantity"].isin(["raw_spectrum", "envelope_spectrum"]) & (df["base"] != "dc")
+    df.loc[lines, "scaling"] = df.loc[lines, "scaling"] + "; " + AMPLITUDE_ESTIMATORS[estimator]
     df = tidy_from_analysis(df, strategies)
     df = df[df["quantity"] != "kurtogram_kurtosis"]
     df["clamped"] = [clamped.get(n, False) for n in df["band"]]

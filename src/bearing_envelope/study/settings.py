@@ -277,6 +277,7 @@ class AnalysisSettings:
     harmonics: int = 3
     sidebands: int = 2
     raw_orders_fr: int = 3
+    amplitude: str | None = None     # line estimator; None: the schema's default (interpolated)
 
     @classmethod
     def from_mapping(cls, m: Mapping[str, Any], *, fs: float, freqs: Mapping[str, float],
@@ -285,7 +286,8 @@ class AnalysisSettings:
         from .schema import band_limits_static
 
         kw = {k: m[k] for k in ("signal", "nlevel", "max_level", "min_bandwidth_hz", "filter_order",
-                                "squared_envelope", "harmonics", "sidebands", "raw_orders_fr")
+                                "squared_envelope", "harmonics", "sidebands", "raw_orders_fr",
+                                "amplitude")
               if k in m}
         bands = tuple(BandSpec(**dict(b)) for b in m["bands"])
         a = cls(bands=bands, **kw)
