@@ -12,7 +12,7 @@ import pytest
 from bearing_envelope.signal import amplitude_at, amplitude_spectrum
 from bearing_envelope.study.pipeline import (AMPLITUDE_ESTIMATORS, amplitude_estimator,
                                              case_bands, case_harmonics)
-from bearing_envelope.study.schema import schema_default
+from bearing_envelope.study.settings import validate_mapping
 
 #: The sweep's rates; a 2^18-sample record puts BPFI at 935.4 bins, fr at 59.6 bins: off-bin.
 FS, FR, BPFI, N = 65000.0, 15.8, 231.9, 2**18
@@ -69,7 +69,8 @@ def test_amplitude_at_interpolated_reads_an_off_bin_sinusoid(delta):
 
 
 def test_sweep_default_estimator_is_interpolated_from_the_schema():
-    assert schema_default("analysis", "amplitude") == "interpolated"
+    filled = validate_mapping({"analysis": {"bands": ANALYSIS["bands"]}}, partial=True)
+    assert filled["analysis"]["amplitude"] == "interpolated"
     assert amplitude_estimator({}) == "interpolated"
     with pytest.raises(ValueError, match="analysis.amplitude"):
         amplitude_estimator({"amplitude": "parabolic"})

@@ -24,18 +24,20 @@ squared envelope).
 
 from __future__ import annotations
 
+import functools
 import json
 from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
 import pandas as pd
+import yaml
 
 from .accuracy import attach_errors
 from ..io import BandLimits, CaseBands, CaseSpectra
 from .provenance import log_to
-from .schema import schema_default
 from .tables import TIDY_COLUMNS, TIDY_EXTRA_COLUMNS, tidy_from_analysis
+from .schema import SCHEMA_PATH
 
 __all__ = ["AMPLITUDE_ESTIMATORS", "amplitude_estimator", "history_case", "case_signal", "case_frequencies", "case_bands", "case_harmonics", "case_envelope",
            "case_summary", "case_acceleration", "diagnosability_bands", "case_diagnosability",
@@ -51,9 +53,19 @@ AMPLITUDE_ESTIMATORS = {
 }
 
 
-def amplitude_estimator(analysis: Mapping[str, Any]) -> str:
-    """``analysis.amplitude`` (default from the config schema: ``interpolated``), checked."""
-    name = analysis.get("amplitude") or schema_default("analysis", "amplitude")
+@functools.lru_cache(maxsize=1)
+def _schema_amplitude_default() -> str:
+    """The config schema's default of ``analysis.amplitude`` (the one place it is set)."""
+    with open(SCHEMA_PATH, encoding="utf-8") as fh:
+        schema = yaml.safe_load(fh)
+    return schema["properties"]["analysis"]["properties"]["amplitude"]["default"]
+
+
+def amplitude_estimator(analysis) -> str:
+    """``analysis.amplitude`` of the ``analysis`` section (a mapping or typed settings; unset:
+    the config schema's default, ``interpolated``), checked."""
+    name = (analysis.get("amplitude") if isinstance(analysis, Mapping)
+            else getattr(analysis, "amplitude", None)) or _schema_amplitude_default()
     if name not in AMPLITUDE_ESTIMATORS:
         raise ValueError(f"analysis.amplitude: got {name!r}; allowed: "
                          f"{' | '.join(AMPLITUDE_ESTIMATORS)}")
@@ -191,9 +203,9 @@ def case_harmonics(case, analysis: Mapping[str, Any], bands, *, full_output: boo
 
     bands = _as_case_bands(bands)
     signal = analysis.get("signal", "p_max")
-    estimator = amplitude_estimator(analysis)
     x = case_signal(case, signal)
     fs = float(case.fs)
+    estimator = amplitude_estimator(analysis)
     specs = [{"name": b.name, "strategy": "fixed", "low_hz": b.low_hz, "high_hz": b.high_hz}
              for b in bands.bands]
     strategies = {b.name: b.strategy for b in bands.bands}
@@ -205,7 +217,8 @@ def case_harmonics(case, analysis: Mapping[str, Any], bands, *, full_output: boo
         n_raw_harmonics=int(analysis.get("raw_orders_fr", 3)),
         nlevel=None, filter_order=int(analysis.get("filter_order", 4)),
         squared=bool(analysis.get("squared_envelope", False)),
-        interpolate=estimator == "interpolated", full_output=full_output,
+        full_output=full_output,
+        interpolate=estimator == "interpolated",
     )
     df, extra = (res if full_output else (res, None))
     lines = df["quantity"].isin(["raw_spectrum", "envelope_spectrum"]) & (df["base"] != "dc")

@@ -10,32 +10,14 @@ the workflow. All of it runs before any job, so a bad value stops the sweep at o
 
 from __future__ import annotations
 
-import functools
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
-import yaml
-
-__all__ = ["band_limits_static", "scene_frequencies", "schema_default", "SCHEMA_PATH"]
+__all__ = ["band_limits_static", "scene_frequencies", "SCHEMA_PATH"]
 
 #: The JSON schema of ``config.yaml``, shipped as package data (the workflow validates against it too).
 SCHEMA_PATH = Path(__file__).resolve().parent.parent / "data" / "config.schema.yaml"
-
-
-@functools.lru_cache(maxsize=1)
-def _schema_properties() -> dict:
-    with open(SCHEMA_PATH, encoding="utf-8") as fh:
-        return yaml.safe_load(fh)
-
-
-def schema_default(*keys: str) -> Any:
-    """The schema's ``default`` of the config field ``keys`` (e.g. ``("analysis", "amplitude")``):
-    the one place a default lives, for callers given a mapping without the field."""
-    node: Mapping[str, Any] = _schema_properties()
-    for k in keys:
-        node = node["properties"][k]
-    return node["default"]
 
 
 def band_limits_static(band: Mapping[str, Any], fs: float, freqs: Mapping[str, float]) -> tuple[float, float] | None:
