@@ -94,13 +94,13 @@ def pair():
 def test_estimates_bound_the_difference_between_two_fidelities(pair):
     """Truth test: if both estimates bound their errors, |a_draft - a_std| <= e_draft + e_std
     (triangle inequality through the unknown converged value) for every estimated amplitude."""
-    an = load_settings().analysis.to_mapping()
+    an = load_settings().analysis
     tabs = {}
     for f, h in pair.items():
         case = history_case(h)
         rows = []
         for sig in ("p_max", "removed_force", "approach_change"):
-            a = {**an, "signal": sig}
+            a = dataclasses.replace(an, signal=sig)
             doc, _ = case_bands(case, a)
             t = case_harmonics(case, a, doc)
             rows.append(t[(t.quantity == "envelope_bpfi") & (t.band_strategy != "kurtogram")
@@ -126,7 +126,7 @@ def test_case_file_carries_the_error_table(tmp_path, pair):
     np.testing.assert_allclose(table["rel_error"].to_numpy(), ref["rel_error"].to_numpy())
     # the analysis of the file carries the same estimates
     case = read_case(path)
-    an = load_settings().analysis.to_mapping()
+    an = load_settings().analysis
     doc, _ = case_bands(case, an)
     t = case_harmonics(case, an, doc)
     assert set(ERROR_COLUMNS) <= set(t.columns)

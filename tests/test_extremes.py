@@ -25,11 +25,19 @@ from bearing_envelope.physics.scene import Defect, Scene, default_scene_mapping
 from bearing_envelope.diagnosis import analyze_signal
 from bearing_envelope.signal import fast_kurtogram
 from bearing_envelope.study.tradeoff import DEFAULT_BANDS
+from bearing_envelope.study.pipeline import case_frequencies
+from bearing_envelope.study.settings import AnalysisSettings
 
 E_STAR = 115.4e9
 _REAL_SOLVE = contact.solve_contact
 ANALYSIS = {"signal": "p_max", "nlevel": 8, "filter_order": 4, "harmonics": 2, "sidebands": 1,
             "raw_orders_fr": 1, "bands": DEFAULT_BANDS}
+
+
+def typed(analysis, case):
+    """The pipeline takes typed settings: build them for this (synthetic) case."""
+    return AnalysisSettings.from_mapping(analysis, fs=float(case.fs), freqs=case_frequencies(case),
+                                         has_sensor=True)
 
 
 # ------------------------------------------------------------------------------------ checks
@@ -116,8 +124,8 @@ def run(sc, fid=DRAFT):
 
 def analyse(h, analysis=ANALYSIS):
     case = history_case(h)
-    doc, _ = case_bands(case, analysis)
-    df = case_harmonics(case, analysis, doc)
+    doc, _ = case_bands(case, typed(analysis, case))
+    df = case_harmonics(case, typed(analysis, case), doc)
     assert np.isfinite(df["amplitude"].astype(float)).all()
     assert (df[df["band"] != "raw"]["band_high_hz"] < case.fs / 2).all()
     return doc, df

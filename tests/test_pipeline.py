@@ -13,6 +13,8 @@ from bearing_envelope.io import CaseBands
 from bearing_envelope.study.pipeline import (case_bands, case_frequencies, case_harmonics, case_signal,
                                        case_summary)
 from bearing_envelope.io.vocabulary import TIDY_COLUMNS
+from bearing_envelope.study.pipeline import case_frequencies
+from bearing_envelope.study.settings import AnalysisSettings
 
 # fs / BPFI = 256 and fs / fr = 4096 samples: k x BPFI + m x fr lie on bins of a record of
 # 16 BPFI periods x 16 (65,536 samples), so the envelope lines carry no scalloping loss
@@ -21,6 +23,12 @@ BPFI = 250.0
 FR = 15.625
 N = 65536
 A, M, FC = 2.0e9, 0.25, 12000.0      # carrier amplitude (Pa), modulation depth, carrier (Hz)
+
+
+def typed(analysis, case):
+    """The pipeline takes typed settings: build them for this (synthetic) case."""
+    return AnalysisSettings.from_mapping(analysis, fs=float(case.fs), freqs=case_frequencies(case),
+                                         has_sensor=True)
 
 
 def am_case(x=None, *, load=500.0, depth=50.0, **signals):
@@ -46,12 +54,12 @@ def _row(df, quantity, band, order=1, sideband=0):
 
 def test_am_carrier_envelope_line_is_a_times_m():
     case = am_case()
-    bands, kg = case_bands(case, ANALYSIS)
+    bands, kg = case_bands(case, typed(ANALYSIS, case))
     assert kg is None and bands.kurtogram is None       # no band asks for the kurtogram
     assert isinstance(bands, CaseBands) and bands.case == "F500kN_h50um"
     b = bands.band("fixed")
     assert (b.low_hz, b.high_hz, b.strategy, b.clamped) == (8000.0, 16000.0, "fixed", False)
-    df = case_harmonics(case, ANALYSIS, bands)
+    df = case_harmonics(case, typed(ANALYSIS, case), bands)
     assert list(df.columns[:len(TIDY_COLUMNS)]) == TIDY_COLUMNS
     env = _row(df, "envelope_bpfi", "fixed")
     assert env["frequency_hz"] == pytest.approx(BPFI)
@@ -72,9 +80,9 @@ def test_am_carrier_envelope_line_is_a_times_m():
 def test_the_selected_signal_is_the_one_analysed():
     case = am_case()
     an = dict(ANALYSIS, signal="p_max_defect")
-    bands, _ = case_bands(case, an)
+    bands, _ = case_bands(case, typed(an, case))
     assert bands.signal == "p_max_defect"
-    env = _row(case_harmonics(case, an, bands), "envelope_bpfi", "fixed")
+    env = _row(case_harmonics(case, typed(an, case), bands), "envelope_bpfi", "fixed")
     assert env["amplitude"] == pytest.approx(0.5 * A * M, rel=1e-3)
 
 
@@ -88,11 +96,11 @@ def test_kurtogram_band_contains_the_resonance_of_an_impulse_train():
     x += np.exp(-tau / 5e-4) * np.sin(2 * np.pi * 20000.0 * tau)
     case = am_case(x)
     an = dict(ANALYSIS, bands=[{"name": "kg", "strategy": "kurtogram"}])
-    bands, kg = case_bands(case, an)
+    bands, kg = case_bands(case, typed(an, case))
     b = bands.band("kg")
     assert b.strategy == "kurtogram" and b.low_hz < 20000.0 < b.high_hz
     assert bands.kurtogram["kurtosis"] == pytest.approx(kg.kurtosis)
-    df = case_harmonics(case, an, bands)
+    df = case_harmonics(case, typed(an, case), bands)
     env = _row(df, "envelope_bpfi", "kg")
     noise = _row(df, "envelope_bpfi", "kg", sideband=1)["amplitude"]
     assert env["amplitude"] > 20 * noise       # the line stands out of its neighbourhood
@@ -104,8 +112,8 @@ def test_band_above_nyquist_is_refused_and_clamped_on_request():
     case = am_case()
     high = {"name": "hi", "strategy": "fixed", "low_hz": 30000.0, "high_hz": 40000.0}
     with pytest.raises(ValueError, match="Nyquist"):
-        case_bands(case, dict(ANALYSIS, bands=[high]))
-    bands, _ = case_bands(case, dict(ANALYSIS, bands=[dict(high, clamp=True)]))
+        case_bands(case, typed(dict(ANALYSIS, bands=[high]), case))
+    bands, _ = case_bands(case, typed(dict(ANALYSIS, bands=[dict(high, clamp=True)]), case))
     b = bands.band("hi")
     assert b.clamped and b.high_hz < FS / 2 and b.low_hz == 30000.0
 

@@ -117,7 +117,10 @@ def test_detection_statistic_does_not_fall_as_snr_rises(draft_run):
     from bearing_envelope.io import read_case
     from bearing_envelope.study.pipeline import case_diagnosability
 
+    from bearing_envelope.study.settings import load_settings
+
     cfg = yaml.safe_load(DRAFT.read_text())
+    settings = load_settings(DRAFT)
     snrs = sorted(cfg["diagnosability"]["snr_db"])
     cases = draft_run / "results" / "cases"
     rows = []
@@ -125,7 +128,7 @@ def test_detection_statistic_does_not_fall_as_snr_rises(draft_run):
         defect, healthy = read_case(cases / f"F{load:g}kN_h50um.h5"), read_case(cases / f"F{load:g}kN_h0um.h5")
         for seed in range(24):
             sensor = dict(cfg["sensor"], seed=1000 + seed)
-            rows.append(case_diagnosability(defect, sensor, cfg["analysis"], snrs, reference=healthy))
+            rows.append(case_diagnosability(defect, sensor, settings.analysis, snrs, reference=healthy))
     d = pd.concat(rows, ignore_index=True)
     g = d.groupby(["band", "snr_db"])["statistic_db"]
     mean = g.mean().unstack("band").sort_index()
@@ -203,6 +206,14 @@ def test_analysis_change_reruns_no_simulation(draft_run, tmp_path):
     counts = job_counts(out.stderr + out.stdout)
     assert counts.get("simulate", 0) == base.get("simulate", 0)
     assert counts.get("bands") == 4 and counts.get("envelope") == 4
+    # Jobs receive the resolved, typed settings: the same fidelity written as a mapping (the
+    # draft preset, nothing overridden) is the same Fidelity, so nothing reruns.
+    same = copy.deepcopy(yaml.safe_load(DRAFT.read_text()))
+    same["fidelity"] = {"preset": same["fidelity"]}
+    new.write_text(yaml.safe_dump(same))
+    counts = job_counts((lambda o: o.stderr + o.stdout)(smk(draft_run, "-n", configfile=new)))
+    assert counts.get("simulate", 0) == base.get("simulate", 0)
+    assert counts.get("bands", 0) == base.get("bands", 0)
     # A scene change, by contrast, reruns every simulation.
     cfg["scene"]["defect"]["edge_radius_um"] = 7.0
     new.write_text(yaml.safe_dump(cfg))

@@ -11,8 +11,8 @@ import pytest
 
 from bearing_envelope.signal import amplitude_at, amplitude_spectrum
 from bearing_envelope.study.pipeline import (AMPLITUDE_ESTIMATORS, amplitude_estimator,
-                                             case_bands, case_harmonics)
-from bearing_envelope.study.settings import validate_mapping
+                                             case_bands, case_frequencies, case_harmonics)
+from bearing_envelope.study.settings import AnalysisSettings, validate_mapping
 
 #: The sweep's rates; a 2^18-sample record puts BPFI at 935.4 bins, fr at 59.6 bins: off-bin.
 FS, FR, BPFI, N = 65000.0, 15.8, 231.9, 2**18
@@ -44,6 +44,11 @@ ANALYSIS = {"signal": "p_max", "harmonics": 3, "sidebands": 2, "raw_orders_fr": 
                        "high_hz": 28000.0}]}
 
 
+def typed(analysis, case):
+    return AnalysisSettings.from_mapping(analysis, fs=float(case.fs), freqs=case_frequencies(case),
+                                         has_sensor=False)
+
+
 def _expected():
     out = {("raw", q, k, 0): a for (q, k), a in RAW.items()}
     out.update({("fixed", "envelope_bpfi", k, s): CARRIER * m for (k, s), m in ENV.items()})
@@ -68,17 +73,18 @@ def test_amplitude_at_interpolated_reads_an_off_bin_sinusoid(delta):
     assert fi == pytest.approx(f0, abs=1e-3 * fs / n)
 
 
-def test_sweep_default_estimator_is_interpolated_from_the_schema():
+def test_sweep_default_estimator_is_interpolated_from_the_schema(case):
     filled = validate_mapping({"analysis": {"bands": ANALYSIS["bands"]}}, partial=True)
     assert filled["analysis"]["amplitude"] == "interpolated"
-    assert amplitude_estimator({}) == "interpolated"
+    assert amplitude_estimator(typed(ANALYSIS, case)) == "interpolated"
     with pytest.raises(ValueError, match="analysis.amplitude"):
-        amplitude_estimator({"amplitude": "parabolic"})
+        amplitude_estimator(typed(dict(ANALYSIS, amplitude="parabolic"), case))
 
 
 def test_every_line_of_the_sweep_table_reads_the_synthesised_amplitude(case):
-    bands, _ = case_bands(case, ANALYSIS)
-    df = case_harmonics(case, ANALYSIS, bands)          # no `amplitude` key: the default
+    an = typed(ANALYSIS, case)                          # no `amplitude` key: the default
+    bands, _ = case_bands(case, an)
+    df = case_harmonics(case, an, bands)
     got = _read(df)
     assert set(got) == set(_expected())
     for key, want in _expected().items():
@@ -88,7 +94,7 @@ def test_every_line_of_the_sweep_table_reads_the_synthesised_amplitude(case):
 
 
 def test_peak_bin_is_the_biased_reading_it_replaces(case):
-    an = dict(ANALYSIS, amplitude="peak_bin")
+    an = typed(dict(ANALYSIS, amplitude="peak_bin"), case)
     bands, _ = case_bands(case, an)
     got = _read(case_harmonics(case, an, bands))
     errors = {k: got[k] / want - 1.0 for k, want in _expected().items()}

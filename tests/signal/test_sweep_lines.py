@@ -10,8 +10,16 @@ import pytest
 
 from bearing_envelope.study.pipeline import case_bands, case_harmonics
 from bearing_envelope.signal import amplitude_spectrum, envelope_spectrum
+from bearing_envelope.study.pipeline import case_frequencies
+from bearing_envelope.study.settings import AnalysisSettings
 
 FS, FR, BPFI, N = 65000.0, 15.8, 231.9, 2**18
+
+
+def typed(analysis, case):
+    """The pipeline takes typed settings: build them for this (synthetic) case."""
+    return AnalysisSettings.from_mapping(analysis, fs=float(case.fs), freqs=case_frequencies(case),
+                                         has_sensor=True)
 
 
 @pytest.fixture(scope="module")
@@ -46,8 +54,8 @@ def test_sweep_table_lines_unchanged(case):
                     {"name": "kurtogram", "strategy": "kurtogram"},
                     {"name": "fixed", "strategy": "fixed", "low_hz": 15000.0,
                      "high_hz": 25000.0}]}
-    bands, _ = case_bands(case, analysis)
-    df = case_harmonics(case, analysis, bands)
+    bands, _ = case_bands(case, typed(analysis, case))
+    df = case_harmonics(case, typed(analysis, case), bands)
     for c in ("floor", "floor_ratio_db", "threshold_db", "detected"):
         assert c in df.columns  # the new columns reach the sweep's tidy table
     x = case.signals["p_max"]

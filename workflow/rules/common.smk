@@ -61,13 +61,15 @@ wildcard_constraints:
 
 
 def scene_params(wildcards):
-    """The scene and fidelity as a canonical JSON string: a change reruns the simulations."""
-    return json.dumps({"scene": config.get("scene", {}), "fidelity": config.get("fidelity", "standard")},
-                      sort_keys=True)
+    """The validated scene section and the resolved fidelity, as their one canonical JSON
+    (bearing_envelope.study.settings.SimulationSetup): a change reruns the simulations only."""
+    return SETTINGS.simulation.to_json()
 
 
 def analysis_params(wildcards):
-    return json.dumps(config["analysis"], sort_keys=True)
+    """The typed analysis settings as their one canonical JSON (AnalysisSettings.to_json): a
+    change reruns the analysis jobs only."""
+    return SETTINGS.analysis.to_json()
 
 
 def example_cases(wildcards=None):
@@ -103,7 +105,7 @@ HEALTHY = [c.name for c in CASE_IDS if c.depth_um == 0]
 
 # The files the analysis reads: the simulated cases, or their copies with the synthetic
 # acceleration (rule `sensor`) when `analysis.signal` is `acceleration`.
-ANALYSIS_STAGE = "sensor" if config["analysis"].get("signal", "p_max") == "acceleration" else "cases"
+ANALYSIS_STAGE = "sensor" if SETTINGS.analysis.signal == "acceleration" else "cases"
 
 
 def analysis_case(wildcards):

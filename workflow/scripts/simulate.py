@@ -1,18 +1,16 @@
 """Rule simulate: one load x depth case -> HDF5 (bearing_envelope.physics.history.simulate)."""
 import json
 
-from bearing_envelope.physics.fidelity import fidelity_from
 from bearing_envelope.physics.history import simulate
 from bearing_envelope.io import write_case
 from bearing_envelope.study.accuracy import case_error_model
 from bearing_envelope.study.provenance import log_to
-from bearing_envelope.study.settings import CaseId
+from bearing_envelope.study.settings import CaseId, SimulationSetup
 
 with log_to(snakemake.log[0]) as log:  # noqa: F821
-    setup = json.loads(snakemake.params.setup)  # noqa: F821
+    setup = SimulationSetup.from_json(snakemake.params.setup)  # noqa: F821
     case = CaseId.parse(snakemake.wildcards.case)  # noqa: F821
-    scene = case.scene(setup["scene"])
-    hist = simulate(scene, fidelity_from(setup["fidelity"]), progress=False)
+    hist = simulate(setup.scene(case), setup.fidelity, progress=False)
     write_case(snakemake.output[0], hist,  # noqa: F821
                extra_attrs={"workflow_rule": "simulate", "case": case.name},
                error_model=case_error_model(hist))

@@ -81,15 +81,16 @@ def run(args) -> int:
 
     path = resolve_config(args.config)
     if path is None:
-        scene_map, fid_spec = {}, None
+        scene_map, fid = {}, fidelity_from(None)
         source = "no config file (no --config and no ./config.yaml): the built-in scene"
     else:
         st = load_settings(path, partial=True)
-        scene_map, fid_spec = st.scene_mapping, st.config.get("fidelity")
+        scene_map, fid = st.scene_mapping, st.fidelity
         source = f"config {path}"
     if not args.quiet:
         print(f"simulate: {source}", file=sys.stderr)
-    fid = fidelity_from(args.fidelity if args.fidelity is not None else fid_spec)
+    if args.fidelity is not None:
+        fid = fidelity_from(args.fidelity)
     case = CaseId(args.load_kn, args.depth_um, args.width_um)
     scene = case.scene(scene_map)
     check_output(args.output)

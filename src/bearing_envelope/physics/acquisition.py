@@ -64,7 +64,7 @@ def auto_oversample(scene: Scene, fidelity: Fidelity | str | None = None) -> int
     fid = fidelity_from(fidelity)
     v = 2.0 * math.pi * (scene.operation.shaft_rate_hz - scene.cage_rate_hz) * \
         scene.bearing.inner_race_radius_m
-    step = 1e-6 * fid.offset_step_um
+    step = fid.offset_step_m
     if scene.defect.active:
         step = min(step, scene.defect.extent_x_m / fid.offsets_per_width)
         step = max(step, window_spec(scene, fid, 1.0, 1.0)[2])

@@ -23,6 +23,7 @@ Use :func:`fidelity_from` to build one from a preset name or a mapping (a mappin
 from __future__ import annotations
 
 import dataclasses
+import json
 import math
 from dataclasses import dataclass
 from typing import Any, Mapping
@@ -167,6 +168,59 @@ class Fidelity:
     def to_dict(self) -> dict[str, Any]:
         """Plain dict of all fields (for YAML/JSON/HDF5 attributes)."""
         return dataclasses.asdict(self)
+
+    def to_json(self) -> str:
+        """The canonical serialisation (every field, sorted keys): what a workflow job receives
+        and a case file stores; :meth:`from_json` rebuilds the same object."""
+        return json.dumps(self.to_dict(), sort_keys=True)
+
+    @classmethod
+    def from_json(cls, text: str | Mapping[str, Any]) -> "Fidelity":
+        """The object :meth:`to_json` serialised (a JSON string or its parsed mapping).
+
+        Fields a case file of an older version lacks take their defaults; keys no longer
+        known are ignored (reading old files), everything else is checked as in the constructor.
+        """
+        d = json.loads(text) if isinstance(text, str) else dict(text)
+        known = {f.name for f in dataclasses.fields(cls)}
+        return cls(**{k: v for k, v in d.items() if k in known})
+
+    # SI views of the um fields (m): the physics reads these, the config and files the um ones.
+    @property
+    def global_dx_m(self) -> float:
+        return 1e-6 * self.global_dx_um
+
+    @property
+    def global_dy_m(self) -> float:
+        return 1e-6 * self.global_dy_um
+
+    @property
+    def local_dx_m(self) -> float:
+        return 1e-6 * self.local_dx_um
+
+    @property
+    def local_dy_m(self) -> float:
+        return 1e-6 * self.local_dy_um
+
+    @property
+    def window_margin_m(self) -> float:
+        return 1e-6 * self.window_margin_um
+
+    @property
+    def neighbourhood_m(self) -> float:
+        return 1e-6 * self.neighbourhood_um
+
+    @property
+    def offset_step_m(self) -> float:
+        return 1e-6 * self.offset_step_um
+
+    @property
+    def rim_strip_m(self) -> float:
+        return 1e-6 * self.rim_strip_um
+
+    @property
+    def rim_dx_m(self) -> float | None:
+        return None if self.rim_dx_um is None else 1e-6 * self.rim_dx_um
 
 
 PRESETS: dict[str, Fidelity] = {

@@ -109,18 +109,18 @@ def window_spec(scene: Scene, fid: Fidelity, q_load: float, kappa: float):
     a = hertz_estimate(scene, q_load).a
     ex = d.extent_x_m if d.active else 0.0
     ey = d.extent_y_m if d.active else 0.0
-    nb = 1e-6 * fid.neighbourhood_um
+    nb = fid.neighbourhood_m
     s = kappa * a + 0.5 * ex + nb
-    dx = 1e-6 * fid.local_dx_um
+    dx = fid.local_dx_m
     if d.active:
         dx = min(dx, ex / 4.0)
-    dy = 1e-6 * fid.local_dy_um
+    dy = fid.local_dy_m
     if d.active:
         dy = min(dy, ey / 6.0)
     xh = max(fid.global_extent * kappa * a, fid.xi_max * s + 0.5 * ex + nb + 2 * dx)
     yd = 1e-3 * d.axial_position_mm
     hy_read = 0.5 * ey + nb
-    hy = hy_read + 1e-6 * fid.window_margin_um
+    hy = hy_read + fid.window_margin_m
     return a, s, dx, dy, xh, yd, hy_read, hy
 
 
@@ -150,7 +150,7 @@ def global_solve(scene: Scene, fid: Fidelity, q_load: float, extent: float, stat
     from ..contact import ContactGridError
 
     e_star = scene.material.e_star_pa
-    dxg, dyg = 1e-6 * fid.global_dx_um, 1e-6 * fid.global_dy_um
+    dxg, dyg = fid.global_dx_m, fid.global_dy_m
     half = scene.bearing.half_length_m
     for _attempt in range(GLOBAL_GRID_ATTEMPTS):
         grid = make_grid(-extent, extent, -half - GLOBAL_END_CELLS * dyg, half + GLOBAL_END_CELLS * dyg,
@@ -172,7 +172,7 @@ def solve_load(scene: Scene, fid: Fidelity, q_load: float, kappa: float, stats: 
                 p_init_global=None) -> LoadNode:
     e_star = scene.material.e_star_pa
     a, s, dxw, dyw, xh, yd, hy_read, hy = window_spec(scene, fid, q_load, kappa)
-    dxg, dyg = 1e-6 * fid.global_dx_um, 1e-6 * fid.global_dy_um
+    dxg, dyg = fid.global_dx_m, fid.global_dy_m
     xw = make_grid(-xh, xh, 0.0, 1.0, dxw, 1.0).x
     extent = max(fid.global_extent * kappa * a, float(np.max(np.abs(xw))) + dxg)
     grid, sol = global_solve(scene, fid, q_load, extent, stats, p_init_global)
@@ -240,7 +240,7 @@ def outside_max(scene: Scene, fid: Fidelity, q_load: float, kappa: float,
                  stats: SolveStats) -> float:
     """Maximum no-defect pressure outside the read strip from a global solve only (Pa)."""
     a, s, dxw, dyw, xh, yd, hy_read, hy = window_spec(scene, fid, q_load, kappa)
-    extent = max(fid.global_extent * kappa * a, xh + 1e-6 * fid.global_dx_um)
+    extent = max(fid.global_extent * kappa * a, xh + fid.global_dx_m)
     grid, sol = global_solve(scene, fid, q_load, extent, stats)
     gstrip = np.abs(grid.y - yd) <= hy_read + 1e-12
     return float(sol.pressure[:, ~gstrip].max()) if np.any(~gstrip) else 0.0
@@ -404,7 +404,7 @@ def _rim_intervals(scene: Scene, fid: Fidelity, win: Grid, x_d: float) -> list[t
     d = scene.defect
     hx = 0.5 * d.extent_x_m
     r = min(1e-6 * d.edge_radius_um, hx) if d.shape == "flat" else hx
-    b = 1e-6 * fid.rim_strip_um
+    b = fid.rim_strip_m
     x_lo_edge = win.x[0] - 0.5 * win.dx
     out = []
     for lo, hi in ((x_d - hx - b, x_d - hx + r + b), (x_d + hx - r - b, x_d + hx + b)):
@@ -438,7 +438,7 @@ def _refine_rims(scene: Scene, fid: Fidelity, node: LoadNode, x_d: float, p: np.
     m = int(round(fid.local_dx_um / fid.rim_dx_um))
     dxc = win.dx / m
     e_star = scene.material.e_star_pa
-    b = 1e-6 * fid.rim_strip_um
+    b = fid.rim_strip_m
     fine_hs = _halfspace(Grid(np.zeros(win.shape[0] * m), win.y, dxc, win.dy), e_star, "scipy")
     out = []
     for i0, i1 in _rim_intervals(scene, fid, win, x_d):
@@ -476,7 +476,7 @@ def _refine_rims(scene: Scene, fid: Fidelity, node: LoadNode, x_d: float, p: np.
 
 def neighbourhood_max(scene: Scene, fid: Fidelity, win: Grid, p: np.ndarray, x_d: float) -> float:
     d = scene.defect
-    nb = 1e-6 * fid.neighbourhood_um
+    nb = fid.neighbourhood_m
     ex = d.extent_x_m if d.active else 0.0
     ey = d.extent_y_m if d.active else 0.0
     yd = 1e-3 * d.axial_position_mm

@@ -300,7 +300,7 @@ def _offset_nodes(scene: Scene, fid: Fidelity, s_reach: float, dxw: float) -> np
     d = scene.defect
     n = fid.n_offsets
     if d.active:
-        step_max = min(d.extent_x_m / fid.offsets_per_width, 1e-6 * fid.offset_step_um)
+        step_max = min(d.extent_x_m / fid.offsets_per_width, fid.offset_step_m)
         n = max(n, int(math.ceil(fid.xi_max * s_reach / step_max)) + 1)
         n = min(n, fid.max_offsets)
     step = max(1, int(math.ceil(fid.xi_max * s_reach / (n - 1) / dxw - 1e-9))) * dxw
@@ -536,7 +536,7 @@ def build_table(scene: Scene, fidelity: Fidelity | str | None = None, *, q_max: 
     qn, q_nodes = _table_loads(q_max, nq)
     a_coef = hertz_estimate(scene, q_max).a / q_max ** (1 / 3)
     ex = d.extent_x_m if d.active else 0.0
-    s_const = 0.5 * ex + 1e-6 * fid.neighbourhood_um
+    s_const = 0.5 * ex + fid.neighbourhood_m
     # offsets in absolute x: normalised by the largest load's s(Q) only (the pressure peak
     # oscillates with the offset on the scale of the defect width, fixed in x, not in x/a)
     dxw = window_spec(scene, fid, q_max, 1.0)[2]

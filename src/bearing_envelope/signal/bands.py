@@ -171,8 +171,13 @@ def _need(spec, key, name):
 
 
 def resolve_band(spec: Mapping, fs: float, *, kurtogram=None, frequencies: Mapping | None = None,
-                 margin: float = NYQUIST_MARGIN):
+                 margin: float = NYQUIST_MARGIN, static: bool = False):
     """Turn one band specification (a mapping, see the module docstring) into a band.
+
+    The one band resolver: the configuration check calls it with ``static=True`` before any
+    signal exists (every strategy but ``kurtogram`` is then resolved and checked in full; the
+    kurtogram band is only checked for its keys and returns ``(None, None)``), the analysis
+    calls it per signal.
 
     Parameters
     ----------
@@ -187,6 +192,8 @@ def resolve_band(spec: Mapping, fs: float, *, kurtogram=None, frequencies: Mappi
         Named base frequencies for ``orders`` (e.g. ``{"fr": 15.8, "bpfi": 231.9}``).
     margin : float
         Nyquist margin for clamping, see :func:`clamp_band`.
+    static : bool
+        Check the specification without a signal (see above).
 
     Returns
     -------
@@ -208,6 +215,8 @@ def resolve_band(spec: Mapping, fs: float, *, kurtogram=None, frequencies: Mappi
         raise ValueError(f"band {name!r} ({strategy}): unknown key(s) {sorted(unknown)}")
     clamp = bool(spec.get("clamp", False))
     if strategy == "kurtogram":
+        if static:
+            return (None, None), {"name": name, "strategy": strategy}
         if kurtogram is None:
             raise ValueError(f"band {name!r}: the kurtogram strategy needs a kurtogram")
         kg = kurtogram

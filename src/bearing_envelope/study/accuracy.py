@@ -35,7 +35,6 @@ hardness differ.
 
 from __future__ import annotations
 
-import dataclasses
 import json
 import math
 from dataclasses import dataclass
@@ -240,13 +239,3 @@ def absolute_error(rel_error, amplitude):
     a = np.abs(np.asarray(amplitude, dtype=float))
     with np.errstate(divide="ignore", invalid="ignore"):
         return np.where(e < 1, e / (1 - e) * a, np.where(np.isnan(e), np.nan, np.inf))
-
-
-def _as_fidelity(obj) -> Fidelity:
-    if isinstance(obj, Fidelity):
-        return obj
-    if isinstance(obj, str):
-        obj = json.loads(obj)
-    known = {f.name for f in dataclasses.fields(Fidelity)}
-    d = {k: v for k, v in dict(obj).items() if k in known}
-    return fidelity_from({**d, "preset": "standard"})

@@ -524,8 +524,8 @@ def make_figures(*, harmonics, cases, bands, case_files, kurtogram_files, spectr
         ``{"defect": name, "healthy": name, "pairs": [{"load_kN", "healthy", "defect"}, ...]}``:
         the case drawn alone (Figs 7, 9, 11) and the pairs of Figs 4 and 5
         (:func:`example_pairs`).
-    analysis : mapping
-        The config's ``analysis`` section.
+    analysis : bearing_envelope.study.settings.AnalysisSettings
+        The config's ``analysis`` section, typed.
     outdir : path
         Output folder.
     """
@@ -553,19 +553,18 @@ def make_figures(*, harmonics, cases, bands, case_files, kurtogram_files, spectr
             fig_raw_spectrum(spectra_files[example["defect"]], example["defect"], cd.fr, cd.bpfi,
                              tmp / "fig07_raw_spectrum.png"),
         ]
-        if any(b["strategy"] == "kurtogram" for b in analysis["bands"]):
-            x = np.asarray(cd.signals[analysis.get("signal", "p_max")], dtype=float)
+        if analysis.needs_kurtogram:
+            x = np.asarray(cd.signals[analysis.signal], dtype=float)
             written.append(fig_kurtogram(kurtogram_files[example["defect"]], example["defect"],
                                          tmp / "fig09_kurtogram_sk.png", signal=x, fs=cd.fs))
         written.append(fig_band_limits(band_table, tmp / "fig10_band_limits.png", fs=cd.fs))
-        for b in analysis["bands"]:
+        for b in analysis.bands:
             written.append(fig_envelope_spectrum(
-                spectra_files[example["defect"]], example["defect"], b["name"], cd.fr, cd.bpfi,
-                tmp / f"fig11_envelope_spectrum_{b['name']}.png",
-                n_harmonics=int(analysis.get("harmonics", 3)),
-                n_sidebands=int(analysis.get("sidebands", 2))))
-        for i, b in enumerate(analysis["bands"]):
-            written.append(fig_harmonics_vs_depth(tidy, b["name"], tmp / f"fig{12 + i:02d}_harmonics_{b['name']}.png"))
+                spectra_files[example["defect"]], example["defect"], b.name, cd.fr, cd.bpfi,
+                tmp / f"fig11_envelope_spectrum_{b.name}.png",
+                n_harmonics=analysis.harmonics, n_sidebands=analysis.sidebands))
+        for i, b in enumerate(analysis.bands):
+            written.append(fig_harmonics_vs_depth(tidy, b.name, tmp / f"fig{12 + i:02d}_harmonics_{b.name}.png"))
         raw = tidy[(tidy["band"] == "raw") & (tidy["order"] <= 1)]
         written.append(_fig_raw_terms(raw, tmp / "fig08_raw_terms.png"))
     return [outdir / p.name for p in written]

@@ -24,20 +24,24 @@ squared envelope).
 
 from __future__ import annotations
 
-import functools
 import json
 from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
 import pandas as pd
-import yaml
 
-from .accuracy import attach_errors
+from ..diagnosis import analyze_signal
+from ..diagnosis.detection import detection_statistic
 from ..io import BandLimits, CaseBands, CaseSpectra
+from ..physics.fidelity import Fidelity
+from ..physics.transfer import (TransferModel, excitation_from_history, select_excitation,
+                                synthesize_acceleration)
+from ..signal import envelope_spectrum, fast_kurtogram, max_kurtogram_level, resolve_band
+from .accuracy import ErrorModel, attach_errors, error_model
 from .provenance import log_to
+from .settings import AnalysisSettings, CaseId
 from .tables import TIDY_COLUMNS, TIDY_EXTRA_COLUMNS, tidy_from_analysis
-from .schema import SCHEMA_PATH
 
 __all__ = ["AMPLITUDE_ESTIMATORS", "amplitude_estimator", "history_case", "case_signal", "case_frequencies", "case_bands", "case_harmonics", "case_envelope",
            "case_summary", "case_acceleration", "diagnosability_bands", "case_diagnosability",
@@ -53,19 +57,9 @@ AMPLITUDE_ESTIMATORS = {
 }
 
 
-@functools.lru_cache(maxsize=1)
-def _schema_amplitude_default() -> str:
-    """The config schema's default of ``analysis.amplitude`` (the one place it is set)."""
-    with open(SCHEMA_PATH, encoding="utf-8") as fh:
-        schema = yaml.safe_load(fh)
-    return schema["properties"]["analysis"]["properties"]["amplitude"]["default"]
-
-
-def amplitude_estimator(analysis) -> str:
-    """``analysis.amplitude`` of the ``analysis`` section (a mapping or typed settings; unset:
-    the config schema's default, ``interpolated``), checked."""
-    name = (analysis.get("amplitude") if isinstance(analysis, Mapping)
-            else getattr(analysis, "amplitude", None)) or _schema_amplitude_default()
+def amplitude_estimator(analysis: AnalysisSettings) -> str:
+    """``analysis.amplitude`` (the schema's default: ``interpolated``), checked."""
+    name = analysis.amplitude
     if name not in AMPLITUDE_ESTIMATORS:
         raise ValueError(f"analysis.amplitude: got {name!r}; allowed: "
                          f"{' | '.join(AMPLITUDE_ESTIMATORS)}")
@@ -74,7 +68,6 @@ def amplitude_estimator(analysis) -> str:
 
 def _case_id(case) -> str:
     """The case's canonical name (:class:`bearing_envelope.study.settings.CaseId`)."""
-    from .settings import CaseId
 
     return CaseId.from_case(case).name
 
@@ -112,19 +105,17 @@ def case_frequencies(case) -> dict[str, float]:
             "ftf": float(case.ftf), "bsf": float(case.bsf)}
 
 
-def _kurtogram(x, fs, analysis: Mapping[str, Any]):
-    from ..signal import fast_kurtogram, max_kurtogram_level
+def _kurtogram(x, fs, analysis: AnalysisSettings):
 
-    nlevel = int(analysis.get("nlevel", 8))
-    nlevel = min(nlevel, max_kurtogram_level(x.size))
+    nlevel = min(analysis.nlevel, max_kurtogram_level(x.size))
     return fast_kurtogram(
         x - x.mean(), fs, nlevel,
-        max_level=analysis.get("max_level"),
-        min_bandwidth=analysis.get("min_bandwidth_hz"),
+        max_level=analysis.max_level,
+        min_bandwidth=analysis.min_bandwidth_hz,
     )
 
 
-def case_bands(case, analysis: Mapping[str, Any]) -> tuple[CaseBands, Any]:
+def case_bands(case, analysis: AnalysisSettings) -> tuple[CaseBands, Any]:
     """Kurtogram and band limits of one case.
 
     Parameters
@@ -145,18 +136,15 @@ def case_bands(case, analysis: Mapping[str, Any]) -> tuple[CaseBands, Any]:
         None when no band uses the kurtogram strategy
         (:func:`bearing_envelope.io.write_kurtogram` stores it).
     """
-    from ..signal import resolve_band
-
-    signal = analysis.get("signal", "p_max")
+    signal = analysis.signal
     x = case_signal(case, signal)
     fs = float(case.fs)
     freqs = case_frequencies(case)
-    need_kg = any(b["strategy"] == "kurtogram" for b in analysis["bands"])
-    kg = _kurtogram(x, fs, analysis) if need_kg else None
+    kg = _kurtogram(x, fs, analysis) if analysis.needs_kurtogram else None
     bands = []
-    for spec in analysis["bands"]:
-        (lo, hi), prov = resolve_band(spec, fs, kurtogram=kg, frequencies=freqs)
-        bands.append(BandLimits(name=spec["name"], strategy=spec["strategy"], low_hz=float(lo),
+    for spec in analysis.bands:
+        (lo, hi), prov = resolve_band(spec.to_mapping(), fs, kurtogram=kg, frequencies=freqs)
+        bands.append(BandLimits(name=spec.name, strategy=spec.strategy, low_hz=float(lo),
                                 high_hz=float(hi), clamped=bool(prov.get("clamped", False)),
                                 provenance=jsonable(prov)))
     doc = CaseBands(
@@ -174,7 +162,7 @@ def _as_case_bands(bands) -> CaseBands:
     return bands if isinstance(bands, CaseBands) else CaseBands.from_dict(bands)
 
 
-def case_harmonics(case, analysis: Mapping[str, Any], bands, *, full_output: bool = False):
+def case_harmonics(case, analysis: AnalysisSettings, bands, *, full_output: bool = False):
     """Tidy harmonic table of one case for the bands of ``bands`` (see :func:`case_bands`).
 
     The bands are applied as fixed limits, so the kurtogram is computed once (in
@@ -183,7 +171,7 @@ def case_harmonics(case, analysis: Mapping[str, Any], bands, *, full_output: boo
     Parameters
     ----------
     case : bearing_envelope.io.Case
-    analysis : mapping
+    analysis : AnalysisSettings
         The config's ``analysis`` section (``signal``, ``harmonics``, ``sidebands``,
         ``raw_orders_fr``, ``filter_order``, ``squared_envelope``, ``amplitude``: the line
         estimator, :data:`AMPLITUDE_ESTIMATORS`, stated in each line's ``scaling``).
@@ -199,10 +187,8 @@ def case_harmonics(case, analysis: Mapping[str, Any], bands, *, full_output: boo
         ``clamped``, ``scaling``, ``signal``; one row per amplitude, the raw rows with band
         ``raw``, one ``kurtogram_kurtosis`` row (order = level) when a band uses the kurtogram.
     """
-    from ..diagnosis import analyze_signal
-
     bands = _as_case_bands(bands)
-    signal = analysis.get("signal", "p_max")
+    signal = analysis.signal
     x = case_signal(case, signal)
     fs = float(case.fs)
     estimator = amplitude_estimator(analysis)
@@ -212,11 +198,11 @@ def case_harmonics(case, analysis: Mapping[str, Any], bands, *, full_output: boo
     clamped = {b.name: b.clamped for b in bands.bands}
     res = analyze_signal(
         x, fs, fr=float(case.fr), bpfi=float(case.bpfi), bands=specs,
-        n_harmonics=int(analysis.get("harmonics", 3)),
-        n_sidebands=int(analysis.get("sidebands", 2)),
-        n_raw_harmonics=int(analysis.get("raw_orders_fr", 3)),
-        nlevel=None, filter_order=int(analysis.get("filter_order", 4)),
-        squared=bool(analysis.get("squared_envelope", False)),
+        n_harmonics=analysis.harmonics,
+        n_sidebands=analysis.sidebands,
+        n_raw_harmonics=analysis.raw_orders_fr,
+        nlevel=None, filter_order=analysis.filter_order,
+        squared=analysis.squared_envelope,
         full_output=full_output,
         interpolate=estimator == "interpolated",
     )
@@ -252,20 +238,19 @@ def case_error_model(case):
     """The estimated discretisation errors of a case's amplitudes at the fidelity it was
     simulated with (:func:`bearing_envelope.study.accuracy.error_model`); no estimate, with the reason,
     when the case records no fidelity."""
-    from .accuracy import ErrorModel, _as_fidelity, error_model
 
     spec = (getattr(case, "attrs", None) or {}).get("fidelity_json")
     if not spec:
         return ErrorModel(None, "defect" if float(case.depth_um) > 0 else "healthy",
                           "not estimated: the case records no fidelity", pd.DataFrame())
-    return error_model(_as_fidelity(spec), float(case.depth_um), getattr(case, "scene", None))
+    return error_model(Fidelity.from_json(spec), float(case.depth_um), getattr(case, "scene", None))
 
 
 #: Envelope spectra are kept up to (harmonics + SPECTRA_MARGIN_ORDERS) x BPFI for the figures.
 SPECTRA_MARGIN_ORDERS = 1.5
 
 
-def case_envelope(case, analysis: Mapping[str, Any], bands) -> tuple[pd.DataFrame, CaseSpectra]:
+def case_envelope(case, analysis: AnalysisSettings, bands) -> tuple[pd.DataFrame, CaseSpectra]:
     """Tidy harmonic table (:func:`case_harmonics`) and the spectra the figures draw.
 
     Returns
@@ -277,7 +262,7 @@ def case_envelope(case, analysis: Mapping[str, Any], bands) -> tuple[pd.DataFram
         ``(harmonics + 1.5) x BPFI`` (:data:`SPECTRA_MARGIN_ORDERS`).
     """
     df, extra = case_harmonics(case, analysis, bands, full_output=True)
-    fmax = (int(analysis.get("harmonics", 3)) + SPECTRA_MARGIN_ORDERS) * case.bpfi
+    fmax = (analysis.harmonics + SPECTRA_MARGIN_ORDERS) * case.bpfi
     env = {}
     for name, b in extra["bands"].items():
         keep = b["f"] <= fmax
@@ -387,9 +372,6 @@ def case_acceleration(case, sensor: Mapping[str, Any], *, reference=None, snr_db
         ``excitation_signal``, ``n_samples``, ...; :func:`bearing_envelope.io.write_sensor_case`
         stores it with the signal.
     """
-    from ..physics.transfer import (TransferModel, excitation_from_history, select_excitation,
-                           synthesize_acceleration)
-
     section = dict(sensor)
     if excitation is not None:
         section["excitation"] = excitation
@@ -415,7 +397,6 @@ def case_acceleration(case, sensor: Mapping[str, Any], *, reference=None, snr_db
 
 def _sensor_setup(case, sensor, reference):
     """Transfer model, excitation and reference excitation of a case (internal)."""
-    from ..physics.transfer import TransferModel, excitation_from_history, select_excitation
 
     fs = float(case.fs)
     model = TransferModel.from_mapping(sensor, fs=fs)
@@ -448,7 +429,7 @@ def _snr_definition(case, ref) -> str:
 MAP_BACKGROUND = (0.8, 1.2)
 
 
-def diagnosability_bands(case, sensor: Mapping[str, Any], analysis: Mapping[str, Any], *,
+def diagnosability_bands(case, sensor: Mapping[str, Any], analysis: AnalysisSettings, *,
                          reference=None, record=None) -> list[tuple[dict, float, float]]:
     """Demodulation bands of the detection map of one case.
 
@@ -465,25 +446,21 @@ def diagnosability_bands(case, sensor: Mapping[str, Any], analysis: Mapping[str,
     -------
     list of (band spec, low_hz, high_hz)
     """
-    from ..signal import resolve_band
-    from ..physics.transfer import synthesize_acceleration
-
     fs = float(case.fs)
     if record is None:
         model, exc, ref = _sensor_setup(case, sensor, reference)
         record, _ = synthesize_acceleration(exc, fs, model, reference=ref, seed=model.seed,
                                             fr=float(case.fr), snr_db=None)
-    need_kg = any(b["strategy"] == "kurtogram" for b in analysis["bands"])
-    kg = _kurtogram(record, fs, analysis) if need_kg else None
+    kg = _kurtogram(record, fs, analysis) if analysis.needs_kurtogram else None
     freqs = case_frequencies(case)
     out = []
-    for spec in analysis["bands"]:
-        (lo, hi), _prov = resolve_band(spec, fs, kurtogram=kg, frequencies=freqs)
-        out.append((dict(spec), float(lo), float(hi)))
+    for spec in analysis.bands:
+        (lo, hi), _prov = resolve_band(spec.to_mapping(), fs, kurtogram=kg, frequencies=freqs)
+        out.append((spec, float(lo), float(hi)))
     return out
 
 
-def case_diagnosability(case, sensor: Mapping[str, Any], analysis: Mapping[str, Any],
+def case_diagnosability(case, sensor: Mapping[str, Any], analysis: AnalysisSettings,
                         snr_db, *, reference=None, kurtogram_from: str = "clean") -> pd.DataFrame:
     """Is BPFI detected in the synthetic acceleration of a case, per SNR and band strategy?
 
@@ -524,10 +501,6 @@ def case_diagnosability(case, sensor: Mapping[str, Any], analysis: Mapping[str, 
         band_strategy, band_low_hz, band_high_hz, statistic_db, threshold_db, detected,
         peak_hz, peak_amplitude``.
     """
-    from ..diagnosis.detection import detection_statistic
-    from ..signal import envelope_spectrum
-    from ..physics.transfer import synthesize_acceleration
-
     if kurtogram_from not in ("clean", "record"):
         raise ValueError(f"kurtogram_from must be 'clean' or 'record', got {kurtogram_from!r}")
     fs = float(case.fs)
@@ -540,15 +513,15 @@ def case_diagnosability(case, sensor: Mapping[str, Any], analysis: Mapping[str, 
         if kurtogram_from == "record":
             bands = diagnosability_bands(case, sensor, analysis, record=acc)
         for spec, lo, hi in bands:
-            f, a = envelope_spectrum(acc, fs, (lo, hi), order=int(analysis.get("filter_order", 4)),
-                                     squared=bool(analysis.get("squared_envelope", False)))
+            f, a = envelope_spectrum(acc, fs, (lo, hi), order=analysis.filter_order,
+                                     squared=analysis.squared_envelope)
             d = detection_statistic(f, a, float(case.bpfi), fr=float(case.fr),
                                         background=MAP_BACKGROUND, level="two_sided")
             rows.append({
                 "case": _case_id(case), "load_kN": float(case.load_kN),
                 "depth_um": float(case.depth_um), "snr_db": float(snr),
                 "snr_definition": _snr_definition(case, ref), "kurtogram_from": kurtogram_from,
-                "band": spec["name"], "band_strategy": spec["strategy"],
+                "band": spec.name, "band_strategy": spec.strategy,
                 "band_low_hz": lo, "band_high_hz": hi,
                 "statistic_db": d.statistic_db, "threshold_db": d.threshold_db,
                 "detected": bool(d.detected), "peak_hz": d.peak_hz,
@@ -568,7 +541,7 @@ def _trial_seed(base: int, case, trial: int, snr: float) -> int:
     return int(np.random.SeedSequence(key).generate_state(1)[0])
 
 
-def case_false_alarms(case, sensor: Mapping[str, Any], analysis: Mapping[str, Any], snr_db,
+def case_false_alarms(case, sensor: Mapping[str, Any], analysis: AnalysisSettings, snr_db,
                       n_trials: int, *, reference=None, kurtogram_from: str = "clean") -> pd.DataFrame:
     """Measured false alarms of the detection map on a healthy case: ``n_trials`` noise
     realisations per SNR, each tested in every band exactly as :func:`case_diagnosability`
@@ -584,10 +557,6 @@ def case_false_alarms(case, sensor: Mapping[str, Any], analysis: Mapping[str, An
         statistic_db, threshold_db, detected, peak_hz``
         (:func:`bearing_envelope.diagnosis.detection.false_alarm_rates` pools them).
     """
-    from ..diagnosis.detection import detection_statistic
-    from ..signal import envelope_spectrum
-    from ..physics.transfer import synthesize_acceleration
-
     if float(case.depth_um) > 0:
         raise ValueError(f"case_false_alarms needs a healthy case (depth 0), got {_case_id(case)}")
     n_trials = int(n_trials)
@@ -604,14 +573,13 @@ def case_false_alarms(case, sensor: Mapping[str, Any], analysis: Mapping[str, An
             if kurtogram_from == "record":
                 bands = diagnosability_bands(case, sensor, analysis, record=acc)
             for spec, lo, hi in bands:
-                f, a = envelope_spectrum(acc, fs, (lo, hi),
-                                         order=int(analysis.get("filter_order", 4)),
-                                         squared=bool(analysis.get("squared_envelope", False)))
+                f, a = envelope_spectrum(acc, fs, (lo, hi), order=analysis.filter_order,
+                                         squared=analysis.squared_envelope)
                 d = detection_statistic(f, a, float(case.bpfi), fr=float(case.fr),
                                         background=MAP_BACKGROUND, level="two_sided")
                 rows.append({"case": _case_id(case), "load_kN": float(case.load_kN),
                              "depth_um": float(case.depth_um), "snr_db": float(snr),
-                             "band": spec["name"], "trial": trial,
+                             "band": spec.name, "trial": trial,
                              "statistic_db": d.statistic_db, "threshold_db": d.threshold_db,
                              "detected": bool(d.detected), "peak_hz": d.peak_hz})
     return pd.DataFrame(rows, columns=["case", "load_kN", "depth_um", "snr_db", "band", "trial",

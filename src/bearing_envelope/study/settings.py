@@ -26,6 +26,7 @@ from __future__ import annotations
 import copy
 import dataclasses
 import difflib
+import json
 import math
 import os
 import re
@@ -36,9 +37,18 @@ from typing import Any
 
 import numpy as np
 
+from ..physics.fidelity import Fidelity, fidelity_from
+from ..physics.geometry import hertz_estimate
+from ..physics.loads import scene_load_distribution
+from ..physics.scene import Scene
+from ..physics.transfer import TransferModel
+from ..signal.bands import resolve_band
+from .schema import SCHEMA_PATH, scene_frequencies
+
 __all__ = [
     "ConfigError", "CaseId", "format_number", "CASE_NAME_REGEX",
     "BandSpec", "AnalysisSettings", "SweepSettings", "DiagnosabilitySettings", "Settings",
+    "SimulationSetup", "section_defaults",
     "read_yaml", "settings_from_mapping", "load_settings", "workflow_settings",
     "default_config_path",
     "DEFAULT_CONFIG_NAME",
@@ -176,8 +186,6 @@ class CaseId:
 
     def scene(self, scene: Mapping[str, Any] | None = None):
         """Build and validate this case's :class:`bearing_envelope.physics.scene.Scene`."""
-        from ..physics.scene import Scene
-
         return Scene.from_mapping(self.scene_mapping(scene), load_kN=self.load_kN,
                                   depth_um=self.depth_um)
 
@@ -255,6 +263,7 @@ class BandSpec:
     base: str | None = None
     low_hz: float | None = None
     high_hz: float | None = None
+    clamp: bool | None = None
 
     def to_mapping(self) -> dict[str, Any]:
         return {k: v for k, v in dataclasses.asdict(self).items() if v is not None}
@@ -262,33 +271,32 @@ class BandSpec:
 
 @dataclass(frozen=True)
 class AnalysisSettings:
-    """The ``analysis:`` section (defaults filled from the schema).
+    """The ``analysis:`` section, typed; every field is required here because its default lives
+    in the schema alone (:func:`section_defaults` fills a partial mapping from it).
 
-    ``to_mapping()`` gives the plain mapping the pipeline functions take.
+    What every analysis job and :mod:`bearing_envelope.study.pipeline` function receives; it
+    travels to a workflow job as :meth:`to_json` and is rebuilt there by :meth:`from_json`.
     """
 
     bands: tuple[BandSpec, ...]
-    signal: str = "p_max"
-    nlevel: int = 8
-    max_level: float | None = None
-    min_bandwidth_hz: float | None = None
-    filter_order: int = 4
-    squared_envelope: bool = False
-    harmonics: int = 3
-    sidebands: int = 2
-    raw_orders_fr: int = 3
-    amplitude: str | None = None     # line estimator; None: the schema's default (interpolated)
+    signal: str
+    nlevel: int
+    max_level: float | None
+    min_bandwidth_hz: float | None
+    filter_order: int
+    squared_envelope: bool
+    harmonics: int
+    sidebands: int
+    raw_orders_fr: int
+    amplitude: str                   # spectral-line estimator: interpolated | peak_bin
 
     @classmethod
     def from_mapping(cls, m: Mapping[str, Any], *, fs: float, freqs: Mapping[str, float],
                      has_sensor: bool) -> "AnalysisSettings":
-        """Build and cross-check (needs the sampling rate and base frequencies of the scene)."""
-        from .schema import band_limits_static
-
-        kw = {k: m[k] for k in ("signal", "nlevel", "max_level", "min_bandwidth_hz", "filter_order",
-                                "squared_envelope", "harmonics", "sidebands", "raw_orders_fr",
-                                "amplitude")
-              if k in m}
+        """Build and cross-check (needs the sampling rate and base frequencies of the scene).
+        Keys missing from ``m`` take the schema's defaults."""
+        m = {**section_defaults("analysis"), **dict(m)}
+        kw = {f.name: m[f.name] for f in dataclasses.fields(cls) if f.name != "bands"}
         bands = tuple(BandSpec(**dict(b)) for b in m["bands"])
         a = cls(bands=bands, **kw)
         names = [b.name for b in bands]
@@ -306,11 +314,12 @@ class AnalysisSettings:
         if a.min_bandwidth_hz is not None and a.min_bandwidth_hz >= fs / 2:
             raise _err("analysis.min_bandwidth_hz", a.min_bandwidth_hz,
                        f"null or a bandwidth below fs/2 = {fs / 2:g} Hz")
-        for i, b in enumerate(bands):
+        for b in bands:  # the static part of the one band resolver (no signal yet)
             try:
-                band_limits_static(b.to_mapping(), fs, freqs)
+                resolve_band(b.to_mapping(), fs, frequencies=freqs, static=True)
             except ValueError as exc:
-                raise ConfigError(str(exc)) from None
+                raise ConfigError(f"analysis.bands[{b.name}]: {exc} (scene.operation.fs_hz = "
+                                  f"{fs:g}, Nyquist {fs / 2:g} Hz)") from None
         if freqs["bpfi"] * a.harmonics >= fs / 2:
             raise _err("analysis.harmonics", a.harmonics,
                        f"K with K x BPFI ({freqs['bpfi']:g} Hz) below Nyquist ({fs / 2:g} Hz)")
@@ -321,13 +330,61 @@ class AnalysisSettings:
         d["bands"] = [b.to_mapping() for b in self.bands]
         return d
 
+    def to_json(self) -> str:
+        """The canonical serialisation (sorted keys) a workflow job receives as a param."""
+        return json.dumps(self.to_mapping(), sort_keys=True)
+
+    @classmethod
+    def from_json(cls, text: str) -> "AnalysisSettings":
+        """The object :meth:`to_json` serialised (already checked when it was built)."""
+        d = json.loads(text)
+        bands = tuple(BandSpec(**b) for b in d.pop("bands"))
+        return cls(bands=bands, **d)
+
+    @property
+    def needs_kurtogram(self) -> bool:
+        """Whether any band is chosen by the kurtogram."""
+        return any(b.strategy == "kurtogram" for b in self.bands)
+
 
 @dataclass(frozen=True)
 class DiagnosabilitySettings:
-    """The ``diagnosability:`` section: whether the map is in the default target, and its SNRs."""
+    """The ``diagnosability:`` section: whether the map is in the default target, and its SNRs
+    (defaults: the schema)."""
 
-    enabled: bool = True
-    snr_db: tuple[float, ...] = (20.0, 10.0, 0.0, -10.0, -20.0)
+    enabled: bool
+    snr_db: tuple[float, ...]
+
+    @classmethod
+    def from_mapping(cls, m: Mapping[str, Any] | None) -> "DiagnosabilitySettings":
+        m = {**section_defaults("diagnosability"), **dict(m or {})}
+        return cls(bool(m["enabled"]), tuple(float(x) for x in m["snr_db"]))
+
+
+@dataclass(frozen=True)
+class SimulationSetup:
+    """What a simulation job needs besides its case: the ``scene:`` section (validated, defaults
+    filled) and the resolved :class:`~bearing_envelope.physics.fidelity.Fidelity`.
+
+    Travels to the job as :meth:`to_json` (so that a change of either reruns exactly the
+    simulations) and is rebuilt there by :meth:`from_json`.
+    """
+
+    scene_mapping: dict
+    fidelity: Fidelity
+
+    def to_json(self) -> str:
+        return json.dumps({"scene": self.scene_mapping, "fidelity": self.fidelity.to_dict()},
+                          sort_keys=True)
+
+    @classmethod
+    def from_json(cls, text: str) -> "SimulationSetup":
+        d = json.loads(text)
+        return cls(d["scene"], Fidelity.from_json(d["fidelity"]))
+
+    def scene(self, case: "CaseId") -> Scene:
+        """The validated scene of one case."""
+        return case.scene(self.scene_mapping)
 
 
 @dataclass(frozen=True)
@@ -365,6 +422,11 @@ class Settings:
     @property
     def cases(self) -> list[CaseId]:
         return [] if self.sweep is None else self.sweep.cases()
+
+    @property
+    def simulation(self) -> SimulationSetup:
+        """The scene section and fidelity a simulation job receives."""
+        return SimulationSetup(self.scene_mapping, self.fidelity)
 
     def scene(self, case: CaseId):
         """The validated scene of one case."""
@@ -468,8 +530,6 @@ def _check_finite(obj: Any, path: tuple = ()) -> None:
 def _schema(partial: bool) -> dict:
     import yaml
 
-    from .schema import SCHEMA_PATH
-
     with open(SCHEMA_PATH, encoding="utf-8") as fh:
         schema = yaml.safe_load(fh)
     if partial:
@@ -525,6 +585,15 @@ def _fill_defaults(instance: Any, schema: Mapping[str, Any], root: Mapping[str, 
             _fill_defaults(item, schema["items"], root)
 
 
+def section_defaults(section: str) -> dict[str, Any]:
+    """The schema's defaults of one top-level section (``analysis``, ``diagnosability``, ...):
+    the one place defaults live, read by the typed settings for keys a mapping leaves out."""
+    schema = _schema(partial=True)
+    out: dict[str, Any] = {}
+    _fill_defaults(out, schema["properties"][section], schema)
+    return out
+
+
 def validate_mapping(config: Mapping[str, Any], *, source: str = "<mapping>",
                      partial: bool = False) -> dict[str, Any]:
     """Finite-number check, schema validation and default filling of a config mapping.
@@ -571,14 +640,13 @@ def settings_from_mapping(config: Mapping[str, Any], *, source: str = "<mapping>
         raise ConfigError(f"{source}: {msg}") from None
 
 
-def _build(cfg: dict, source: str, partial: bool) -> Settings:
-    from .schema import scene_frequencies
-    from ..physics.fidelity import fidelity_from
-    from ..physics.geometry import hertz_estimate
-    from ..physics.loads import scene_load_distribution
-    from ..physics.transfer import TransferModel
+#: Roller load (kN) at which a partial config's scene (``simulate --config`` with only ``scene:``)
+#: is built to read its sampling rate and fault frequencies, which do not depend on the load.
+PARTIAL_SCENE_LOAD_KN = 500.0
 
-    fidelity = fidelity_from(cfg.get("fidelity", "standard"))
+
+def _build(cfg: dict, source: str, partial: bool) -> Settings:
+    fidelity = fidelity_from(cfg["fidelity"])  # the schema fills its default
     scene_map = cfg.get("scene") or {}
     sweep = SweepSettings.from_mapping(cfg["sweep"]) if "sweep" in cfg else None
     if sweep is not None and sweep.widths_um is not None \
@@ -600,9 +668,7 @@ def _build(cfg: dict, source: str, partial: bool) -> Settings:
                           {"scene.defect.width_um": float(scene_map["defect"]["width_um"])})
         scene0 = next(iter(scenes.values()))
     else:
-        from ..physics.scene import Scene
-
-        scene0 = Scene.from_mapping(scene_map, load_kN=500.0, depth_um=0.0)
+        scene0 = Scene.from_mapping(scene_map, load_kN=PARTIAL_SCENE_LOAD_KN, depth_um=0.0)
     fs = float(scene0.operation.fs_hz)
     freqs = scene_frequencies(scene0)
     sensor = None
@@ -624,9 +690,7 @@ def _build(cfg: dict, source: str, partial: bool) -> Settings:
                 raise ConfigError("sensor.snr_db: missing; analysis.signal = 'acceleration' needs "
                                   "the noise level of the accelerometer signal (dB; null for a "
                                   "noise-free signal)")
-    d = cfg.get("diagnosability") or {}
-    diag = DiagnosabilitySettings(bool(d.get("enabled", True)),
-                                  tuple(float(x) for x in d.get("snr_db", (20, 10, 0, -10, -20))))
+    diag = DiagnosabilitySettings.from_mapping(cfg.get("diagnosability"))
     return Settings(source=source, config=cfg, sweep=sweep, fidelity=fidelity,
                     scene_mapping=scene_map, analysis=analysis, sensor=sensor,
                     diagnosability=diag, tradeoff=dict(cfg.get("tradeoff") or {}))

@@ -63,7 +63,8 @@ import numpy as np
 import pandas as pd
 
 from ..physics.fidelity import PRESETS, Fidelity, fidelity_from
-from .settings import CaseId
+from .schema import scene_frequencies
+from .settings import AnalysisSettings, CaseId
 
 __all__ = ["DEFAULT_CASES", "DEFAULT_KNOBS", "DEFAULT_BANDS", "COLUMNS", "tradeoff_study",
            "study_from_config", "pareto_front", "pareto_table", "pareto_points", "plot_tradeoff",
@@ -176,7 +177,7 @@ def _clear_kernel_cache() -> None:
         pass
 
 
-def run_variant(scene, fidelity: Fidelity, analysis: Mapping[str, Any]) -> dict[str, Any]:
+def run_variant(scene, fidelity: Fidelity, analysis) -> dict[str, Any]:
     """Simulate one variant and evaluate the metrics.
 
     Returns a dict with ``cpu_s``, ``wall_s``, ``n_solves``, ``n_iterations``, ``p_max``
@@ -190,7 +191,10 @@ def run_variant(scene, fidelity: Fidelity, analysis: Mapping[str, Any]) -> dict[
     hist = simulate(scene, fidelity)
     cpu, wall = time.process_time() - c0, time.perf_counter() - w0
     case = history_case(hist)
-    sig = analysis.get("signal", "p_max")
+    if not isinstance(analysis, AnalysisSettings):
+        analysis = AnalysisSettings.from_mapping(analysis, fs=float(scene.operation.fs_hz),
+                                                 freqs=scene_frequencies(scene), has_sensor=False)
+    sig = analysis.signal
     x = np.asarray(case.signals[sig], float)
     metrics: dict[tuple[str, str], float] = {("peak_pressure", ""): float(x.max()),
                                              ("p_max_rms", ""): float(np.sqrt(np.mean(x ** 2)))}
