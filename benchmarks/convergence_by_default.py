@@ -25,9 +25,9 @@ solve (:func:`bearing_envelope.physics.table.direct_pressure`'s route).
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import hashlib
 import inspect
-import json
 import platform
 import sys
 import time
@@ -38,6 +38,8 @@ import numpy as np
 from bearing_envelope.physics.fidelity import fidelity_from
 from bearing_envelope.physics.history import CONTACT_SIGNALS, simulate
 from bearing_envelope.physics.scene import Scene
+from bearing_envelope.study.pipeline import case_bands, case_harmonics, history_case
+from bearing_envelope.study.settings import CaseId, load_settings
 
 #: The warm-up case (compiles the numba kernels before the timed cases): draft, healthy.
 WARMUP_REVOLUTIONS = 2
@@ -89,19 +91,15 @@ def run_cache(args) -> None:
 
 
 def run_amplitudes(args) -> None:
-    from bearing_envelope.study.pipeline import case_bands, case_harmonics, history_case
-    from bearing_envelope.study.settings import load_settings
-
     st = load_settings(args.config)
-    analysis = dict(st.config["analysis"])
-    sc = Scene.from_mapping(st.config.get("scene"), load_kN=args.load, depth_um=args.depth)
+    sc = st.scene(CaseId(args.load, args.depth))
     hist = simulate(sc, fidelity_from(args.fidelity))
     case = history_case(hist)
     print(f"# amplitudes: {_stamp()}; F{args.load:g}kN_h{args.depth:g}um, {args.fidelity}, "
-          f"signal {analysis['signal']}")
+          f"signal {st.analysis.signal}")
     tables = {}
     for est in ("peak_bin", "interpolated"):
-        an = dict(analysis, amplitude=est)
+        an = dataclasses.replace(st.analysis, amplitude=est)
         bands, _ = case_bands(case, an)
         tables[est] = case_harmonics(case, an, bands).set_index(
             ["band", "quantity", "order", "sideband"])

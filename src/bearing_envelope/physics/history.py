@@ -45,6 +45,7 @@ Model only what the scene requires (issue 3, design.md section 2):
 from __future__ import annotations
 
 import math
+import os
 import time as _time
 from dataclasses import dataclass, field
 
@@ -54,6 +55,7 @@ from .acquisition import acquire, acquisition_settings, add_noise, antialias_und
 from .fidelity import Fidelity, fidelity_from
 from .kernels import HAVE_NUMBA, synth_kernel
 from .loads import LoadDistribution, scene_load_distribution
+from .nodefect_cache import NoDefectCache
 from .scene import Scene
 from .solves import SolveStats
 from .table import PressureTable, build_table
@@ -213,7 +215,7 @@ def synthesize_case(scene: Scene, table: PressureTable, ld: LoadDistribution,
 
 
 def simulate(scene: Scene, fidelity: Fidelity | str | None = None, *, progress: bool = False,
-             use_numba: bool = True) -> History:
+             use_numba: bool = True, nodefect_cache: str | os.PathLike | None = None) -> History:
     """Simulate one case: load distribution, contact table, acquisition of every signal, noise.
 
     Parameters
@@ -224,11 +226,15 @@ def simulate(scene: Scene, fidelity: Fidelity | str | None = None, *, progress: 
         Show a tqdm bar over the contact solves (only on a terminal).
     use_numba : bool
         Use the numba synthesis kernels (else numpy).
+    nodefect_cache : path, optional
+        Folder of the content-addressed store of the global no-defect solves
+        (:mod:`~bearing_envelope.physics.nodefect_cache`): shared by every case of a load, the
+        results bit-identical to solving them. None: solved every time.
     """
     fid = fidelity_from(fidelity)
     t_start = _time.perf_counter()
     ld = scene_load_distribution(scene)
-    stats = SolveStats()
+    stats = SolveStats(cache=None if nodefect_cache is None else NoDefectCache(nodefect_cache))
     table, nodes, snaps = build_table(scene, fid, q_max=ld.q_max, stats=stats, progress=progress)
     t_table = _time.perf_counter() - t_start
     op = scene.operation
@@ -247,6 +253,8 @@ def simulate(scene: Scene, fidelity: Fidelity | str | None = None, *, progress: 
         "n_solves": stats.n_solves, "n_iterations": stats.n_iterations,
         "n_failed_solves": stats.n_failed, "failed_solver_seconds": stats.failed_seconds,
         "n_stall_guard": stats.n_stall_guard,
+        "nodefect_cache_hits": stats.cache.hits if stats.cache else 0,
+        "nodefect_cache_misses": stats.cache.misses if stats.cache else 0,
         "solver_seconds": stats.solver_seconds, "table_seconds": t_table,
         "synthesis_seconds": t_synth, "wall_seconds": _time.perf_counter() - t_start,
     }

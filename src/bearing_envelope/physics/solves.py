@@ -12,8 +12,11 @@ from typing import Any, Callable
 
 import numpy as np
 
+from ..contact import (ContactConvergenceError, ContactGridError, ElasticHalfSpace,
+                       solve_contact)
 from .fidelity import Fidelity
 from .geometry import Grid, gap_field, hertz_estimate, make_grid
+from .nodefect_cache import GlobalSolution, NoDefectCache, global_key
 from .scene import Scene
 
 __all__ = ["SolveStats", "LoadNode", "DefectSolve", "RimStrip", "GlobalGridError", "global_solve",
@@ -30,12 +33,12 @@ class SolveStats:
     failed_seconds: float = 0.0
     n_stall_guard: int = 0     # solves whose preconditioner the solver's stall guard dropped
     callback: Callable[[], None] | None = field(default=None, repr=False)
+    #: Where the global no-defect solves are looked up and stored (None: always solved).
+    cache: NoDefectCache | None = field(default=None, repr=False)
 
     def solve(self, *args, **kwargs):
         """:func:`solve_contact` with its cost counted, also when it raises (stalled solves
         that a caller retries are part of the cost: ``n_failed``, ``failed_seconds``)."""
-        from ..contact import ContactConvergenceError, solve_contact
-
         t0 = _time.perf_counter()
         try:
             sol = solve_contact(*args, **kwargs)
@@ -98,8 +101,6 @@ def _halfspace(grid: Grid, e_star: float, backend: str, element: str = "uniform"
     on a shared 2-core machine were measured 10-100x slower. ``auto`` (pyfftw if present) pays a
     planning cost once per grid and is worth it for the many window solves; the single global
     solve per load uses pocketfft (no planning)."""
-    from ..contact import ElasticHalfSpace
-
     return ElasticHalfSpace(grid.shape, grid.dx, grid.dy, e_star, workers=1, backend=backend,
                             element=element)
 
@@ -138,34 +139,109 @@ class GlobalGridError(RuntimeError):
 
 
 def global_solve(scene: Scene, fid: Fidelity, q_load: float, extent: float, stats: SolveStats,
-                  p_init=None):
+                  p_init=None) -> tuple[Grid, GlobalSolution]:
     """Global no-defect solve over the whole roller length (plus one ``+inf`` cell each side).
 
     The half-extent across rolling starts at ``extent`` (m) and grows by
     :data:`GLOBAL_GRID_GROWTH` whenever the pressure reaches the grid's edge
     (:class:`~bearing_envelope.contact.ContactGridError`), at most :data:`GLOBAL_GRID_ATTEMPTS`
-    sizes. Returns ``(grid, solution)``; raises :class:`GlobalGridError` naming the load and the
-    last extent.
+    sizes. With ``stats.cache`` (and no ``p_init``) the result is read from / stored in the
+    content-addressed no-defect store (:mod:`~bearing_envelope.physics.nodefect_cache`), keyed by
+    the initial grid's gap field and everything else the solve reads. Returns ``(grid,
+    solution)``; raises :class:`GlobalGridError` naming the load and the last extent.
     """
-    from ..contact import ContactGridError
-
-    e_star = scene.material.e_star_pa
     dxg, dyg = fid.global_dx_m, fid.global_dy_m
     half = scene.bearing.half_length_m
+    grid = make_grid(-extent, extent, -half - GLOBAL_END_CELLS * dyg, half + GLOBAL_END_CELLS * dyg,
+                     dxg, dyg)
+    gap = gap_field(scene, grid, None)
+    cache = stats.cache if p_init is None else None
+    if cache is not None:
+        sha, key = global_key(gap, grid.x, grid.y, _global_key_fields(scene, fid, q_load))
+        hit = cache.load(sha, key)
+        if hit is not None:
+            gx, gy, dx, dy, sol = hit
+            return Grid(gx, gy, dx, dy), sol
+    grid, sol = _global_solve_grown(scene, fid, q_load, extent, grid, gap, stats, p_init)
+    if cache is not None:
+        cache.store(sha, key, grid.x, grid.y, grid.dx, grid.dy, sol)
+    return grid, sol
+
+
+def _global_key_fields(scene: Scene, fid: Fidelity, q_load: float) -> dict:
+    """The scalars a global solve depends on besides its initial grid and gap field."""
+    return {"q_load_n": float(q_load), "e_star_pa": float(scene.material.e_star_pa),
+            "hardness_pa": scene.material.hardness_pa, "tol": float(fid.tol),
+            "max_iter": int(fid.max_iter), "element": fid.element,
+            "growth": float(GLOBAL_GRID_GROWTH), "attempts": int(GLOBAL_GRID_ATTEMPTS),
+            "half_length_m": float(scene.bearing.half_length_m)}
+
+
+def _global_solve_grown(scene: Scene, fid: Fidelity, q_load: float, extent: float, grid: Grid,
+                        gap: np.ndarray, stats: SolveStats, p_init) -> tuple[Grid, GlobalSolution]:
+    """The solve of :func:`global_solve` on ``grid`` (gap ``gap``), enlarged while the contact
+    reaches its edge."""
+    e_star = scene.material.e_star_pa
+    dxg, dyg = grid.dx, grid.dy
+    half = scene.bearing.half_length_m
     for _attempt in range(GLOBAL_GRID_ATTEMPTS):
-        grid = make_grid(-extent, extent, -half - GLOBAL_END_CELLS * dyg, half + GLOBAL_END_CELLS * dyg,
-                         dxg, dyg)
         try:
-            sol = stats.solve(gap_field(scene, grid, None), dxg, dyg, q_load, e_star, tol=fid.tol,
+            sol = stats.solve(gap, dxg, dyg, q_load, e_star, tol=fid.tol,
                               max_iter=fid.max_iter, p_init=p_init, boundary="raise",
                               halfspace=_halfspace(grid, e_star, "scipy", fid.element),
                               element=fid.element, hardness=scene.material.hardness_pa)
-            return grid, sol
+            return grid, GlobalSolution(np.asarray(sol.pressure, dtype=np.float64),
+                                        float(sol.approach), float(sol.contact_area),
+                                        int(sol.iterations), float(sol.residual))
         except ContactGridError:
             extent *= GLOBAL_GRID_GROWTH
+            grid = make_grid(-extent, extent, -half - GLOBAL_END_CELLS * dyg,
+                             half + GLOBAL_END_CELLS * dyg, dxg, dyg)
+            gap = gap_field(scene, grid, None)
     raise GlobalGridError(f"global grid could not be sized at roller load {q_load:.6g} N: the "
                           f"contact reached the edge of every grid up to a half-extent of "
                           f"{extent / GLOBAL_GRID_GROWTH:.4g} m across rolling")
+
+
+def global_extent(fid: Fidelity, kappa: float, a_hertz: float) -> float:
+    """Half-extent (m) across rolling of the global grid at the start of :func:`global_solve`:
+    ``global_extent x kappa x a_H``, the contact and a margin. It does not depend on the defect
+    (the zoom window may reach further: :func:`_far_field` extends the global pressure with
+    unloaded cells), so every depth case of a load solves the same global contacts (issue 25:
+    shared through :mod:`~bearing_envelope.physics.nodefect_cache`)."""
+    return fid.global_extent * kappa * a_hertz
+
+
+def _far_field(grid: Grid, pg: np.ndarray, win: Grid, j_lo: int, j_hi: int, m: int,
+               e_star: float, element: str) -> np.ndarray:
+    """Displacement at the window's cells of the global pressure outside the window's axial
+    columns ``j_lo..j_hi`` (m).
+
+    Each coarse cell is split into ``m`` axial sub-cells (the same load) and convolved on the
+    global x grid at the window's axial spacing, so the result is exact in y at the window's
+    columns and only interpolated (linearly) in x. Where the window reaches beyond the global
+    grid across rolling, the grid is extended by unloaded cells at the same spacing (outside the
+    contact the pressure is 0, so this is what a larger global grid would give).
+    """
+    dxg, dyg = grid.dx, grid.dy
+    p_out = pg.astype(float).copy()
+    p_out[:, j_lo:j_hi + 1] = 0.0
+    reach = float(max(abs(win.x[0]), abs(win.x[-1])))
+    n_pad = max(0, int(math.ceil((reach - float(grid.x[-1])) / dxg - 1e-9)))
+    xg = grid.x
+    if n_pad:
+        p_out = np.pad(p_out, ((n_pad, n_pad), (0, 0)))
+        xg = np.concatenate([grid.x[0] - dxg * np.arange(n_pad, 0, -1), grid.x,
+                             grid.x[-1] + dxg * np.arange(1, n_pad + 1)])
+    if m > 1:
+        p_out = np.repeat(p_out, m, axis=1)
+    hs_f = _halfspace(Grid(xg, np.zeros(p_out.shape[1]), dxg, dyg / m), e_star, "scipy",
+                      element)
+    u_cols = hs_f.displacement(p_out)[:, j_lo * m:(j_hi + 1) * m]
+    u_ext = np.empty(win.shape)
+    for k in range(win.shape[1]):
+        u_ext[:, k] = np.interp(win.x, xg, u_cols[:, k], left=np.nan, right=np.nan)
+    return u_ext
 
 
 def solve_load(scene: Scene, fid: Fidelity, q_load: float, kappa: float, stats: SolveStats,
@@ -174,8 +250,8 @@ def solve_load(scene: Scene, fid: Fidelity, q_load: float, kappa: float, stats: 
     a, s, dxw, dyw, xh, yd, hy_read, hy = window_spec(scene, fid, q_load, kappa)
     dxg, dyg = fid.global_dx_m, fid.global_dy_m
     xw = make_grid(-xh, xh, 0.0, 1.0, dxw, 1.0).x
-    extent = max(fid.global_extent * kappa * a, float(np.max(np.abs(xw))) + dxg)
-    grid, sol = global_solve(scene, fid, q_load, extent, stats, p_init_global)
+    grid, sol = global_solve(scene, fid, q_load, global_extent(fid, kappa, a), stats,
+                             p_init_global)
     pg = sol.pressure
     # solved half-width at the defect's axial position
     jy = int(np.argmin(np.abs(grid.y - yd)))
@@ -190,19 +266,7 @@ def solve_load(scene: Scene, fid: Fidelity, q_load: float, kappa: float, stats: 
     y0 = grid.y[j_lo] - 0.5 * dyg
     win = Grid(xw, y0 + (np.arange(ny_w) + 0.5) * (dyg / m), dxw, dyg / m)
     hs = _halfspace(win, e_star, "auto", fid.element)
-    # far field: the global pressure outside the window, each coarse cell split into m axial
-    # sub-cells (the same load), convolved on the global x grid at the window's axial spacing,
-    # so u_ext is exact in y at the window's columns and only interpolated (linearly) in x
-    p_out = pg.astype(float).copy()
-    p_out[:, j_lo:j_hi + 1] = 0.0
-    if m > 1:
-        p_out = np.repeat(p_out, m, axis=1)
-    hs_f = _halfspace(Grid(grid.x, np.zeros(p_out.shape[1]), dxg, dyg / m), e_star, "scipy",
-                      fid.element)
-    u_cols = hs_f.displacement(p_out)[:, j_lo * m:(j_hi + 1) * m]
-    u_ext = np.empty(win.shape)
-    for k in range(win.shape[1]):
-        u_ext[:, k] = np.interp(win.x, grid.x, u_cols[:, k], left=np.nan, right=np.nan)
+    u_ext = _far_field(grid, pg, win, j_lo, j_hi, m, e_star, fid.element)
     gwin = gap_field(scene, win, None)
     void = ~np.isfinite(gwin)
     u_ext[void] = 0.0
@@ -240,8 +304,7 @@ def outside_max(scene: Scene, fid: Fidelity, q_load: float, kappa: float,
                  stats: SolveStats) -> float:
     """Maximum no-defect pressure outside the read strip from a global solve only (Pa)."""
     a, s, dxw, dyw, xh, yd, hy_read, hy = window_spec(scene, fid, q_load, kappa)
-    extent = max(fid.global_extent * kappa * a, xh + fid.global_dx_m)
-    grid, sol = global_solve(scene, fid, q_load, extent, stats)
+    grid, sol = global_solve(scene, fid, q_load, global_extent(fid, kappa, a), stats)
     gstrip = np.abs(grid.y - yd) <= hy_read + 1e-12
     return float(sol.pressure[:, ~gstrip].max()) if np.any(~gstrip) else 0.0
 
@@ -273,8 +336,6 @@ class DefectSolve:
 def defect_solve(scene: Scene, fid: Fidelity, node: LoadNode, x_d: float, stats: SolveStats,
                   p_init=None) -> DefectSolve:
     """Window solve with the defect at offset ``x_d`` under the no-defect window approach."""
-    from ..contact import ContactConvergenceError
-
     win = node.window
     g = gap_field(scene, win, x_d) + node.u_ext
     kw = dict(tol=fid.tol, max_iter=fid.max_iter, approach=node.approach, boundary="ignore",
@@ -362,8 +423,6 @@ def _rim_schwarz(scene: Scene, fid: Fidelity, node: LoadNode, x_d: float, g: np.
     the strips' resolved rim pressure would not unload the cells around them (measured: the
     removed force 1 % low after one pass at 500 kN / 50 um). Returns the strips and the window
     pressure (the strips' rows hold their parent-cell means)."""
-    from ..contact import ContactConvergenceError
-
     win = node.window
     cell = win.dx * win.dy
     m = int(round(fid.local_dx_um / fid.rim_dx_um))
@@ -432,8 +491,6 @@ def _refine_rims(scene: Scene, fid: Fidelity, node: LoadNode, x_d: float, p: np.
     under displacement control at the window's approach (one pass: the other strip, if any,
     stays at the parent's pressure). Strips without contact are skipped.
     """
-    from ..contact import ContactConvergenceError
-
     win = node.window
     m = int(round(fid.local_dx_um / fid.rim_dx_um))
     dxc = win.dx / m
