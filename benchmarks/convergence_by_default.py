@@ -37,7 +37,9 @@ import numpy as np
 
 from bearing_envelope.physics.fidelity import fidelity_from
 from bearing_envelope.physics.history import CONTACT_SIGNALS, simulate
+from bearing_envelope.physics.loads import scene_load_distribution
 from bearing_envelope.physics.scene import Scene
+from bearing_envelope.physics.solves import SolveStats, defect_solve, solve_load
 from bearing_envelope.study.pipeline import case_bands, case_harmonics, history_case
 from bearing_envelope.study.settings import CaseId, load_settings
 
@@ -114,6 +116,37 @@ def run_amplitudes(args) -> None:
         print(f"| {band} | {q} | {k} | {va:.4g} | {vb:.4g} | {vb / va:.4f} |")
 
 
+#: A window margin (um) beyond either roller end from the roller's centre: the whole roller.
+WHOLE_ROLLER_MARGIN_UM = 1e6
+
+
+def removed_force(scene, fid, q, x_d=0.0):
+    """``(removed force N, approach m, p_max Pa, window solves CPU s)`` of one direct zoom solve
+    at roller load ``q`` and offset ``x_d``."""
+    stats = SolveStats()
+    c0 = time.process_time()
+    node = solve_load(scene, fid, q, 1.0, stats)
+    ds = defect_solve(scene, fid, node, x_d, stats)
+    return ds.removed_force, node.approach, ds.P, time.process_time() - c0
+
+
+def run_margin(args) -> None:
+    sc = Scene.from_mapping(None, load_kN=args.load, depth_um=args.depth)
+    q = scene_load_distribution(sc).q_max
+    print(f"# margin: {_stamp()}; F{args.load:g}kN_h{args.depth:g}um, Q_max = {q:.6g} N, "
+          f"x = 0, {args.fidelity}")
+    print("| far field | margin um | removed force N | approach um | p_max GPa | CPU s |")
+    print("|---|---|---|---|---|---|")
+    for far in args.far_field:
+        for mg in args.margins:
+            margin = WHOLE_ROLLER_MARGIN_UM if mg == "whole" else float(mg)
+            fid = fidelity_from({"preset": args.fidelity, "window_margin_um": margin,
+                                 "far_field": far})
+            dF, d0, P, dt = removed_force(sc, fid, q)
+            print(f"| {far} | {mg} | {dF:.4g} | {1e6 * d0:.5f} | {1e-9 * P:.5g} | {dt:.1f} |",
+                  flush=True)
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -129,8 +162,14 @@ def main(argv=None):
     a.add_argument("--fidelity", default="draft")
     a.add_argument("--load", type=float, default=500.0)
     a.add_argument("--depth", type=float, default=50.0)
+    g = sub.add_parser("margin")
+    g.add_argument("--fidelity", default="standard")
+    g.add_argument("--load", type=float, default=500.0)
+    g.add_argument("--depth", type=float, default=50.0)
+    g.add_argument("--margins", nargs="+", default=["400", "1600", "6400", "whole"])
+    g.add_argument("--far-field", nargs="+", default=["frozen", "responds"])
     args = ap.parse_args(argv)
-    {"cache": run_cache, "amplitudes": run_amplitudes}[args.cmd](args)
+    {"cache": run_cache, "amplitudes": run_amplitudes, "margin": run_margin}[args.cmd](args)
 
 
 if __name__ == "__main__":

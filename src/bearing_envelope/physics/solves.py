@@ -85,6 +85,8 @@ class LoadNode:
     approach_global: float = 0.0   # approach of the global no-defect solve at q (m)
     area_global: float = 0.0       # contact area of the global no-defect solve (m^2)
     area_window0: float = 0.0      # contact area of the window's no-defect solve (m^2)
+    #: The far field's linear response (:class:`FarResponse`); None = frozen far field
+    far: "FarResponse | None" = field(repr=False, default=None)
 
 
 def _bilinear(xg: np.ndarray, yg: np.ndarray, f: np.ndarray, x: np.ndarray, y: np.ndarray,
@@ -245,7 +247,10 @@ def _far_field(grid: Grid, pg: np.ndarray, win: Grid, j_lo: int, j_hi: int, m: i
 
 
 def solve_load(scene: Scene, fid: Fidelity, q_load: float, kappa: float, stats: SolveStats,
-                p_init_global=None) -> LoadNode:
+                p_init_global=None, *, with_far: bool = True) -> LoadNode:
+    """Global no-defect solve and zoom window at roller load ``q_load`` (:class:`LoadNode`);
+    ``with_far=False`` skips the far field's response (:func:`far_response`: only the removed force
+    needs it; the table's pressure checks do not)."""
     e_star = scene.material.e_star_pa
     a, s, dxw, dyw, xh, yd, hy_read, hy = window_spec(scene, fid, q_load, kappa)
     dxg, dyg = fid.global_dx_m, fid.global_dy_m
@@ -288,6 +293,10 @@ def solve_load(scene: Scene, fid: Fidelity, q_load: float, kappa: float, stats: 
         # the contact does not reach the defect's axial position at this load (e.g. a defect
         # near a roller end at a small load): nothing to zoom into
         approach0, pw0 = sol.approach, np.zeros(win.shape)
+    far = None
+    if with_far and fid.far_field == "responds" and f_win > 0:
+        far = far_response(scene, fid, grid, pg, win, j_lo, j_hi, m, stats,
+                           WindowState(g0, approach0, pw0, hs))
     strip = np.abs(win.y - yd) <= hy_read + 1e-12
     gstrip = np.abs(grid.y - yd) <= hy_read + 1e-12
     outside = float(pg[:, ~gstrip].max()) if np.any(~gstrip) else 0.0
@@ -297,7 +306,120 @@ def solve_load(scene: Scene, fid: Fidelity, q_load: float, kappa: float, stats: 
     return LoadNode(q_load, a, grid, pg.astype(np.float32), approach0, win, u_ext,
                     pw0, strip, outside, p0, w0, half_width, cons, hs,
                     approach_global=float(sol.approach), area_global=float(sol.contact_area),
-                    area_window0=float(np.count_nonzero(pw0 > 0)) * win.dx * win.dy)
+                    area_window0=float(np.count_nonzero(pw0 > 0)) * win.dx * win.dy,
+                    far=far)
+
+
+#: Approach (m) of the far-field flat-punch solve (:func:`far_response`); the response is
+#: linear, so only the scale of the solved pressures depends on it.
+FAR_RESPONSE_APPROACH = 1e-6
+#: Displacement (m) imposed on the no-defect window to measure its pressure response to the far
+#: field's take-up (:func:`far_response`): small against the approach (~50 um), large against the
+#: solver's tolerance times the pressure.
+WINDOW_RESPONSE_STEP = 1e-8
+
+
+@dataclass
+class WindowState:
+    """The no-defect window of a load node (internal): gap with the far field's displacement,
+    approach, pressure and half-space operator."""
+
+    gap: np.ndarray
+    approach: float
+    pressure: np.ndarray
+    halfspace: Any
+
+
+@dataclass
+class FarResponse:
+    """The far field's linear response at one load node (:func:`far_response`).
+
+    ``z``: displacement at the window's cells of the far field's flat-punch pressure per unit
+    approach (dimensionless); ``stiffness``: the force (N) of the take-up's shape ``psi_c``
+    (:func:`far_response`); ``window_z``, ``window_force``: ``sum(z R) dA_w`` and
+    ``sum(R) dA_w`` (N) of the no-defect window's pressure response ``R`` (Pa) to the
+    displacement of ``psi_c``.
+    """
+
+    z: np.ndarray
+    stiffness: float
+    window_z: float
+    window_force: float
+
+    def uptake(self, dp: np.ndarray, cell: float) -> float:
+        """Force (N) the far field and the window together regain when the window's pressure
+        changes by ``dp`` (Pa) at fixed approach: the far field's pressure change is taken as
+        ``alpha psi_c`` (the take-up's shape); it unloads the window further by ``alpha R``;
+        reciprocity fixes ``alpha``: ``alpha stiffness = -sum(z (dp + alpha R)) dA``; the gain
+        is ``alpha (stiffness + window_force)``."""
+        alpha = -float(np.sum(self.z * dp)) * cell / (self.stiffness + self.window_z)
+        return alpha * (self.stiffness + self.window_force)
+
+
+def far_response(scene: Scene, fid: Fidelity, grid: Grid, pg: np.ndarray, win: Grid, j_lo: int,
+                 j_hi: int, m: int, stats: SolveStats, w0: WindowState) -> FarResponse | None:
+    """How the far field takes up the load the window sheds (issue 25 part C).
+
+    The far field (the no-defect global contact outside the window's columns) is linear: its
+    contact set is fixed (the defect changes the contact's force by ~1e-3). Three solves:
+
+    1. ``psi``, the far-field pressure that raises the far contact uniformly by one unit of
+       displacement while the window carries nothing (``K_ff psi = 1``: a flat punch on the
+       global grid); ``z = K_wf psi`` at the window's cells. By reciprocity a window pressure
+       change ``dp`` changes the far field's force at fixed approach by ``-sum(z dp) dA``,
+       exactly for any ``dp``.
+    2. The shape of that take-up: the far field's pressure response ``psi_c`` to the pressure
+       the centred defect removes from the frozen window (one window solve with the defect at
+       x = 0, its pressure change summed onto the global cells, convolved, and the far field
+       solved under the opposite displacement).
+    3. The no-defect window's pressure response ``R`` to the displacement of ``psi_c``: the
+       far field's take-up unloads the window further (:meth:`FarResponse.uptake` closes the
+       loop).
+
+    Returns None for a healthy race or when the far field carries no load.
+    """
+    far = pg > 0
+    far[:, j_lo:j_hi + 1] = False
+    if not far.any() or not scene.defect.active:
+        return None
+    e_star = scene.material.e_star_pa
+    kw = dict(tol=fid.tol, max_iter=fid.max_iter, boundary="ignore", element=fid.element)
+    hs_g = _halfspace(grid, e_star, "scipy", fid.element)
+    punch = stats.solve(np.where(far, 0.0, np.inf), grid.dx, grid.dy, None, e_star,
+                        approach=FAR_RESPONSE_APPROACH, halfspace=hs_g, **kw)
+    z = np.nan_to_num(_far_field(grid, punch.pressure, win, j_lo, j_hi, m, e_star, fid.element)
+                      / FAR_RESPONSE_APPROACH, nan=0.0)
+    cen = stats.solve(gap_field(scene, win, 0.0) + (w0.gap - gap_field(scene, win, None)),
+                      win.dx, win.dy, None, e_star, approach=w0.approach, p_init=w0.pressure,
+                      halfspace=w0.halfspace, hardness=scene.material.hardness_pa, **kw)
+    lost = _on_global_cells(grid, win, j_lo, m, w0.pressure - cen.pressure)
+    u_lost = hs_g.displacement(lost)
+    shape = stats.solve(np.where(far, -u_lost, np.inf), grid.dx, grid.dy, None, e_star,
+                        approach=0.0, halfspace=hs_g, **kw)
+    if not np.any(shape.pressure > 0):
+        return None
+    z_c = np.nan_to_num(_far_field(grid, shape.pressure, win, j_lo, j_hi, m, e_star,
+                                   fid.element), nan=0.0)
+    step = WINDOW_RESPONSE_STEP / max(float(np.abs(z_c).max()), 1e-300)
+    resp = stats.solve(w0.gap + step * z_c, win.dx, win.dy, None, e_star, approach=w0.approach,
+                       p_init=w0.pressure, halfspace=w0.halfspace,
+                       hardness=scene.material.hardness_pa, **kw)
+    R = (resp.pressure - w0.pressure) / step
+    cell = win.dx * win.dy
+    return FarResponse(z, float(shape.pressure.sum()) * grid.dx * grid.dy,
+                       float(np.sum(z * R)) * cell, float(np.sum(R)) * cell)
+
+
+def _on_global_cells(grid: Grid, win: Grid, j_lo: int, m: int, p_w: np.ndarray) -> np.ndarray:
+    """A window pressure field as pressures on the global grid's cells (the same force per
+    cell; window cells beyond the global grid across rolling are dropped: the far field sees
+    them from at least a window margin away, where that is a shift of < one global cell)."""
+    out = np.zeros(grid.shape)
+    i = np.floor((win.x - (grid.x[0] - 0.5 * grid.dx)) / grid.dx).astype(int)
+    ok = (i >= 0) & (i < grid.shape[0])
+    cols = p_w.reshape(p_w.shape[0], -1, m).sum(axis=2)           # m sub-columns per column
+    np.add.at(out, (i[ok], slice(j_lo, j_lo + cols.shape[1])), cols[ok])
+    return out * (win.dx * win.dy) / (grid.dx * grid.dy)
 
 
 def outside_max(scene: Scene, fid: Fidelity, q_load: float, kappa: float,
@@ -363,7 +485,7 @@ def defect_solve(scene: Scene, fid: Fidelity, node: LoadNode, x_d: float, stats:
     if not strips:
         W = float(p[:, node.strip].max())
         Pd = neighbourhood_max(scene, fid, win, p, x_d)
-        dF = float(node.p_window0.sum() - p.sum()) * cell
+        dF = float(node.p_window0.sum() - p.sum()) * cell - _far_uptake(node, p)
         dA = float(np.count_nonzero(p > 0)) * cell - node.area_window0
         return DefectSolve(max(W, node.outside_max), Pd, p, dF, dA, W)
     # parent cells replaced by a strip count through the strip's force and area; the parent is
@@ -387,9 +509,17 @@ def defect_solve(scene: Scene, fid: Fidelity, node: LoadNode, x_d: float, stats:
     Pd = max(Pd, neighbourhood_max(scene, fid, win, pp, x_d))
     force += float(p[~replaced].sum()) * cell
     area += float(np.count_nonzero(p[~replaced] > 0)) * cell
-    dF = float(node.p_window0.sum()) * cell - force
+    dF = float(node.p_window0.sum()) * cell - force - _far_uptake(node, p)
     dA = area - node.area_window0
     return DefectSolve(max(W, node.outside_max), Pd, p, dF, dA, W)
+
+
+def _far_uptake(node: LoadNode, p: np.ndarray) -> float:
+    """Force (N) the far field takes up at fixed approach when the window's pressure goes from
+    the no-defect ``p_window0`` to ``p`` (:class:`FarResponse`); 0 with a frozen far field."""
+    if node.far is None:
+        return 0.0
+    return node.far.uptake(p - node.p_window0, node.window.dx * node.window.dy)
 
 
 @dataclass
