@@ -32,14 +32,19 @@ import platform
 import sys
 import time
 from datetime import datetime, timezone
+from pathlib import Path
+from types import SimpleNamespace
 
 import numpy as np
 
+from bearing_envelope.physics.acquisition import antialias_filter
 from bearing_envelope.physics.fidelity import fidelity_from
-from bearing_envelope.physics.history import CONTACT_SIGNALS, simulate
+from bearing_envelope.physics.history import CONTACT_SIGNALS, evaluate_signals, simulate
 from bearing_envelope.physics.loads import scene_load_distribution
 from bearing_envelope.physics.scene import Scene
 from bearing_envelope.physics.solves import SolveStats, defect_solve, solve_load
+from bearing_envelope.physics.table import build_table
+from bearing_envelope.signal import fast_kurtogram
 from bearing_envelope.study.pipeline import case_bands, case_harmonics, history_case
 from bearing_envelope.study.settings import CaseId, load_settings
 
@@ -147,6 +152,125 @@ def run_margin(args) -> None:
                   flush=True)
 
 
+def run_dump(args) -> None:
+    """Simulate cases with this tree's code and store their signals (to compare trees)."""
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    for spec in args.cases:
+        load, depth = (float(v) for v in spec.split(":"))
+        sc = Scene.from_mapping(None, load_kN=load, depth_um=depth)
+        c0 = time.process_time()
+        hist = simulate(sc, fidelity_from(args.fidelity))
+        dt = time.process_time() - c0
+        ff = sc.frequencies()
+        np.savez(out / f"F{load:g}kN_h{depth:g}um.npz", fs=sc.operation.fs_hz,
+                 fr=sc.operation.shaft_rate_hz, bpfi=sc.bpfi_hz, bpfo=ff.bpfo, ftf=ff.ftf,
+                 bsf=ff.bsf, load_kN=load, depth_um=depth, cpu_s=dt,
+                 **{k: hist.signals[k] for k in CONTACT_SIGNALS})
+        print(f"{spec}: {dt:.1f} s CPU", flush=True)
+
+
+def _dumped_case(path):
+    z = np.load(path)
+    sig = {k: z[k] for k in CONTACT_SIGNALS if k in z}
+    return SimpleNamespace(signals=sig, fs=float(z["fs"]), fr=float(z["fr"]),
+                           bpfi=float(z["bpfi"]), bpfo=float(z["bpfo"]), ftf=float(z["ftf"]),
+                           bsf=float(z["bsf"]), load_kN=float(z["load_kN"]),
+                           depth_um=float(z["depth_um"]), attrs={}, scene=None)
+
+
+def _lines(case, analysis, signal, estimator):
+    an = dataclasses.replace(analysis, signal=signal, amplitude=estimator)
+    bands, _ = case_bands(case, an)
+    df = case_harmonics(case, an, bands)
+    keep = df["quantity"].isin(["raw_bpfi", "envelope_bpfi"]) & (df["sideband"] == 0) & \
+        (df["order"] <= 2)
+    return df[keep].set_index(["band", "quantity", "order"])["amplitude"]
+
+
+def run_diff(args) -> None:
+    """Ratios of the main amplitudes after / before (same bands, per signal): the physics
+    change (both read at the peak bin), the estimator change, and both."""
+    analysis = load_settings(args.config).analysis
+    print(f"# diff: {_stamp()}; before {args.before}, after {args.after}")
+    print("| case | signal | quantity | physics (after / before, peak bin) | estimator "
+          "(interpolated / peak bin, after) | both |")
+    print("|---|---|---|---|---|---|")
+    for path in sorted(Path(args.before).glob("*.npz")):
+        before, after = _dumped_case(path), _dumped_case(Path(args.after) / path.name)
+        if before.depth_um == 0:
+            continue
+        for signal in args.signals:
+            b = _lines(before, analysis, signal, "peak_bin")
+            a = _lines(after, analysis, signal, "peak_bin")
+            ai = _lines(after, analysis, signal, "interpolated")
+            for q, k in (("envelope_bpfi", 1), ("envelope_bpfi", 2), ("raw_bpfi", 1)):
+                sel = [i for i in b.index if i[1] == q and i[2] == k]
+                phys = np.array([a[i] / b[i] for i in sel])
+                est = np.array([ai[i] / a[i] for i in sel])
+                both = np.array([ai[i] / b[i] for i in sel])
+                def rng(v):
+                    return f"{v.min():.3f}-{v.max():.3f}" if v.size > 1 else f"{v[0]:.3f}"
+                print(f"| {path.stem} | {signal} | {k} x BPFI {q.split('_')[0]} "
+                      f"({len(sel)} bands) | {rng(phys)} | {rng(est)} | {rng(both)} |",
+                      flush=True)
+
+
+def _kernels(n: int) -> dict[str, np.ndarray]:
+    """Decimation kernels at ``n x fs`` compared by ``acquisition``: today's Kaiser FIR and
+    three non-negative ones (a box over 1/fs: an integrating ADC; a triangle over 2/fs; a
+    Gaussian of sigma 1/(2 fs))."""
+    g = np.exp(-0.5 * (np.arange(-4 * n, 4 * n + 1) / (0.5 * n)) ** 2)
+    return {"kaiser FIR (today)": antialias_filter(n), "box 1/fs": np.ones(n) / n,
+            "triangle 2/fs": np.convolve(np.ones(n), np.ones(n)) / n ** 2,
+            "gaussian sigma 1/(2 fs)": g / g.sum()}
+
+
+def _acquired(x: np.ndarray, k: np.ndarray, n: int, lead: int, n_out: int) -> np.ndarray:
+    """``x`` (internal samples from ``-lead``) filtered by the centred kernel ``k`` at every
+    ``n``-th sample from 0."""
+    c = (k.size - 1) // 2
+    return np.convolve(x, k, mode="full")[c + lead: c + lead + n * n_out: n][:n_out]
+
+
+def run_acquisition(args) -> None:
+    """Post-event undershoot of p_max below the healthy race's (same acquisition, load-zone
+    samples where the healthy p_max exceeds half its maximum), the peak against the internal
+    maximum, the response at fs/4 and fs/2, and the kurtogram's best cell, per kernel."""
+    fid = fidelity_from(args.fidelity)
+    n = args.oversample
+    lead = (antialias_filter(n).size - 1) // 2
+    print(f"# acquisition: {_stamp()}; {args.load:g} kN, {args.fidelity}, "
+          f"{args.revolutions:g} revolutions, internal rate {n} x fs")
+    print("| depth um | kernel | |H| at fs/4, fs/2 | undershoot below healthy % | peak / internal "
+          "max | kurtogram best cell Hz (kurtosis) |")
+    print("|---|---|---|---|---|---|")
+    healthy = {}
+    for depth in args.depths:
+        sc = Scene.from_mapping({"operation": {"revolutions": args.revolutions}},
+                                load_kN=args.load, depth_um=depth)
+        ld = scene_load_distribution(sc)
+        table, _, _ = build_table(sc, fid, q_max=ld.q_max, stats=SolveStats())
+        fs, n_out = sc.operation.fs_hz, sc.n_samples
+        j = np.arange(-lead, n * n_out + lead + 1)
+        x = evaluate_signals(sc, table, ld, j / (n * fs))["p_max"]
+        kern = {**_kernels(n), "point": None}
+        for name, k in kern.items():
+            y = x[lead::n][:n_out] if k is None else _acquired(x, k, n, lead, n_out)
+            if depth == 0:
+                healthy[name] = y
+            h0 = healthy[name]
+            sel = h0 > 0.5 * h0.max()
+            under = 100 * float(((y - h0) / h0)[sel].min())
+            kg = fast_kurtogram(y - y.mean(), fs, args.nlevel)
+            resp = "-" if k is None else ", ".join(
+                f"{abs(np.sum(k * np.exp(-2j * np.pi * f * np.arange(k.size) / n))):.3g}"
+                for f in (0.25, 0.5))
+            print(f"| {depth:g} | {name} | {resp} | {under:.2f} | {y.max() / x.max():.4f} | "
+                  f"{kg.fc - kg.bandwidth / 2:.0f}-{kg.fc + kg.bandwidth / 2:.0f} "
+                  f"({kg.kurtosis:.3g}) |", flush=True)
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -168,8 +292,26 @@ def main(argv=None):
     g.add_argument("--depth", type=float, default=50.0)
     g.add_argument("--margins", nargs="+", default=["400", "1600", "6400", "whole"])
     g.add_argument("--far-field", nargs="+", default=["frozen", "responds"])
+    d = sub.add_parser("dump")
+    d.add_argument("--out", required=True)
+    d.add_argument("--fidelity", default="standard")
+    d.add_argument("--cases", nargs="+", default=["500:0", "500:15", "500:50", "500:100"])
+    f = sub.add_parser("diff")
+    f.add_argument("--before", required=True)
+    f.add_argument("--after", required=True)
+    f.add_argument("--config", default="config.yaml")
+    f.add_argument("--signals", nargs="+", default=["p_max", "removed_force",
+                                                     "approach_change"])
+    q = sub.add_parser("acquisition")
+    q.add_argument("--fidelity", default="standard")
+    q.add_argument("--load", type=float, default=500.0)
+    q.add_argument("--depths", type=float, nargs="+", default=[0.0, 15.0, 50.0, 100.0])
+    q.add_argument("--revolutions", type=float, default=10.0)
+    q.add_argument("--oversample", type=int, default=8)
+    q.add_argument("--nlevel", type=int, default=8)
     args = ap.parse_args(argv)
-    {"cache": run_cache, "amplitudes": run_amplitudes, "margin": run_margin}[args.cmd](args)
+    {"cache": run_cache, "amplitudes": run_amplitudes, "margin": run_margin, "dump": run_dump,
+     "diff": run_diff, "acquisition": run_acquisition}[args.cmd](args)
 
 
 if __name__ == "__main__":

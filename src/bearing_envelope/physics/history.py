@@ -27,7 +27,14 @@ Model only what the scene requires (issue 3, design.md section 2):
    rolling only. The window's no-defect solve carries the force the global solve put on the same
    cells; its approach then drives the defect solves under displacement control (the force the
    defect removes, ~0.1-1 % of Q, is recorded). Results are read only ``window_margin_um`` inside
-   the window's axial edges. Symmetry ``P(Q, -x) = P(Q, x)``; each offset is warm-started from
+   the window's axial edges. The far field outside the window responds (``fidelity.far_field:
+   responds``, issue 25): it takes up part of the load the defect sheds at fixed approach, by
+   reciprocity with a flat-punch solve of the far contact and a shape from the centred defect
+   (:func:`~bearing_envelope.physics.solves.far_response`); with it frozen at its no-defect
+   pressure (``frozen``, before issue 25) the removed force was 2.2x too large at a 400 um
+   margin. The global grid covers the contact only (its extent does not depend on the defect),
+   so the global no-defect solves of a load are the same for every depth and can be shared
+   (:mod:`~bearing_envelope.physics.nodefect_cache`). Symmetry ``P(Q, -x) = P(Q, x)``; each offset is warm-started from
    its neighbour (a stalled warm start is retried from the no-defect window solution, then cold).
    Offset nodes are multiples of the window spacing (every node sees the defect at the same
    sub-cell position). Interpolation (:class:`PressureTable`): ratios ``P/P0(Q)``, rows read at
