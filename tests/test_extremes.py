@@ -17,6 +17,7 @@ import numpy as np
 import pytest
 
 import bearing_envelope.contact as contact
+import bearing_envelope.physics.solves as solves
 from bearing_envelope.contact import hertz
 from bearing_envelope.physics.geometry import defect_depth
 from bearing_envelope.physics.history import simulate
@@ -79,8 +80,10 @@ checked_solve.count = 0
 
 @pytest.fixture(autouse=True)
 def _every_solve_checked(monkeypatch):
-    """history.SolveStats imports solve_contact from the package at call time: route it here."""
+    """Every contact solve of the physics goes through physics.solves (SolveStats.solve): route
+    it here, and the package's own name too."""
     monkeypatch.setattr(contact, "solve_contact", checked_solve)
+    monkeypatch.setattr(solves, "solve_contact", checked_solve)
 
 
 def scene(load_kN=250.0, depth_um=15.0, revolutions=1.0, **over):

@@ -83,7 +83,9 @@ class Case:
     snapshots : dict
         ``load_<i>`` -> dict of pressure fields and coordinates.
     table : dict
-        The ``P(Q, x)`` table and its diagnostics.
+        The ``P(Q, x)`` table and its diagnostics (attribute ``race``: the contact it belongs to).
+    other_tables : dict
+        Race -> table of a second contact (``outer`` for a rolling-element defect, issue 23).
     """
 
     fs: float
@@ -105,6 +107,7 @@ class Case:
     signals: dict = field(default_factory=dict)
     snapshots: dict = field(default_factory=dict)
     table: dict = field(default_factory=dict)
+    other_tables: dict = field(default_factory=dict)
 
 
 def git_commit(path: str | None = None) -> str:
@@ -146,6 +149,40 @@ def _dset(group, name, data, units: str, description: str = "", chunk: bool = Tr
     if description:
         ds.attrs["description"] = description
     return ds
+
+
+def _write_table(tg, tb, race: str) -> None:
+    """The ``P(Q, x)`` table ``tb`` of the contact with the ``race`` (``inner``/``outer``) into
+    the group ``tg`` (layout: docs/file-format.md, ``/table``)."""
+    tg.attrs["race"] = race
+    _dset(tg, "roller_load", tb.q_nodes, "N", "roller-load nodes")
+    _dset(tg, "xi", tb.xi_nodes, "1", "normalised offset nodes |x|/s(Q)")
+    _dset(tg, "offset", tb.offsets(), "m", "offset nodes x = xi s(Q), (load, xi)")
+    _dset(tg, "p0", tb.p0, "Pa", "no-defect maximum pressure P0(Q)")
+    _dset(tg, "w0", tb.w0, "Pa", "no-defect maximum in the window's read strip W0(Q)")
+    _dset(tg, "q_out", tb.q_out, "N", "dense roller loads of p_out")
+    _dset(tg, "p_out", tb.p_out, "Pa", "no-defect maximum outside the read strip (ends)")
+    _dset(tg, "p_max", tb.p_max_nodes(), "Pa", "P(Q, x), whole contact")
+    _dset(tg, "p_max_defect", tb.w0[:, None] * tb.ratio_defect, "Pa",
+          "P_d(Q, x), defect neighbourhood")
+    tg.attrs["out_density"] = tb.out_density
+    _dset(tg, "removed_force", tb.q_nodes[:, None] * tb.ratio_force, "N",
+          "force the defect removes at the no-defect approach, dF(Q, x)")
+    _dset(tg, "area_change", tb.area0[:, None] * tb.ratio_area, "m^2",
+          "contact-area change with the defect at the no-defect approach, dA(Q, x)")
+    _dset(tg, "approach0", tb.approach0, "m", "no-defect approach delta0(Q) (global solves)")
+    _dset(tg, "area0", tb.area0, "m^2", "no-defect contact area A0(Q) (global solves)")
+    tg.attrs["a_coef"] = tb.a_coef
+    tg.attrs["kappa"] = tb.kappa
+    tg.attrs["s_const"] = tb.s_const
+    tg.attrs["s_max"] = tb.s_max
+    for k, v in tb.info.items():
+        if isinstance(v, np.ndarray):
+            _dset(tg, k, v, "", "")
+        else:
+            tg.attrs[k] = v
+    if "interp_checks" in tg:
+        tg["interp_checks"].attrs["columns"] = "Q_N, x_m, P_direct, Pd_direct, P_interp, Pd_interp, P0"
 
 
 def write_case(path: str | os.PathLike, history, *, extra_attrs: dict | None = None,
@@ -227,36 +264,12 @@ def write_case(path: str | os.PathLike, history, *, extra_attrs: dict | None = N
             _dset(sg, "roller_load", history.roller_load, "N", "load of the roller at the defect")
             _dset(sg, "defect_offset", history.defect_offset, "m",
                   "arc-length offset of the defect from the nearest roller's contact centre")
-            tg = f.create_group("table")
-            tb = history.table
-            _dset(tg, "roller_load", tb.q_nodes, "N", "roller-load nodes")
-            _dset(tg, "xi", tb.xi_nodes, "1", "normalised offset nodes |x|/s(Q)")
-            _dset(tg, "offset", tb.offsets(), "m", "offset nodes x = xi s(Q), (load, xi)")
-            _dset(tg, "p0", tb.p0, "Pa", "no-defect maximum pressure P0(Q)")
-            _dset(tg, "w0", tb.w0, "Pa", "no-defect maximum in the window's read strip W0(Q)")
-            _dset(tg, "q_out", tb.q_out, "N", "dense roller loads of p_out")
-            _dset(tg, "p_out", tb.p_out, "Pa", "no-defect maximum outside the read strip (ends)")
-            _dset(tg, "p_max", tb.p_max_nodes(), "Pa", "P(Q, x), whole contact")
-            _dset(tg, "p_max_defect", tb.w0[:, None] * tb.ratio_defect, "Pa",
-                  "P_d(Q, x), defect neighbourhood")
-            tg.attrs["out_density"] = tb.out_density
-            _dset(tg, "removed_force", tb.q_nodes[:, None] * tb.ratio_force, "N",
-                  "force the defect removes at the no-defect approach, dF(Q, x)")
-            _dset(tg, "area_change", tb.area0[:, None] * tb.ratio_area, "m^2",
-                  "contact-area change with the defect at the no-defect approach, dA(Q, x)")
-            _dset(tg, "approach0", tb.approach0, "m", "no-defect approach delta0(Q) (global solves)")
-            _dset(tg, "area0", tb.area0, "m^2", "no-defect contact area A0(Q) (global solves)")
-            tg.attrs["a_coef"] = tb.a_coef
-            tg.attrs["kappa"] = tb.kappa
-            tg.attrs["s_const"] = tb.s_const
-            tg.attrs["s_max"] = tb.s_max
-            for k, v in tb.info.items():
-                if isinstance(v, np.ndarray):
-                    _dset(tg, k, v, "", "")
-                else:
-                    tg.attrs[k] = v
-            if "interp_checks" in tg:
-                tg["interp_checks"].attrs["columns"] = "Q_N, x_m, P_direct, Pd_direct, P_interp, Pd_interp, P0"
+            races = getattr(history, "tables", {}) or {}
+            first = next((r for r, t in races.items() if t is history.table), "inner")
+            _write_table(f.create_group("table"), history.table, first)
+            for race, tb in races.items():
+                if tb is not history.table:
+                    _write_table(f.create_group(f"table_{race}"), tb, race)
             sn = f.create_group("snapshots")
             for key, snap in history.snapshots.items():
                 g = sn.create_group(key)
@@ -441,6 +454,7 @@ def _read_case(path: str | os.PathLike) -> Case:
                 raise CaseFormatError(f"{path}: required dataset '/{name}' is missing")
         signals = {k: v[()] for k, v in f["signals"].items()}
         table = _read_group(f["table"]) if "table" in f else {}
+        more = {k[len("table_"):]: _read_group(f[k]) for k in f if k.startswith("table_")}
         snaps = _read_group(f["snapshots"]) if "snapshots" in f else {}
         time = f["time"][()]
     for k in ("scene_json", "fidelity_json", "solver_json", "stats_json", "load_distribution_json",
@@ -455,4 +469,5 @@ def _read_case(path: str | os.PathLike) -> Case:
         roller_load=signals["roller_load"], defect_offset=signals["defect_offset"],
         load_kN=float(attrs["load_kN"]), depth_um=float(attrs["depth_um"]),
         scene=attrs.get("scene", {}), attrs=attrs, signals=signals, snapshots=snaps, table=table,
+        other_tables=more,
     )
