@@ -261,7 +261,7 @@ def run_acquisition(args) -> None:
                 healthy[name] = y
             h0 = healthy[name]
             sel = h0 > 0.5 * h0.max()
-            under = 100 * float(((y - h0) / h0)[sel].min())
+            under = 100 * float(((y[sel] - h0[sel]) / h0[sel]).min())
             kg = fast_kurtogram(y - y.mean(), fs, args.nlevel)
             resp = "-" if k is None else ", ".join(
                 f"{abs(np.sum(k * np.exp(-2j * np.pi * f * np.arange(k.size) / n))):.3g}"
