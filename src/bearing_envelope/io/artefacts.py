@@ -18,6 +18,8 @@ import numpy as np
 
 from .atomic import atomic_path, write_csv_atomic
 from .case import git_commit, jsonable, read_case
+from .integrity import (CHECKSUM_OPTIONS, DiskFullError, estimate_h5_bytes, is_disk_full,
+                        require_free_space, seal, free_bytes)
 from .vocabulary import BAND_TABLE_COLUMNS, CASE_TABLE_COLUMNS, TIDY_COLUMNS
 
 __all__ = [
@@ -381,6 +383,19 @@ def write_sensor_case(path: str | os.PathLike, acceleration, *, case, source=Non
         v = getattr(case, key, None)
         if v is not None:
             meta[key] = float(v)
+    needed = estimate_h5_bytes([acc, acc]) + (os.path.getsize(source) if source else 0)
+    require_free_space(path, needed)
+    try:
+        _write_sensor_file(path, suffix, acc, fs, meta, text, source)
+    except OSError as exc:
+        if is_disk_full(exc, path):
+            raise DiskFullError(os.fspath(path), needed, free_bytes(path)) from None
+        raise
+    return os.fspath(path)
+
+
+def _write_sensor_file(path, suffix: str, acc, fs: float, meta: dict, text: str, source) -> None:
+    """The write of :func:`write_sensor_case` (atomic: a failure leaves nothing behind)."""
     with atomic_path(path, suffix) as tmp:
         if suffix == ".npz":
             with open(tmp, "wb") as fh:
@@ -399,15 +414,17 @@ def write_sensor_case(path: str | os.PathLike, acceleration, *, case, source=Non
                 if "acceleration" in sg:
                     del sg["acceleration"]
                 d = sg.create_dataset("acceleration", data=acc, compression="gzip",
-                                      compression_opts=4, shuffle=True)
+                                      compression_opts=4, shuffle=True,
+                                      **(CHECKSUM_OPTIONS if acc.size else {}))
                 d.attrs["units"] = "excitation units x mode gain (m/s^2 for gains in (m/s^2)/Pa)"
                 d.attrs["description"] = "synthetic accelerometer signal (bearing-envelope sensor)"
                 d.attrs["provenance"] = text
                 if "time" not in h5:
-                    h5.create_dataset("time", data=np.arange(acc.size) / fs)
+                    h5.create_dataset("time", data=np.arange(acc.size) / fs,
+                                      **(CHECKSUM_OPTIONS if acc.size else {}))
                 h5.attrs["sensor_json"] = text
                 h5.attrs["sensor_format_version"] = ARTEFACT_FORMATS["sensor"]
-    return os.fspath(path)
+                seal(h5)
 
 
 def read_sensor(path: str | os.PathLike) -> SensorSignal:
