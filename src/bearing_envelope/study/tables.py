@@ -36,6 +36,7 @@ __all__ = [
 
 from ..io.vocabulary import (BAND_STRATEGIES, QUANTITIES, RAW_BAND, TIDY_COLUMNS,  # noqa: F401
                          TIDY_EXTRA_COLUMNS, TIDY_SORT, quantity_name)
+from .settings import CaseId, format_number
 
 
 def tidy_from_analysis(table: pd.DataFrame, strategies: Mapping[str, str] | None = None
@@ -115,9 +116,22 @@ def concat_tidy(frames: Iterable[pd.DataFrame]) -> pd.DataFrame:
     if bad.any():
         rows = df.loc[bad, ["case", "band", "quantity", "order", "sideband"]].head(5)
         raise ValueError(f"non-finite amplitudes in {int(bad.sum())} rows, e.g.\n{rows}")
-    extra = [c for c in df.columns if c not in TIDY_COLUMNS]
-    df = df[TIDY_COLUMNS + extra]
-    return df.sort_values(TIDY_SORT, kind="stable").reset_index(drop=True)
+    widths = [CaseId.parse(c).width_um for c in df["case"]]
+    lead = list(TIDY_COLUMNS)
+    sort = list(TIDY_SORT)
+    if any(w is not None for w in widths):
+        # a sweep over widths: the width is a key like load and depth (empty: the healthy race)
+        df["width_um"] = [np.nan if w is None else w for w in widths]
+        lead.insert(lead.index("depth_um") + 1, "width_um")
+        sort.insert(sort.index("depth_um") + 1, "width_um")
+    extra = [c for c in df.columns if c not in lead]
+    df = df[lead + extra]
+    dup = df.duplicated(["case", "band", "quantity", "order", "sideband"], keep=False)
+    if dup.any():
+        rows = df.loc[dup, ["case", "band", "quantity", "order", "sideband"]].head(4)
+        raise ValueError(f"{int(dup.sum())} tidy rows share case, band, quantity, order and "
+                         f"sideband, e.g. {rows.to_dict('records')}")
+    return df.sort_values(sort, kind="stable").reset_index(drop=True)
 
 
 def band_table(bands: Iterable) -> pd.DataFrame:
@@ -138,19 +152,42 @@ def band_table(bands: Iterable) -> pd.DataFrame:
 def pivot_tables(tidy: pd.DataFrame, *, sideband: int = 0) -> dict[str, pd.DataFrame]:
     """Load x depth pivot of every (band, quantity, order) at one sideband index.
 
+    With a ``width_um`` column (a sweep over defect widths) there is one pivot per width,
+    named with ``__w{width}``; the healthy race (no width) is depth 0 of each. Every cell holds
+    exactly one amplitude: two rows for one cell raise ``ValueError`` (nothing is dropped).
+
     Returns
     -------
     dict
-        ``"{band}__{quantity}__{order}"`` -> DataFrame indexed by load (kN), columns depth (um).
+        ``"{band}__{quantity}__{order}[__w{width}]"`` -> DataFrame indexed by load (kN),
+        columns depth (um).
     """
     sel = tidy[tidy["sideband"] == sideband]
     out: dict[str, pd.DataFrame] = {}
     for (band, quantity, order), g in sel.groupby(["band", "quantity", "order"], sort=True):
-        p = g.pivot_table(index="load_kN", columns="depth_um", values="amplitude", aggfunc="first")
-        p.index.name = "load_kN"
-        p.columns.name = "depth_um"
-        out[f"{band}__{quantity}__{order:g}"] = p
+        stem = f"{band}__{quantity}__{order:g}"
+        if "width_um" not in g.columns:
+            out[stem] = _pivot(g, stem)
+            continue
+        healthy = g[g["width_um"].isna()]
+        for width, gw in g[g["width_um"].notna()].groupby("width_um", sort=True):
+            name = f"{stem}__w{format_number(width)}"
+            out[name] = _pivot(pd.concat([healthy, gw]), name)
     return out
+
+
+def _pivot(g: pd.DataFrame, name: str) -> pd.DataFrame:
+    """Load x depth pivot of ``g`` (one amplitude per cell, else ``ValueError``)."""
+    dup = g.duplicated(["load_kN", "depth_um"], keep=False)
+    if dup.any():
+        cells = sorted(set(zip(g.loc[dup, "load_kN"], g.loc[dup, "depth_um"])))
+        raise ValueError(f"pivot {name}: {len(cells)} load x depth cell(s) hold more than one "
+                         f"amplitude, e.g. (load_kN, depth_um) = {cells[:3]}; a sweep axis is "
+                         f"missing from the table")
+    p = g.pivot(index="load_kN", columns="depth_um", values="amplitude")
+    p.index.name = "load_kN"
+    p.columns.name = "depth_um"
+    return p
 
 
 def table_html(tables, title: str, caption: str = "") -> str:
