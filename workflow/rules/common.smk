@@ -5,9 +5,20 @@ import sys
 from pathlib import Path
 
 from bearing_envelope.study.figures import example_pairs
+from bearing_envelope.study.limits import precheck, profile_files
 from bearing_envelope.study.recovery import is_dry_run, marker_if_present, recover_case_files
 from bearing_envelope.study.provenance import code_dependencies
 from bearing_envelope.study.settings import CASE_NAME_REGEX, CaseId, workflow_settings
+
+
+def check_limits(settings, files):
+    """bearing_envelope.study.limits.precheck (config-as-code, case names, lower bounds,
+    tradeoff section, resource estimate per case): one line naming the field, no job runs."""
+    try:
+        return precheck(settings, files)
+    except ValueError as exc:
+        print(f"bearing_envelope: invalid configuration: {exc}", file=sys.stderr)
+        raise SystemExit(1)
 
 
 def load_workflow_settings():
@@ -25,6 +36,7 @@ def load_workflow_settings():
 
 
 SETTINGS = load_workflow_settings()
+ESTIMATES = check_limits(SETTINGS, workflow.configfiles)  # bearing_envelope.study.limits
 
 # Library code is an input of the rules that use it: editing a module reruns the stages whose
 # script imports it (directly or through other package modules), derived from the imports.

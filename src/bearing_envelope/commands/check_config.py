@@ -33,7 +33,10 @@ def register(subparsers) -> None:
 def run(args) -> int:
     from bearing_envelope.study.settings import load_settings
 
+    from bearing_envelope.study.limits import precheck
+
     st = load_settings(args.config)
+    precheck(st, [st.source])
     cases = st.cases
     print(f"{st.source}: valid; fidelity {st.fidelity.name}; {len(cases)} cases: "
           f"{', '.join(c.name for c in cases[:6])}{' ...' if len(cases) > 6 else ''}",

@@ -21,7 +21,7 @@ from .. import __version__
 from .atomic import clean_stale_temps, public_mode, temp_path_for
 from .integrity import (CHECKSUM_OPTIONS, DiskFullError, estimate_h5_bytes, is_disk_full,
                         require_free_space, seal, verify_file, DIGEST_ATTR,
-                        content_digest, free_bytes)
+                        content_digest, file_sha256, free_bytes)
 
 __all__ = ["FORMAT_VERSION", "READABLE_VERSIONS", "DiskFullError", "Case", "CaseFormatError", "write_case", "read_case", "git_commit",
            "case_file_problem", "set_aside_unreadable", "read_error_model", "jsonable"]
@@ -204,6 +204,9 @@ def _write_root_attrs(f, history, extra_attrs: dict | None) -> None:
         "epsilon": ld.epsilon, "half_angle_rad": ld.half_angle,
         "clearance_m": ld.clearance, "stiffness_N_per_m_n": ld.stiffness,
         "exponent": ld.exponent})
+    profile = getattr(sc.bearing, "profile_file", None)
+    if profile:
+        a["profile_file_sha256"] = file_sha256(profile)
     for k, v in (extra_attrs or {}).items():
         a[k] = v
     a["acquisition_json"] = _json(getattr(history, "acquisition", {}))

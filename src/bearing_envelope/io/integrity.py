@@ -23,7 +23,8 @@ import h5py
 import numpy as np
 
 __all__ = ["DIGEST_ATTR", "CHECKSUM_OPTIONS", "DiskFullError", "content_digest", "seal",
-           "verify_file", "require_free_space", "free_bytes", "estimate_h5_bytes", "is_disk_full"]
+           "verify_file", "require_free_space", "free_bytes", "estimate_h5_bytes", "is_disk_full",
+           "file_sha256"]
 
 #: Root attribute holding the SHA-256 digest (hex) of :func:`content_digest`.
 DIGEST_ATTR = "content_sha256"
@@ -195,3 +196,12 @@ def free_bytes(path: str | os.PathLike) -> int:
         return shutil.disk_usage(folder).free
     except OSError:
         return 0
+
+
+def file_sha256(path: str | os.PathLike) -> str:
+    """SHA-256 (hex) of a file's bytes (e.g. a measured profile a case depends on)."""
+    h = hashlib.sha256()
+    with open(path, "rb") as fh:
+        for block in iter(lambda: fh.read(1 << 20), b""):
+            h.update(block)
+    return h.hexdigest()

@@ -70,7 +70,9 @@ def is_dry_run(argv: list[str] | None = None, workflow=None) -> bool:
     """
     if workflow is not None and getattr(workflow, "dryrun", False):
         return True
-    for arg in (sys.argv if argv is None else argv):
+    # An option's value that looks like a flag (``-s -n``) counts as the flag: a false "dry
+    # run" only skips the recovery, a missed one would change files on a dry run.
+    for arg in list(sys.argv if argv is None else argv)[1:]:
         if arg.startswith("--"):
             if arg.split("=", 1)[0] in NON_EXECUTING_FLAGS:
                 return True
