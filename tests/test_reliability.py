@@ -215,3 +215,81 @@ def test_tables_keep_every_width():
     dup = tidy.drop(columns="width_um").assign(case="F500kN_h50um")
     with pytest.raises(ValueError, match="share case"):
         concat_tidy([dup])
+
+
+def _mutated(path: str, value):
+    cfg = yaml.safe_load(DRAFT.read_text())
+    node = cfg
+    keys = path.split(".")
+    for k in keys[:-1]:
+        node = node.setdefault(k, {})
+    node[keys[-1]] = value
+    return cfg
+
+
+#: Issue 22's valid-looking configs that used to pass the check and fail (or allocate GBs) in a
+#: job: (name, config, text the one-line refusal must contain).
+ISSUE22_CONFIGS = [
+    ("revolutions 1e5", _mutated("scene.operation.revolutions", 1e5), "scene.operation.revolutions"),
+    ("fs 1e12", _mutated("scene.operation.fs_hz", 1e12), "fs_hz"),
+    ("oversample 1e7", _mutated("scene.operation.acquisition",
+                                {"mode": "antialiased", "oversample": 10_000_000}),
+     "scene.operation.acquisition.oversample"),
+    ("local_dx 0.001 um", _mutated("fidelity", {"preset": "draft", "local_dx_um": 0.001}),
+     "fidelity.local_dx_um"),
+    ("n_loads 100000", _mutated("fidelity", {"preset": "draft", "n_loads": 100_000}),
+     "fidelity.n_loads"),
+    ("depth 1e-300", _mutated("sweep.depths_um", [0, 1e-300]), "sweep.depths_um[1]"),
+    ("hardness 1e-9 GPa", _mutated("scene.material.hardness_GPa", 1e-9),
+     "scene.material.hardness_GPa"),
+    ("revolutions 0.01", _mutated("scene.operation.revolutions", 0.01),
+     "scene.operation.revolutions"),
+    ("unknown tradeoff knob", _mutated("tradeoff", {"knobs": {"warp_factor": [1, 2]}}),
+     "tradeoff.knobs"),
+    ("cpu limit", _mutated("limits", {"max_case_cpu_s": 0.01}), "limits.max_case_cpu_s"),
+    ("memory limit", _mutated("limits", {"max_case_memory_GB": 0.01}),
+     "limits.max_case_memory_GB"),
+    ("missing profile", _mutated("scene.bearing.profile_file", "no/such/profile.csv"),
+     "scene.bearing.profile_file"),
+    ("__use_yte__", dict(yaml.safe_load(DRAFT.read_text()), __use_yte__=True), "__use_yte__"),
+]
+
+
+@pytest.mark.parametrize("name,cfg,field", ISSUE22_CONFIGS, ids=[c[0] for c in ISSUE22_CONFIGS])
+def test_issue22_configs_are_refused_before_any_job(tmp_path, name, cfg, field):
+    """What common.smk runs (workflow_settings, then limits.precheck) refuses each config with
+    one line naming the field, in well under a second, allocating nothing large."""
+    from bearing_envelope.study.limits import precheck
+    from bearing_envelope.study.settings import ConfigError, workflow_settings
+
+    path = tmp_path / "config.yaml"
+    path.write_text(yaml.safe_dump(cfg))
+    parsed = {k: v for k, v in cfg.items() if k != "__use_yte__"}  # Snakemake drops the key
+    t0 = time.process_time()
+    with pytest.raises(ConfigError) as err:
+        precheck(workflow_settings(parsed, [path]), [path])
+    assert time.process_time() - t0 < 2.0
+    msg = str(err.value)
+    assert "\n" not in msg and field in msg, msg
+
+
+def test_alias_bomb_is_refused_fast(tmp_path):
+    from bearing_envelope.study.settings import ConfigError, read_yaml
+
+    lines = ["a0: &a0 [" + ", ".join(["lol"] * 10) + "]"]
+    lines += [f"a{i}: &a{i} [" + ", ".join([f"*a{i - 1}"] * 10) + "]" for i in range(1, 9)]
+    path = tmp_path / "bomb.yaml"
+    path.write_text("\n".join(lines) + "\nsweep: *a8\n")
+    t0 = time.process_time()
+    with pytest.raises(ConfigError, match="expands to more than"):
+        read_yaml(path)
+    assert time.process_time() - t0 < 0.5
+
+
+def test_default_configs_pass_the_limits():
+    from bearing_envelope.study.limits import precheck
+    from bearing_envelope.study.settings import load_settings
+
+    for name in ("config.yaml", "tests/data/config_draft.yaml"):
+        est = precheck(load_settings(ROOT / name), [ROOT / name])
+        assert est and max(e.cpu_seconds for e in est) < 60 and max(e.memory_bytes for e in est) < 2e9
