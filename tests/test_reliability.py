@@ -177,7 +177,7 @@ def test_full_disk_gives_one_line_and_leaves_nothing(tiny, small_fs, monkeypatch
     base, _ = tiny
     source = base / CASE_A
     case = read_case(source)
-    acc = np.zeros(200_000)  # 1.6 MB: more than the file system holds
+    acc = np.random.default_rng(0).standard_normal(200_000)  # 1.6 MB, incompressible
     target = small_fs / "sensor" / "F500kN_h50um.h5"
     with pytest.raises(DiskFullError) as err:
         write_sensor_case(target, acc, case=case, source=source)
@@ -293,3 +293,27 @@ def test_default_configs_pass_the_limits():
     for name in ("config.yaml", "tests/data/config_draft.yaml"):
         est = precheck(load_settings(ROOT / name), [ROOT / name])
         assert est and max(e.cpu_seconds for e in est) < 60 and max(e.memory_bytes for e in est) < 2e9
+
+
+def test_full_disk_while_writing_a_case_file(small_fs, monkeypatch):
+    """write_case on a nearly full file system: refused before writing with one line; with the
+    check bypassed, ENOSPC while writing gives the same line and no crash (HDF5 builds the file
+    in memory), and nothing is left behind."""
+    from bearing_envelope.io import write_case
+    from bearing_envelope.physics.history import simulate
+    from bearing_envelope.physics.scene import Scene
+
+    scene = Scene.from_mapping({"operation": {"revolutions": 0.2, "acquisition": {"mode": "point"}}},
+                               load_kN=500, depth_um=50)
+    hist = simulate(scene, "draft")
+    (small_fs / "filler").write_bytes(b"\0" * (480 * 1024))  # leaves about 32 KiB
+    target = small_fs / "cases" / "F500kN_h50um.h5"
+    with pytest.raises(DiskFullError) as err:
+        write_case(target, hist)
+    assert "\n" not in str(err.value) and str(target) in str(err.value)
+    for module in ("bearing_envelope.io.case", "bearing_envelope.io.integrity"):
+        monkeypatch.setattr(f"{module}.require_free_space", lambda p, n: None)
+    with pytest.raises(DiskFullError) as err:
+        write_case(target, hist)
+    assert err.value.errno == errno.ENOSPC and "\n" not in str(err.value)
+    assert sorted(p.name for p in small_fs.rglob("*") if p.is_file()) == ["filler"]

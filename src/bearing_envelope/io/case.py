@@ -9,6 +9,7 @@ A file of another format version, or one missing a required dataset, raises :cla
 from __future__ import annotations
 
 import datetime as _dt
+import io as _io
 import json
 import os
 import subprocess
@@ -19,11 +20,11 @@ import numpy as np
 
 from .. import __version__
 from .atomic import clean_stale_temps, public_mode, temp_path_for
-from .integrity import (CHECKSUM_OPTIONS, DiskFullError, estimate_h5_bytes, is_disk_full,
+from .integrity import (CHECKSUM_OPTIONS, DiskFullError, estimate_h5_bytes,
                         require_free_space, seal, verify_file, DIGEST_ATTR,
-                        content_digest, file_sha256, free_bytes)
+                        content_digest, file_sha256, write_image)
 
-__all__ = ["FORMAT_VERSION", "READABLE_VERSIONS", "DiskFullError", "Case", "CaseFormatError", "write_case", "read_case", "git_commit",
+__all__ = ["FORMAT_VERSION", "READABLE_VERSIONS", "Case", "CaseFormatError", "write_case", "read_case", "git_commit",
            "case_file_problem", "set_aside_unreadable", "read_error_model", "jsonable"]
 
 #: Version of the layout written by :func:`write_case`.
@@ -319,32 +320,19 @@ def write_case(path: str | os.PathLike, history, *, extra_attrs: dict | None = N
     os.makedirs(directory, exist_ok=True)
     clean_stale_temps(directory, path)
     require_free_space(path, estimate_h5_bytes(_history_arrays(history)))
+    image = _io.BytesIO()  # built in memory: HDF5 never meets a full disk (write_image)
+    with h5py.File(image, "w") as f:
+        _write_root_attrs(f, history, extra_attrs)
+        _write_signals(f, history)
+        _write_table(f, history.table)
+        _write_snapshots(f, history.snapshots)
+        if error_model is not None:
+            _write_error_model(f, error_model)
+        seal(f)
     tmp = temp_path_for(path)
     public_mode(tmp)
-    try:
-        with h5py.File(tmp, "w") as f:
-            _write_root_attrs(f, history, extra_attrs)
-            _write_signals(f, history)
-            _write_table(f, history.table)
-            _write_snapshots(f, history.snapshots)
-            if error_model is not None:
-                _write_error_model(f, error_model)
-            seal(f)
-        os.replace(tmp, path)
-    except BaseException as exc:
-        _remove_quietly(tmp)
-        if is_disk_full(exc, path):
-            raise DiskFullError(path, estimate_h5_bytes(_history_arrays(history)),
-                                free_bytes(path)) from None
-        raise
+    write_image(tmp, path, image.getvalue())
     return path
-
-
-def _remove_quietly(path: str) -> None:
-    try:
-        os.unlink(path)
-    except OSError:
-        pass
 
 
 def _write_error_model(f, em) -> None:

@@ -7,9 +7,10 @@ goes into one SHA-256 digest stored as the root attribute :data:`DIGEST_ATTR`
 (:func:`content_digest`). :func:`verify_file` reads every chunk and recomputes the digest: a
 file that passes it is the file that was written.
 
-Free space is checked before a write (:func:`require_free_space`), so a full disk gives one
-line naming the path and the space needed (:class:`DiskFullError`) instead of a crash inside
-the HDF5 library.
+HDF5 files are built in memory and written to disk as bytes (:func:`write_image`): HDF5
+itself never meets a full disk (it crashed with SIGSEGV in h5py 3.16 when a flush failed), free
+space is checked against the exact size first, and a full disk gives one line naming the path
+and the space needed (:class:`DiskFullError`).
 """
 
 from __future__ import annotations
@@ -24,7 +25,7 @@ import numpy as np
 
 __all__ = ["DIGEST_ATTR", "CHECKSUM_OPTIONS", "DiskFullError", "content_digest", "seal",
            "verify_file", "require_free_space", "free_bytes", "estimate_h5_bytes", "is_disk_full",
-           "file_sha256"]
+           "file_sha256", "write_image"]
 
 #: Root attribute holding the SHA-256 digest (hex) of :func:`content_digest`.
 DIGEST_ATTR = "content_sha256"
@@ -205,3 +206,29 @@ def file_sha256(path: str | os.PathLike) -> str:
         for block in iter(lambda: fh.read(1 << 20), b""):
             h.update(block)
     return h.hexdigest()
+
+
+def write_image(tmp: str | os.PathLike, path: str | os.PathLike, data: bytes) -> None:
+    """Write the finished file ``data`` to ``tmp``, sync it, and rename it to ``path``.
+
+    Free space is checked against ``len(data)`` first; ENOSPC while writing raises
+    :class:`DiskFullError` as well. ``tmp`` is removed on any failure.
+    """
+    tmp, path = os.fspath(tmp), os.fspath(path)
+    try:
+        require_free_space(path, len(data))
+        with open(tmp, "wb") as fh:
+            fh.write(data)
+            fh.flush()
+            os.fsync(fh.fileno())
+        os.replace(tmp, path)
+    except BaseException as exc:
+        try:
+            os.unlink(tmp)
+        except OSError:
+            pass
+        if isinstance(exc, DiskFullError):
+            raise
+        if is_disk_full(exc, path):
+            raise DiskFullError(path, len(data), free_bytes(path)) from None
+        raise

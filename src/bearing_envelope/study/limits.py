@@ -212,7 +212,7 @@ def _limits(config: Mapping) -> dict:
 
 
 def _check_case(case, scene, analysis, limits: dict, memory_cap: float, fidelity) -> None:
-    where = f"case {case.name}"
+    """The per-case checks of :func:`precheck` (name, lower bounds, resource estimate)."""
     if len(case.name) > MAX_CASE_NAME_CHARS:
         raise ConfigError(f"sweep: case name {case.name[:40]}... has {len(case.name)} "
                           f"characters; allowed: at most {MAX_CASE_NAME_CHARS}")

@@ -116,7 +116,8 @@ def concat_tidy(frames: Iterable[pd.DataFrame]) -> pd.DataFrame:
     if bad.any():
         rows = df.loc[bad, ["case", "band", "quantity", "order", "sideband"]].head(5)
         raise ValueError(f"non-finite amplitudes in {int(bad.sum())} rows, e.g.\n{rows}")
-    widths = [CaseId.parse(c).width_um for c in df["case"]]
+    width_of = {c: CaseId.parse(c).width_um for c in df["case"].unique()}
+    widths = [width_of[c] for c in df["case"]]
     lead = list(TIDY_COLUMNS)
     sort = list(TIDY_SORT)
     if any(w is not None for w in widths):
