@@ -74,12 +74,14 @@ def test_bad_scenes_name_the_field(mapping, depth, field):
 
 def test_bad_scene_fails_before_any_solve(monkeypatch, tmp_path):
     import bearing_envelope.contact as contact
+    import bearing_envelope.physics.solves as solves
     from bearing_envelope.cli import main
 
     def boom(*a, **k):  # pragma: no cover - must not be reached
         raise AssertionError("solver called")
 
     monkeypatch.setattr(contact, "solve_contact", boom)
+    monkeypatch.setattr(solves, "solve_contact", boom)
     cfg = tmp_path / "c.yaml"
     cfg.write_text("fidelity: draft\nscene:\n  bearing: {rollers_per_row: 0}\n")
     rc = main(["simulate", "--config", str(cfg), "--load-kn", "500", "--depth-um", "50",

@@ -7,6 +7,7 @@ use dry runs, which build the DAG (and validate the config) without running jobs
 from __future__ import annotations
 
 import copy
+import dataclasses
 import re
 import shutil
 import subprocess
@@ -127,7 +128,7 @@ def test_detection_statistic_does_not_fall_as_snr_rises(draft_run):
     for load in cfg["sweep"]["loads_kN"]:
         defect, healthy = read_case(cases / f"F{load:g}kN_h50um.h5"), read_case(cases / f"F{load:g}kN_h0um.h5")
         for seed in range(24):
-            sensor = dict(cfg["sensor"], seed=1000 + seed)
+            sensor = dataclasses.replace(settings.sensor, seed=1000 + seed)
             rows.append(case_diagnosability(defect, sensor, settings.analysis, snrs, reference=healthy))
     d = pd.concat(rows, ignore_index=True)
     g = d.groupby(["band", "snr_db"])["statistic_db"]

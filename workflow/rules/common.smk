@@ -70,6 +70,11 @@ def scene_params(wildcards):
     return SETTINGS.simulation.to_json()
 
 
+def sensor_params(wildcards):
+    """The typed transfer model (TransferModel.to_json); empty without a `sensor:` section."""
+    return SETTINGS.sensor.to_json() if SETTINGS.sensor is not None else "{}"
+
+
 def analysis_params(wildcards):
     """The typed analysis settings as their one canonical JSON (AnalysisSettings.to_json): a
     change reruns the analysis jobs only."""
@@ -134,7 +139,7 @@ def all_targets():
         "results/paper/paper.md",
     ] + (
         ["results/tables/diagnosability.csv", "results/figures_diagnosability"]
-        if config.get("sensor") and config.get("diagnosability", {}).get("enabled", True)
+        if SETTINGS.sensor is not None and SETTINGS.diagnosability.enabled
         else []
     )
 

@@ -10,10 +10,10 @@ rule diagnose:
     output:
         "results/diagnosability/{case}.csv",
     params:
-        sensor=lambda w: json.dumps(config.get("sensor", {}), sort_keys=True),
+        sensor=sensor_params,
         analysis=analysis_params,
-        snr_db=lambda w: config.get("diagnosability", {}).get("snr_db", [20, 10, 0, -10, -20]),
-        kurtogram_from=lambda w: config.get("diagnosability", {}).get("kurtogram_from", "clean"),
+        snr_db=list(SETTINGS.diagnosability.snr_db),
+        kurtogram_from=SETTINGS.diagnosability.kurtogram_from,
     log:
         "logs/diagnose/{case}.log",
     benchmark:
@@ -36,11 +36,11 @@ rule false_alarms:
     output:
         "results/false_alarms/{case}.csv",
     params:
-        sensor=lambda w: json.dumps(config.get("sensor", {}), sort_keys=True),
+        sensor=sensor_params,
         analysis=analysis_params,
-        snr_db=lambda w: config.get("diagnosability", {}).get("snr_db", [20, 10, 0, -10, -20]),
-        n_trials=lambda w: config.get("diagnosability", {}).get("false_alarm_trials", 10),
-        kurtogram_from=lambda w: config.get("diagnosability", {}).get("kurtogram_from", "clean"),
+        snr_db=list(SETTINGS.diagnosability.snr_db),
+        n_trials=SETTINGS.diagnosability.false_alarm_trials,
+        kurtogram_from=SETTINGS.diagnosability.kurtogram_from,
     log:
         "logs/false_alarms/{case}.log",
     benchmark:

@@ -11,7 +11,7 @@ rule sensor:
     output:
         "results/sensor/{case}.h5",
     params:
-        sensor=lambda w: json.dumps(config.get("sensor", {}), sort_keys=True),
+        sensor=sensor_params,
     log:
         "logs/sensor/{case}.log",
     benchmark:

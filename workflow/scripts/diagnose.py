@@ -1,17 +1,16 @@
 """Rule diagnose: BPFI detection in the synthetic acceleration of one case, per SNR and band."""
-import json
-
 from bearing_envelope.io import read_case
 from bearing_envelope.study.pipeline import case_diagnosability, log_to
 from bearing_envelope.study.tables import write_csv_atomic
 from bearing_envelope.study.settings import AnalysisSettings
+from bearing_envelope.physics.transfer import TransferModel
 
 with log_to(snakemake.log[0]):  # noqa: F821
     inp = snakemake.input  # noqa: F821
     ref = read_case(inp.reference) if inp.reference else None
     df = case_diagnosability(
         read_case(inp.case),
-        json.loads(snakemake.params.sensor),  # noqa: F821
+        TransferModel.from_json(snakemake.params.sensor),  # noqa: F821
         AnalysisSettings.from_json(snakemake.params.analysis),  # noqa: F821
         snakemake.params.snr_db,  # noqa: F821
         reference=ref,

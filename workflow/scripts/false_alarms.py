@@ -1,16 +1,15 @@
 """Rule false_alarms: the detection map's test on many noise realisations of a healthy case."""
-import json
-
 from bearing_envelope.io import read_case
 from bearing_envelope.study.pipeline import case_false_alarms, log_to
 from bearing_envelope.study.tables import write_csv_atomic
 from bearing_envelope.study.settings import AnalysisSettings
+from bearing_envelope.physics.transfer import TransferModel
 
 with log_to(snakemake.log[0]):  # noqa: F821
     inp = snakemake.input  # noqa: F821
     df = case_false_alarms(
         read_case(inp.case),
-        json.loads(snakemake.params.sensor),  # noqa: F821
+        TransferModel.from_json(snakemake.params.sensor),  # noqa: F821
         AnalysisSettings.from_json(snakemake.params.analysis),  # noqa: F821
         snakemake.params.snr_db,  # noqa: F821
         int(snakemake.params.n_trials),  # noqa: F821

@@ -487,7 +487,7 @@ def run(args) -> int:
     """Execute ``bearing-envelope analyze``."""
     import pandas as pd
 
-    from bearing_envelope.diagnosis import analyze_signal
+    from bearing_envelope.diagnosis import AnalysisOptions, analyze_signal
     from bearing_envelope.signal import DEFAULT_BANDS
 
     check_args(args)
@@ -519,13 +519,14 @@ def run(args) -> int:
         bands.append({"name": "fixed", "strategy": "fixed", "low_hz": lo, "high_hz": hi,
                       "clamp": bool(args.clamp or hi >= nyq)})
     faults = {k: v for k, (v, _) in sources.items()}
-    table, det = analyze_signal(
-        loaded["x"], fs, fr=fr, fault_frequencies=faults, bands=bands,
-        n_harmonics=args.harmonics, n_sidebands=args.sidebands,
+    options = AnalysisOptions(
+        bands=bands, n_harmonics=args.harmonics, n_sidebands=args.sidebands,
         n_raw_harmonics=args.raw_harmonics, nlevel=args.nlevel, max_level=args.max_level,
         min_bandwidth=args.min_bandwidth, filter_order=args.filter_order, squared=args.squared,
         window=args.window, interpolate=args.interpolate, level0=args.level0,
-        search_percent=args.search_percent, pfa=args.pfa, full_output=True)
+        search_percent=args.search_percent, pfa=args.pfa)
+    table, det = analyze_signal(loaded["x"], fs, fr=fr, fault_frequencies=faults,
+                                options=options, full_output=True)
     # the sweep's tidy vocabulary (docs/file-format.md, "Tidy tables") in every output
     from bearing_envelope.study.tables import tidy_from_analysis
 

@@ -18,7 +18,10 @@ Example::
 from __future__ import annotations
 
 import argparse
-from typing import Any
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from bearing_envelope.physics.transfer import TransferModel
 
 
 def register(subparsers) -> None:
@@ -44,23 +47,24 @@ def register(subparsers) -> None:
 
 
 def _read_case(path: str):
-    from bearing_envelope.io import read_case  # lazy: io is a separate layer
+    # lazy: keeps `bearing-envelope --help` ~0.4 s (numba, pandas: ~4 s)
+    from bearing_envelope.io import read_case
 
     return read_case(path)
 
 
-def load_sensor_config(path: str) -> dict[str, Any]:
-    """The ``sensor:`` section of a YAML config (ValueError if absent)."""
-    import yaml
+def load_sensor_config(path: str) -> TransferModel:
+    """The typed ``sensor:`` section of a config file, validated by the one loader
+    (:func:`bearing_envelope.study.settings.load_settings`, partial); ValueError if absent."""
+    from bearing_envelope.study.settings import load_settings  # lazy: CLI start-up time
 
-    with open(path, encoding="utf-8") as fh:
-        cfg = yaml.safe_load(fh) or {}
-    if not isinstance(cfg, dict) or not cfg.get("sensor"):
+    settings = load_settings(path, partial=True)
+    if settings.sensor is None:
         raise ValueError(f"{path}: no `sensor:` section (see docs/sensor.md)")
-    return cfg["sensor"]
+    return settings.sensor
 
 
-def write_sensor_case(case_path, section, output, *, snr_db="model", seed=None, excitation=None,
+def write_sensor_case(case_path, model: TransferModel, output, *, snr_db="model", seed=None, excitation=None,
                       reference=None, config_label=None) -> dict[str, Any]:
     """Synthesise the acceleration of a case file and write it with its provenance.
 
@@ -70,13 +74,14 @@ def write_sensor_case(case_path, section, output, *, snr_db="model", seed=None, 
     section came from) is recorded in the provenance. Returns the provenance (achieved SNR in
     ``snr_db_achieved``).
     """
+    # lazy: keeps `bearing-envelope --help` ~0.4 s (numba, pandas: ~4 s)
     from bearing_envelope.io import check_sensor_output, write_sensor_case as write
     from bearing_envelope.study.pipeline import case_acceleration
 
     check_sensor_output(output)
     case = _read_case(str(case_path))
     ref = _read_case(str(reference)) if reference else None
-    acc, info = case_acceleration(case, section, reference=ref, snr_db=snr_db, seed=seed,
+    acc, info = case_acceleration(case, model, reference=ref, snr_db=snr_db, seed=seed,
                                   excitation=excitation)
     info.update(source_case=str(case_path), reference_case=str(reference) if reference else None,
                 config=config_label, command="bearing-envelope sensor")
@@ -86,9 +91,9 @@ def write_sensor_case(case_path, section, output, *, snr_db="model", seed=None, 
 
 def run(args: argparse.Namespace) -> int:
     """Entry point of ``bearing-envelope sensor``."""
-    section = load_sensor_config(args.config)
+    model = load_sensor_config(args.config)
     snr = None if args.no_noise else ("model" if args.snr_db is None else args.snr_db)
-    info = write_sensor_case(args.case, section, args.output, snr_db=snr, seed=args.seed,
+    info = write_sensor_case(args.case, model, args.output, snr_db=snr, seed=args.seed,
                              excitation=args.excitation, reference=args.reference,
                              config_label=str(args.config))
     print(f"sensor: {args.case} -> {args.output} ({info['n_samples']} samples, "

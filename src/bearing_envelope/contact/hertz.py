@@ -32,9 +32,10 @@ import math
 from dataclasses import dataclass
 
 from scipy.optimize import brentq
-from scipy.special import ellipe, ellipkm1
+from scipy.special import ellipe, ellipk, ellipkm1
 
-__all__ = ["HertzContact", "sphere", "elliptical", "elliptic_ratio"]
+__all__ = ["HertzContact", "sphere", "elliptical", "elliptic_ratio", "curvature_difference",
+           "harris_point_contact", "hamrock_brewe"]
 
 
 @dataclass(frozen=True)
@@ -219,4 +220,121 @@ def elliptical(force: float, rx: float, ry: float, e_star: float) -> HertzContac
     p0 = 3.0 * force / (2.0 * math.pi * c * d)
     approach = p0 * d * kk / e_star
     a, b = (d, c) if ax >= ay else (c, d)
+    return HertzContact(a, b, p0, approach, force / (math.pi * a * b), force)
+
+
+# ---------------------------------------------------------------------------------------------
+# point contact: two further, independent routes to the same ellipse (issue 23)
+
+
+def curvature_difference(rx: float, ry: float) -> tuple[float, float]:
+    """Curvature sum and difference of a contact: ``(sum rho, F(rho))``.
+
+    ``sum rho = 1/R_x + 1/R_y`` (1/m) and ``F(rho) = |1/R_x - 1/R_y| / sum rho`` in [0, 1)
+    (Harris & Kotzalas 2007, vol. 1, eqs. 2.26-2.27: the curvature difference of two bodies; for
+    a ball on a race ``1/R_x = 2/d +- 1/R_race``, ``1/R_y = 2/d - 1/(f d)``).
+    """
+    rx = _check_positive("rx", rx)
+    ry = _check_positive("ry", ry)
+    s = 1.0 / rx + 1.0 / ry
+    return s, abs(1.0 / rx - 1.0 / ry) / s
+
+
+def _f_rho_of_kappa(kappa: float) -> float:
+    """``F(rho)`` of the ellipticity ``kappa = major/minor >= 1`` (Harris & Kotzalas 2007, eq. 6.18):
+    ``F(rho) = ((kappa^2 + 1) E(m) - 2 K(m)) / ((kappa^2 - 1) E(m))``, ``m = 1 - 1/kappa^2``."""
+    m = 1.0 - 1.0 / (kappa * kappa)
+    kk, ee = float(ellipk(m)), float(ellipe(m))
+    return ((kappa * kappa + 1.0) * ee - 2.0 * kk) / ((kappa * kappa - 1.0) * ee)
+
+
+#: Largest ellipticity ``major/minor`` :func:`harris_point_contact` solves for (F(rho) -> 1 is a
+#: line contact): 1e4.
+KAPPA_MAX = 1.0e4
+
+
+def harris_point_contact(force: float, rx: float, ry: float, e_star: float) -> HertzContact:
+    """Hertz ellipse from the curvature-difference equation (an independent route to
+    :func:`elliptical`).
+
+    Solves ``F(rho) = ((kappa^2+1) E - 2 K) / ((kappa^2-1) E)`` for ``kappa = major/minor``
+    (Brent, ``scipy.special.ellipk``/``ellipe`` with ``m = 1 - 1/kappa^2``), then
+
+    .. math::
+
+        a^* = \\left(\\frac{2 \\kappa^2 E}{\\pi}\\right)^{1/3},\\quad
+        b^* = \\left(\\frac{2 E}{\\pi \\kappa}\\right)^{1/3},\\quad
+        (\\text{major}, \\text{minor}) = (a^*, b^*)
+        \\left(\\frac{3 Q}{2 \\sum\\rho\\, E^*}\\right)^{1/3},\\quad
+        p_0 = \\frac{3 Q}{2 \\pi\\, \\text{major}\\, \\text{minor}}
+
+    (Harris & Kotzalas, *Rolling Bearing Analysis* 5th ed. 2007, vol. 1, eqs. 6.34-6.39, written
+    with ``E*`` instead of steel's constants). The major axis lies along the direction of the
+    larger radius. Parameters and return as :func:`elliptical` (``a`` along ``x``).
+    """
+    force = _check_positive("force", force)
+    e_star = _check_positive("e_star", e_star)
+    srho, frho = curvature_difference(rx, ry)
+    if frho < 1e-12:
+        kappa = 1.0
+        ee = kk = 0.5 * math.pi
+    else:
+        kappa = brentq(lambda k: _f_rho_of_kappa(k) - frho, 1.0 + 1e-9, KAPPA_MAX,
+                       xtol=1e-14, rtol=1e-15)
+        m = 1.0 - 1.0 / (kappa * kappa)
+        ee, kk = float(ellipe(m)), float(ellipk(m))
+    scale = (3.0 * force / (2.0 * srho * e_star)) ** (1.0 / 3.0)
+    major = (2.0 * kappa * kappa * ee / math.pi) ** (1.0 / 3.0) * scale
+    minor = (2.0 * ee / (math.pi * kappa)) ** (1.0 / 3.0) * scale
+    p0 = 3.0 * force / (2.0 * math.pi * major * minor)
+    a, b = (major, minor) if rx >= ry else (minor, major)
+    return HertzContact(a, b, p0, p0 * minor * kk / e_star, force / (math.pi * a * b), force)
+
+
+#: Hamrock & Brewe (1983) curve fits, ``alpha_r = R_major / R_minor >= 1``:
+#: ellipticity ``k = HB_K_COEF alpha_r^HB_K_EXP``, second-kind integral
+#: ``E = HB_E_CONST + HB_E_COEF / alpha_r``, first-kind ``K = HB_F_CONST + HB_F_COEF ln alpha_r``.
+HB_K_COEF, HB_K_EXP = 1.0339, 0.6360
+HB_E_CONST, HB_E_COEF = 1.0003, 0.5968
+HB_F_CONST, HB_F_COEF = 1.5277, 0.6023
+
+
+def hamrock_brewe(force: float, rx: float, ry: float, e_star: float) -> HertzContact:
+    """Hertz ellipse from the Hamrock & Brewe (1983) closed-form approximations (a check of
+    :func:`elliptical` that needs no elliptic integral).
+
+    With ``alpha_r = R_major/R_minor`` (the larger radius over the smaller), ``R`` the curvature
+    sum radius ``1/R = 1/R_x + 1/R_y`` and ``E' = 2 E*``:
+
+    .. math::
+
+        k = 1.0339\\,\\alpha_r^{0.6360},\\quad \\mathcal{E} = 1.0003 + 0.5968/\\alpha_r,\\quad
+        \\mathcal{F} = 1.5277 + 0.6023 \\ln \\alpha_r ,
+
+    .. math::
+
+        D_{major} = 2\\left(\\frac{6 k^2 \\mathcal{E} Q R}{\\pi E'}\\right)^{1/3},\\quad
+        D_{minor} = 2\\left(\\frac{6 \\mathcal{E} Q R}{\\pi k E'}\\right)^{1/3},\\quad
+        p_0 = \\frac{6 Q}{\\pi D_{major} D_{minor}},\\quad
+        \\delta = \\mathcal{F}\\left[\\frac{9}{2 \\mathcal{E} R}
+        \\left(\\frac{Q}{\\pi k E'}\\right)^2\\right]^{1/3}.
+
+    B. J. Hamrock, D. E. Brewe, "Simplified solution for stresses and deformations", J. Lubr.
+    Technol. 105 (1983) 171-177; Hamrock, Schmid & Jacobson, *Fundamentals of Machine
+    Elements*, ch. 8. Stated accuracy a few per cent (k within ~3 %).
+    """
+    force = _check_positive("force", force)
+    rx = _check_positive("rx", rx)
+    ry = _check_positive("ry", ry)
+    e_prime = 2.0 * _check_positive("e_star", e_star)
+    alpha_r = max(rx, ry) / min(rx, ry)
+    k = HB_K_COEF * alpha_r ** HB_K_EXP
+    ee = HB_E_CONST + HB_E_COEF / alpha_r
+    ff = HB_F_CONST + HB_F_COEF * math.log(alpha_r)
+    r = 1.0 / (1.0 / rx + 1.0 / ry)
+    major = (6.0 * k * k * ee * force * r / (math.pi * e_prime)) ** (1.0 / 3.0)
+    minor = (6.0 * ee * force * r / (math.pi * k * e_prime)) ** (1.0 / 3.0)
+    p0 = 3.0 * force / (2.0 * math.pi * major * minor)
+    approach = ff * (4.5 / (ee * r) * (force / (math.pi * k * e_prime)) ** 2) ** (1.0 / 3.0)
+    a, b = (major, minor) if rx >= ry else (minor, major)
     return HertzContact(a, b, p0, approach, force / (math.pi * a * b), force)

@@ -8,8 +8,13 @@ touches pyplot's global state or needs a display. Every function draws into ``ax
 from __future__ import annotations
 
 import os
+import textwrap
 
 import numpy as np
+from matplotlib.figure import Figure  # this module only draws: it is imported on demand
+from matplotlib.patches import Rectangle
+
+from .faults import display_name
 
 __all__ = ["FAMILY_COLORS", "plot_envelope_spectrum", "plot_fault_lines", "plot_kurtogram",
            "save_analysis_figures"]
@@ -18,8 +23,6 @@ __all__ = ["FAMILY_COLORS", "plot_envelope_spectrum", "plot_fault_lines", "plot_
 def _axes(ax, figsize):
     if ax is not None:
         return ax
-    from matplotlib.figure import Figure
-
     fig = Figure(figsize=figsize, layout="constrained")
     return fig.add_subplot()
 
@@ -59,8 +62,6 @@ def plot_kurtogram(kurtogram, ax=None, *, title: str | None = None, cmap: str = 
     ax.set_ylabel("level")
     ax.figure.colorbar(im, ax=ax, label="kurtosis")
     if mark_best:
-        from matplotlib.patches import Rectangle
-
         lo, hi = kg.band
         ax.add_patch(Rectangle((lo * scale, kg.row - 0.5), (hi - lo) * scale, 1.0, fill=False,
                                edgecolor="red", linewidth=1.5))
@@ -157,8 +158,6 @@ def plot_fault_lines(f, amplitude, lines: dict, *, fmax: float | None = None, ax
     -------
     matplotlib Axes
     """
-    from .faults import display_name
-
     ax = _axes(ax, (8.0, 4.0))
     f = np.asarray(f)
     amplitude = np.asarray(amplitude)
@@ -212,8 +211,6 @@ def save_analysis_figures(details: dict, outdir, *, prefix: str = "", base: str 
     marked where they were found (:func:`plot_fault_lines`); with ``base`` (a family name) only
     that family's nominal ``k x base`` and ``+- m x fr`` (:func:`plot_envelope_spectrum`).
     """
-    from matplotlib.figure import Figure
-
     os.makedirs(outdir, exist_ok=True)
     paths = []
     kg = details.get("kurtogram")
@@ -232,8 +229,6 @@ def save_analysis_figures(details: dict, outdir, *, prefix: str = "", base: str 
         if base is None and b.get("lines") is not None:
             fig = Figure(figsize=(8.0, 4.0), layout="constrained")
             if verdict is not None and name == getattr(verdict.diagnosis, "band", None):
-                import textwrap
-
                 title += "\n" + textwrap.fill(f"verdict: {verdict.summary_lines()[0]}", 110)
             plot_fault_lines(b["f"], b["amplitude"], b["lines"], ax=fig.add_subplot(),
                              title=title, unit=unit)

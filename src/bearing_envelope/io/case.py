@@ -20,7 +20,7 @@ import numpy as np
 
 from .. import __version__
 from .atomic import clean_stale_temps, public_mode, temp_path_for
-from .integrity import (CHECKSUM_OPTIONS, DiskFullError, estimate_h5_bytes,
+from .integrity import (CHECKSUM_OPTIONS, estimate_h5_bytes,
                         require_free_space, seal, verify_file, DIGEST_ATTR,
                         content_digest, file_sha256, write_image)
 
@@ -93,7 +93,9 @@ class Case:
     snapshots : dict
         ``load_<i>`` -> dict of pressure fields and coordinates.
     table : dict
-        The ``P(Q, x)`` table and its diagnostics.
+        The ``P(Q, x)`` table and its diagnostics (attribute ``race``: the contact it belongs to).
+    other_tables : dict
+        Race -> table of a second contact (``outer`` for a rolling-element defect, issue 23).
     """
 
     fs: float
@@ -115,6 +117,7 @@ class Case:
     signals: dict = field(default_factory=dict)
     snapshots: dict = field(default_factory=dict)
     table: dict = field(default_factory=dict)
+    other_tables: dict = field(default_factory=dict)
 
 
 def git_commit(path: str | None = None) -> str:
@@ -227,9 +230,21 @@ def _write_signals(f, history) -> None:
           "arc-length offset of the defect from the nearest roller's contact centre")
 
 
-def _write_table(f, tb) -> None:
-    """Stage 3 of :func:`write_case`: the ``/table`` group (P(Q, x) table and diagnostics)."""
-    tg = f.create_group("table")
+def _write_tables(f, history) -> None:
+    """Stage 3 of :func:`write_case`: ``/table`` (the contact of the defect's race) and
+    ``/table_{race}`` for any other race's table (rolling-element defects)."""
+    races = getattr(history, "tables", {}) or {}
+    first = next((r for r, t in races.items() if t is history.table), "inner")
+    _write_table(f.create_group("table"), history.table, first)
+    for race, tb in races.items():
+        if tb is not history.table:
+            _write_table(f.create_group(f"table_{race}"), tb, race)
+
+
+def _write_table(tg, tb, race: str) -> None:
+    """The ``P(Q, x)`` table ``tb`` of the contact with the ``race`` (``inner``/``outer``) into
+    the group ``tg`` (layout: docs/file-format.md, ``/table``)."""
+    tg.attrs["race"] = race
     _dset(tg, "roller_load", tb.q_nodes, "N", "roller-load nodes")
     _dset(tg, "xi", tb.xi_nodes, "1", "normalised offset nodes |x|/s(Q)")
     _dset(tg, "offset", tb.offsets(), "m", "offset nodes x = xi s(Q), (load, xi)")
@@ -277,10 +292,12 @@ def _write_snapshots(f, snapshots: dict) -> None:
 def _history_arrays(history) -> list:
     """The arrays :func:`write_case` stores (for the file-size estimate)."""
     snaps = [v for snap in history.snapshots.values() for v in snap.values() if np.ndim(v)]
-    tb = history.table
-    table = [tb.q_nodes, tb.xi_nodes, tb.p0, tb.w0, tb.q_out, tb.p_out, tb.ratio_defect,
-             tb.ratio_force, tb.ratio_area, tb.approach0, tb.area0, tb.ratio_defect,
-             *[v for v in tb.info.values() if isinstance(v, np.ndarray)]]
+    tables = [history.table, *[t for t in (getattr(history, "tables", {}) or {}).values()
+                               if t is not history.table]]
+    table = [a for tb in tables for a in (
+        tb.q_nodes, tb.xi_nodes, tb.p0, tb.w0, tb.q_out, tb.p_out, tb.ratio_defect, tb.ratio_force,
+        tb.ratio_area, tb.approach0, tb.area0, tb.ratio_defect,
+        *[v for v in tb.info.values() if isinstance(v, np.ndarray)])]
     return [history.time, history.roller_load, history.defect_offset,
             *history.signals.values(), *table, *snaps]
 
@@ -324,7 +341,7 @@ def write_case(path: str | os.PathLike, history, *, extra_attrs: dict | None = N
     with h5py.File(image, "w") as f:
         _write_root_attrs(f, history, extra_attrs)
         _write_signals(f, history)
-        _write_table(f, history.table)
+        _write_tables(f, history)
         _write_snapshots(f, history.snapshots)
         if error_model is not None:
             _write_error_model(f, error_model)
@@ -512,6 +529,7 @@ def _read_case(path: str | os.PathLike) -> Case:
             _check_digest(path, f, attrs)
         signals = {k: v[()] for k, v in f["signals"].items()}
         table = _read_group(f["table"]) if "table" in f else {}
+        more = {k[len("table_"):]: _read_group(f[k]) for k in f if k.startswith("table_")}
         snaps = _read_group(f["snapshots"]) if "snapshots" in f else {}
         time = f["time"][()]
     for k in ("scene_json", "fidelity_json", "solver_json", "stats_json", "load_distribution_json",
@@ -526,4 +544,5 @@ def _read_case(path: str | os.PathLike) -> Case:
         roller_load=signals["roller_load"], defect_offset=signals["defect_offset"],
         load_kN=float(attrs["load_kN"]), depth_um=float(attrs["depth_um"]),
         scene=attrs.get("scene", {}), attrs=attrs, signals=signals, snapshots=snaps, table=table,
+        other_tables=more,
     )

@@ -1,6 +1,7 @@
 """The bearing and its contact history, on top of :mod:`bearing_envelope.contact`.
 
 - :mod:`.scene`: the scene (bearing, materials, operation, defect, load) and its checks;
+- :mod:`.catalogue`: named bearings (data/bearings.yaml) with the source of every number;
 - :mod:`.kinematics`: fault frequencies (BPFO, BPFI, BSF, FTF) from the geometry;
 - :mod:`.loads`: the load zone (roller loads around the race);
 - :mod:`.geometry`: contact grids, the gap with the defect, the Hertz estimate;

@@ -23,6 +23,9 @@ __all__ = ["antialias_filter", "antialias_undershoot", "auto_oversample", "acqui
 ANTIALIAS_PASS = 0.40
 ANTIALIAS_STOP = 0.50
 ANTIALIAS_ATTEN_DB = 80.0
+#: Design margin of the Kaiser window over :data:`ANTIALIAS_ATTEN_DB` (dB): the window is
+#: designed for 85 dB so that the realised stop band (odd, symmetric length) keeps >= 80 dB.
+ANTIALIAS_DESIGN_MARGIN_DB = 5.0
 
 #: Output samples per block of the anti-aliased synthesis (bounds memory: the internal rate is
 #: ``oversample x fs``; a block holds ``oversample x (ACQUISITION_BLOCK + filter length)`` samples).
@@ -34,7 +37,7 @@ def antialias_filter(oversample: int) -> np.ndarray:
 
     Kaiser-window design (:func:`scipy.signal.firwin`) at the internal rate, cut-off half-way
     between :data:`ANTIALIAS_PASS` and :data:`ANTIALIAS_STOP` (0.45 fs), designed for
-    ``ANTIALIAS_ATTEN_DB + 5`` dB so that the stop band from fs/2 up is at least
+    ``ANTIALIAS_ATTEN_DB + ANTIALIAS_DESIGN_MARGIN_DB`` dB so that the stop band from fs/2 up is at least
     :data:`ANTIALIAS_ATTEN_DB` down (checked in the tests); pass-band ripple < 1e-4. The length
     is ``2 K oversample + 1`` (odd, symmetric: the centre tap is the zero-delay sample), unit DC
     gain.
@@ -44,10 +47,10 @@ def antialias_filter(oversample: int) -> np.ndarray:
     n = int(oversample)
     fs_int = float(n)                      # in units of the output rate
     width = ANTIALIAS_STOP - ANTIALIAS_PASS
-    numtaps, _ = kaiserord(ANTIALIAS_ATTEN_DB + 5.0, width / (0.5 * fs_int))
+    numtaps, _ = kaiserord(ANTIALIAS_ATTEN_DB + ANTIALIAS_DESIGN_MARGIN_DB, width / (0.5 * fs_int))
     k = int(math.ceil((numtaps - 1) / (2.0 * n)))
     h = firwin(2 * k * n + 1, 0.5 * (ANTIALIAS_PASS + ANTIALIAS_STOP), fs=fs_int,
-               window=("kaiser", kaiser_beta(ANTIALIAS_ATTEN_DB + 5.0)))
+               window=("kaiser", kaiser_beta(ANTIALIAS_ATTEN_DB + ANTIALIAS_DESIGN_MARGIN_DB)))
     return h / h.sum()
 
 
@@ -62,8 +65,7 @@ def auto_oversample(scene: Scene, fidelity: Fidelity | str | None = None) -> int
     ``standard`` agree to < 0.01 % in every amplitude (``docs/benchmarks.md``, "Accuracy per CPU
     second"). N = 9 (15 um defect) and 6 (100 um) at ``standard``."""
     fid = fidelity_from(fidelity)
-    v = 2.0 * math.pi * (scene.operation.shaft_rate_hz - scene.cage_rate_hz) * \
-        scene.bearing.inner_race_radius_m
+    v = scene.defect_speed_m_s
     step = fid.offset_step_m
     if scene.defect.active:
         step = min(step, scene.defect.extent_x_m / fid.offsets_per_width)

@@ -23,12 +23,15 @@ The undeformed gap between roller and inner raceway is
 from __future__ import annotations
 
 import math
+import os
 from dataclasses import dataclass
 from functools import lru_cache
 
 import numpy as np
 
-__all__ = ["Grid", "make_grid", "read_profile", "axial_separation", "defect_depth", "gap_field",
+from ..contact import hertz
+
+__all__ = ["Grid", "make_grid", "read_profile", "read_defect_profile", "axial_separation", "defect_depth", "gap_field",
            "hertz_estimate", "good_size"]
 
 
@@ -113,9 +116,35 @@ def read_profile(path: str) -> tuple[np.ndarray, np.ndarray]:
     Returns ``(y, deviation)`` in m. ``deviation`` is the drop of the roller surface from its
     generatrix at the centre (positive = material removed). ``#`` starts a comment.
     """
-    import os
-
     return _read_profile_cached(os.fspath(path), os.path.getmtime(path))
+
+
+@lru_cache(maxsize=8)
+def _read_defect_profile_cached(path: str, mtime: float):
+    data = np.loadtxt(path, delimiter=None if not path.endswith(".csv") else ",", comments="#",
+                      ndmin=2)
+    if data.shape[1] != 2 or data.shape[0] < 3:
+        raise ValueError(f"expected two columns (x_um, depth_um) and >= 3 rows, got shape "
+                         f"{data.shape}")
+    if not np.all(np.isfinite(data)):
+        raise ValueError("non-finite values")
+    x, dep = data[:, 0], data[:, 1]
+    if not np.all(np.diff(x) > 0):
+        raise ValueError("positions must increase strictly")
+    if np.any(dep < 0) or not np.any(dep > 0):
+        raise ValueError("depths must be >= 0 with at least one > 0")
+    return x * 1e-6, dep * 1e-6
+
+
+def read_defect_profile(path: str) -> tuple[np.ndarray, np.ndarray]:
+    """Read a measured defect profile: two columns ``x_um, depth_um`` (text or CSV).
+
+    ``x`` runs across the defect along rolling (from its centre), ``depth >= 0`` below the
+    raceway; zero outside the file's range. In the gap the profile is scaled so that its deepest
+    point equals the case's depth and extruded over the defect's axial length
+    (:func:`defect_depth`, ``shape: profile``). Returns ``(x, depth)`` in m.
+    """
+    return _read_defect_profile_cached(os.fspath(path), os.path.getmtime(path))
 
 
 def axial_separation(bearing, y) -> np.ndarray:
@@ -130,7 +159,11 @@ def axial_separation(bearing, y) -> np.ndarray:
     y = np.asarray(y, dtype=float)
     half = bearing.half_length_m
     ay = np.abs(y)
-    if bearing.profile_file:
+    if getattr(bearing, "kind", "roller") == "ball":
+        # a ball in its groove: the quadratic of the groove conformity, no end relief; no
+        # material beyond the groove (width roller_length_mm)
+        s = y * y / (2.0 * bearing.ry_m)
+    elif bearing.profile_file:
         yp, dev = read_profile(bearing.profile_file)
         s = np.interp(y, yp, dev) - y * y / (2e-3 * bearing.raceway_profile_radius_mm)
         s = s - np.min(s[ay <= half]) if np.any(ay <= half) else s
@@ -168,6 +201,14 @@ def defect_depth(defect, u, v) -> np.ndarray:
         d = h * np.cos(0.5 * np.pi * np.clip(u / hx, -1, 1)) ** 2 \
             * np.cos(0.5 * np.pi * np.clip(v / hy, -1, 1)) ** 2
         return np.where(inside, d, 0.0)
+    if defect.shape == "profile":
+        xp, dp = read_defect_profile(defect.profile_file)
+        prof = np.interp(u, xp, dp, left=0.0, right=0.0)
+        return np.where(np.abs(v) < hy, h / max(float(np.max(dp)), 1e-300) * prof, 0.0)
+    if defect.shape == "cylinder":
+        # circular footprint of diameter w: distance inside the circle
+        dist = hx - np.hypot(u, v)
+        inside = dist > 0
     r = 1e-6 * defect.edge_radius_um
     if r <= 0:
         return np.where(inside, h, 0.0)
@@ -221,7 +262,5 @@ def hertz_estimate(scene, force: float):
     Uses :func:`bearing_envelope.contact.hertz.elliptical` with ``R_x``, ``R_y`` of the scene and
     ``E*`` of its materials. Used to size grids; the roller length is not taken into account.
     """
-    from ..contact import hertz
-
     b = scene.bearing
     return hertz.elliptical(force, b.rx_m, b.ry_m, scene.material.e_star_pa)

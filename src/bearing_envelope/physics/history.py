@@ -40,6 +40,11 @@ Model only what the scene requires (issue 3, design.md section 2):
    (maximum in the defect's neighbourhood: footprint grown by ``neighbourhood_um``), roller load
    and offset. Synthesis over all samples by a numba kernel (:func:`synthesize`) or numpy
    (:func:`synthesize_numpy`).
+
+This is the inner-race defect (the study's). An outer-race or rolling-element defect
+(``defect.location``, issue 23) takes its kinematics, loads and contact tables from
+:mod:`bearing_envelope.physics.locations`; :func:`simulate` and :func:`evaluate_signals`
+dispatch to it and leave the inner-race path untouched.
 """
 
 from __future__ import annotations
@@ -54,6 +59,7 @@ from .acquisition import acquire, acquisition_settings, add_noise, antialias_und
 from .fidelity import Fidelity, fidelity_from
 from .kernels import HAVE_NUMBA, synth_kernel
 from .loads import LoadDistribution, scene_load_distribution
+from .locations import location_signals, location_tables
 from .scene import Scene
 from .solves import SolveStats
 from .table import PressureTable, build_table
@@ -161,7 +167,12 @@ def evaluate_signals(scene: Scene, table: PressureTable, ld: LoadDistribution, t
                      *, t_end: float | None = None, use_numba: bool = True) -> dict[str, np.ndarray]:
     """Every signal of :data:`CONTACT_SIGNALS` and :data:`STATE_SIGNALS` at the instants ``t``
     (s): pressures from :meth:`PressureTable.evaluate`, integrals from
-    :meth:`PressureTable.evaluate_integrals`."""
+    :meth:`PressureTable.evaluate_integrals`. An outer-race or rolling-element defect
+    (``table`` then the dict of :func:`~.locations.location_tables`):
+    :func:`~.locations.location_signals`."""
+    if scene.defect.location != "inner_race":
+        return location_signals(scene, table, ld, cage_angle(scene, t, t_end=t_end),
+                                use_numba=use_numba)
     fn = synthesize if use_numba else synthesize_numpy
     P, Pd, Q, X = fn(scene, table, ld, t, t_end=t_end)
     out = {"p_max": P, "p_max_defect": Pd, "roller_load": Q, "defect_offset": X}
@@ -188,6 +199,9 @@ class History:
     signals: dict
     stats: dict
     acquisition: dict = field(default_factory=dict)
+    #: Every contact table of the case by race (``inner``/``outer``): one for the inner or outer
+    #: race, two for a rolling element (``table`` is the first).
+    tables: dict = field(default_factory=dict)
 
 
 def synthesize_case(scene: Scene, table: PressureTable, ld: LoadDistribution,
@@ -229,11 +243,18 @@ def simulate(scene: Scene, fidelity: Fidelity | str | None = None, *, progress: 
     t_start = _time.perf_counter()
     ld = scene_load_distribution(scene)
     stats = SolveStats()
-    table, nodes, snaps = build_table(scene, fid, q_max=ld.q_max, stats=stats, progress=progress)
+    if scene.defect.location == "inner_race":
+        table, nodes, snaps = build_table(scene, fid, q_max=ld.q_max, stats=stats,
+                                          progress=progress)
+        tables = {"inner": table}
+    else:
+        tables, nodes, snaps = location_tables(scene, fid, ld.q_max, stats, progress)
+        table = next(iter(tables.values()))
     t_table = _time.perf_counter() - t_start
     op = scene.operation
     t1 = _time.perf_counter()
-    t, sig, acq = synthesize_case(scene, table, ld, fid, use_numba=use_numba)
+    t, sig, acq = synthesize_case(scene, table if scene.defect.location == "inner_race" else tables,
+                                  ld, fid, use_numba=use_numba)
     t_synth = _time.perf_counter() - t1
     P, Pd, Q, X = sig["p_max"], sig["p_max_defect"], sig["roller_load"], sig["defect_offset"]
     signals = {k: sig[k] for k in CONTACT_SIGNALS}
@@ -251,4 +272,4 @@ def simulate(scene: Scene, fidelity: Fidelity | str | None = None, *, progress: 
         "synthesis_seconds": t_synth, "wall_seconds": _time.perf_counter() - t_start,
     }
     return History(scene, fid, t, signals["p_max"], signals["p_max_defect"], Q, X, table, snaps,
-                   ld, signals, stats_d, acq)
+                   ld, signals, stats_d, acq, tables)

@@ -43,8 +43,11 @@ import numpy as np
 from scipy.integrate import quad
 from scipy.optimize import brentq
 
+from ..contact import hertz
+
 __all__ = ["LoadDistribution", "palmgren_stiffness", "solve_row", "row_load_distribution",
-           "load_zone_integral", "scene_load_distribution"]
+           "load_zone_integral", "scene_load_distribution", "hertz_point_stiffness", "contact_law",
+           "LINE_CONTACT_EXPONENT", "POINT_CONTACT_EXPONENT"]
 
 
 def palmgren_stiffness(length_m: float, contacts: int = 2) -> float:
@@ -185,15 +188,49 @@ def solve_row(force_row: float, n_rollers: int, contact_angle_deg: float = 0.0,
                             float(exponent), float(dr), psi, q)
 
 
+#: Load-deflection exponents ``n`` of ``Q = K delta^n``: line contact (Palmgren, rollers) and
+#: point contact (Hertz, balls): Harris & Kotzalas 2007, eqs. 7.1-7.2.
+LINE_CONTACT_EXPONENT = 10.0 / 9.0
+POINT_CONTACT_EXPONENT = 1.5
+
+#: Probe load (N) of :func:`hertz_point_stiffness`: the Hertz approach scales exactly as
+#: ``Q^(2/3)``, so any positive load gives the same constant.
+_PROBE_LOAD_N = 1.0
+
+
+def hertz_point_stiffness(bearing, e_star: float) -> float:
+    """Ball load-deflection constant ``K`` (N m^-3/2) of ``Q = K delta^(3/2)``.
+
+    Each raceway contact follows Hertz, ``delta_j = c_j Q^(2/3)`` with ``c_j`` the approach of
+    the contact at 1 N (:func:`bearing_envelope.contact.hertz.elliptical` with the race's
+    ``R_x``, ``R_y``); the inner and outer contacts in series,
+    ``K = (c_i + c_o)^(-3/2)`` (Harris & Kotzalas 2007, eqs. 7.3-7.4).
+    """
+    c = sum(hertz.elliptical(_PROBE_LOAD_N, bearing.rx_for(race), bearing.ry_for(race),
+                             e_star).approach for race in ("inner", "outer"))
+    return c ** -1.5
+
+
+def contact_law(scene) -> tuple[float, float]:
+    """``(K, n)`` of the rolling elements of ``scene``: Palmgren's line contact with ``n = 10/9``
+    (rollers, :func:`palmgren_stiffness`) or Hertz point contact with ``n = 3/2`` (balls,
+    :func:`hertz_point_stiffness`)."""
+    b = scene.bearing
+    if getattr(b, "kind", "roller") == "ball":
+        return hertz_point_stiffness(b, scene.material.e_star_pa), POINT_CONTACT_EXPONENT
+    return palmgren_stiffness(1e-3 * b.roller_length_mm), LINE_CONTACT_EXPONENT
+
+
 def row_load_distribution(scene) -> LoadDistribution:
     """Load distribution of the loaded row of ``scene`` in ``bearing`` mode.
 
-    The radial load ``scene.load.value_N`` is shared equally by ``scene.bearing.rows`` rows.
+    The radial load ``scene.load.value_N`` is shared equally by ``scene.bearing.rows`` rows;
+    the law is :func:`contact_law` (line contact for rollers, point contact for balls).
     """
     b = scene.bearing
-    k = palmgren_stiffness(1e-3 * b.roller_length_mm)
+    k, n = contact_law(scene)
     return solve_row(scene.load.value_N / b.rows, b.rollers_per_row, b.contact_angle_deg,
-                     1e-6 * b.radial_clearance_um, k)
+                     1e-6 * b.radial_clearance_um, k, n)
 
 
 def scene_load_distribution(scene) -> LoadDistribution:
@@ -206,14 +243,14 @@ def scene_load_distribution(scene) -> LoadDistribution:
     if scene.load.mode == "bearing":
         return row_load_distribution(scene)
     b = scene.bearing
-    k = palmgren_stiffness(1e-3 * b.roller_length_mm)
+    k, n = contact_law(scene)
     target = scene.load.value_N
     c = 1e-6 * b.radial_clearance_um
 
     def f(fr):
-        return solve_row(fr, b.rollers_per_row, b.contact_angle_deg, c, k).q_max - target
+        return solve_row(fr, b.rollers_per_row, b.contact_angle_deg, c, k, n).q_max - target
 
     lo = target * 0.05
     hi = target * b.rollers_per_row
     fr = brentq(f, lo, hi, rtol=1e-13, xtol=1e-9)
-    return solve_row(fr, b.rollers_per_row, b.contact_angle_deg, c, k)
+    return solve_row(fr, b.rollers_per_row, b.contact_angle_deg, c, k, n)

@@ -58,12 +58,15 @@ import os
 from dataclasses import dataclass
 from typing import Any, Mapping
 
+from .catalogue import bearing_values, designations
+from .geometry import read_defect_profile, read_profile
 from .kinematics import FaultFrequencies, fault_frequencies
 
 __all__ = [
     "EndRelief", "Bearing", "MaterialProps", "Material", "Acquisition", "Operation", "Load",
     "Defect", "Scene", "ACQUISITION_MODES", "ROLLER_LOAD_MODELS", "BEARING_STEEL_HARDNESS_GPA",
-    "DEFAULT_SCENE", "default_scene_mapping", "MAX_BAND_ORDER",
+    "DEFAULT_SCENE", "default_scene_mapping", "MAX_BAND_ORDER", "DEFECT_LOCATIONS", "DEFECT_SHAPES",
+    "BEARING_KINDS", "DEFAULT_GROOVE_CONFORMITY",
 ]
 
 #: The analysis needs bands up to 13 x BPFI (the study's 10-13 x BPFI band); fs must exceed
@@ -85,6 +88,11 @@ DEFAULT_SCENE: dict[str, Any] = {
         "end_relief": {"kind": "radius", "radius_mm": 1.0},
         "radial_clearance_um": 40.0,
         "profile_file": None,
+        "designation": None,
+        "kind": "roller",
+        "outer_raceway_profile_radius_mm": None,
+        "inner_groove_conformity": None,
+        "outer_groove_conformity": None,
     },
     "material": {
         "roller": {"E_GPa": 210.0, "nu": 0.3},
@@ -110,6 +118,9 @@ DEFAULT_SCENE: dict[str, Any] = {
         "edge_radius_um": 20.0,
         "axial_position_mm": 0.0,
         "orientation": "axial",
+        "location": "inner_race",
+        "position_deg": 0.0,
+        "profile_file": None,
     },
 }
 
@@ -240,6 +251,19 @@ class Bearing:
         Two-column text/CSV file ``y_mm, deviation_um`` of the measured roller profile (drop from
         the roller's generatrix at its centre, positive = material removed), replacing the
         analytic crown and end relief; the raceway keeps its analytic radius ``c_i``.
+    designation : str or None
+        Catalogue entry the values came from (:mod:`bearing_envelope.physics.catalogue`), or None.
+    kind : {"roller", "ball"}
+        ``roller``: line contact with crown and end relief, load exponent 10/9; ``ball``: point
+        contact in a groove of conformity ``f`` (``R_y`` from ``f``, no end relief; the axial
+        extent ``roller_length_mm`` is the width of the groove the ball can touch), load exponent
+        3/2.
+    outer_raceway_profile_radius_mm : float or None
+        Rollers: concave outer-raceway profile radius ``c_o`` (mm), > ``c_r``; None = ``c_i``
+        (for the FAG 534176 the outer sphere radius from geometry, ``(D + d cos a)/(2 cos a)`` =
+        83.08 mm, equals ``c_i`` = 83.1 mm to 0.03 %).
+    inner_groove_conformity, outer_groove_conformity : float or None
+        Balls: groove radius / ball diameter ``f_i``, ``f_o`` (> 0.5); None for rollers.
     """
 
     bore_mm: float
@@ -255,6 +279,15 @@ class Bearing:
     end_relief: EndRelief
     radial_clearance_um: float
     profile_file: str | None
+    designation: str | None = None
+    kind: str = "roller"
+    outer_raceway_profile_radius_mm: float | None = None
+    inner_groove_conformity: float | None = None
+    outer_groove_conformity: float | None = None
+    #: The race of the modelled contact (``inner`` | ``outer``): which curvature :attr:`rx_m`
+    #: and :attr:`ry_m` give. Not a config key: set from ``defect.location`` (outer race) or
+    #: per contact for a rolling-element defect (:meth:`Scene.for_race`).
+    contact_race: str = "inner"
 
     # SI helpers -------------------------------------------------------------------------
     @property
@@ -282,15 +315,71 @@ class Bearing:
                          - self.roller_diameter_mm * math.cos(self.contact_angle_rad))
 
     @property
+    def outer_race_radius_m(self) -> float:
+        """Outer-raceway radius at the contact in the rolling plane, ``(D + d cos(alpha))/2`` (m)."""
+        return 0.5e-3 * (self.pitch_diameter_mm
+                         + self.roller_diameter_mm * math.cos(self.contact_angle_rad))
+
+    def race_radius_m(self, race: str) -> float:
+        """Kinematic raceway radius (m) of ``race`` (``inner`` | ``outer``): arc length per radian
+        of the contact point along the race."""
+        return self.inner_race_radius_m if race == "inner" else self.outer_race_radius_m
+
+    def rx_for(self, race: str) -> float:
+        """Equivalent radius across rolling of the ``race`` contact (m).
+
+        ``1/R_x = 2/d + 1/R_i`` (inner, convex race) or ``2/d - 1/R_o`` (outer, concave race).
+        Rollers: ``R_i, R_o`` = :meth:`race_radius_m` (Harris & Kotzalas 2007, ch. 2; unchanged
+        for the inner race). Balls: the race radius along the contact normal,
+        ``(D -+ d cos(alpha)) / (2 cos(alpha))`` (Harris & Kotzalas 2007, eqs. 2.27-2.33;
+        design.md section 5).
+        """
+        r = self.roller_radius_m
+        rr = self.race_radius_m(race)
+        if self.kind == "ball":
+            rr = rr / math.cos(self.contact_angle_rad)
+        return 1.0 / (1.0 / r + (1.0 if race == "inner" else -1.0) / rr)
+
+    def ry_for(self, race: str) -> float:
+        """Axial equivalent radius of the ``race`` contact (m); inf for equal profiles.
+
+        Rollers: ``1/R_y = 1/c_r - 1/c_race`` (crown against the concave raceway generatrix;
+        ``c_o`` = ``outer_raceway_profile_radius_mm``, null = ``c_i``). Balls:
+        ``1/R_y = 1/r - 1/(f d)`` with the groove conformity ``f`` of that race.
+        """
+        if self.kind == "ball":
+            f = self.inner_groove_conformity if race == "inner" else self.outer_groove_conformity
+            k = 1.0 / self.roller_radius_m - 1.0 / (1e-3 * f * self.roller_diameter_mm)
+        else:
+            c = self.raceway_profile_radius_mm if race == "inner" or \
+                self.outer_raceway_profile_radius_mm is None else self.outer_raceway_profile_radius_mm
+            k = 1.0 / (1e-3 * self.roller_crown_radius_mm) - 1.0 / (1e-3 * c)
+        return math.inf if k <= 0 else 1.0 / k
+
+    @property
     def rx_m(self) -> float:
-        """Equivalent radius in the rolling direction, ``1/R_x = 2/d + 1/R_i`` (m)."""
-        return 1.0 / (1.0 / self.roller_radius_m + 1.0 / self.inner_race_radius_m)
+        """Equivalent radius in the rolling direction of the modelled contact (m):
+        :meth:`rx_for` of :attr:`contact_race` (inner race: ``1/R_x = 2/d + 1/R_i``)."""
+        return self.rx_for(self.contact_race)
 
     @property
     def ry_m(self) -> float:
-        """Axial equivalent radius ``1/R_y = 1/c_r - 1/c_i`` (m); inf if the profiles are equal."""
-        k = 1.0 / (1e-3 * self.roller_crown_radius_mm) - 1.0 / (1e-3 * self.raceway_profile_radius_mm)
-        return math.inf if k <= 0 else 1.0 / k
+        """Axial equivalent radius of the modelled contact (m): :meth:`ry_for` of
+        :attr:`contact_race` (inner roller race: ``1/R_y = 1/c_r - 1/c_i``)."""
+        return self.ry_for(self.contact_race)
+
+    def race_thickness_m(self, location: str) -> float:
+        """Material under a raceway (m): the deepest a pit can be.
+
+        ``inner_race``: ``(D - d)/2 - bore/2`` (groove bottom to bore), ``outer_race``:
+        ``OD/2 - (D + d)/2``, ``rolling_element``: ``d/2``. A simple bound (the groove bottom
+        of a ball race; the roller raceway of a roller bearing).
+        """
+        d, pd = self.roller_diameter_mm, self.pitch_diameter_mm
+        mm = {"inner_race": 0.5 * (pd - d) - 0.5 * self.bore_mm,
+              "outer_race": 0.5 * self.outside_diameter_mm - 0.5 * (pd + d),
+              "rolling_element": 0.5 * d}[location]
+        return 1e-3 * mm
 
     @property
     def half_length_m(self) -> float:
@@ -458,6 +547,14 @@ class Defect:
     orientation : {"axial", "circumferential"}
         ``axial``: ``l`` along the roller axis (y), ``w`` along rolling (x); ``circumferential``:
         swapped.
+    location : {"inner_race", "outer_race", "rolling_element"}
+        Where the defect is (:data:`DEFECT_LOCATIONS`; :mod:`bearing_envelope.physics.locations`).
+    position_deg : float
+        ``outer_race``: the defect's angle from the load direction (deg, in [0, 360); 0 = the
+        centre of the load zone, CWRU's 6:00 under a downward load; 90 = 3:00, 180 = 12:00).
+    profile_file : str or None
+        Measured defect profile, two columns ``x_um, depth_um`` (depth across the defect along
+        rolling, extruded over the length): replaces the analytic shape (``shape: profile``).
     """
 
     depth_um: float
@@ -467,6 +564,9 @@ class Defect:
     edge_radius_um: float
     axial_position_mm: float
     orientation: str
+    location: str = "inner_race"
+    position_deg: float = 0.0
+    profile_file: str | None = None
 
     @property
     def extent_x_m(self) -> float:
@@ -512,6 +612,16 @@ class Scene:
         return self.operation.shaft_rate_hz - self.bpfi_hz / self.bearing.rollers_per_row
 
     @property
+    def defect_speed_m_s(self) -> float:
+        """Speed (m/s) at which the defect sweeps through a contact: inner race
+        ``2 pi (f_r - f_c) R_i`` (4.24 m/s in the default scene), outer race ``2 pi f_c R_o``,
+        rolling element ``2 pi f_c R_o`` too (its surface rolls on the fixed outer race)."""
+        if self.defect.location == "inner_race":
+            return 2.0 * math.pi * (self.operation.shaft_rate_hz - self.cage_rate_hz) * \
+                self.bearing.inner_race_radius_m
+        return 2.0 * math.pi * self.cage_rate_hz * self.bearing.outer_race_radius_m
+
+    @property
     def n_samples(self) -> int:
         op = self.operation
         return int(round(op.revolutions / op.shaft_rate_hz * op.fs_hz))
@@ -519,6 +629,7 @@ class Scene:
     def to_mapping(self) -> dict[str, Any]:
         """The mapping layout (as in the config) plus ``load.value_kN`` and ``defect.depth_um``."""
         b = dataclasses.asdict(self.bearing)
+        b.pop("contact_race")
         b["end_relief"] = {k: v for k, v in b["end_relief"].items() if v is not None}
         d = dataclasses.asdict(self.defect)
         return {
@@ -552,7 +663,7 @@ class Scene:
         ValueError
             Naming the dotted field (``scene.defect.depth_um`` ...), the value and what is allowed.
         """
-        m = _merge(DEFAULT_SCENE, mapping or {}, "")
+        m = _merge(_base_mapping(mapping), mapping or {}, "")
         bearing = _build_bearing(m["bearing"])
         material = _build_material(m["material"])
         load = _build_load(m["load"], load_kN)
@@ -560,12 +671,34 @@ class Scene:
         scene_freq = fault_frequencies(1.0, bearing.rollers_per_row, bearing.roller_diameter_mm,
                                        bearing.pitch_diameter_mm, bearing.contact_angle_deg)
         operation = _build_operation(m["operation"], scene_freq.bpfi, bearing.rollers_per_row)
+        if defect.location == "outer_race":
+            bearing = dataclasses.replace(bearing, contact_race="outer")
         return cls(bearing, material, operation, load, defect)
+
+    def for_race(self, race: str) -> "Scene":
+        """This scene with the modelled contact on ``race`` (``inner`` | ``outer``): the
+        curvature of that contact in the gap (:attr:`Bearing.rx_m`, :attr:`Bearing.ry_m`)."""
+        return dataclasses.replace(self, bearing=dataclasses.replace(self.bearing, contact_race=race))
 
     @classmethod
     def default(cls, *, load_kN: float = 500.0, depth_um: float = 50.0) -> "Scene":
         """The source study's scene (:data:`DEFAULT_SCENE`)."""
         return cls.from_mapping(None, load_kN=load_kN, depth_um=depth_um)
+
+
+def _base_mapping(given: Mapping[str, Any] | None) -> dict[str, Any]:
+    """The defaults a mapping is merged over: :data:`DEFAULT_SCENE`, with the bearing of the
+    catalogue entry ``bearing.designation`` names (:mod:`bearing_envelope.physics.catalogue`)."""
+    b = (given or {}).get("bearing") if isinstance(given, Mapping) else None
+    des = b.get("designation") if isinstance(b, Mapping) else None
+    if des is None:
+        return DEFAULT_SCENE
+    if not isinstance(des, str):
+        raise _bad("bearing.designation", des, f"null or one of {list(designations())}")
+    base = copy.deepcopy(DEFAULT_SCENE)
+    base["bearing"].update(bearing_values(des))
+    base["bearing"]["designation"] = des
+    return base
 
 
 def _merge(default: Mapping[str, Any], given: Mapping[str, Any], prefix: str) -> dict[str, Any]:
@@ -612,18 +745,57 @@ def _build_bearing(m: Mapping[str, Any]) -> Bearing:
     length = _num(p + "roller_length_mm", m["roller_length_mm"], lo=0, lo_open=True)
     relief = _build_relief(m["end_relief"], length)
     clearance = _num(p + "radial_clearance_um", m["radial_clearance_um"], lo=0)
+    extra = _build_kind_fields(m, d, cr, length)
     pf = m["profile_file"]
     if pf is not None:
         if not isinstance(pf, (str, os.PathLike)):
             raise _bad(p + "profile_file", pf, "null or a path to a two-column file (y_mm, deviation_um)")
         pf = os.fspath(pf)
-        from .geometry import read_profile  # local import: geometry imports scene types lazily
-
         try:
             read_profile(pf)
         except (OSError, ValueError) as exc:
             raise _bad(p + "profile_file", pf, f"a readable two-column file (y_mm, deviation_um): {exc}")
-    return Bearing(bore, od, d, z, rows, pd, alpha, cr, ci, length, relief, clearance, pf)
+    return Bearing(bore, od, d, z, rows, pd, alpha, cr, ci, length, relief, clearance, pf, **extra)
+
+
+#: Groove conformity ``f = r_groove / d`` of a ball race when neither the config nor the
+#: catalogue gives one: 0.52, typical of deep-groove ball bearings (0.515-0.53, Harris &
+#: Kotzalas 2007, ch. 2) -- an assumption, stated in docs/scene.md.
+DEFAULT_GROOVE_CONFORMITY = 0.52
+
+#: ``scene.bearing.kind`` values.
+BEARING_KINDS = ("roller", "ball")
+
+
+def _build_kind_fields(m: Mapping[str, Any], d: float, cr: float, length: float) -> dict[str, Any]:
+    """Designation, kind and the kind's own fields (roller: outer profile radius; ball: groove
+    conformities, the groove width ``roller_length_mm < 2 f d``)."""
+    p = "bearing."
+    des = m["designation"]
+    if des is not None and not isinstance(des, str):
+        raise _bad(p + "designation", des, "null or a catalogue designation")
+    kind = _choice(p + "kind", m["kind"], BEARING_KINDS)
+    out: dict[str, Any] = {"designation": des, "kind": kind}
+    co = m["outer_raceway_profile_radius_mm"]
+    if kind == "roller":
+        if co is not None:
+            co = _num(p + "outer_raceway_profile_radius_mm", co, lo=cr, lo_open=True,
+                      allowed=f"null or a number > roller_crown_radius_mm ({cr:g})")
+        for k in ("inner_groove_conformity", "outer_groove_conformity"):
+            if m[k] is not None:
+                raise _bad(p + k, m[k], "null for kind 'roller' (groove conformity is a ball key)")
+        out["outer_raceway_profile_radius_mm"] = co
+        return out
+    for k in ("inner_groove_conformity", "outer_groove_conformity"):
+        f = m[k]
+        f = DEFAULT_GROOVE_CONFORMITY if f is None else _num(
+            p + k, f, lo=0.5, lo_open=True, hi=1.0, allowed="a number in (0.5, 1] (groove radius / ball "
+            "diameter; 0.5 would be a groove of the ball's own radius: full conformity)")
+        out[k] = f
+        if length >= 2.0 * f * d:
+            raise _bad(p + "roller_length_mm", length, f"for kind 'ball' the groove width, < 2 f d = "
+                       f"{2.0 * f * d:g} mm ({k} = {f:g})")
+    return out
 
 
 def _build_relief(m: Any, length: float) -> EndRelief:
@@ -664,37 +836,85 @@ def _build_load(m: Mapping[str, Any], load_kN: float) -> Load:
     return Load(v * 1e3, mode, rl)
 
 
+#: ``defect.location`` values.
+DEFECT_LOCATIONS = ("inner_race", "outer_race", "rolling_element")
+
+#: ``defect.shape`` values: ``flat`` (rectangular footprint, flat bottom, rounded rims),
+#: ``dent`` (smooth cos^2 bump), ``cylinder`` (circular footprint of diameter ``width_um``, flat
+#: bottom, rounded rim: an EDM pit, CWRU), ``profile`` (measured profile from ``profile_file``).
+DEFECT_SHAPES = ("flat", "dent", "cylinder", "profile")
+
+
 def _build_defect(m: Mapping[str, Any], depth_um: float, bearing: Bearing) -> Defect:
     p = "defect."
     depth = _num(p + "depth_um", depth_um, lo=0)
-    length = _num(p + "length_um", m["length_um"], lo=0, lo_open=True)
+    shape = _choice(p + "shape", m["shape"], DEFECT_SHAPES)
     width = m["width_um"]
     width = 2.0 * depth if width is None else _num(p + "width_um", width, lo=0, lo_open=True)
-    shape = _choice(p + "shape", m["shape"], ("flat", "dent"))
+    # a cylindrical pit is round: its length is its diameter
+    length = width if shape == "cylinder" else _num(p + "length_um", m["length_um"], lo=0,
+                                                        lo_open=True)
     edge = _num(p + "edge_radius_um", m["edge_radius_um"], lo=0)
     ypos = _num(p + "axial_position_mm", m["axial_position_mm"])
     orient = _choice(p + "orientation", m["orientation"], ("axial", "circumferential"))
+    loc = _choice(p + "location", m["location"], DEFECT_LOCATIONS)
+    pos = _num(p + "position_deg", m["position_deg"], lo=0, hi=360, hi_open=True,
+               allowed="a finite angle in [0, 360) deg from the load direction (0 = centre of the "
+                       "load zone)")
+    pf = _defect_profile(m["profile_file"], shape)
     if depth > 0 and width <= 0:
         raise _bad(p + "width_um", width, "> 0 when depth_um > 0")
-    d = Defect(depth, length, width, shape, edge, ypos, orient)
+    d = Defect(depth, length, width, shape, edge, ypos, orient, loc, pos, pf)
     if depth > 0:
-        half_l = 0.5 * bearing.roller_length_mm
-        ey_mm = d.extent_y_m * 1e3
-        if ey_mm >= bearing.roller_length_mm:
-            field = "length_um" if orient == "axial" else "width_um"
-            raise _bad(p + field, getattr(d, field),
-                       f"an axial extent < roller_length_mm ({bearing.roller_length_mm:g} mm): the "
-                       f"defect must fit on the raceway under the roller")
-        if abs(ypos) + 0.5 * ey_mm > half_l:
-            raise _bad(p + "axial_position_mm", ypos,
-                       f"|y| <= L/2 - axial extent/2 = {half_l - 0.5 * ey_mm:g} mm")
-        circ_mm = math.pi * 2e3 * bearing.inner_race_radius_m / bearing.rollers_per_row
-        if d.extent_x_m * 1e3 >= 0.5 * circ_mm:
-            field = "width_um" if orient == "axial" else "length_um"
-            raise _bad(p + field, getattr(d, field),
-                       f"a rolling-direction extent < half the roller spacing on the raceway "
-                       f"({0.5 * circ_mm:g} mm)")
+        _check_defect_fits(d, bearing)
     return d
+
+
+def _defect_profile(pf: Any, shape: str) -> str | None:
+    """Validate ``defect.profile_file`` (required by, and only allowed with, ``shape: profile``)."""
+    p = "defect.profile_file"
+    if shape != "profile":
+        if pf is not None:
+            raise _bad(p, pf, "null unless defect.shape is 'profile'")
+        return None
+    if not isinstance(pf, (str, os.PathLike)):
+        raise _bad(p, pf, "a path to a two-column file (x_um, depth_um) with defect.shape: profile")
+    try:
+        read_defect_profile(os.fspath(pf))
+    except (OSError, ValueError) as exc:
+        raise _bad(p, pf, f"a readable two-column file (x_um, depth_um): {exc}")
+    return os.fspath(pf)
+
+
+def _check_defect_fits(d: Defect, bearing: Bearing) -> None:
+    """A defect the contact can host: axially within the roller (groove), along rolling less than
+    half the element spacing on its race (half the element's circumference for a
+    rolling-element defect), not deeper than the material under it."""
+    p = "defect."
+    half_l = 0.5 * bearing.roller_length_mm
+    ey_mm = d.extent_y_m * 1e3
+    if ey_mm >= bearing.roller_length_mm:
+        field = "length_um" if d.orientation == "axial" else "width_um"
+        raise _bad(p + field, getattr(d, field),
+                   f"an axial extent < roller_length_mm ({bearing.roller_length_mm:g} mm): the "
+                   f"defect must fit on the raceway under the roller")
+    if abs(d.axial_position_mm) + 0.5 * ey_mm > half_l:
+        raise _bad(p + "axial_position_mm", d.axial_position_mm,
+                   f"|y| <= L/2 - axial extent/2 = {half_l - 0.5 * ey_mm:g} mm")
+    if d.location == "rolling_element":
+        room_mm, what = 0.5 * math.pi * bearing.roller_diameter_mm, "half the element's circumference"
+    else:
+        race = "inner" if d.location == "inner_race" else "outer"
+        room_mm = math.pi * 2e3 * bearing.race_radius_m(race) / bearing.rollers_per_row
+        room_mm, what = 0.5 * room_mm, f"half the element spacing on the {race} raceway"
+    if d.extent_x_m * 1e3 >= room_mm:
+        field = "width_um" if d.orientation == "axial" else "length_um"
+        raise _bad(p + field, getattr(d, field), f"a rolling-direction extent < {what} "
+                   f"({room_mm:g} mm)")
+    t_um = 1e6 * bearing.race_thickness_m(d.location)
+    if d.depth_um >= t_um:
+        raise _bad(p + "depth_um", d.depth_um, f"a depth < the material under the {d.location} "
+                   f"({t_um:g} um)")
 
 
 def _build_operation(m: Mapping[str, Any], bpfi_per_hz: float, z: int) -> Operation:

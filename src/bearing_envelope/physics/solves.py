@@ -12,6 +12,8 @@ from typing import Any, Callable
 
 import numpy as np
 
+from ..contact import (ContactConvergenceError, ContactGridError, ElasticHalfSpace,
+                       solve_contact)
 from .fidelity import Fidelity
 from .geometry import Grid, gap_field, hertz_estimate, make_grid
 from .scene import Scene
@@ -34,8 +36,6 @@ class SolveStats:
     def solve(self, *args, **kwargs):
         """:func:`solve_contact` with its cost counted, also when it raises (stalled solves
         that a caller retries are part of the cost: ``n_failed``, ``failed_seconds``)."""
-        from ..contact import ContactConvergenceError, solve_contact
-
         t0 = _time.perf_counter()
         try:
             sol = solve_contact(*args, **kwargs)
@@ -98,8 +98,6 @@ def _halfspace(grid: Grid, e_star: float, backend: str, element: str = "uniform"
     on a shared 2-core machine were measured 10-100x slower. ``auto`` (pyfftw if present) pays a
     planning cost once per grid and is worth it for the many window solves; the single global
     solve per load uses pocketfft (no planning)."""
-    from ..contact import ElasticHalfSpace
-
     return ElasticHalfSpace(grid.shape, grid.dx, grid.dy, e_star, workers=1, backend=backend,
                             element=element)
 
@@ -147,8 +145,6 @@ def global_solve(scene: Scene, fid: Fidelity, q_load: float, extent: float, stat
     sizes. Returns ``(grid, solution)``; raises :class:`GlobalGridError` naming the load and the
     last extent.
     """
-    from ..contact import ContactGridError
-
     e_star = scene.material.e_star_pa
     dxg, dyg = fid.global_dx_m, fid.global_dy_m
     half = scene.bearing.half_length_m
@@ -273,8 +269,6 @@ class DefectSolve:
 def defect_solve(scene: Scene, fid: Fidelity, node: LoadNode, x_d: float, stats: SolveStats,
                   p_init=None) -> DefectSolve:
     """Window solve with the defect at offset ``x_d`` under the no-defect window approach."""
-    from ..contact import ContactConvergenceError
-
     win = node.window
     g = gap_field(scene, win, x_d) + node.u_ext
     kw = dict(tol=fid.tol, max_iter=fid.max_iter, approach=node.approach, boundary="ignore",
@@ -362,8 +356,6 @@ def _rim_schwarz(scene: Scene, fid: Fidelity, node: LoadNode, x_d: float, g: np.
     the strips' resolved rim pressure would not unload the cells around them (measured: the
     removed force 1 % low after one pass at 500 kN / 50 um). Returns the strips and the window
     pressure (the strips' rows hold their parent-cell means)."""
-    from ..contact import ContactConvergenceError
-
     win = node.window
     cell = win.dx * win.dy
     m = int(round(fid.local_dx_um / fid.rim_dx_um))
@@ -432,8 +424,6 @@ def _refine_rims(scene: Scene, fid: Fidelity, node: LoadNode, x_d: float, p: np.
     under displacement control at the window's approach (one pass: the other strip, if any,
     stays at the parent's pressure). Strips without contact are skipped.
     """
-    from ..contact import ContactConvergenceError
-
     win = node.window
     m = int(round(fid.local_dx_um / fid.rim_dx_um))
     dxc = win.dx / m

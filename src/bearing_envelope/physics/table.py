@@ -11,6 +11,7 @@ from typing import Any, Callable
 
 import numpy as np
 
+from ..contact import ContactConvergenceError
 from .fidelity import Fidelity, fidelity_from
 from .geometry import hertz_estimate
 from .kernels import HAVE_NUMBA, ratio_kernel
@@ -425,10 +426,15 @@ def _outside_maxima(scene: Scene, fid: Fidelity, nodes: list[LoadNode], qn: np.n
     return q_out ** 3, p_out
 
 
+#: Columns of one interpolation check row (:func:`_check_errors`): roller load (N), offset (m),
+#: solved P and P_d (Pa), their table readings (Pa), and the no-defect P0 (Pa).
+CHECK_COLUMNS = ("Q", "x", "P", "P_d", "P_interp", "P_d_interp", "P0")
+
+
 def _check_errors(rows) -> tuple[np.ndarray, float, float, float]:
     """``(rows as (n, 7) array, max rel. error of P, max error of P_d / P0, rms rel. error of P)``
-    of interpolation checks ``(Q, x, P, P_d, P_interp, P_d_interp, P0)``."""
-    a = np.array(rows, dtype=float).reshape(-1, 7)
+    of interpolation checks with the columns :data:`CHECK_COLUMNS`."""
+    a = np.array(rows, dtype=float).reshape(-1, len(CHECK_COLUMNS))
     if not len(a):
         return a, 0.0, 0.0, 0.0
     e = np.abs(a[:, 4] - a[:, 2]) / a[:, 2]
@@ -441,8 +447,6 @@ def _interpolation_checks(scene: Scene, fid: Fidelity, table: "PressureTable", q
     """The table's interpolation error against direct solves at ``n_checks`` random loads, at
     :data:`CHECK_OFFSETS_PER_LOAD` offsets each on the window grid (pure table error) and as
     many anywhere (adds the sub-cell discretisation jitter). Returns the ``info`` entries."""
-    from ..contact import ContactConvergenceError
-
     checks, checks_any, checks_any_failed = [], [], []
     if scene.defect.active and fid.n_checks:
         rng = np.random.default_rng(seed)

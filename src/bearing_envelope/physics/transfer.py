@@ -38,6 +38,7 @@ All randomness comes from one :class:`numpy.random.Generator` seeded by ``seed``
 
 from __future__ import annotations
 
+import json
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import asdict, dataclass, field
@@ -352,6 +353,15 @@ class TransferModel:
         d["modes"] = [asdict(x) for x in self.modes]
         d["tones"] = [{k: v for k, v in asdict(t).items() if v is not None} for t in self.tones]
         return d
+
+    def to_json(self) -> str:
+        """The canonical serialisation (sorted keys) a workflow job receives."""
+        return json.dumps(self.to_dict(), sort_keys=True)
+
+    @classmethod
+    def from_json(cls, text: str) -> TransferModel:
+        """The model :meth:`to_json` serialised."""
+        return cls.from_mapping(json.loads(text))
 
 
 # --------------------------------------------------------------------------------------------

@@ -26,7 +26,10 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
+from matplotlib.colors import to_rgb  # noqa: E402
 
+from ..io import atomic_dir, read_case  # noqa: E402
+from ..signal import spectral_kurtosis  # noqa: E402
 from .tables import public_mode  # noqa: E402
 
 __all__ = [
@@ -380,8 +383,6 @@ def draw_time_histories(pairs, *, periods: float = 6.0):
 
 
 def _darker(colour: str) -> tuple:
-    from matplotlib.colors import to_rgb
-
     return tuple(0.55 * c for c in to_rgb(colour))
 
 
@@ -465,8 +466,6 @@ def draw_kurtogram(kurtogram, case: str, *, signal=None, fs=None, nperseg=None):
         ax.set_xlabel("frequency (kHz)")
         ax.set_ylabel("level")
     if signal is not None:
-        from ..signal import spectral_kurtosis
-
         if nperseg is None:
             nperseg = sk_window(level if level is not None else 7.0)
         nperseg = int(nperseg)
@@ -529,8 +528,6 @@ def make_figures(*, harmonics, cases, bands, case_files, kurtogram_files, spectr
     outdir : path
         Output folder.
     """
-    from ..io import atomic_dir, read_case
-
     outdir = Path(outdir)
     with atomic_dir(outdir) as tmp:
         tidy = pd.read_csv(harmonics)
@@ -616,8 +613,6 @@ def draw_diagnosability_map(g: pd.DataFrame, band: str, *, vmax: float | None = 
 def fig_diagnosability_maps(df: pd.DataFrame, outdir) -> list[Path]:
     """Heat maps of the BPFI detection statistic (:func:`draw_diagnosability_map`), one PNG per
     band, written to a temporary folder, then renamed to ``outdir``."""
-    from ..io import atomic_dir
-
     outdir = Path(outdir)
     with atomic_dir(outdir) as tmp:
         written = []

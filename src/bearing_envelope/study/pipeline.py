@@ -24,6 +24,7 @@ squared envelope).
 
 from __future__ import annotations
 
+import dataclasses
 import json
 from collections.abc import Mapping
 from typing import Any
@@ -31,7 +32,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from ..diagnosis import analyze_signal
+from ..diagnosis import AnalysisOptions, analyze_signal
 from ..diagnosis.detection import detection_statistic
 from ..io import BandLimits, CaseBands, CaseSpectra
 from ..physics.fidelity import Fidelity
@@ -176,15 +177,12 @@ def case_harmonics(case, analysis: AnalysisSettings, bands, *, full_output: bool
              for b in bands.bands]
     strategies = {b.name: b.strategy for b in bands.bands}
     clamped = {b.name: b.clamped for b in bands.bands}
-    res = analyze_signal(
-        x, fs, fr=float(case.fr), bpfi=float(case.bpfi), bands=specs,
-        n_harmonics=analysis.harmonics,
-        n_sidebands=analysis.sidebands,
-        n_raw_harmonics=analysis.raw_orders_fr,
-        nlevel=None, filter_order=analysis.filter_order,
-        squared=analysis.squared_envelope,
-        full_output=full_output,
-    )
+    options = AnalysisOptions(
+        bands=specs, n_harmonics=analysis.harmonics, n_sidebands=analysis.sidebands,
+        n_raw_harmonics=analysis.raw_orders_fr, nlevel=None,
+        filter_order=analysis.filter_order, squared=analysis.squared_envelope)
+    res = analyze_signal(x, fs, fr=float(case.fr), bpfi=float(case.bpfi), options=options,
+                         full_output=full_output)
     df, extra = (res if full_output else (res, None))
     df = tidy_from_analysis(df, strategies)
     df = df[df["quantity"] != "kurtogram_kurtosis"]
@@ -318,7 +316,7 @@ def _case_signals(case) -> dict:
     return signals
 
 
-def case_acceleration(case, sensor: Mapping[str, Any], *, reference=None, snr_db="model",
+def case_acceleration(case, sensor: TransferModel, *, reference=None, snr_db="model",
                       seed=None, excitation=None) -> tuple[np.ndarray, dict[str, Any]]:
     """Synthetic accelerometer signal of a case through the transfer path of ``sensor``.
 
@@ -329,8 +327,8 @@ def case_acceleration(case, sensor: Mapping[str, Any], *, reference=None, snr_db
     Parameters
     ----------
     case : bearing_envelope.io.Case
-    sensor : mapping
-        The config's ``sensor:`` section (:meth:`bearing_envelope.physics.transfer.TransferModel.from_mapping`).
+    sensor : bearing_envelope.physics.transfer.TransferModel
+        The config's ``sensor:`` section, typed (``Settings.sensor``).
     reference : Case, optional
         No-defect case of the same load: the SNR is that of the defect part ``H e - H e_ref``.
     snr_db : float, None or "model"
@@ -349,11 +347,9 @@ def case_acceleration(case, sensor: Mapping[str, Any], *, reference=None, snr_db
         ``excitation_signal``, ``n_samples``, ...; :func:`bearing_envelope.io.write_sensor_case`
         stores it with the signal.
     """
-    section = dict(sensor)
-    if excitation is not None:
-        section["excitation"] = excitation
+    model = sensor if excitation is None else dataclasses.replace(sensor, excitation=excitation)
     fs = float(case.fs)
-    model = TransferModel.from_mapping(section, fs=fs)
+    model.check_fs(fs)
     if snr_db != "model":
         model = model.with_snr(snr_db)
     name, x = select_excitation(_case_signals(case), model.excitation)
@@ -375,8 +371,8 @@ def case_acceleration(case, sensor: Mapping[str, Any], *, reference=None, snr_db
 def _sensor_setup(case, sensor, reference):
     """Transfer model, excitation and reference excitation of a case (internal)."""
 
-    fs = float(case.fs)
-    model = TransferModel.from_mapping(sensor, fs=fs)
+    model = sensor
+    model.check_fs(float(case.fs))
     _, e = select_excitation(case.signals, model.excitation)
     exc = excitation_from_history(e, scale=model.excitation_scale)
     ref = None
@@ -406,7 +402,7 @@ def _snr_definition(case, ref) -> str:
 MAP_BACKGROUND = (0.8, 1.2)
 
 
-def diagnosability_bands(case, sensor: Mapping[str, Any], analysis: AnalysisSettings, *,
+def diagnosability_bands(case, sensor: TransferModel, analysis: AnalysisSettings, *,
                          reference=None, record=None) -> list[tuple[dict, float, float]]:
     """Demodulation bands of the detection map of one case.
 
@@ -437,7 +433,7 @@ def diagnosability_bands(case, sensor: Mapping[str, Any], analysis: AnalysisSett
     return out
 
 
-def case_diagnosability(case, sensor: Mapping[str, Any], analysis: AnalysisSettings,
+def case_diagnosability(case, sensor: TransferModel, analysis: AnalysisSettings,
                         snr_db, *, reference=None, kurtogram_from: str = "clean") -> pd.DataFrame:
     """Is BPFI detected in the synthetic acceleration of a case, per SNR and band strategy?
 
@@ -451,10 +447,10 @@ def case_diagnosability(case, sensor: Mapping[str, Any], analysis: AnalysisSetti
     Parameters
     ----------
     case : bearing_envelope.io.Case
-    sensor : mapping
-        The config's ``sensor`` section (:meth:`TransferModel.from_mapping` keys).
-    analysis : mapping
-        The config's ``analysis`` section.
+    sensor : bearing_envelope.physics.transfer.TransferModel
+        The config's ``sensor`` section, typed.
+    analysis : bearing_envelope.study.settings.AnalysisSettings
+        The config's ``analysis`` section, typed.
     snr_db : sequence of float
         SNR levels (dB). Every level uses the same noise realisation (seed ``sensor.seed``),
         scaled to its level (common random numbers): a row of the map is one recording at
@@ -518,7 +514,7 @@ def _trial_seed(base: int, case, trial: int, snr: float) -> int:
     return int(np.random.SeedSequence(key).generate_state(1)[0])
 
 
-def case_false_alarms(case, sensor: Mapping[str, Any], analysis: AnalysisSettings, snr_db,
+def case_false_alarms(case, sensor: TransferModel, analysis: AnalysisSettings, snr_db,
                       n_trials: int, *, reference=None, kurtogram_from: str = "clean") -> pd.DataFrame:
     """Measured false alarms of the detection map on a healthy case: ``n_trials`` noise
     realisations per SNR, each tested in every band exactly as :func:`case_diagnosability`

@@ -354,11 +354,14 @@ class DiagnosabilitySettings:
 
     enabled: bool
     snr_db: tuple[float, ...]
+    false_alarm_trials: int
+    kurtogram_from: str
 
     @classmethod
     def from_mapping(cls, m: Mapping[str, Any] | None) -> "DiagnosabilitySettings":
         m = {**section_defaults("diagnosability"), **dict(m or {})}
-        return cls(bool(m["enabled"]), tuple(float(x) for x in m["snr_db"]))
+        return cls(bool(m["enabled"]), tuple(float(x) for x in m["snr_db"]),
+                   int(m["false_alarm_trials"]), str(m["kurtogram_from"]))
 
 
 @dataclass(frozen=True)

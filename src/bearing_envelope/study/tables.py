@@ -11,6 +11,7 @@ like the study's Figs 8, 12 and 14-20. Files are written and read by :mod:`beari
 
 from __future__ import annotations
 
+import html
 import os
 from collections.abc import Iterable, Mapping
 
@@ -34,6 +35,8 @@ __all__ = [
     "table_html",
 ]
 
+from ..io import public_mode as _io_public_mode
+from ..io import write_csv_atomic as _io_write_csv_atomic
 from ..io.vocabulary import (BAND_STRATEGIES, QUANTITIES, RAW_BAND, TIDY_COLUMNS,  # noqa: F401
                          TIDY_EXTRA_COLUMNS, TIDY_SORT, quantity_name)
 from .settings import CaseId, format_number
@@ -76,24 +79,18 @@ def parse_case_name(name: str) -> tuple[float, float]:
     Kept for callers of the former helper; new code uses ``CaseId.parse`` (which also gives the
     width of a ``..._w{width}um`` name).
     """
-    from .settings import CaseId
-
     c = CaseId.parse(name)
     return c.load_kN, c.depth_um
 
 
 def public_mode(path) -> None:
     """Alias of :func:`bearing_envelope.io.public_mode` (kept for existing callers)."""
-    from ..io import public_mode as mode
-
-    mode(path)
+    _io_public_mode(path)
 
 
 def write_csv_atomic(df: pd.DataFrame, path: str | os.PathLike, **kwargs) -> None:
     """Write ``df`` to CSV atomically: :func:`bearing_envelope.io.write_csv_atomic`."""
-    from ..io import write_csv_atomic as write
-
-    write(df, path, **kwargs)
+    _io_write_csv_atomic(df, path, **kwargs)
 
 
 def concat_tidy(frames: Iterable[pd.DataFrame]) -> pd.DataFrame:
@@ -201,8 +198,6 @@ def table_html(tables, title: str, caption: str = "") -> str:
     title, caption : str
         Page title and a paragraph under it.
     """
-    import html
-
     style = ("body{font-family:sans-serif;font-size:12px;margin:1em}"
              "table{border-collapse:collapse;margin-bottom:1.5em}"
              "td,th{border:1px solid #bbb;padding:2px 5px;text-align:right}th{background:#eee}")

@@ -1,0 +1,73 @@
+"""Bearing catalogue: the geometry of named bearings, with the source of every number.
+
+The catalogue is package data (``bearing_envelope/data/bearings.yaml``): one entry per
+designation, each field ``{value, source}`` in the units of the ``scene.bearing`` keys
+(``docs/scene.md``). A config names an entry with ``scene.bearing.designation``; the entry's
+values replace the default scene's bearing and any key the config gives overrides them
+(:meth:`bearing_envelope.scene.Scene.from_mapping`). ``source`` says where a number comes from;
+"assumed" marks a value that is not published.
+
+Entries (issue 23): ``FAG 534176`` (the source study, equal to today's default scene),
+``SKF 6205-2RS`` (CWRU drive end), ``SKF 6203`` (Paderborn), ``MFPT`` (MFPT Society test
+bearing), ``Rexnord ZA-2115`` (IMS rig).
+"""
+
+from __future__ import annotations
+
+import copy
+from functools import lru_cache
+from pathlib import Path
+from typing import Any
+
+import yaml
+
+__all__ = ["CATALOGUE_PATH", "designations", "bearing_values", "bearing_sources", "entry"]
+
+#: The catalogue file (package data).
+CATALOGUE_PATH = Path(__file__).resolve().parent.parent / "data" / "bearings.yaml"
+
+#: Entry keys that are not ``scene.bearing`` fields.
+_META_KEYS = ("description",)
+
+
+@lru_cache(maxsize=1)
+def _load() -> dict[str, dict[str, Any]]:
+    with open(CATALOGUE_PATH, encoding="utf-8") as fh:
+        data = yaml.safe_load(fh)
+    for name, ent in data.items():
+        for key, item in ent.items():
+            if key in _META_KEYS:
+                continue
+            if not isinstance(item, dict) or set(item) != {"value", "source"}:
+                raise ValueError(f"{CATALOGUE_PATH}: {name}.{key}: expected {{value, source}}")
+    return data
+
+
+def designations() -> tuple[str, ...]:
+    """The designations in the catalogue, in file order."""
+    return tuple(_load())
+
+
+def entry(designation: str) -> dict[str, Any]:
+    """The raw catalogue entry (``{field: {value, source}}`` plus ``description``).
+
+    Raises
+    ------
+    ValueError
+        ``scene.bearing.designation`` naming the value and the designations allowed.
+    """
+    cat = _load()
+    if designation not in cat:
+        raise ValueError(f"scene.bearing.designation: got {designation!r}; allowed: null or one of "
+                         f"{list(cat)} (bearing_envelope/data/bearings.yaml)")
+    return copy.deepcopy(cat[designation])
+
+
+def bearing_values(designation: str) -> dict[str, Any]:
+    """``scene.bearing`` values of a catalogue entry (field -> value, scene units)."""
+    return {k: v["value"] for k, v in entry(designation).items() if k not in _META_KEYS}
+
+
+def bearing_sources(designation: str) -> dict[str, str]:
+    """The source of every value of a catalogue entry (field -> text)."""
+    return {k: v["source"] for k, v in entry(designation).items() if k not in _META_KEYS}

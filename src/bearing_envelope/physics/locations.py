@@ -1,0 +1,132 @@
+"""Fault locations other than the inner race: outer race and rolling element (issue 23).
+
+The inner-race history (:mod:`bearing_envelope.physics.history`) is unchanged; this module gives
+the kinematics, the roller load and the contact tables of the two other locations and turns
+them into the same signals (:data:`bearing_envelope.physics.history.CONTACT_SIGNALS`).
+
+**Outer race** (``defect.location: outer_race``). The outer ring is fixed; the defect sits at
+``phi_d`` = ``defect.position_deg`` from the load direction (0 = centre of the load zone). The
+cage turns at ``f_c`` (the FTF, or ``f_r - BPFI/Z`` with the BPFI override); element ``j`` sits
+at ``theta_c + 2 pi j / Z``, so an element passes the defect at ``Z f_c`` = BPFO. Offset of the
+defect from the nearest element's contact centre along the outer raceway:
+``x = R_o wrap(phi_d - theta_c)`` (``wrap`` into ``[-pi/Z, pi/Z)``,
+``R_o = (D + d cos alpha)/2``). Load: the load-zone law at ``phi_d`` (``smooth``: constant under
+a steady load, zero outside the load zone) or at the passing element's angle (``discrete``).
+The contact table is that of the outer contact: the concave outer raceway in the gap
+(``1/R_x = 2/d - 1/R_o``; the outer profile radius or groove conformity across rolling).
+
+**Rolling element** (``defect.location: rolling_element``). The defect is on element 0, whose
+centre is at the cage angle ``theta_c`` (in the load zone's centre at ``t = 0``); the element
+carries ``Q(theta_c)``, modulated at the cage rate (FTF). Rolling without slip on the fixed
+outer race, it turns relative to the cage by ``beta = theta_c (D + d cos alpha)/d`` (this is
+``2 pi BSF t`` without slip: ``R_o f_c / (d/2) = BSF``). Its surface point at ``beta = 0``
+touches the outer race, at ``beta = pi`` the inner race: the defect meets the two races
+alternately, ``2 x BSF`` events per unit time, each in its own contact (its own table, the
+race's curvature): ``x_o = (d/2) wrap(beta)``, ``x_i = (d/2) wrap(beta - pi)`` (``wrap`` into
+``[-pi, pi)``). Signals: ``p_max`` the larger of the two contacts' maxima; ``p_max_defect`` and
+the integral signals add the two contacts' (the element's approach is the sum of its two
+approaches; the defect is in at most one contact at a time); ``defect_offset`` the offset in
+the contact the defect is nearer to.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .fidelity import Fidelity
+from .loads import LoadDistribution
+from .scene import Scene
+from .solves import SolveStats
+from .table import PressureTable, build_table
+
+__all__ = ["location_tables", "location_signals", "outer_race_kinematics",
+           "rolling_element_kinematics", "TWO_PI"]
+
+TWO_PI = 2.0 * math.pi
+
+
+def _wrap(angle: np.ndarray, period: float) -> np.ndarray:
+    """``angle`` wrapped into ``[-period/2, period/2)`` (rad)."""
+    return angle - period * np.floor(angle / period + 0.5)
+
+
+def outer_race_kinematics(scene: Scene, theta_c: np.ndarray) -> dict[str, np.ndarray]:
+    """Offset (m) of an outer-race defect from the nearest element, and the angle (rad) of the
+    load law: the defect's (``smooth``) or the passing element's (``discrete``).
+
+    Parameters
+    ----------
+    scene : Scene
+        ``defect.location == "outer_race"``.
+    theta_c : ndarray
+        Cage angle (rad) at each instant (:func:`bearing_envelope.physics.history.cage_angle`).
+    """
+    b = scene.bearing
+    phi_d = math.radians(scene.defect.position_deg)
+    wrapped = _wrap(phi_d - theta_c, TWO_PI / b.rollers_per_row)
+    psi = phi_d - wrapped if scene.load.roller_load == "discrete" else np.full(theta_c.shape, phi_d)
+    return {"offset": b.outer_race_radius_m * wrapped, "psi": psi}
+
+
+def rolling_element_kinematics(scene: Scene, theta_c: np.ndarray) -> dict[str, np.ndarray]:
+    """Offsets (m) of a rolling-element defect in the outer and inner contact, and the element's
+    angle (rad) from the load direction (the load law's argument).
+
+    ``beta = theta_c (D + d cos alpha)/d`` (the element's turn relative to the cage), offsets
+    ``x_o = (d/2) wrap(beta)``, ``x_i = (d/2) wrap(beta - pi)``.
+    """
+    b = scene.bearing
+    d = 1e-3 * b.roller_diameter_mm
+    beta = theta_c * (b.pitch_diameter_m + d * math.cos(b.contact_angle_rad)) / d
+    return {"offset_outer": 0.5 * d * _wrap(beta, TWO_PI),
+            "offset_inner": 0.5 * d * _wrap(beta - math.pi, TWO_PI), "psi": theta_c}
+
+
+def location_tables(scene: Scene, fid: Fidelity, q_max: float, stats: SolveStats,
+                    progress: bool = False) -> tuple[dict[str, PressureTable], list, dict]:
+    """The contact tables a location needs: ``{"outer": ...}`` for an outer-race defect (the
+    scene's contact is already the outer one), ``{"inner": ..., "outer": ...}`` for a rolling
+    element. Returns ``(tables, nodes, snapshots)`` (nodes and snapshots of the first table)."""
+    races = ("outer",) if scene.defect.location == "outer_race" else ("inner", "outer")
+    tables, nodes, snaps = {}, None, None
+    for race in races:
+        tab, nd, sn = build_table(scene.for_race(race), fid, q_max=q_max, stats=stats,
+                                  progress=progress)
+        tables[race] = tab
+        if nodes is None:
+            nodes, snaps = nd, sn
+    return tables, nodes, snaps
+
+
+def _contact(table: PressureTable, Q: np.ndarray, x: np.ndarray, use_numba: bool) -> dict:
+    P, Pd = table.evaluate(Q, x)
+    out = {"p_max": P, "p_max_defect": Pd}
+    out.update(table.evaluate_integrals(Q, x, use_numba=use_numba))
+    return out
+
+
+def location_signals(scene: Scene, tables: dict[str, PressureTable], ld: LoadDistribution,
+                     theta_c: np.ndarray, *, use_numba: bool = True) -> dict[str, np.ndarray]:
+    """Every contact and state signal at the instants of ``theta_c`` (cage angle, rad) for an
+    outer-race or rolling-element defect (module docstring)."""
+    if scene.defect.location == "outer_race":
+        kin = outer_race_kinematics(scene, theta_c)
+        Q = ld.load_at(kin["psi"])
+        out = _contact(tables["outer"], Q, kin["offset"], use_numba)
+        out.update(roller_load=Q, defect_offset=kin["offset"])
+        return out
+    kin = rolling_element_kinematics(scene, theta_c)
+    Q = ld.load_at(kin["psi"])
+    ci = _contact(tables["inner"], Q, kin["offset_inner"], use_numba)
+    co = _contact(tables["outer"], Q, kin["offset_outer"], use_numba)
+    removed = ci["removed_force"] + co["removed_force"]
+    xo, xi = kin["offset_outer"], kin["offset_inner"]
+    return {"p_max": np.maximum(ci["p_max"], co["p_max"]),
+            "p_max_defect": ci["p_max_defect"] + co["p_max_defect"],
+            "removed_force": removed, "contact_force": Q - removed,
+            "approach": ci["approach"] + co["approach"],
+            "approach_change": ci["approach_change"] + co["approach_change"],
+            "contact_area": ci["contact_area"] + co["contact_area"],
+            "roller_load": Q, "defect_offset": np.where(np.abs(xo) <= np.abs(xi), xo, xi)}
