@@ -394,8 +394,8 @@ def case_file_problem(path: str | os.PathLike) -> str | None:
     Checks the format attributes (this version only: a file without checksums is rebuilt) and
     the required datasets, then verifies the whole file
     (:func:`bearing_envelope.io.integrity.verify_file`: every chunk read against its
-    Fletcher-32 sum, the attribute digest recomputed). Reads every byte once: about 10 ms per
-    MB of case file.
+    Fletcher-32 sum, the attribute digest recomputed). Reads every byte once: 16 ms CPU per
+    MB (0.14 s for a default case file of 8.9 MB).
     """
     import h5py
 
