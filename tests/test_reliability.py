@@ -103,10 +103,11 @@ def test_bit_flips_in_data_and_attribute_are_caught_and_rebuilt(tiny, tmp_path):
     with h5py.File(b, "r") as f:
         assert f.attrs["bpfi"] != 231.9  # the flip is real (and silent to HDF5)
     assert "checksum" in verify_file(a) and "digest mismatch" in verify_file(b)
-    # a dry run reports and changes nothing
-    dry = run(wd, cfg, "-n")
-    assert dry.stderr.count("a real run moves it aside") == 2
-    assert a.exists() and b.exists() and not list(a.parent.glob("*.unreadable-*"))
+    # a dry run reports and changes nothing, in its short and its long spelling
+    for flag in ("-n", "--dry-run"):
+        dry = run(wd, cfg, flag)
+        assert dry.stderr.count("a real run moves it aside") == 2, flag
+        assert a.exists() and b.exists() and not list(a.parent.glob("*.unreadable-*"))
     out = run(wd, cfg)
     log = out.stderr + out.stdout
     assert job_counts(log) == {"simulate": 2, "bands": 2, "envelope": 2, "aggregate": 1}
@@ -317,3 +318,50 @@ def test_full_disk_while_writing_a_case_file(small_fs, monkeypatch):
         write_case(target, hist)
     assert err.value.errno == errno.ENOSPC and "\n" not in str(err.value)
     assert sorted(p.name for p in small_fs.rglob("*") if p.is_file()) == ["filler"]
+
+
+def test_sensor_case_is_checksummed_and_sealed(tiny, tmp_path):
+    """The sensor case (a copy of the case plus /signals/acceleration) verifies; a bit flipped
+    in the acceleration's first chunk is caught."""
+    base, _ = tiny
+    source = base / CASE_A
+    out = tmp_path / "sensor" / "F500kN_h50um.h5"
+    acc = np.random.default_rng(1).standard_normal(read_case(source).p_max.size)
+    write_sensor_case(out, acc, case=read_case(source), source=source)
+    assert verify_file(out) is None
+    np.testing.assert_array_equal(read_case(out).signals["acceleration"], acc)
+    flip_bit(out, chunk_offset(out, "signals/acceleration"))
+    assert "checksum" in verify_file(out)
+
+
+def test_profile_file_hash_is_stored_in_the_case(tmp_path):
+    """A case made with a measured profile stores the SHA-256 of the file's bytes (computed
+    here with hashlib, independently)."""
+    import hashlib
+
+    from bearing_envelope.io import write_case
+    from bearing_envelope.physics.history import simulate
+    from bearing_envelope.physics.scene import Scene
+
+    prof = tmp_path / "profile.csv"
+    prof.write_text("-17,10\n-8,2\n0,0\n8,2\n17,10\n")
+    scene = Scene.from_mapping({"bearing": {"profile_file": str(prof)},
+                                "operation": {"revolutions": 0.2, "acquisition": {"mode": "point"}}},
+                               load_kN=500, depth_um=50)
+    path = write_case(tmp_path / "F500kN_h50um.h5", simulate(scene, "draft"))
+    assert read_case(path).attrs["profile_file_sha256"] == hashlib.sha256(prof.read_bytes()).hexdigest()
+
+
+def test_cli_simulate_refuses_what_does_not_fit(tmp_path, capsys):
+    from bearing_envelope.cli import main
+
+    path = tmp_path / "config.yaml"
+    path.write_text(yaml.safe_dump(_mutated("scene.operation.revolutions", 1e5)))
+    out = tmp_path / "case.h5"
+    t0 = time.process_time()
+    assert main(["simulate", "--config", str(path), "--load-kn", "250", "--depth-um", "50", "-q",
+                 "-o", str(out)]) == 2
+    assert time.process_time() - t0 < 5.0
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "scene.operation.revolutions" in err and "GB" in err
+    assert not out.exists()

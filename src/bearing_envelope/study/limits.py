@@ -32,7 +32,7 @@ from ..physics.fidelity import fidelity_from
 from .tradeoff import _apply_knob
 
 __all__ = ["DEFAULT_LIMITS", "MIN_HARDNESS_GPA", "MAX_CASE_NAME_CHARS", "ResourceEstimate",
-           "estimate_case", "min_revolutions", "refuse_config_code", "available_memory_bytes", "precheck",
+           "estimate_case", "check_case", "min_revolutions", "refuse_config_code", "available_memory_bytes", "precheck",
            "profile_files"]
 
 #: Stated limits per case when the config has no ``limits:`` section: CPU seconds of one
@@ -321,3 +321,21 @@ def profile_files(settings) -> list[str]:
     each case as ``profile_file_sha256``)."""
     profile = (settings.scene_mapping.get("bearing") or {}).get("profile_file")
     return [os.fspath(profile)] if profile else []
+
+
+def check_case(case, scene, fidelity, config: Mapping | None = None, analysis=None) -> ResourceEstimate:
+    """The per-case checks of :func:`precheck` for one case outside the workflow
+    (``bearing-envelope simulate``): lower bounds and the resource estimate against the
+    available memory and the ``limits:`` of ``config`` (defaults :data:`DEFAULT_LIMITS`).
+
+    Raises
+    ------
+    ConfigError
+        One line naming the field, the estimate and what is allowed.
+    """
+    limits = _limits(config or {})
+    cap = available_memory_bytes()
+    if limits["max_case_memory_GB"] is not None:
+        cap = min(cap, limits["max_case_memory_GB"] * _GB)
+    _check_case(case, scene, analysis, limits, cap, fidelity)
+    return estimate_case(case.name, scene, fidelity)
