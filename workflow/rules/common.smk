@@ -87,11 +87,13 @@ def example_cases(wildcards=None):
     nearest the study's 250 kN / 15 um, 500 kN / 50 um and 750 kN / 100 um, each with the
     healthy race of its load (bearing_envelope.study.figures.example_pairs)."""
     load = max(LOADS)
-    at_load = [c for c in CASE_IDS if c.load_kN == load]
+    # with a location axis: the cases of its first location (the figures of one location)
+    first = [c for c in CASE_IDS if c.location == CASE_IDS[0].location]
+    at_load = [c for c in first if c.load_kN == load]
     return {
         "defect": max(at_load, key=lambda c: (c.depth_um, c.width_um or 0.0)).name,
         "healthy": min(at_load, key=lambda c: (c.depth_um, c.width_um or 0.0)).name,
-        "pairs": example_pairs(CASE_IDS),
+        "pairs": example_pairs(first),
     }
 
 
@@ -101,8 +103,9 @@ def reference_case(wildcards):
     noise: bearing_envelope.study.pipeline.case_diagnosability). None where the sweep lacks it."""
     case = CaseId.parse(wildcards.case)
     if case.depth_um > 0:
-        return f"results/cases/{CaseId(case.load_kN, 0.0).name}.h5" if 0.0 in DEPTHS else []
-    peers = [c for c in CASE_IDS if c.load_kN == case.load_kN and c.depth_um > 0]
+        return f"results/cases/{case.healthy.name}.h5" if 0.0 in DEPTHS else []
+    peers = [c for c in CASE_IDS if c.load_kN == case.load_kN and c.location == case.location
+             and c.depth_um > 0]
     if not peers:
         return []
     return f"results/cases/{min(peers, key=lambda c: (c.depth_um, c.width_um or 0.0)).name}.h5"

@@ -143,7 +143,9 @@ def fault_families(frequencies: Mapping[str, float], *, fr: float,
     sidebands : mapping, optional
         ``name -> spacing name`` (``"fr"``, another family's name, or None), overriding
         :data:`SIDEBAND_SPACING`. Families not listed anywhere get no sidebands. A spacing
-        whose frequency is unknown (``bsf`` without ``ftf``) gives no sidebands.
+        whose frequency is unknown (``bsf`` without ``ftf``) gives no sidebands. A spacing may
+        also be a pair ``(name, Hz)``: a spacing that is not itself a searched family (the
+        sweep's rolling-element cases: ``{"bsf2": ("ftf", f_c)}``).
 
     Returns
     -------
@@ -163,7 +165,10 @@ def fault_families(frequencies: Mapping[str, float], *, fr: float,
     out = []
     for name, hz in freqs.items():
         sb = spacing_map.get(name)
-        sb_hz = known.get(sb) if sb is not None else None
+        if isinstance(sb, tuple):
+            sb, sb_hz = str(sb[0]), float(sb[1])
+        else:
+            sb_hz = known.get(sb) if sb is not None else None
         if sb_hz is None:
             sb = None
         out.append(FaultFamily(name, hz, sb, sb_hz, FAMILY_LABELS.get(name, f"{name} line")))

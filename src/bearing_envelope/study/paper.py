@@ -97,9 +97,17 @@ class Finding:
     extra: dict = field(default_factory=dict)
 
 
+#: The defect location of the source study (its findings are about an inner-race defect).
+STUDY_LOCATION = "inner_race"
+
+
 def read_tables(cases, harmonics, bands, label: str = "default") -> Tables:
-    """Read the three CSV tables of a sweep."""
-    return Tables(pd.read_csv(cases), pd.read_csv(harmonics), pd.read_csv(bands), label)
+    """Read the three CSV tables of a sweep; of a location sweep (tables with a ``location``
+    column) only the study's location, the inner race, whose BPFI lines the findings read."""
+    frames = [pd.read_csv(p) for p in (cases, harmonics, bands)]
+    frames = [f[f["location"] == STUDY_LOCATION].reset_index(drop=True)
+              if "location" in f.columns else f for f in frames]
+    return Tables(*frames, label)
 
 
 # --------------------------------------------------------------------------------------------
@@ -442,7 +450,10 @@ def compare(cases, harmonics, bands, *, paper=None) -> list[tuple[Finding, Findi
     paper : mapping, optional
         ``{"cases": path, "harmonics": path, "bands": path}`` of the paper-conventions run.
     """
-    a = findings(read_tables(cases, harmonics, bands))
+    t = read_tables(cases, harmonics, bands)
+    if t.harmonics.empty:  # a sweep without inner-race cases: none of the study's findings apply
+        return []
+    a = findings(t)
     if not paper:
         return [(f, None) for f in a]
     b = {f.key: f for f in findings(read_tables(paper["cases"], paper["harmonics"],

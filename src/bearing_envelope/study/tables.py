@@ -29,6 +29,7 @@ __all__ = [
     "tidy_from_analysis",
     "concat_tidy",
     "band_table",
+    "add_location",
     "pivot_tables",
     "write_csv_atomic",
     "parse_case_name",
@@ -113,13 +114,15 @@ def concat_tidy(frames: Iterable[pd.DataFrame]) -> pd.DataFrame:
     if bad.any():
         rows = df.loc[bad, ["case", "band", "quantity", "order", "sideband"]].head(5)
         raise ValueError(f"non-finite amplitudes in {int(bad.sum())} rows, e.g.\n{rows}")
-    width_of = {c: CaseId.parse(c).width_um for c in df["case"].unique()}
-    widths = [width_of[c] for c in df["case"]]
-    lead = list(TIDY_COLUMNS)
-    sort = list(TIDY_SORT)
-    if any(w is not None for w in widths):
-        # a sweep over widths: the width is a key like load and depth (empty: the healthy race)
-        df["width_um"] = [np.nan if w is None else w for w in widths]
+    lead, sort = list(TIDY_COLUMNS), list(TIDY_SORT)
+    df = add_location(df)
+    if "location" in df.columns:
+        # a key like load and depth, the first of the sort
+        lead.insert(lead.index("depth_um") + 1, "location")
+        sort.insert(0, "location")
+    df = add_width(df)
+    if "width_um" in df.columns:
+        # a sweep over widths: a key like load and depth (empty: the healthy race)
         lead.insert(lead.index("depth_um") + 1, "width_um")
         sort.insert(sort.index("depth_um") + 1, "width_um")
     extra = [c for c in df.columns if c not in lead]
@@ -130,6 +133,33 @@ def concat_tidy(frames: Iterable[pd.DataFrame]) -> pd.DataFrame:
         raise ValueError(f"{int(dup.sum())} tidy rows share case, band, quantity, order and "
                          f"sideband, e.g. {rows.to_dict('records')}")
     return df.sort_values(sort, kind="stable").reset_index(drop=True)
+
+
+def add_location(df: pd.DataFrame) -> pd.DataFrame:
+    """``df`` with a ``location`` column after ``depth_um`` (``inner_race``, ``outer_race``,
+    ``rolling_element``) read from its case names, when a name carries one (a sweep over
+    locations, or a scene's location other than the inner race); else ``df`` unchanged, so the
+    default sweep's tables stay as they were."""
+    locations = [CaseId.parse(c).location for c in df["case"]]
+    if all(loc is None for loc in locations):
+        return df
+    df = df.drop(columns=["location"], errors="ignore")
+    df.insert(list(df.columns).index("depth_um") + 1, "location", locations)
+    return df
+
+
+def add_width(df: pd.DataFrame) -> pd.DataFrame:
+    """``df`` with a ``width_um`` column after ``depth_um`` (the defect width of a sweep over
+    widths, NaN for the healthy race) read from its case names, when a name carries one; else
+    ``df`` unchanged."""
+    width_of = {c: CaseId.parse(c).width_um for c in df["case"].unique()}
+    widths = [width_of[c] for c in df["case"]]
+    if all(w is None for w in widths):
+        return df
+    df = df.drop(columns=["width_um"], errors="ignore")
+    df.insert(list(df.columns).index("depth_um") + 1, "width_um",
+              [np.nan if w is None else w for w in widths])
+    return df
 
 
 def band_table(bands: Iterable) -> pd.DataFrame:
@@ -150,28 +180,40 @@ def band_table(bands: Iterable) -> pd.DataFrame:
 def pivot_tables(tidy: pd.DataFrame, *, sideband: int = 0) -> dict[str, pd.DataFrame]:
     """Load x depth pivot of every (band, quantity, order) at one sideband index.
 
-    With a ``width_um`` column (a sweep over defect widths) there is one pivot per width,
-    named with ``__w{width}``; the healthy race (no width) is depth 0 of each. Every cell holds
-    exactly one amplitude: two rows for one cell raise ``ValueError`` (nothing is dropped).
+    With a ``location`` column (a sweep over defect locations) there is one pivot per location
+    that has the quantity, named with ``__{location}`` (each location searches its own family:
+    ``envelope_bpfi``, ``envelope_bpfo``, ``envelope_2bsf``). With a ``width_um`` column (a
+    sweep over defect widths) there is one pivot per width, named with ``__w{width}``; the
+    healthy race (no width) is depth 0 of each. Every cell holds exactly one amplitude: two
+    rows for one cell raise ``ValueError`` (nothing is dropped).
 
     Returns
     -------
     dict
-        ``"{band}__{quantity}__{order}[__w{width}]"`` -> DataFrame indexed by load (kN),
-        columns depth (um).
+        ``"{band}__{quantity}__{order}[__{location}][__w{width}]"`` -> DataFrame indexed by
+        load (kN), columns depth (um).
     """
     sel = tidy[tidy["sideband"] == sideband]
     out: dict[str, pd.DataFrame] = {}
     for (band, quantity, order), g in sel.groupby(["band", "quantity", "order"], sort=True):
         stem = f"{band}__{quantity}__{order:g}"
-        if "width_um" not in g.columns:
-            out[stem] = _pivot(g, stem)
-            continue
-        healthy = g[g["width_um"].isna()]
-        for width, gw in g[g["width_um"].notna()].groupby("width_um", sort=True):
-            name = f"{stem}__w{format_number(width)}"
-            out[name] = _pivot(pd.concat([healthy, gw]), name)
+        groups = [(stem, g)]
+        if "location" in g.columns:
+            groups = [(f"{stem}__{loc}", gl) for loc, gl in g.groupby("location", sort=False)]
+        for name, gg in groups:
+            out.update(_width_pivots(gg, name))
     return out
+
+
+def _width_pivots(g: pd.DataFrame, name: str) -> dict[str, pd.DataFrame]:
+    """One pivot of ``g`` named ``name``, or one per width (``__w{width}``) when ``g`` has a
+    ``width_um`` column; the healthy race (no width) is depth 0 of each."""
+    if "width_um" not in g.columns:
+        return {name: _pivot(g, name)}
+    healthy = g[g["width_um"].isna()]
+    return {f"{name}__w{format_number(w)}": _pivot(pd.concat([healthy, gw]),
+                                                   f"{name}__w{format_number(w)}")
+            for w, gw in g[g["width_um"].notna()].groupby("width_um", sort=True)}
 
 
 def _pivot(g: pd.DataFrame, name: str) -> pd.DataFrame:
