@@ -273,7 +273,8 @@ ANALYZE_ARGS = {
     "max-level-above-nlevel": ("x1.npy", ["--nlevel", "4", "--max-level", "5"], r"--max-level"),
     "csv-is-directory": ("x1.npy", ["--csv", "{tmp}"], r"--csv: .* is a directory"),
     "plot-is-file": ("x1.npy", ["--plot", "{tmp}/x1.npy"], r"--plot: .* is a file"),
-    "file-is-directory": ("{tmp}", [], r"file: .* is a directory"),
+    # a folder is a batch of records (issue 24 part 5); an empty one is refused
+    "file-is-empty-directory": ("{tmp}/emptydir", [], r"file: .* is an empty directory"),
     "file-missing": ("none.npy", [], r"no such file"),
     "fs-nan": ("x1.npy", ["--fs", "nan"], r"--fs"),
     "fs-negative": ("x1.npy", ["--fs", "-1"], r"--fs"),
@@ -327,6 +328,7 @@ def signals(tmp_path):
     xn[1234] = np.nan
     np.save(tmp_path / "nan.npy", xn)
     np.savez(tmp_path / "fs0.npz", accel=x, fs=0.0)
+    (tmp_path / "emptydir").mkdir()
     return tmp_path
 
 

@@ -136,13 +136,41 @@ def test_threshold_formula():
     assert 9.5 < threshold_db(0.01, 9) < 10.5
 
 
+def _threshold_by_order_statistics(pfa: float, n: int, n_background: int) -> float:
+    """The threshold (dB) for ``n`` tolerance bins against the sample median of ``n_background``
+    i.i.d. Rayleigh bins, derived here from the textbook laws, not from the module.
+
+    Rayleigh with scale ``s``: ``F(a) = 1 - exp(-a^2 / 2 s^2)``. The sample median of ``N`` bins
+    (odd ``N``: the ``(N+1)/2``-th order statistic; the continuous interpolation for even
+    ``N``) has ``U = F(m_hat) ~ Beta((N+1)/2, (N+1)/2)``. Given it, one bin exceeds ``t m_hat``
+    with probability ``exp(-t^2 m_hat^2 / 2 s^2) = (1 - U)^(t^2)``, so the largest of ``n``
+    does with ``1 - (1 - (1 - U)^(t^2))^n``. Its expectation over the Beta law (adaptive
+    quadrature on the density in ``u``, unlike the module's fixed-node rule in a normal
+    variable) equals ``pfa`` at the threshold ``10 log10(t^2)``.
+    """
+    from scipy import integrate, optimize, stats
+
+    law = stats.beta(0.5 * (n_background + 1), 0.5 * (n_background + 1))
+    lo, hi = law.ppf(1e-16), law.isf(1e-16)  # the mass outside is below the tolerance
+
+    def rate(t2):
+        # 1 - (1 - q)^n written without cancellation for small q = (1 - u)^(t^2)
+        tail = lambda u: -math.expm1(n * math.log1p(-((1.0 - u) ** t2))) * law.pdf(u)  # noqa: E731
+        return integrate.quad(tail, lo, hi, points=[law.median()], epsabs=1e-15, epsrel=1e-11,
+                              limit=200)[0]
+
+    t2 = optimize.brentq(lambda t2: rate(t2) - pfa, 1.0, 100.0, xtol=1e-12, rtol=1e-12)
+    return 10.0 * math.log10(t2)
+
+
 def test_threshold_accounts_for_the_estimated_median():
     """The exact threshold (median of N background bins) lies above the asymptotic one, by more
     for fewer bins, and tends to it as N grows; N = 843 is the sweep's background."""
     thr = [threshold_db(0.01, 29, n_background=nb) for nb in (21, 50, 300, 843, 100_000)]
     assert all(a > b for a, b in zip(thr, thr[1:]))
     assert thr[-1] == pytest.approx(threshold_db(0.01, 29), abs=2e-3)
-    assert thr[3] == pytest.approx(10.644, abs=2e-3)
+    for nb, got in zip((21, 50, 300, 843), thr):
+        assert got == pytest.approx(_threshold_by_order_statistics(0.01, 29, nb), abs=1e-6), nb
     with pytest.raises(ValueError, match="n_background"):
         threshold_db(0.01, 5, n_background=0)
 
@@ -167,6 +195,33 @@ def test_false_alarm_rate_with_an_estimated_median_is_the_design():
     assert clopper_pearson(asymptotic, spectra.shape[0], confidence=0.999)[0] > 0.01
 
 
+def _two_sided_threshold(pfa: float, n: int, n_low: int, n_high: int) -> float:
+    """The threshold (dB) against the mean of two independent sample medians, from the laws
+    of :func:`_threshold_by_order_statistics`: ``U_k ~ Beta((N_k+1)/2, (N_k+1)/2)``, the median
+    over the true one ``r_k = sqrt(-log2(1 - U_k))`` (Rayleigh: ``F(m) = 1/2``), and one bin
+    exceeds ``t m (r_low + r_high) / 2`` with probability ``2^(-t^2 r^2)``. The expectation over
+    both Beta laws by a product Gauss-Legendre rule in ``u`` (not the module's rule)."""
+    from numpy.polynomial.legendre import leggauss
+    from scipy import optimize, stats
+
+    x, w = leggauss(400)
+    ratios, weights = [], []
+    for count in (n_low, n_high):
+        law = stats.beta(0.5 * (count + 1), 0.5 * (count + 1))
+        lo, hi = law.ppf(1e-15), law.isf(1e-15)
+        u = 0.5 * (hi - lo) * x + 0.5 * (hi + lo)
+        ratios.append(np.sqrt(-np.log2(1.0 - u)))
+        weights.append(0.5 * (hi - lo) * w * law.pdf(u))
+    r2 = (0.5 * (ratios[0][:, None] + ratios[1][None, :])) ** 2
+    weight = weights[0][:, None] * weights[1][None, :]
+
+    def rate(t2):
+        return float(np.sum(weight * -np.expm1(n * np.log1p(-(2.0 ** (-t2 * r2))))))
+
+    t2 = optimize.brentq(lambda t2: rate(t2) - pfa, 1.0, 100.0, xtol=1e-12, rtol=1e-12)
+    return 10.0 * math.log10(t2)
+
+
 def test_two_sided_level_is_the_mean_of_the_medians_either_side():
     """level="two_sided": the mean of the medians below and above the line, read at the line for
     a background with a linear trend, with its own exact threshold (two medians' randomness)."""
@@ -179,6 +234,8 @@ def test_two_sided_level_is_the_mean_of_the_medians_either_side():
     assert d.background == pytest.approx(1.0, abs=0.01)
     assert d.threshold_db == pytest.approx(
         threshold_db(0.01, d.n_tolerance_bins, (int(below.sum()), int(above.sum()))))
+    assert d.threshold_db == pytest.approx(_two_sided_threshold(
+        0.01, d.n_tolerance_bins, int(below.sum()), int(above.sum())), abs=1e-6)
     # the mean of two medians of half the bins each is about as random as one median of all
     assert d.threshold_db == pytest.approx(
         threshold_db(0.01, d.n_tolerance_bins, d.n_background_bins), abs=0.01)

@@ -23,7 +23,7 @@ from bearing_envelope.physics.geometry import defect_depth
 from bearing_envelope.physics.history import simulate
 from bearing_envelope.study.pipeline import case_bands, case_harmonics, history_case
 from bearing_envelope.physics.scene import Defect, Scene, default_scene_mapping
-from bearing_envelope.diagnosis import analyze_signal
+from bearing_envelope.diagnosis import AnalysisOptions, analyze_signal
 from bearing_envelope.signal import fast_kurtogram
 from bearing_envelope.study.tradeoff import DEFAULT_BANDS
 from bearing_envelope.study.pipeline import case_frequencies
@@ -342,18 +342,47 @@ def test_band_past_nyquist_raises_or_clamps():
     fs = 65000.0
     x = _noise()
     with pytest.raises(ValueError, match="Nyquist"):
-        analyze_signal(x, fs, fr=15.8, bpfi=231.9,
-                       bands=[{"name": "hi", "strategy": "fixed", "low_hz": 30000, "high_hz": 40000}])
-    df = analyze_signal(x, fs, fr=15.8, bpfi=231.9, bands=[
-        {"name": "hi", "strategy": "fixed", "low_hz": 30000, "high_hz": 40000, "clamp": True},
-        {"name": "ord", "strategy": "orders", "low": 130, "high": 200, "base": "bpfi", "clamp": True}])
+        analyze_signal(
+            x,
+            fs,
+            fr=15.8,
+            bpfi=231.9,
+            options=AnalysisOptions(
+                bands=[{"name": "hi", "strategy": "fixed", "low_hz": 30000, "high_hz": 40000}]
+            ),
+        )
+    df = analyze_signal(
+        x,
+        fs,
+        fr=15.8,
+        bpfi=231.9,
+        options=AnalysisOptions(
+            bands=[
+                {
+                    "name": "hi",
+                    "strategy": "fixed",
+                    "low_hz": 30000,
+                    "high_hz": 40000,
+                    "clamp": True,
+                },
+                {
+                    "name": "ord",
+                    "strategy": "orders",
+                    "low": 130,
+                    "high": 200,
+                    "base": "bpfi",
+                    "clamp": True,
+                },
+            ]
+        ),
+    )
     bands = df[df["band_strategy"] != "raw"]
     assert bands["clamped"].all() and (bands["band_high_hz"] < fs / 2).all()
     assert np.isfinite(df["amplitude"].astype(float)).all()
     # a band entirely above Nyquist cannot be clamped: clear error
     with pytest.raises(ValueError, match="Nyquist"):
-        analyze_signal(x, fs, fr=15.8, bpfi=231.9, bands=[
-            {"name": "hi", "strategy": "fixed", "low_hz": 33000, "high_hz": 40000, "clamp": True}])
+        analyze_signal(x, fs, fr=15.8, bpfi=231.9, options=AnalysisOptions(bands=[
+            {"name": "hi", "strategy": "fixed", "low_hz": 33000, "high_hz": 40000, "clamp": True}]))
 
 
 def test_kurtogram_band_at_nyquist_is_clamped():
@@ -363,8 +392,15 @@ def test_kurtogram_band_at_nyquist_is_clamped():
     for i in range(200, x.size - 64, 280):
         x[i:i + 64] += 3 * ring
     # the guard keeps the best cell at level <= 1: the top band [fs/4, fs/2] wins
-    df = analyze_signal(x, fs, fr=15.8, bpfi=231.9,
-                        bands=[{"name": "kurtogram", "strategy": "kurtogram", "max_level": 1}])
+    df = analyze_signal(
+        x,
+        fs,
+        fr=15.8,
+        bpfi=231.9,
+        options=AnalysisOptions(
+            bands=[{"name": "kurtogram", "strategy": "kurtogram", "max_level": 1}]
+        ),
+    )
     row = df[df["band_strategy"] == "kurtogram"].iloc[0]
     assert row["band_high_hz"] < fs / 2 and bool(row["clamped"])
     assert np.isfinite(df["amplitude"].astype(float)).all()
@@ -375,7 +411,9 @@ def test_constant_signal():
     x = np.full(65000, 3.0e9)
     with pytest.raises(ValueError, match="constant"):
         fast_kurtogram(x, fs, 6)
-    df = analyze_signal(x, fs, fr=15.8, bpfi=231.9, bands=DEFAULT_BANDS[1:])
+    df = analyze_signal(
+        x, fs, fr=15.8, bpfi=231.9, options=AnalysisOptions(bands=DEFAULT_BANDS[1:])
+    )
     amp = df["amplitude"].astype(float)
     assert np.isfinite(amp).all()
     raw_dc = df[(df["quantity"] == "raw_spectrum") & (df["base"] == "dc")]["amplitude"].iloc[0]

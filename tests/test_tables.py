@@ -9,7 +9,7 @@ import pandas as pd
 import pytest
 
 from bearing_envelope.io import BandLimits, CaseBands
-from bearing_envelope.diagnosis import analyze_signal
+from bearing_envelope.diagnosis import AnalysisOptions, analyze_signal
 from bearing_envelope.study.tables import band_table, concat_tidy, pivot_tables, tidy_from_analysis
 from bearing_envelope.io.vocabulary import BAND_STRATEGIES, TIDY_COLUMNS, TIDY_SORT
 
@@ -83,10 +83,19 @@ def test_tidy_from_analysis_speaks_the_tidy_vocabulary():
     fs = 8000.0
     t = np.arange(16000) / fs
     x = (1 + 0.5 * np.cos(2 * np.pi * 50.0 * t)) * np.cos(2 * np.pi * 2000.0 * t)
-    raw = analyze_signal(x, fs, fr=10.0, bpfi=50.0, n_harmonics=1, n_sidebands=1,
-                         n_raw_harmonics=1, nlevel=None,
-                         bands=[{"name": "mine", "strategy": "fraction", "low": 0.125,
-                                 "high": 0.375}])
+    raw = analyze_signal(
+        x,
+        fs,
+        fr=10.0,
+        bpfi=50.0,
+        options=AnalysisOptions(
+            n_harmonics=1,
+            n_sidebands=1,
+            n_raw_harmonics=1,
+            nlevel=None,
+            bands=[{"name": "mine", "strategy": "fraction", "low": 0.125, "high": 0.375}],
+        ),
+    )
     df = tidy_from_analysis(raw)
     assert set(df["band"]) == {"raw", "mine"}
     assert set(df["band_strategy"]) <= set(BAND_STRATEGIES)

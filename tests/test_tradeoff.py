@@ -3,9 +3,13 @@ defect case and one healthy case, one revolution, two knobs."""
 
 from __future__ import annotations
 
+import json
+
 import numpy as np
 import pandas as pd
 import pytest
+
+from bearing_envelope.physics.fidelity import fidelity_from
 
 from bearing_envelope.study.tradeoff import (COLUMNS, pareto_front, pareto_points, pareto_table,
                                        plot_tradeoff, study_from_config, tradeoff_study)
@@ -41,15 +45,40 @@ def test_tidy_columns_and_rows(study):
     assert healthy["error"].isna().all()
 
 
-def test_reference_row_has_zero_error(study):
+def test_reference_is_the_finest_setting_and_errors_are_relative_to_it(study):
+    """The reference run is the draft preset with every knob at its finest listed value (read
+    here from KNOBS and the preset), and every error is ``|estimate - reference| / |reference|``
+    with the reference row's estimate of the same case, metric and band (p_max_rms: the rms of
+    the difference of the histories, not in the table; it vanishes where the variant is the
+    reference setting)."""
     ref = study[study["is_reference"]]
-    assert len(ref)
-    assert (ref["estimate"] == ref["reference_value"]).all()
-    defined = ref[ref["error"].notna()]
-    assert (defined["error"] == 0.0).all()
-    # the finest value of each knob is its own knob reference
-    fine = study[(study["knob"] == "local_dx_um") & (study["value"] == "5")]
-    assert (fine["error_knob"].dropna() == 0.0).all()
+    assert set(ref["knob"]) == {"reference"} and len(ref)
+    expected = {k: v for k, v in fidelity_from("draft").to_dict().items() if k != "name"}
+    expected.update({k: vals[-1] for k, vals in KNOBS.items()})
+    assert {json.dumps(expected, sort_keys=True)} == set(ref["fidelity"])
+    keys = ["case", "metric", "band"]
+    rows = study[~study["is_reference"]].merge(
+        ref[keys + ["estimate"]].rename(columns={"estimate": "ref_estimate"}), on=keys,
+        how="left", validate="many_to_one")
+    assert rows["ref_estimate"].notna().all()
+    assert (rows["reference_value"] == rows["ref_estimate"]).all()
+    relative = rows[rows["metric"] != "p_max_rms"]
+    signature = (relative["depth_um"] > 0) | (relative["metric"] == "peak_pressure")
+    by_hand = (relative["estimate"] - relative["ref_estimate"]).abs() / relative["ref_estimate"].abs()
+    np.testing.assert_allclose(relative["error"][signature], by_hand[signature], rtol=1e-12, atol=0)
+    assert relative["error"][~signature].isna().all()  # no defect signature in a healthy case
+    # local_dx_um = 5 at the draft's tol = 1e-5 is the reference setting: no error at all
+    same = rows[(rows["knob"] == "local_dx_um") & (rows["value"] == "5")]
+    assert expected["tol"] == fidelity_from("draft").tol and len(same)
+    assert (same["estimate"] == same["ref_estimate"]).all()
+    assert (same["error"].dropna() == 0.0).all() and (same["metric"] == "p_max_rms").any()
+    # error_knob: against the finest value of the same knob (local_dx_um = 5), by hand
+    knob = rows[(rows["knob"] == "local_dx_um") & (rows["metric"] != "p_max_rms")
+                & ((rows["depth_um"] > 0) | (rows["metric"] == "peak_pressure"))]
+    fine = knob[knob["value"] == "5"].set_index(keys)["estimate"]
+    fine_of = fine.reindex(pd.MultiIndex.from_frame(knob[keys])).to_numpy()
+    np.testing.assert_allclose(knob["error_knob"], np.abs(knob["estimate"] - fine_of) / np.abs(fine_of),
+                               rtol=1e-12, atol=0)
 
 
 def test_errors_shrink_as_the_grid_is_refined(study):

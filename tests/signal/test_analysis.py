@@ -3,7 +3,7 @@ import pandas as pd
 import pytest
 
 from bearing_envelope.physics.kinematics import fault_frequencies
-from bearing_envelope.diagnosis import COLUMNS, analyze_signal
+from bearing_envelope.diagnosis import AnalysisOptions, COLUMNS, analyze_signal
 
 
 def test_columns_and_whole_chain(fault):
@@ -14,8 +14,14 @@ def test_columns_and_whole_chain(fault):
         {"name": "bpfi_10_13", "strategy": "orders", "low": 10, "high": 13, "base": "bpfi"},
         {"name": "fixed", "strategy": "fixed", "low_hz": 5000.0, "high_hz": 7000.0},
     ]
-    df, det = analyze_signal(x, fs, fr=fr, bpfi=bpfi, bands=bands, n_harmonics=3,
-                             n_sidebands=2, full_output=True)
+    df, det = analyze_signal(
+        x,
+        fs,
+        fr=fr,
+        bpfi=bpfi,
+        full_output=True,
+        options=AnalysisOptions(bands=bands, n_harmonics=3, n_sidebands=2),
+    )
     assert isinstance(df, pd.DataFrame)
     assert list(df.columns) == COLUMNS
     for c in ["band", "band_strategy", "band_low_hz", "band_high_hz", "quantity", "order", "sideband",
@@ -43,8 +49,16 @@ def test_am_amplitude_through_analyze():
     fs = 20000.0
     t = np.arange(2**16) / fs
     x = (1 + 0.5 * np.cos(2 * np.pi * 100.0 * t)) * np.cos(2 * np.pi * 6000.0 * t)
-    df = analyze_signal(x, fs, fr=25.0, bpfi=100.0, interpolate=True, bands=[
-        {"name": "fixed", "strategy": "fixed", "low_hz": 4000, "high_hz": 8000}])
+    df = analyze_signal(
+        x,
+        fs,
+        fr=25.0,
+        bpfi=100.0,
+        options=AnalysisOptions(
+            interpolate=True,
+            bands=[{"name": "fixed", "strategy": "fixed", "low_hz": 4000, "high_hz": 8000}],
+        ),
+    )
     row = df[(df.quantity == "envelope_spectrum") & (df.order == 1) & (df.sideband == 0)]
     assert row.amplitude.iloc[0] == pytest.approx(0.5, rel=0.01)
     assert row.frequency_hz.iloc[0] == pytest.approx(100.0, abs=0.05)
@@ -54,8 +68,13 @@ def test_am_amplitude_through_analyze():
 
 def test_fault_frequencies_object_and_defaults(fault):
     ff = fault_frequencies(fault["fr"], 9, 7.94, 39.04)
-    df = analyze_signal(fault["x"][: 2**15], fault["fs"], fr=fault["fr"], fault_frequencies=ff,
-                        n_harmonics=1, n_sidebands=0)
+    df = analyze_signal(
+        fault["x"][: 2**15],
+        fault["fs"],
+        fr=fault["fr"],
+        fault_frequencies=ff,
+        options=AnalysisOptions(n_harmonics=1, n_sidebands=0),
+    )
     assert set(df.base.dropna()) >= {"dc", "fr", "bpfi", "bpfo", "ftf", "bsf"}
     assert list(df[df.quantity == "bandpass_peak"].band) == [
         "kurtogram", "fs4_3fs8", "bpfi_3_6", "bpfi_10_13"]
@@ -76,7 +95,20 @@ def test_fault_frequencies_object_and_defaults(fault):
 def test_bad_arguments(kw, match):
     x = np.random.default_rng(0).standard_normal(4096)
     with pytest.raises(ValueError, match=match):
-        analyze_signal(x, 1000.0, **kw)
+        bands = kw.pop("bands", None)
+        analyze_signal(x, 1000.0, **kw, options=AnalysisOptions(bands=bands))
+
+
+@pytest.mark.parametrize("kw, match", [
+    ({"n_harmonics": 0}, r"AnalysisOptions.n_harmonics = 0: allowed an integer >= 1"),
+    ({"pfa": 1.5}, r"AnalysisOptions.pfa = 1.5: allowed a number in \(0, 1\)"),
+    ({"level0": "x"}, r"AnalysisOptions.level0 = 'x': allowed \('analytic', 'real'\)"),
+    ({"kurtogram_min_orders": -1.0}, r"AnalysisOptions.kurtogram_min_orders = -1.0"),
+    ({"bands": {"strategy": "fixed"}}, r"AnalysisOptions.bands = .*allowed a sequence"),
+])
+def test_bad_options(kw, match):
+    with pytest.raises(ValueError, match=match):
+        AnalysisOptions(**kw)
 
 
 def test_nan_input_rejected():

@@ -100,15 +100,37 @@ def test_bad_specs(spec, match):
 
 
 def test_yaml_round_trip_of_band_list():
-    text = """
-bands:
-  - {name: kurtogram, strategy: kurtogram, max_level: 6}
-  - {name: fs4_3fs8, strategy: fraction, low: 0.25, high: 0.375}
-  - {name: bpfi_3_6, strategy: orders, low: 3, high: 6, base: bpfi}
-  - {name: fixed, strategy: fixed, low_hz: 5000, high_hz: 9000}
-"""
-    specs = yaml.safe_load(text)["bands"]
-    out = [resolve_band(s, 65000.0, frequencies=FREQS, kurtogram=lambda ml, mb: None)
-           for s in specs[1:]]
-    assert [p["name"] for _, p in out] == ["fs4_3fs8", "bpfi_3_6", "fixed"]
-    assert [s["name"] for s in DEFAULT_BANDS] == ["kurtogram", "fs4_3fs8", "bpfi_3_6", "bpfi_10_13"]
+    """A band list written to YAML and read back is the list written, and resolves to the bands
+    its numbers give by hand at fs = 65 kHz; the kurtogram band's guard reaches the kurtogram."""
+    written = [
+        {"name": "kurtogram", "strategy": "kurtogram", "max_level": 6},
+        {"name": "fs4_3fs8", "strategy": "fraction", "low": 0.25, "high": 0.375},
+        {"name": "bpfi_3_6", "strategy": "orders", "low": 3, "high": 6, "base": "bpfi"},
+        {"name": "fixed", "strategy": "fixed", "low_hz": 5000, "high_hz": 9000},
+    ]
+    text = yaml.safe_dump({"bands": written + [dict(b) for b in DEFAULT_BANDS]})
+    read = yaml.safe_load(text)["bands"]
+    assert read[:4] == written and read[4:] == [dict(b) for b in DEFAULT_BANDS]
+    fs = 65000.0
+    x = fault_signal(fs=fs, n=2**14, fn=0.2 * fs, damping=1500.0, snr_db=0.0, tone_ratio=1.0,
+                     bpfi=231.9, seed=3)
+    guards = []
+
+    def kurtogram(max_level, min_bandwidth):
+        guards.append((max_level, min_bandwidth))
+        return fast_kurtogram(x, fs, 6, max_level=max_level, min_bandwidth=min_bandwidth)
+
+    bands = {p["name"]: band for band, p in
+             (resolve_band(s, fs, frequencies=FREQS, kurtogram=kurtogram) for s in read[:4])}
+    assert guards == [(6, None)]
+    assert bands["fs4_3fs8"] == (fs / 4, 3 * fs / 8)
+    assert bands["bpfi_3_6"] == pytest.approx((3 * 231.9, 6 * 231.9))
+    assert bands["fixed"] == (5000.0, 9000.0)
+    lo, hi = bands["kurtogram"]  # a cell of the 1/3-binary grid: width fs / 2^(level + 1)
+    level = np.log2(fs / (hi - lo)) - 1
+    assert level <= 6 and min(abs(level - k) for k in _kurtogram_levels_up_to(6)) < 1e-9
+
+
+def _kurtogram_levels_up_to(nlevel):
+    """0, 1, 1 + log2(3) - 1, 2, ... nlevel (the rows of Antoni's kurtogram)."""
+    return [0.0] + [v for k in range(1, nlevel + 1) for v in (k, k + np.log2(3) - 1)][:-1]

@@ -116,15 +116,22 @@ def test_bandpass_peak_ignores_edge_transients(n_end):
     # a steady AM carrier, the record cut at several phases of the 12 kHz carrier: the even
     # padding of the forward-backward filter puts a kink at the ends whose ringing reached
     # 1.10 x the true peak A (1 + m) before the settling samples were excluded
-    from bearing_envelope.diagnosis import analyze_signal
+    from bearing_envelope.diagnosis import AnalysisOptions, analyze_signal
     from bearing_envelope.signal import settling_samples
 
     fs, a, m, fc, fm = 64000.0, 2.0, 0.25, 12000.0, 250.0
     t = np.arange(65536 - n_end) / fs
     x = a * (1 + m * np.cos(2 * np.pi * fm * t)) * np.cos(2 * np.pi * fc * t)
     band = {"name": "b", "strategy": "fixed", "low_hz": 8000.0, "high_hz": 16000.0}
-    df = analyze_signal(x, fs, fr=15.625, bpfi=fm, bands=[band], n_harmonics=1, n_sidebands=0,
-                        n_raw_harmonics=1, nlevel=None)
+    df = analyze_signal(
+        x,
+        fs,
+        fr=15.625,
+        bpfi=fm,
+        options=AnalysisOptions(
+            bands=[band], n_harmonics=1, n_sidebands=0, n_raw_harmonics=1, nlevel=None
+        ),
+    )
     pk = df.loc[df["quantity"] == "bandpass_peak", "amplitude"].iloc[0]
     assert pk == pytest.approx(a * (1 + m), rel=2e-3)
     k = settling_samples(fs, (8000.0, 16000.0), order=4)

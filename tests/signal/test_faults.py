@@ -6,7 +6,7 @@ import json
 import numpy as np
 import pytest
 
-from bearing_envelope.diagnosis import analyze_signal
+from bearing_envelope.diagnosis import AnalysisOptions, analyze_signal
 from bearing_envelope.signal import envelope_spectrum
 from bearing_envelope.diagnosis.faults import (FaultFamily, fault_families, search_lines)
 
@@ -78,8 +78,14 @@ def test_verdict_inner_race_and_json(tmp_path, capsys):
     x = _am(lines)
     faults = {"bpfo": bpfo_nom, "bpfi": bpfi_nom, "bsf": 2.357 * FR_NOM, "ftf": 0.3983 * FR_NOM}
     bands = [{"name": "fixed", "strategy": "fixed", "low_hz": 2000.0, "high_hz": 5000.0}]
-    _, det = analyze_signal(x, FS, fr=FR_NOM, fault_frequencies=faults, bands=bands,
-                            n_harmonics=3, full_output=True)
+    _, det = analyze_signal(
+        x,
+        FS,
+        fr=FR_NOM,
+        fault_frequencies=faults,
+        full_output=True,
+        options=AnalysisOptions(bands=bands, n_harmonics=3),
+    )
     v = det["verdict"]
     assert v.diagnosis.family == "bpfi" and [d.family for d in v.detected] == ["bpfi"]
     assert v.diagnosis.harmonics == (1, 2, 3) and v.diagnosis.sideband_name == "fr"
@@ -87,7 +93,8 @@ def test_verdict_inner_race_and_json(tmp_path, capsys):
     assert abs(v.diagnosis.frequency_hz - bpfi) <= FS / N
     assert v.summary_lines()[0].startswith(
         f"inner race fault: BPFI {v.diagnosis.frequency_hz:.1f} Hz, harmonics 1-3, fr sidebands, ")
-    assert v.summary_lines()[0].endswith("in band fixed (2000-5000 Hz)")
+    assert "in band fixed (2000-5000 Hz) [confidence low: " in v.summary_lines()[0]
+    assert v.confidence == "low"  # one band can hold it: never more than low
 
     np.save(tmp_path / "ir.npy", x)
     args = ["analyze", str(tmp_path / "ir.npy"), "--fs", str(FS), "--fr", str(FR_NOM),
@@ -98,6 +105,7 @@ def test_verdict_inner_race_and_json(tmp_path, capsys):
     doc = json.loads(captured.out)
     assert doc["verdict"]["diagnosis"] == "bpfi"
     assert doc["verdict"]["diagnosis_label"] == "inner race fault"
+    assert doc["verdict"]["confidence"] == "low" and doc["verdict"]["evidence"] == v.evidence
     assert doc["verdict"]["summary"] == v.summary_lines()
     assert {f["name"] for f in doc["families"]} == {"bpfo", "bpfi", "bsf", "bsf2", "ftf"}
     fund = [r for r in doc["lines"] if r["base"] == "bpfi" and r["order"] == 1
@@ -121,8 +129,14 @@ def test_verdict_false_alarm_design():
     hits, lines, line_hits = 0, 0, 0
     for _ in range(40):
         x = rng.standard_normal(2**15)
-        table, det = analyze_signal(x, FS, fr=FR_NOM, fault_frequencies=faults, bands=bands,
-                                    n_harmonics=2, n_sidebands=0, pfa=0.25, full_output=True)
+        table, det = analyze_signal(
+            x,
+            FS,
+            fr=FR_NOM,
+            fault_frequencies=faults,
+            full_output=True,
+            options=AnalysisOptions(bands=bands, n_harmonics=2, n_sidebands=0, pfa=0.25),
+        )
         hits += bool(det["verdict"].detected)
         fund = table[(table.quantity == "envelope_spectrum") & (table.order == 1)]
         lines += len(fund)
@@ -137,11 +151,19 @@ def test_custom_family_and_user_spacing():
     """A user line ("gear", 87 Hz) gets no sidebands by default, fr sidebands on request."""
     x = _am([(87.0, 0.2), (87.0 - 31.0, 0.05), (87.0 + 31.0, 0.05), (174.0, 0.1)])
     bands = [{"name": "b", "strategy": "fixed", "low_hz": 2000.0, "high_hz": 5000.0}]
-    t0 = analyze_signal(x, FS, fr=31.0, fault_frequencies={"gear": 87.0}, bands=bands)
+    t0 = analyze_signal(
+        x, FS, fr=31.0, fault_frequencies={"gear": 87.0}, options=AnalysisOptions(bands=bands)
+    )
     env0 = t0[t0.quantity == "envelope_spectrum"]
     assert set(env0.sideband) == {0}
-    t1, det = analyze_signal(x, FS, fr=31.0, fault_frequencies={"gear": 87.0}, bands=bands,
-                             sideband_spacing={"gear": "fr"}, full_output=True)
+    t1, det = analyze_signal(
+        x,
+        FS,
+        fr=31.0,
+        fault_frequencies={"gear": 87.0},
+        full_output=True,
+        options=AnalysisOptions(bands=bands, sideband_spacing={"gear": "fr"}),
+    )
     env1 = t1[(t1.quantity == "envelope_spectrum") & (t1.order == 1)]
     assert set(env1.sideband) == {-1, 0, 1} and env1.detected.all()
     assert det["verdict"].diagnosis.summary().startswith("gear line: gear 87.0 Hz, harmonics")
@@ -153,8 +175,15 @@ def test_library_rejects_frequencies_above_nyquist():
         analyze_signal(x, 1000.0, fr=10.0, fault_frequencies={"bsf": 600.0})
     # below the resolution the library still reads the bins (the CLI refuses, naming the
     # option): no floor can be measured around 0.5 Hz with 0.24 Hz bins
-    t = analyze_signal(x, 1000.0, fr=10.0, fault_frequencies={"ftf": 0.5}, bands=[
-        {"name": "b", "strategy": "fixed", "low_hz": 100.0, "high_hz": 400.0}])
+    t = analyze_signal(
+        x,
+        1000.0,
+        fr=10.0,
+        fault_frequencies={"ftf": 0.5},
+        options=AnalysisOptions(
+            bands=[{"name": "b", "strategy": "fixed", "low_hz": 100.0, "high_hz": 400.0}]
+        ),
+    )
     low = t[(t.base == "ftf") & (t.quantity == "envelope_spectrum")]
     assert low.floor.isna().all() and low.detected.isna().all()
 
@@ -172,9 +201,14 @@ def test_verdict_explains_coincident_lines():
     x = _am([(bpfi, 0.3), (2 * bpfi, 0.15), (bpfi - fr, 0.08), (bpfi + fr, 0.08),
              (bpfi - 3 * fr, 0.05), (2 * (bpfi - 3 * fr), 0.03), (90.0, 0.04), (180.0, 0.03)])
     bands = [{"name": "b", "strategy": "fixed", "low_hz": 2000.0, "high_hz": 5000.0}]
-    _, det = analyze_signal(x, FS, fr=fr, fault_frequencies={"bpfi": bpfi, "g72": 72.0,
-                                                            "s90": 90.0},
-                            bands=bands, n_sidebands=3, full_output=True)
+    _, det = analyze_signal(
+        x,
+        FS,
+        fr=fr,
+        fault_frequencies={"bpfi": bpfi, "g72": 72.0, "s90": 90.0},
+        full_output=True,
+        options=AnalysisOptions(bands=bands, n_sidebands=3),
+    )
     v = {f.family: f for f in det["verdict"].families}
     assert all(v[k].detected for k in ("bpfi", "g72", "s90"))
     assert v["bpfi"].explained_by is None

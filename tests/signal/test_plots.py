@@ -1,7 +1,7 @@
 import numpy as np
 from matplotlib.figure import Figure
 
-from bearing_envelope.diagnosis import analyze_signal
+from bearing_envelope.diagnosis import AnalysisOptions, analyze_signal
 from bearing_envelope.signal import envelope_spectrum, fast_kurtogram
 from bearing_envelope.diagnosis.plots import (
     plot_envelope_spectrum,
@@ -27,8 +27,14 @@ def test_plot_functions(fault, tmp_path):
 
 
 def test_save_analysis_figures(fault, tmp_path):
-    df, det = analyze_signal(fault["x"][: 2**15], fault["fs"], fr=fault["fr"],
-                             bpfi=fault["bpfi"], nlevel=6, full_output=True)
+    df, det = analyze_signal(
+        fault["x"][: 2**15],
+        fault["fs"],
+        fr=fault["fr"],
+        bpfi=fault["bpfi"],
+        full_output=True,
+        options=AnalysisOptions(nlevel=6),
+    )
     paths = save_analysis_figures(det, tmp_path, prefix="case_")
     names = sorted(p.split("/")[-1] for p in paths)
     assert names == sorted(["case_kurtogram.png", "case_envelope_kurtogram.png",
@@ -45,10 +51,17 @@ def test_every_family_marked(fault, tmp_path):
 
     ff = fault_frequencies(fault["fr"], 9, 7.94, 39.04)
     faults = {"bpfo": ff.bpfo, "bpfi": fault["bpfi"], "bsf": ff.bsf, "ftf": ff.ftf}
-    _, det = analyze_signal(fault["x"][: 2**15], fault["fs"], fr=fault["fr"],
-                            fault_frequencies=faults, n_harmonics=3, full_output=True,
-                            bands=[{"name": "b", "strategy": "fixed", "low_hz": 5000.0,
-                                    "high_hz": 7000.0}])
+    _, det = analyze_signal(
+        fault["x"][: 2**15],
+        fault["fs"],
+        fr=fault["fr"],
+        fault_frequencies=faults,
+        full_output=True,
+        options=AnalysisOptions(
+            n_harmonics=3,
+            bands=[{"name": "b", "strategy": "fixed", "low_hz": 5000.0, "high_hz": 7000.0}],
+        ),
+    )
     lines = det["bands"]["b"]["lines"]
     assert set(lines) == {"bpfo", "bpfi", "bsf", "bsf2", "ftf"}
     fmax = 3000.0

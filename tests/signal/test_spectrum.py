@@ -90,3 +90,17 @@ def test_raw_terms_follow_a_speed_error():
     old = {(d["base"], d["order"]): d for d in raw_terms(x, fs, fr=fr, bpfi=bpfi,
                                                          tolerance=0.002 * bpfi)}
     assert old[("bpfi", 1)]["amplitude"] < 0.05
+
+
+def test_prewhiten_flat_magnitude_same_phase():
+    """Cepstrum pre-whitening (issue 24): every bin of the result has magnitude 1 (0 Hz: the
+    mean is removed) and the phase of the input, checked with numpy's FFT."""
+    from bearing_envelope.signal.spectrum import prewhiten
+
+    rng = np.random.default_rng(1)
+    x = np.cumsum(rng.standard_normal(1000)) + 5.0 * np.sin(np.arange(1000) * 0.3)
+    y = prewhiten(x)
+    Y, X = np.fft.rfft(y), np.fft.rfft(x - x.mean())
+    assert y.shape == x.shape
+    assert np.allclose(np.abs(Y[1:]), 1.0, atol=1e-9) and abs(Y[0]) < 1e-9
+    assert np.allclose(np.angle(Y[1:] * np.conj(X[1:])), 0.0, atol=1e-7)

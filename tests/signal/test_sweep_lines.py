@@ -1,7 +1,8 @@
 """The simulated sweep's tables after the +-1 % search (issue 14): simulated lines sit exactly at
-k x BPFI +- m x fr, so every line the tidy table holds must read what the former narrow search
-(+-max(2 df, 0.2 %) around the nominal target, at most fr/4) read. The oracle recomputes that
-former rule with numpy on the same spectra."""
+k x BPFI +- m x fr, so every line built into a synthetic case must be read at the bin nearest
+its frequency with the amplitude a Hann-windowed bin reads there; the answers are known by
+construction (the amplitudes put into the signal) and the closed-form Hann response, not
+recomputed with the search under test."""
 
 import types
 
@@ -9,7 +10,6 @@ import numpy as np
 import pytest
 
 from bearing_envelope.study.pipeline import case_bands, case_harmonics
-from bearing_envelope.signal import amplitude_spectrum, envelope_spectrum
 from bearing_envelope.study.pipeline import case_frequencies
 from bearing_envelope.study.settings import AnalysisSettings
 
@@ -36,19 +36,31 @@ def case():
                                  attrs={"case": "F250kN_h50um"}, scene=None)
 
 
-def _former(f, a, target, fr):
-    df = f[1] - f[0]
-    tol = min(max(2 * df, 0.002 * target), fr / 4)
-    i0 = int(round(target / df))
-    lo = max(0, min(i0, int(np.ceil((target - tol) / df - 1e-9))))
-    hi = min(f.size - 1, max(i0, int(np.floor((target + tol) / df + 1e-9))))
-    i = lo + int(np.argmax(a[lo:hi + 1]))
-    return f[i], a[i]
+def _hann_reading(amplitude, f_true, df):
+    """What the nearest bin of a Hann-windowed spectrum reads for a sinusoid of ``amplitude``
+    at ``f_true`` (closed form, large N): ``A |sinc(d)| / (1 - d^2)`` with ``d`` the offset
+    from the bin in bins; returns ``(bin frequency, reading)``."""
+    k = round(f_true / df)
+    d = f_true / df - k
+    return k * df, amplitude * abs(np.sinc(d)) / (1.0 - d * d)
+
+
+#: The lines built into the signal: quantity, band -> {(order, sideband): (Hz, amplitude)}.
+#: The carrier at 20 kHz is 1e8 x env(t), so the envelope reads 1e8 x each term of env; the raw
+#: spectrum reads the 0.2 fr and 0.1 BPFI terms of p.
+BUILT = {
+    ("envelope_bpfi", "fixed"): {(1, 0): (BPFI, 3e7), (2, 0): (2 * BPFI, 1e7),
+                                 (1, -1): (BPFI - FR, 5e6), (1, 1): (BPFI + FR, 4e6),
+                                 (2, 2): (2 * BPFI + 2 * FR, 2e6)},
+    ("raw_fr", "raw"): {(1, 0): (FR, 2e7)},
+    ("raw_bpfi", "raw"): {(1, 0): (BPFI, 1e7)},
+}
 
 
 def test_sweep_table_lines_unchanged(case):
-    # the former rule read the largest bin: compare the search with the peak-bin estimator
-    # (the sweep's default, the interpolated peak, is tested in test_amplitude_estimator.py)
+    """Every line built into the signal is in the sweep's tidy table where it was built (the
+    bin nearest its frequency) with the amplitude a Hann-windowed bin reads there (closed
+    form); every other line the table holds is below its threshold."""
     analysis = {"signal": "p_max", "harmonics": 3, "sidebands": 2, "raw_orders_fr": 3,
                 "amplitude": "peak_bin", "nlevel": 6, "bands": [
                     {"name": "kurtogram", "strategy": "kurtogram"},
@@ -58,26 +70,19 @@ def test_sweep_table_lines_unchanged(case):
     df = case_harmonics(case, typed(analysis, case), bands)
     for c in ("floor", "floor_ratio_db", "threshold_db", "detected"):
         assert c in df.columns  # the new columns reach the sweep's tidy table
-    x = case.signals["p_max"]
-    spectra = {"raw": amplitude_spectrum(x, FS)}
-    for b in bands.bands:
-        spectra[b.name] = envelope_spectrum(x, FS, (b.low_hz, b.high_hz))
-    lines = df[df.quantity.isin(["raw_fr", "raw_bpfi", "envelope_bpfi"])]
-    checked = 0
-    for _, r in lines.iterrows():
-        base = FR if r.quantity == "raw_fr" else BPFI
-        target = r.order * base + r.sideband * FR
-        f_old, a_old = _former(*spectra[r.band], target, FR)
-        same = (r.frequency_hz == f_old) and (r.amplitude == a_old)
-        if r.detected:
-            assert same, (r.band, r.quantity, r.order, r.sideband)
-            checked += 1
-        elif not same:
-            # where the former search read noise, the new one reads other noise: never a line
-            assert r.floor_ratio_db < r.threshold_db
-    # the lines built in: raw fr, raw BPFI; fixed band: 1, 2 x BPFI, 1 x BPFI +- fr, 2 x BPFI + 2 fr
-    assert checked >= 7
-    fixed = df[(df.band == "fixed") & (df.quantity == "envelope_bpfi")].set_index(
-        ["order", "sideband"])
-    for key in [(1, 0), (2, 0), (1, -1), (1, 1), (2, 2)]:
-        assert fixed.loc[key, "detected"], key
+    df_hz = FS / N
+    for (quantity, band), lines in BUILT.items():
+        rows = df[(df.quantity == quantity) & (df.band == band)].set_index(["order", "sideband"])
+        for key, (f_true, amp) in lines.items():
+            r = rows.loc[key]
+            f_bin, reading = _hann_reading(amp, f_true, df_hz)
+            assert r.frequency_hz == pytest.approx(f_bin, abs=1e-6 * df_hz), (quantity, key)
+            assert r.amplitude == pytest.approx(reading, rel=0.01), (quantity, key)
+            assert r.detected, (quantity, key)
+    # no other line in the fixed band or the raw spectrum is detected
+    built = {(q, b, k) for (q, b), lines in BUILT.items() for k in lines}
+    others = df[df.quantity.isin(["raw_fr", "raw_bpfi", "envelope_bpfi"])
+                & df.band.isin(["fixed", "raw"])]
+    for r in others.itertuples():
+        if (r.quantity, r.band, (r.order, r.sideband)) not in built:
+            assert not r.detected, (r.quantity, r.band, r.order, r.sideband)

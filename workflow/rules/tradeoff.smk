@@ -19,10 +19,11 @@ rule tradeoff:
             labels={"what": "error vs CPU time per case, Pareto front"},
         ),
     params:
-        # the study's settings, scene and analysis as canonical JSON: a change reruns the study
+        # the study's section, the scene and the typed analysis, validated, as canonical JSON:
+        # a change reruns the study
         setup=lambda w: json.dumps(
-            {"tradeoff": config.get("tradeoff", {}) or {}, "scene": config.get("scene", {}),
-             "analysis": config["analysis"]},
+            {"tradeoff": SETTINGS.tradeoff, "scene": SETTINGS.scene_mapping,
+             "analysis": SETTINGS.analysis.to_mapping()},
             sort_keys=True,
         ),
     log:

@@ -6,12 +6,13 @@ from bearing_envelope.diagnosis.detection import false_alarm_rates
 from bearing_envelope.study.figures import fig_diagnosability_maps
 from bearing_envelope.study.paper import write_page
 from bearing_envelope.study.pipeline import log_to
-from bearing_envelope.study.tables import table_html, write_csv_atomic
+from bearing_envelope.study.tables import add_location, table_html, write_csv_atomic
 
 with log_to(snakemake.log[0]) as log:  # noqa: F821
     inp, out = snakemake.input, snakemake.output  # noqa: F821
-    df = pd.concat([pd.read_csv(p) for p in inp.cells], ignore_index=True)
-    df = df.sort_values(["band", "load_kN", "depth_um", "snr_db"], kind="stable")
+    df = add_location(pd.concat([pd.read_csv(p) for p in inp.cells], ignore_index=True))
+    df = df.sort_values(["band"] + (["location"] if "location" in df else [])
+                        + ["load_kN", "depth_um", "snr_db"], kind="stable")
     write_csv_atomic(df, out.table)
     trials = pd.concat([pd.read_csv(p) for p in inp.false_alarms], ignore_index=True)
     rates = pd.concat([false_alarm_rates(trials, by=["band", "snr_db"]),

@@ -313,7 +313,44 @@ def solve_contact(
     >>> abs(s.p_max / hertz.sphere(F, R, E).p0 - 1) < 0.01
     True
     """
-    # ---- validation ----------------------------------------------------------------------
+    problem = _validate(gap, dx, dy, force, e_star, tol=tol, max_iter=max_iter,
+                        stall_window=stall_window, boundary=boundary, hardness=hardness,
+                        approach=approach)
+    hs = _operator(problem, halfspace, workers, fft_backend, element)
+    p, empty = _initial_pressure(problem, p_init, hs)
+    if empty is not None:
+        return empty
+    run = _PolonskyKeer(problem, p, hs, _kernels.KERNELS if kernels is None else kernels,
+                        precondition, n_conv=1 if (p_init is None and problem.disp_control) else 0)
+    run.iterate()
+    return _solution(problem, run)
+
+
+# ---- the stages of solve_contact -----------------------------------------------------------
+
+
+@dataclass(frozen=True, eq=False)
+class _Problem:
+    """The validated inputs of one :func:`solve_contact` call (SI units)."""
+
+    g: np.ndarray  # gap (m), +inf = no material
+    mat: np.ndarray  # cells with material (finite gap)
+    dx: float
+    dy: float
+    cell: float  # dx * dy (m^2)
+    e_star: float
+    tol: float
+    max_iter: int
+    stall_window: int
+    boundary: str
+    H: float  # pressure bound (Pa), inf = elastic
+    hard: bool
+    disp_control: bool
+    alpha_fixed: float  # prescribed approach (m); nan under force control
+    force_v: float  # prescribed force (N); nan under displacement control
+
+
+def _check_gap(gap) -> np.ndarray:
     g = np.asarray(gap, dtype=float)
     if g.ndim != 2:
         raise ValueError(f"gap must be a 2-D array (nx, ny), got ndim={g.ndim} shape={g.shape}")
@@ -323,6 +360,21 @@ def solve_contact(
         raise ValueError(f"gap contains NaN ({int(np.isnan(g).sum())} cells); use +inf for 'no material'")
     if np.isneginf(g).any():
         raise ValueError("gap contains -inf; allowed: finite values or +inf (no material)")
+    return g
+
+
+def _check_hardness(hardness) -> float:
+    if hardness is None:
+        return math.inf
+    if isinstance(hardness, bool):
+        raise ValueError(f"hardness must be a finite number > 0 (Pa) or None, got {hardness!r}")
+    return _check_scalar("hardness", hardness, "a finite number > 0 (Pa) or None")
+
+
+def _validate(gap, dx, dy, force, e_star, *, tol, max_iter, stall_window, boundary, hardness,
+              approach) -> _Problem:
+    """Stage 1: check every input (in the documented order) and return the problem."""
+    g = _check_gap(gap)
     dx = _check_scalar("dx", dx)
     dy = _check_scalar("dy", dy)
     e_star = _check_scalar("e_star", e_star)
@@ -334,14 +386,9 @@ def solve_contact(
         raise ValueError(f"stall_window must be an integer >= 1, got {stall_window!r}")
     if boundary not in ("raise", "warn", "ignore"):
         raise ValueError(f"boundary must be 'raise', 'warn' or 'ignore', got {boundary!r}")
-    if hardness is None:
-        H = math.inf
-    else:
-        if isinstance(hardness, bool):
-            raise ValueError(f"hardness must be a finite number > 0 (Pa) or None, got {hardness!r}")
-        H = _check_scalar("hardness", hardness, "a finite number > 0 (Pa) or None")
-    hard = hardness is not None
+    H = _check_hardness(hardness)
     disp_control = approach is not None
+    alpha_fixed = force_v = float("nan")
     if disp_control:
         try:
             alpha_fixed = float(approach)
@@ -349,211 +396,278 @@ def solve_contact(
             raise ValueError(f"approach must be a finite number (m), got {approach!r}") from None
         if not math.isfinite(alpha_fixed):
             raise ValueError(f"approach must be a finite number (m), got {approach!r}")
-        force_v = float("nan")
     else:
         force_v = _check_scalar("force", force, "a finite number > 0 (N)")
     mat = np.isfinite(g)
     if not mat.any():
         raise ValueError("gap has no finite cell: nothing can carry the load")
-    if halfspace is None:
-        hs = get_halfspace(g.shape, dx, dy, e_star, workers=workers, backend=fft_backend, element=element)
-    else:
-        hs = halfspace
-        if hs.shape != g.shape or (hs.dx, hs.dy, hs.e_star, hs.element) != (dx, dy, e_star, element):
-            raise ValueError(f"halfspace {hs!r} does not match gap shape {g.shape}, dx, dy, e_star, element")
-    cell = dx * dy
+    return _Problem(g=g, mat=mat, dx=dx, dy=dy, cell=dx * dy, e_star=e_star, tol=tol,
+                    max_iter=max_iter, stall_window=stall_window, boundary=boundary, H=H,
+                    hard=hardness is not None, disp_control=disp_control,
+                    alpha_fixed=alpha_fixed, force_v=force_v)
 
-    # ---- initial pressure ---------------------------------------------------------------
-    if p_init is not None:
-        p = np.array(p_init, dtype=float)
-        if p.shape != g.shape:
-            raise ValueError(f"p_init.shape must equal gap.shape {g.shape}, got {p.shape}")
-        if not np.isfinite(p).all():
-            raise ValueError("p_init must be finite")
-        p[~mat] = 0.0
-        np.maximum(p, 0.0, out=p)
-        if hard:
-            np.minimum(p, H, out=p)
-        if disp_control:
-            # h = g + K p - alpha with K p >= 0: a cell with g > alpha can never touch, so warm
-            # pressure there (e.g. where a defect has moved in) is dropped before the first step
-            p[g > alpha_fixed] = 0.0
-        if not p.any():
-            p = None
-    else:
-        p = None
+
+def _operator(problem: _Problem, halfspace, workers, fft_backend, element) -> ElasticHalfSpace:
+    """Stage 2: the half-space operator, prepared or checked against the problem."""
+    g, dx, dy, e_star = problem.g, problem.dx, problem.dy, problem.e_star
+    if halfspace is None:
+        return get_halfspace(g.shape, dx, dy, e_star, workers=workers, backend=fft_backend, element=element)
+    hs = halfspace
+    if hs.shape != g.shape or (hs.dx, hs.dy, hs.e_star, hs.element) != (dx, dy, e_star, element):
+        raise ValueError(f"halfspace {hs!r} does not match gap shape {g.shape}, dx, dy, e_star, element")
+    return hs
+
+
+def _warm_start(problem: _Problem, p_init) -> np.ndarray | None:
+    """The usable part of a warm start (None if nothing is left of it)."""
+    g, mat = problem.g, problem.mat
+    p = np.array(p_init, dtype=float)
+    if p.shape != g.shape:
+        raise ValueError(f"p_init.shape must equal gap.shape {g.shape}, got {p.shape}")
+    if not np.isfinite(p).all():
+        raise ValueError("p_init must be finite")
+    p[~mat] = 0.0
+    np.maximum(p, 0.0, out=p)
+    if problem.hard:
+        np.minimum(p, problem.H, out=p)
+    if problem.disp_control:
+        # h = g + K p - alpha with K p >= 0: a cell with g > alpha can never touch, so warm
+        # pressure there (e.g. where a defect has moved in) is dropped before the first step
+        p[g > problem.alpha_fixed] = 0.0
+    return p if p.any() else None
+
+
+def _initial_pressure(problem: _Problem, p_init, hs: ElasticHalfSpace):
+    """Stage 3: the starting pressure, ``(p, None)``; or ``(None, solution)`` when under
+    displacement control nothing overlaps (no contact: the solution is zero)."""
+    g, mat, H, hard = problem.g, problem.mat, problem.H, problem.hard
+    p = _warm_start(problem, p_init) if p_init is not None else None
     if p is None:
-        if disp_control:
+        if problem.disp_control:
+            alpha_fixed = problem.alpha_fixed
             over = np.where(mat, np.clip(alpha_fixed - np.where(mat, g, 0.0), 0.0, None), 0.0)
             if not over.any():  # no overlap: no contact
                 z = np.zeros_like(g)
-                return ContactSolution(z, alpha_fixed, 0, 0.0, True, 0.0, 0.0, (0.0,), z.copy(),
-                                       hardness=H if hard else None,
-                                       plastic=np.zeros(g.shape, bool) if hard else None,
-                                       plastic_depth=z.copy() if hard else None)
+                return None, ContactSolution(
+                    z, alpha_fixed, 0, 0.0, True, 0.0, 0.0, (0.0,), z.copy(),
+                    hardness=H if hard else None, plastic=np.zeros(g.shape, bool) if hard else None,
+                    plastic_depth=z.copy() if hard else None)
             ku = hs.displacement(over)
             p = over * (np.sum(over * ku) / np.sum(ku * ku))
             if hard:
                 np.minimum(p, H, out=p)
         else:
-            p = _initial_guess(g, mat, force_v, e_star, cell)
-    if not disp_control:
-        p *= force_v / (p.sum() * cell)
+            p = _initial_guess(g, mat, problem.force_v, problem.e_star, problem.cell)
+    if not problem.disp_control:
+        p *= problem.force_v / (p.sum() * problem.cell)
         if hard and p.max() > H:
-            p = _bounded_initial(p, g, mat, H, force_v / cell)
+            p = _bounded_initial(p, g, mat, H, problem.force_v / problem.cell)
+    return p, None
 
-    # ---- Polonsky-Keer iterations -------------------------------------------------------
-    kn = _kernels.KERNELS if kernels is None else kernels
-    gap_stats, gap_eval, dir_stats, dir_update = kn["gap_stats"], kn["gap_eval"], kn["dir_stats"], kn["dir_update"]
-    step_dots, update, rescale, axpy_scale = kn["step_dots"], kn["update"], kn["rescale"], kn["axpy_scale"]
-    H_below = float(np.nextafter(H, 0.0))
-    pre = _get_preconditioner(g.shape, dx, dy, e_star, hs.workers) if precondition else None
-    gz = np.ascontiguousarray(np.where(mat, g, 0.0))  # finite copy; non-material cells masked
-    matf = np.ascontiguousarray(mat).ravel()
-    gzf = gz.ravel()
-    p = np.ascontiguousarray(p)
-    u = np.empty_like(p)
-    h = np.empty_like(p)
-    r = np.empty_like(p)
-    t = np.zeros_like(p)
-    pnew = np.empty_like(p)
-    uf, hf, rf, tf = u.ravel(), h.ravel(), r.ravel(), t.ravel()
-    ny = p.shape[1]
-    G_old = 1.0
-    delta = 0.0
-    dp = math.inf
-    history: list[float] = []
-    converged = False
-    it = 0
-    alpha = alpha_fixed if disp_control else 0.0
-    u_exact = False  # u == K p computed by a convolution (else updated as s (u - tau K t))
-    n_incr = 0
-    n_conv = 1 if (p_init is None and disp_control) else 0
-    anchor, it_anchor = math.inf, 0  # stall guard: last residual that halved the one before
-    dropped_at = None
-    while True:
-        pf = p.ravel()
-        if not u_exact:
-            hs.displacement(p, out=u)
-            n_conv += 1
-            u_exact, n_incr = True, 0
-        s_gu, n_c, umax, *bbox = gap_stats(gzf, uf, pf, ny, H)
-        if not disp_control and n_c:
-            alpha = s_gu / n_c
-        err_in, err_out, Gh, err_sat = gap_eval(gzf, uf, pf, matf, alpha, hf, H)
+
+class _PolonskyKeer:
+    """Stage 4: the constrained conjugate-gradient iteration of one solve (its state).
+
+    :meth:`iterate` repeats: exact displacement when due, residual (:meth:`_residual`),
+    convergence and stall checks, release of over-loaded plastic cells, CG direction
+    (:meth:`_direction`), step length (:meth:`_step_length`) and the clipped, force-restored
+    update (:meth:`_update`). See :func:`solve_contact`, Notes.
+    """
+
+    def __init__(self, problem: _Problem, p: np.ndarray, hs: ElasticHalfSpace, kernels: dict,
+                 precondition: bool, n_conv: int):
+        self.problem, self.hs, self.kn = problem, hs, kernels
+        self.H = problem.H
+        self.H_below = float(np.nextafter(problem.H, 0.0))
+        self.pre = (_get_preconditioner(problem.g.shape, problem.dx, problem.dy, problem.e_star,
+                                        hs.workers) if precondition else None)
+        # finite copy of the gap; non-material cells masked
+        self.gzf = np.ascontiguousarray(np.where(problem.mat, problem.g, 0.0)).ravel()
+        self.matf = np.ascontiguousarray(problem.mat).ravel()
+        self.p = np.ascontiguousarray(p)
+        self.u = np.empty_like(self.p)
+        self.h = np.empty_like(self.p)
+        self.r = np.empty_like(self.p)
+        self.t = np.zeros_like(self.p)
+        self.pnew = np.empty_like(self.p)
+        self.uf, self.hf, self.rf, self.tf = self.u.ravel(), self.h.ravel(), self.r.ravel(), self.t.ravel()
+        self.pf = self.p.ravel()
+        self.ny = self.p.shape[1]
+        self.G_old = 1.0
+        self.delta = 0.0
+        self.dp = math.inf
+        self.history: list[float] = []
+        self.converged = False
+        self.it = 0
+        self.alpha = problem.alpha_fixed if problem.disp_control else 0.0
+        self.u_exact = False  # u == K p computed by a convolution (else updated as s (u - tau K t))
+        self.n_incr = 0
+        self.n_conv = n_conv
+        self.anchor, self.it_anchor = math.inf, 0  # stall guard: last residual that halved the one before
+        self.dropped_at = None
+
+    def iterate(self) -> None:
+        """Iterate until converged (sets ``converged``), out of iterations or stuck."""
+        tol = self.problem.tol
+        while True:
+            self.pf = self.p.ravel()
+            if not self.u_exact:
+                self.hs.displacement(self.p, out=self.u)
+                self.n_conv += 1
+                self.u_exact, self.n_incr = True, 0
+            n_c, Gh, bbox, err_sat, gap_res, res = self._residual()
+            if res <= tol and self.n_incr:
+                self.u_exact = False  # confirm with an exact displacement before accepting
+                continue
+            self.history.append(res)
+            if res <= tol:
+                self.converged = True
+                return
+            if self.it >= self.problem.max_iter or (n_c == 0 and not self.problem.hard):
+                return
+            self._stall_guard(res)
+            self.it += 1
+            if err_sat > 0.0:
+                # plastic cells with h > 0 are over-loaded: they rejoin the free set (at the largest
+                # float below H) and this CG step, restarted, lowers them by its line search
+                _nrel, n_c, Gh, *bbox = self.kn["release"](self.pf, self.hf, self.H, self.H_below, self.ny)
+                self.delta = 0.0
+            step = self._step_length(*self._direction(n_c, Gh, bbox), gap_res)
+            if step is None:
+                return
+            self._update(*step)
+
+    def _residual(self):
+        """Approach and gap ``h`` of the current pressure, and the convergence measure:
+        ``(n_c, Gh, bbox, err_sat, gap_res, res)`` (``n_c`` free cells bounded by ``bbox``,
+        ``Gh = sum h^2`` on them, ``err_sat`` the violation on plastic cells)."""
+        H, pf = self.H, self.pf
+        s_gu, n_c, umax, *bbox = self.kn["gap_stats"](self.gzf, self.uf, pf, self.ny, H)
+        if not self.problem.disp_control and n_c:
+            self.alpha = s_gu / n_c
+        err_in, err_out, Gh, err_sat = self.kn["gap_eval"](self.gzf, self.uf, pf, self.matf,
+                                                           self.alpha, self.hf, H)
         scale = umax if umax > 0 else 1.0
         gap_res = max(err_in, err_out, err_sat) / scale
-        res = max(dp, gap_res)
-        if res <= tol and n_incr:
-            u_exact = False  # confirm with an exact displacement before accepting
-            continue
-        history.append(res)
-        if res <= tol:
-            converged = True
-            break
-        if it >= max_iter or (n_c == 0 and not hard):
-            break
-        if res <= 0.5 * anchor:
-            anchor, it_anchor = res, it
-        elif pre is not None and it - it_anchor >= stall_window:
-            pre, delta, dropped_at = None, 0.0, it  # cycling: plain CG from here, restarted
-            anchor, it_anchor = res, it
-        it += 1
-        if err_sat > 0.0:
-            # plastic cells with h > 0 are over-loaded: they rejoin the free set (at the largest
-            # float below H) and this CG step, restarted, lowers them by its line search
-            _nrel, n_c, Gh, *bbox = kn["release"](pf, hf, H, H_below, ny)
-            delta = 0.0
-        # CG direction on the contact set (preconditioned when `precondition`)
+        return n_c, Gh, bbox, err_sat, gap_res, max(self.dp, gap_res)
+
+    def _stall_guard(self, res: float) -> None:
+        """Drop the preconditioner when the residual has not halved within ``stall_window``."""
+        if res <= _STALL_PROGRESS * self.anchor:
+            self.anchor, self.it_anchor = res, self.it
+        elif self.pre is not None and self.it - self.it_anchor >= self.problem.stall_window:
+            # cycling: plain CG from here, restarted
+            self.pre, self.delta, self.dropped_at = None, 0.0, self.it
+            self.anchor, self.it_anchor = res, self.it
+
+    def _direction(self, n_c: int, Gh: float, bbox):
+        """CG direction on the contact set (preconditioned when `precondition`):
+        ``(z, diag, zbar, G)``."""
         if n_c == 0:  # every contact cell plastic: only entering / leaving cells can move
-            z, diag, zbar, G = h, 1.0, 0.0, 0.0
-        elif pre is not None:
-            z, diag = pre.apply(h, p, bbox, H)
-            sz, n_c, shz, sh = dir_stats(z.ravel(), hf, pf, H)
-            zbar = sz / n_c if not disp_control else 0.0
-            G = shz - zbar * sh
-        else:
-            z, diag, zbar, G = h, 1.0, 0.0, Gh
+            return self.h, 1.0, 0.0, 0.0
+        if self.pre is not None:
+            z, diag = self.pre.apply(self.h, self.p, bbox, self.H)
+            sz, n_c, shz, sh = self.kn["dir_stats"](z.ravel(), self.hf, self.pf, self.H)
+            zbar = sz / n_c if not self.problem.disp_control else 0.0
+            return z, diag, zbar, shz - zbar * sh
+        return self.h, 1.0, 0.0, Gh
+
+    def _converged_on_gap(self, gap_res: float) -> None:
+        """End with the gap criterion alone when it holds (the step cannot move ``p``)."""
+        if gap_res <= self.problem.tol:
+            self.history[-1] = gap_res
+            self.converged = True
+
+    def _step_length(self, z, diag, zbar, G, gap_res):
+        """New conjugate direction ``t`` and ``(tau, seed)`` of the step along it; None when the
+        iteration ends here."""
         if G <= 0.0:
             # h vanishes on the contact set (to rounding): CG has nothing left to do there
-            if gap_res <= tol:
-                history[-1] = gap_res
-                converged = True
-                break
+            if gap_res <= self.problem.tol:
+                self._converged_on_gap(gap_res)
+                return None
             # ... but cells outside still interpenetrate (e.g. a one-cell contact): let them enter
             # with the pressure that would lift them alone, p = -h / K(0, 0)
-            tau, seed = 0.0, 1.0 / hs.k0
-            t.fill(0.0)
-        else:
-            beta = delta * G / G_old
-            dir_update(z.ravel(), pf, tf, zbar, beta, H)
-            G_old = G
-            hs.displacement(t, out=r)
-            n_conv += 1
-            sr, st, srt, sht, n_c = step_dots(rf, tf, hf, pf, H)
-            denom = srt - (sr / n_c) * st if not disp_control else srt
-            if denom <= 0:  # only with t ~ 0 to rounding
-                if gap_res <= tol:
-                    history[-1] = gap_res
-                    converged = True
-                break
-            tau = sht / denom
-            seed = tau * diag
-        entered, psum, modified = update(pf, tf, hf, tau, seed, pnew.ravel(), H)
-        delta = 0.0 if entered else 1.0
+            self.t.fill(0.0)
+            return 0.0, 1.0 / self.hs.k0
+        beta = self.delta * G / self.G_old
+        self.kn["dir_update"](z.ravel(), self.pf, self.tf, zbar, beta, self.H)
+        self.G_old = G
+        self.hs.displacement(self.t, out=self.r)
+        self.n_conv += 1
+        sr, st, srt, sht, n_c = self.kn["step_dots"](self.rf, self.tf, self.hf, self.pf, self.H)
+        denom = srt - (sr / n_c) * st if not self.problem.disp_control else srt
+        if denom <= 0:  # only with t ~ 0 to rounding
+            self._converged_on_gap(gap_res)
+            return None
+        tau = sht / denom
+        return tau, tau * diag
+
+    def _update(self, tau: float, seed: float) -> None:
+        """Step, clip to ``[0, H]``, let cells enter, restore the force, update ``u``."""
+        problem, H = self.problem, self.H
+        p, pnew = self.p, self.pnew
+        entered, psum, modified = self.kn["update"](self.pf, self.tf, self.hf, tau, seed, pnew.ravel(), H)
+        self.delta = 0.0 if entered else 1.0
         if psum <= 0:
-            if disp_control:  # everything separated
-                p = np.zeros_like(p)
-                dp = 0.0
-                u_exact = False
-                continue
-            raise ContactConvergenceError("all pressure vanished (no contact)", history)  # pragma: no cover
-        sc = force_v / (psum * cell) if not disp_control else 1.0
-        if hard and not disp_control and pnew.max() * max(sc, 1.0) >= H:
+            if problem.disp_control:  # everything separated
+                self.p = np.zeros_like(p)
+                self.dp = 0.0
+                self.u_exact = False
+                return
+            raise ContactConvergenceError(  # pragma: no cover
+                "all pressure vanished (no contact)", self.history)
+        target = problem.force_v / problem.cell
+        sc = problem.force_v / (psum * problem.cell) if not problem.disp_control else 1.0
+        if problem.hard and not problem.disp_control and pnew.max() * max(sc, 1.0) >= H:
             # bounded force balance: plastic cells stay at H, the free ones carry the rest
-            _project_force(pnew, H, force_v / cell, h)
-            dp = float(np.abs(pnew - p).sum()) / (force_v / cell)
+            _project_force(pnew, H, target, self.h)
+            self.dp = float(np.abs(pnew - p).sum()) / target
             modified = True
         else:
-            dp = rescale(pnew.ravel(), pf, sc) / (psum * sc)
-        p, pnew = pnew, p
-        if not modified and n_incr < _MAX_INCREMENTAL:
+            self.dp = self.kn["rescale"](pnew.ravel(), self.pf, sc) / (psum * sc)
+        self.p, self.pnew = pnew, p
+        if not modified and self.n_incr < _MAX_INCREMENTAL:
             # no cell clipped or entered: p_new = sc (p - tau t), so K p_new = sc (u - tau K t)
-            axpy_scale(uf, rf, tau, sc)
-            n_incr += 1
+            self.kn["axpy_scale"](self.uf, self.rf, tau, sc)
+            self.n_incr += 1
         else:
-            u_exact = False
+            self.u_exact = False
 
-    force_out = float(p.sum() * cell)
+
+def _solution(problem: _Problem, run: _PolonskyKeer) -> ContactSolution:
+    """Stage 5: the result; :class:`ContactConvergenceError` (carrying it) when not converged,
+    then the grid-boundary check."""
+    p, history, cell, hard, H = run.p, run.history, problem.cell, problem.hard, problem.H
     plastic = plastic_depth = None
     if hard:
         plastic = p >= H
-        plastic_depth = np.where(plastic, np.clip(-h, 0.0, None), 0.0)
+        plastic_depth = np.where(plastic, np.clip(-run.h, 0.0, None), 0.0)
     sol = ContactSolution(
         pressure=p,
-        approach=float(alpha),
-        iterations=it,
+        approach=float(run.alpha),
+        iterations=run.it,
         residual=float(history[-1]),
-        converged=converged,
+        converged=run.converged,
         contact_area=float(np.count_nonzero(p > 0) * cell),
-        force=force_out,
+        force=float(p.sum() * cell),
         residual_history=tuple(history),
-        displacement=u,
-        convolutions=n_conv,
-        preconditioner_dropped_at=dropped_at,
+        displacement=run.u,
+        convolutions=run.n_conv,
+        preconditioner_dropped_at=run.dropped_at,
         hardness=H if hard else None,
         plastic=plastic,
         plastic_depth=plastic_depth,
         plastic_area=float(np.count_nonzero(plastic) * cell) if hard else 0.0,
     )
-    if not converged:
+    if not run.converged:
         raise ContactConvergenceError(
-            f"contact solver did not converge: residual {history[-1]:.3e} > tol {tol:.1e} after "
-            f"{it} iterations (max_iter={max_iter}); last residuals {history[-5:]}",
+            f"contact solver did not converge: residual {history[-1]:.3e} > tol {problem.tol:.1e} after "
+            f"{run.it} iterations (max_iter={problem.max_iter}); last residuals {history[-5:]}",
             history,
             sol,
         )
-    _check_boundary(p, mat, boundary)
+    _check_boundary(p, problem.mat, problem.boundary)
     return sol
 
 
@@ -629,12 +743,19 @@ def _bounded_initial(p: np.ndarray, g: np.ndarray, mat: np.ndarray, H: float, ta
 
 
 _MAX_INCREMENTAL = 8  # at most this many incremental displacement updates between exact ones
+#: Stall guard: the residual must fall to this fraction of the last anchor (halve) within
+#: ``stall_window`` iterations, or the preconditioner is dropped.
+_STALL_PROGRESS = 0.5
+#: Cells (each side) added to the bounding box of the free set for the preconditioner's FFT.
+_PRECONDITIONER_MARGIN = 4
+#: Preconditioners kept (per grid and thread; each holds a work array of the grid's size).
+_PRE_CACHE_SIZE = 4
 
 
 class _FourierPreconditioner:
     """Approximate inverse of the half-space operator on the bounding box of the contact set."""
 
-    def __init__(self, shape, dx, dy, e_star, margin: int = 4, workers: int = 1):
+    def __init__(self, shape, dx, dy, e_star, margin: int = _PRECONDITIONER_MARGIN, workers: int = 1):
         self.shape, self.dx, self.dy, self.e_star, self.margin = shape, dx, dy, e_star, margin
         self.workers = workers
         self._symbols: dict = {}
@@ -705,7 +826,7 @@ def _get_preconditioner(shape, dx, dy, e_star, workers):
     key = (tuple(shape), dx, dy, e_star, workers, get_ident())
     pre = _PRE_CACHE.get(key)
     if pre is None:
-        if len(_PRE_CACHE) >= 4:
+        if len(_PRE_CACHE) >= _PRE_CACHE_SIZE:
             _PRE_CACHE.pop(next(iter(_PRE_CACHE)))
         pre = _PRE_CACHE[key] = _FourierPreconditioner(shape, dx, dy, e_star, workers=workers)
     pre.reset()

@@ -9,11 +9,15 @@ signal, and its plots.
 - :mod:`.plots`: figures of an analysis (matplotlib, imported on demand).
 """
 
-from .analysis import COLUMNS, analyze_signal, fault_frequency_map
-from .faults import (DEFAULT_SEARCH_PERCENT, FamilyVerdict, FaultFamily, Verdict, fault_families,
-                     fault_verdict, search_lines)
+from .analysis import (COLUMNS, KURTOGRAM_MIN_ORDERS, AnalysisOptions, analyze_signal,
+                       fault_frequency_map)
+from .faults import (CANNOT_TELL, CONFIDENCE_LEVELS, DEFAULT_SEARCH_PERCENT, FamilyVerdict,
+                     FaultFamily, Verdict, evidence_level, fault_families, fault_verdict,
+                     search_lines)
 from .lines import harmonic_amplitudes, raw_terms
 
-__all__ = ["COLUMNS", "analyze_signal", "fault_frequency_map", "DEFAULT_SEARCH_PERCENT",
-           "FamilyVerdict", "FaultFamily", "Verdict", "fault_families", "fault_verdict",
+__all__ = ["COLUMNS", "KURTOGRAM_MIN_ORDERS", "AnalysisOptions", "analyze_signal",
+           "fault_frequency_map", "CANNOT_TELL", "CONFIDENCE_LEVELS", "DEFAULT_SEARCH_PERCENT",
+           "FamilyVerdict", "FaultFamily", "Verdict", "evidence_level", "fault_families",
+           "fault_verdict",
            "search_lines", "harmonic_amplitudes", "raw_terms"]

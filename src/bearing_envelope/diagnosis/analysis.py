@@ -3,9 +3,11 @@
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 from collections.abc import Mapping, Sequence
 
 import numpy as np
+import pandas as pd
 
 from ..signal.validation import check_fs, check_positive, check_signal
 from ..signal.bands import DEFAULT_BANDS, NYQUIST_MARGIN, resolve_band
@@ -13,9 +15,10 @@ from ..signal.envelope import envelope_spectrum, peak_value, settling_samples
 from .faults import (DEFAULT_SEARCH_PERCENT, FaultFamily, fault_families, fault_verdict,
                      search_lines)
 from ..signal.kurtogram import fast_kurtogram, max_kurtogram_level
-from ..signal.spectrum import amplitude_spectrum
+from ..signal.spectrum import amplitude_spectrum, prewhiten
 
-__all__ = ["COLUMNS", "analyze_signal", "fault_frequency_map"]
+__all__ = ["COLUMNS", "DEFAULT_PFA", "KURTOGRAM_MIN_ORDERS", "AnalysisOptions", "analyze_signal",
+           "fault_frequency_map"]
 
 #: Columns of the table returned by :func:`analyze_signal`, in order.
 COLUMNS = [
@@ -66,33 +69,137 @@ def fault_frequency_map(bpfi=None, fault_frequencies=None) -> dict[str, float]:
     return out
 
 
-def analyze_signal(
-    x,
-    fs: float,
-    *,
-    fr: float,
-    bpfi: float | None = None,
-    fault_frequencies=None,
-    bands: Sequence[Mapping] | None = None,
-    n_harmonics: int = 2,
-    n_sidebands: int = 1,
-    n_raw_harmonics: int = 1,
-    nlevel: int | None = 8,
-    max_level: float | None = None,
-    min_bandwidth: float | None = None,
-    filter_order: int = 4,
-    squared: bool = False,
-    window="hann",
-    tolerance_hz: float | None = None,
-    interpolate: bool = False,
-    nyquist_margin: float = NYQUIST_MARGIN,
-    demean: bool = True,
-    level0: str = "analytic",
-    search_percent: float = DEFAULT_SEARCH_PERCENT,
-    sideband_spacing: Mapping[str, str | None] | None = None,
-    pfa: float = DEFAULT_PFA,
-    full_output: bool = False,
-):
+#: The kurtogram band must be at least ``KURTOGRAM_MIN_ORDERS x n_harmonics x`` the highest
+#: fault frequency wide (unless ``min_bandwidth`` is given): the envelope of a band ``W`` Hz
+#: wide holds components up to ``W`` only, so a narrower cell (levels 6-8 at 12 kHz, 23-94 Hz)
+#: cannot hold the lines searched; 2 leaves room for the sidebands on both sides of the
+#: highest harmonic and for the band-pass skirts.
+KURTOGRAM_MIN_ORDERS = 2.0
+
+_LEVEL0 = ("analytic", "real")
+
+
+def _option_int(name, value, minimum):
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < minimum:
+        raise ValueError(f"AnalysisOptions.{name} = {value!r}: allowed an integer >= {minimum}")
+    return int(value)
+
+
+def _option_float(name, value, low, high, *, allow_none=False, closed_low=False):
+    if value is None and allow_none:
+        return None
+    ok = isinstance(value, (int, float, np.floating)) and not isinstance(value, bool)
+    v = float(value) if ok else math.nan
+    inside = (v >= low if closed_low else v > low) and v < high
+    if not (math.isfinite(v) and inside):
+        what = f"{'[' if closed_low else '('}{low:g}, {high:g})"
+        raise ValueError(f"AnalysisOptions.{name} = {value!r}: allowed a number in {what}"
+                         f"{' or None' if allow_none else ''}")
+    return v
+
+
+@dataclass(frozen=True)
+class AnalysisOptions:
+    """Settings of :func:`analyze_signal`, defaults in one place (frozen; change one with
+    ``dataclasses.replace(options, n_harmonics=3)``).
+
+    Attributes
+    ----------
+    bands : tuple of mapping or None, default None
+        Band specifications, plain mappings as a YAML config carries them; None:
+        :data:`~bearing_envelope.signal.bands.DEFAULT_BANDS` (kurtogram, fs/4-3fs/8, 3-6 x
+        BPFI, 10-13 x BPFI). Keys: ``name`` (unique; default the strategy), ``strategy``
+        (``kurtogram``, ``fraction``: fractions of fs, ``orders``: multiples of ``base``,
+        ``fixed``: Hz), ``clamp``, ``prewhiten`` (the band of the cepstrum-pre-whitened
+        signal), and for ``kurtogram`` the guards ``max_level``/``min_bandwidth``. See
+        :mod:`bearing_envelope.signal.bands`.
+    n_harmonics : int, default 2
+        Envelope harmonics k = 1..K.
+    n_sidebands : int, default 1
+        Sidebands m = 1..M on each side of each harmonic (0: none), for families with a spacing.
+    n_raw_harmonics : int, default 1
+        Orders of fr and of each fault frequency read in the raw spectrum.
+    nlevel : int or None, default 8
+        Kurtogram depth; reduced to ``floor(log2(n)) - 7`` for short signals; None: the
+        default of :func:`~bearing_envelope.signal.kurtogram.fast_kurtogram`.
+    max_level, min_bandwidth : float or None
+        Guards of the kurtogram's best cell (level; Hz).
+    kurtogram_min_orders : float or None, default :data:`KURTOGRAM_MIN_ORDERS`
+        Without ``min_bandwidth``, the kurtogram cell must be at least this many times
+        ``n_harmonics x`` the highest fault frequency wide; None: no limit (the former
+        choice). Only the ``kurtogram`` band strategy is affected (the simulation sweep passes
+        its bands as fixed limits).
+    filter_order : int, default 4
+        Butterworth order of the band-pass (applied forward and backward).
+    squared : bool, default False
+        Squared envelope (amplitudes in ``U^2``).
+    window : str or tuple, default "hann"
+        Window of the raw and envelope spectra.
+    tolerance_hz : float or None
+        A fixed search half-width (Hz) for every line instead of ``search_percent`` and the
+        narrow windows around the speed-corrected harmonics and sidebands.
+    interpolate : bool, default False
+        Scalloping-corrected, interpolated peaks; default the largest bin.
+    nyquist_margin : float, default 0.98
+        Clamped upper edges are set to ``nyquist_margin * fs/2``.
+    demean : bool, default True
+        De-mean before the kurtogram (the raw 0 Hz term always uses the original signal).
+    level0 : {"analytic", "real"}, default "analytic"
+        Kurtosis of the kurtogram's level 0 (``"real"``: Antoni's).
+    search_percent : float, default 1.0
+        Half-width of the search for each fundamental, percent of its nominal frequency.
+    sideband_spacing : mapping or None
+        ``family -> spacing name`` overriding
+        :data:`~bearing_envelope.diagnosis.faults.SIDEBAND_SPACING`.
+    pfa : float, default 0.01
+        Record-wise false-alarm probability of the verdict: each of the F families x B bands
+        tests runs at ``pfa / (F B)``.
+    """
+
+    bands: tuple[Mapping, ...] | None = None
+    n_harmonics: int = 2
+    n_sidebands: int = 1
+    n_raw_harmonics: int = 1
+    nlevel: int | None = 8
+    max_level: float | None = None
+    min_bandwidth: float | None = None
+    kurtogram_min_orders: float | None = KURTOGRAM_MIN_ORDERS
+    filter_order: int = 4
+    squared: bool = False
+    window: str | tuple = "hann"
+    tolerance_hz: float | None = None
+    interpolate: bool = False
+    nyquist_margin: float = NYQUIST_MARGIN
+    demean: bool = True
+    level0: str = "analytic"
+    search_percent: float = DEFAULT_SEARCH_PERCENT
+    sideband_spacing: Mapping[str, str | None] | None = None
+    pfa: float = DEFAULT_PFA
+
+    def __post_init__(self):
+        if self.bands is not None:
+            if isinstance(self.bands, (str, bytes, Mapping)):
+                raise ValueError(f"AnalysisOptions.bands = {self.bands!r}: allowed a sequence "
+                                 "of band mappings or None")
+            object.__setattr__(self, "bands", tuple(self.bands))
+        _option_int("n_harmonics", self.n_harmonics, 1)
+        _option_int("n_sidebands", self.n_sidebands, 0)
+        _option_int("n_raw_harmonics", self.n_raw_harmonics, 1)
+        if self.nlevel is not None:
+            _option_int("nlevel", self.nlevel, 1)
+        _option_int("filter_order", self.filter_order, 1)
+        _option_float("kurtogram_min_orders", self.kurtogram_min_orders, 0.0, math.inf,
+                      allow_none=True)
+        _option_float("nyquist_margin", self.nyquist_margin, 0.0, 1.0 + 1e-12)
+        _option_float("search_percent", self.search_percent, 0.0, 50.0)
+        _option_float("pfa", self.pfa, 0.0, 1.0)
+        if self.level0 not in _LEVEL0:
+            raise ValueError(f"AnalysisOptions.level0 = {self.level0!r}: allowed {_LEVEL0}")
+
+
+def analyze_signal(x, fs: float, *, fr: float, bpfi: float | None = None,
+                   fault_frequencies=None, options: AnalysisOptions | None = None,
+                   full_output: bool = False):
     r"""Run the envelope-analysis chain on one signal and return tidy records.
 
     Steps: raw amplitude spectrum (0 Hz, k x fr, k x fault frequency); fast kurtogram (only
@@ -102,7 +209,8 @@ def analyze_signal(
     ``+- search_percent`` of its nominal frequency, the harmonics k = 1..K around
     ``k f_found`` and the sidebands ``+- m`` times the family's own spacing (fr for BPFI, FTF
     for BSF and 2 x BSF, none for BPFO and FTF), each with its local floor and detection; then
-    a verdict per family over the bands.
+    a verdict over the bands with its confidence (:func:`~bearing_envelope.diagnosis.faults.
+    fault_verdict`).
 
     Parameters
     ----------
@@ -119,88 +227,35 @@ def analyze_signal(
         2 x BSF), and an ``orders`` band's ``base`` refers to them (or to ``"fr"``). Each must
         lie below fs/2. A line too close to 0 Hz for a floor around it (a short record) gets
         NaN ``floor`` and NA ``detected``.
-    bands : sequence of mapping, optional
-        Band specifications, plain mappings as a YAML config carries them; default
-        :data:`DEFAULT_BANDS` (kurtogram, fs/4-3fs/8, 3-6 x BPFI, 10-13 x BPFI)::
-
-            [{"name": "kurtogram", "strategy": "kurtogram"},
-             {"name": "fs4_3fs8", "strategy": "fraction", "low": 0.25, "high": 0.375},
-             {"name": "bpfi_3_6", "strategy": "orders", "low": 3, "high": 6, "base": "bpfi"},
-             {"name": "fixed", "strategy": "fixed", "low_hz": 5000.0, "high_hz": 9000.0}]
-
-        Keys: ``name`` (label, unique; default the strategy), ``strategy`` (``kurtogram``,
-        ``fraction``: fractions of fs, ``orders``: multiples of ``base``, ``fixed``: Hz),
-        ``clamp`` (clamp an upper edge at or above Nyquist instead of raising; always on for
-        ``kurtogram``), and for ``kurtogram`` the guards ``max_level``/``min_bandwidth``
-        (override the arguments of the same name). See :mod:`bearing_envelope.signal.bands`.
-    n_harmonics : int, default 2
-        Envelope harmonics k = 1..K.
-    n_sidebands : int, default 1
-        Sidebands m = 1..M on each side of each harmonic (0: none), for families that have a
-        spacing.
-    n_raw_harmonics : int, default 1
-        Orders of fr and of each fault frequency read in the raw spectrum.
-    nlevel : int or None, default 8
-        Kurtogram depth; reduced to ``floor(log2(n)) - 7`` for short signals. ``None``: the
-        default of :func:`fast_kurtogram`.
-    max_level, min_bandwidth : float, optional
-        Guards of the kurtogram's best cell (see :func:`fast_kurtogram`).
-    filter_order : int, default 4
-        Butterworth order of the band-pass (applied forward and backward).
-    squared : bool, default False
-        Use the squared envelope (amplitudes in ``U^2``).
-    window : str or tuple, default "hann"
-        Window of the raw and envelope spectra.
-    tolerance_hz : float, optional
-        A fixed search half-width (Hz) for every line instead of ``search_percent`` and the
-        narrow windows around the speed-corrected harmonics and sidebands.
-    interpolate : bool, default False
-        Scalloping-corrected, interpolated peaks (see :func:`amplitude_at`); default: the
-        largest bin.
-    nyquist_margin : float, default 0.98
-        Clamped upper edges are set to ``nyquist_margin * fs/2``.
-    demean : bool, default True
-        De-mean before the kurtogram (the raw 0 Hz term always uses the original signal).
-    level0 : {"analytic", "real"}, default "analytic"
-        Kurtosis of the kurtogram's level 0, see :func:`fast_kurtogram` (``"real"``: Antoni's).
-    search_percent : float, default 1.0
-        Half-width of the search for each fundamental, percent of its nominal frequency (real
-        lines sit 0.2-0.7 % off when the nominal shaft speed is not the actual one).
-    sideband_spacing : mapping, optional
-        ``family -> spacing name`` overriding the defaults
-        (:data:`bearing_envelope.diagnosis.faults.SIDEBAND_SPACING`).
-    pfa : float, default 0.01
-        Record-wise false-alarm probability of the verdict: each of the F families x B bands
-        tests runs at ``pfa / (F B)``.
+    options : AnalysisOptions, optional
+        Bands, harmonics, kurtogram, filter, search and false-alarm settings; default
+        ``AnalysisOptions()``.
     full_output : bool, default False
         Also return a dict with the kurtogram, the bands with provenance and every spectrum
         (for plots): ``{"kurtogram", "bands": {name: {"band", "provenance", "f",
-        "amplitude", "peak"}}, "raw": (f, amplitude), "frequencies", "families", "verdict",
-        "fr", "fs"}`` (``verdict``: a :class:`~bearing_envelope.diagnosis.faults.Verdict`).
+        "amplitude", "peak", "lines"}}, "raw": (f, amplitude), "frequencies", "families",
+        "verdict", "fr", "fs", "squared", "options"}`` (``verdict``: a
+        :class:`~bearing_envelope.diagnosis.faults.Verdict`).
 
     Returns
     -------
     pandas.DataFrame
         One row per number, columns :data:`COLUMNS`:
 
-        - ``band``: the band's name (``"raw"`` for the raw spectrum);
-          ``band_strategy``: how it was chosen (``raw``, ``kurtogram``, ``fraction``,
-          ``orders``, ``fixed``: the names of :mod:`bearing_envelope.io.vocabulary`); ``band_low_hz``, ``band_high_hz``: the band used
-          (0 .. fs/2 for raw); ``clamped``: upper edge clamped below Nyquist.
+        - ``band``: the band's name (``"raw"`` for the raw spectrum); ``band_strategy``: how
+          it was chosen (``raw``, ``kurtogram``, ``fraction``, ``orders``, ``fixed``);
+          ``band_low_hz``, ``band_high_hz``: the band used (0 .. fs/2 for raw); ``clamped``.
         - ``quantity``: ``"raw_spectrum"`` (amplitude of the sinusoid at the target, one-sided,
-          window-corrected, unit ``U``; for ``base == "dc"`` the signal mean),
-          ``"envelope_spectrum"`` (amplitude of the envelope's component at the target, unit
-          ``U``, or ``U^2`` if ``squared``), ``"bandpass_peak"`` (max |band-passed signal|,
-          ``U``), ``"kurtogram_kurtosis"`` (kurtosis of the best cell, dimensionless,
-          ``frequency_hz`` = its centre).
-        - ``base``: ``"dc"``, ``"fr"`` or a fault-frequency name; ``order``: k;
-          ``sideband``: signed m (0: the harmonic itself); ``target_hz``: k f + m fr;
-          ``frequency_hz``: where the peak was found; ``amplitude``; ``scaling``: a short
-          statement of the unit and scaling of ``amplitude``.
-        - spectrum rows: ``floor`` (median amplitude over ``[0.5, 1.5] x frequency`` without
-          the family's lines and the shaft harmonics), ``floor_ratio_db`` (``20 log10
-          (amplitude / floor)``), ``threshold_db`` (at the per-test false-alarm probability)
-          and ``detected``; NaN / NA for the other rows.
+          window-corrected, ``U``; for ``base == "dc"`` the signal mean),
+          ``"envelope_spectrum"`` (``U``, or ``U^2`` if ``squared``), ``"bandpass_peak"`` (max
+          |band-passed signal|, ``U``), ``"kurtogram_kurtosis"`` (kurtosis of the best cell,
+          dimensionless, ``frequency_hz`` = its centre).
+        - ``base``: ``"dc"``, ``"fr"`` or a fault-frequency name; ``order``: k; ``sideband``:
+          signed m; ``target_hz``; ``frequency_hz``: where the peak was found; ``amplitude``;
+          ``scaling``: the unit and scaling of ``amplitude``.
+        - spectrum rows: ``floor`` (median amplitude over the background band without the
+          family's lines and the shaft harmonics), ``floor_ratio_db``, ``threshold_db`` (at
+          the per-test false-alarm probability) and ``detected``; NaN / NA for the other rows.
 
     (DataFrame, dict)
         With ``full_output``.
@@ -208,18 +263,39 @@ def analyze_signal(
     Examples
     --------
     >>> import numpy as np
-    >>> from bearing_envelope.diagnosis import analyze_signal
+    >>> from bearing_envelope.diagnosis import AnalysisOptions, analyze_signal
     >>> fs = 20000.0
     >>> t = np.arange(2**16) / fs
     >>> x = (1 + 0.5 * np.cos(2 * np.pi * 100.0 * t)) * np.cos(2 * np.pi * 6000.0 * t)
-    >>> df = analyze_signal(x, fs, fr=25.0, bpfi=100.0, interpolate=True, bands=[
+    >>> opts = AnalysisOptions(interpolate=True, bands=[
     ...     {"name": "fixed", "strategy": "fixed", "low_hz": 4000, "high_hz": 8000}])
+    >>> df = analyze_signal(x, fs, fr=25.0, bpfi=100.0, options=opts)
     >>> row = df[(df.quantity == "envelope_spectrum") & (df.order == 1) & (df.sideband == 0)]
     >>> round(float(row.amplitude.iloc[0]), 2)  # 100 Hz is off-bin: interpolated
     0.5
     """
-    import pandas as pd
+    opt = AnalysisOptions() if options is None else options
+    if not isinstance(opt, AnalysisOptions):
+        raise ValueError(f"options = {opt!r}: allowed an AnalysisOptions or None")
+    fs, x, fr, families, bands = _check_inputs(x, fs, fr, bpfi, fault_frequencies, opt)
+    n_tests = max(1, len(families) * len(bands))
+    ctx = {"records": [], "search": dict(
+        search_percent=opt.search_percent, tolerance_hz=opt.tolerance_hz, pfa=opt.pfa / n_tests,
+        interpolate=opt.interpolate, window=opt.window, n=x.size)}
+    f_raw, a_raw = _raw_rows(ctx, x, fs, fr, families, opt)
+    kg = _kurtogram(x, fs, families, bands, opt)
+    details = {"kurtogram": kg, "bands": {}, "raw": (f_raw, a_raw), "options": opt,
+               "frequencies": {"fr": fr, **{f.name: f.frequency_hz for f in families}},
+               "families": families, "fr": fr, "fs": fs, "squared": opt.squared}
+    _band_rows(ctx, details, x, bands, opt)
+    table = _table(ctx["records"])
+    details["verdict"] = fault_verdict(table, families, pfa=opt.pfa, n_tests=n_tests, fr=fr,
+                                       df_hz=fs / x.size)
+    return (table, details) if full_output else table
 
+
+def _check_inputs(x, fs, fr, bpfi, fault_frequencies, opt):
+    """Validated ``fs, x, fr``, the fault families and the band list."""
     fs = check_fs(fs)
     x = check_signal(x, "x", min_length=16)
     fr = check_positive(fr, "fr")
@@ -230,98 +306,106 @@ def analyze_signal(
         if hz >= nyq:
             raise ValueError(f"{what} = {hz:g} Hz is at or above the Nyquist frequency "
                              f"{nyq:g} Hz (fs = {fs:g} Hz)")
-    families = fault_families(faults, fr=fr, sidebands=sideband_spacing)
-    freqs = {"fr": fr, **{fam.name: fam.frequency_hz for fam in families}}
-    bands = list(DEFAULT_BANDS if bands is None else bands)
+    families = fault_families(faults, fr=fr, sidebands=opt.sideband_spacing)
+    bands = list(DEFAULT_BANDS if opt.bands is None else opt.bands)
     names = [str(b.get("name", b.get("strategy"))) if isinstance(b, Mapping) else None
              for b in bands]
     dup = {n for n in names if names.count(n) > 1}
     if dup:
         raise ValueError(f"bands: duplicate band name(s) {sorted(dup)}")
-    pfa = float(pfa)
-    if not 0.0 < pfa < 1.0:
-        raise ValueError(f"pfa must be in (0, 1), got {pfa!r}")
-    n_tests = max(1, len(families) * len(bands))
-    pfa_test = pfa / n_tests
-    unit = "U^2" if squared else "U"
-    records: list[dict] = []
-    search = dict(search_percent=search_percent, tolerance_hz=tolerance_hz, pfa=pfa_test,
-                  interpolate=interpolate, window=window, n=x.size)
+    return fs, x, fr, families, bands
 
-    def rec(**kw):
-        base = {c: None for c in COLUMNS}
-        base.update(kw)
-        records.append(base)
 
-    # raw spectrum ---------------------------------------------------------------------------
-    f_raw, a_raw = amplitude_spectrum(x, fs, window=window)
-    raw_common = dict(band="raw", band_strategy="raw", band_low_hz=0.0, band_high_hz=nyq,
-                      clamped=False, quantity="raw_spectrum")
-    rec(**raw_common, base="dc", order=0, sideband=0, target_hz=0.0, frequency_hz=0.0,
-        amplitude=float(np.mean(x)), scaling="mean of the signal (U)")
-    raw_families = (FaultFamily("fr", fr, None, None, "shaft rate"),) + families
-    for fam in raw_families:
-        for r in search_lines(f_raw, a_raw, fam, fr=fr, n_harmonics=int(n_raw_harmonics),
-                              n_sidebands=0, **search):
-            rec(**raw_common, base=fam.name, scaling="one-sided sinusoid amplitude, "
-                "window-corrected (U)", **r)
+def _record(ctx, **kw):
+    base = {c: None for c in COLUMNS}
+    base.update(kw)
+    ctx["records"].append(base)
 
-    # kurtogram (once, only if needed) -------------------------------------------------------
-    kg = None
-    if any(isinstance(b, Mapping) and b.get("strategy") == "kurtogram" for b in bands):
-        nl = nlevel
-        if nl is not None:
-            nl = max(1, min(int(nl), max_kurtogram_level(x.size)))
-        kg = fast_kurtogram(x, fs, nl, max_level=max_level, min_bandwidth=min_bandwidth,
-                            demean=demean, level0=level0)
+
+def _raw_rows(ctx, x, fs, fr, families, opt):
+    """The raw spectrum's rows (0 Hz, k x fr, k x each fault frequency); returns it."""
+    f_raw, a_raw = amplitude_spectrum(x, fs, window=opt.window)
+    common = dict(band="raw", band_strategy="raw", band_low_hz=0.0, band_high_hz=fs / 2.0,
+                  clamped=False, quantity="raw_spectrum")
+    _record(ctx, **common, base="dc", order=0, sideband=0, target_hz=0.0, frequency_hz=0.0,
+            amplitude=float(np.mean(x)), scaling="mean of the signal (U)")
+    for fam in (FaultFamily("fr", fr, None, None, "shaft rate"),) + tuple(families):
+        for r in search_lines(f_raw, a_raw, fam, fr=fr, n_harmonics=opt.n_raw_harmonics,
+                              n_sidebands=0, **ctx["search"]):
+            _record(ctx, **common, base=fam.name, scaling="one-sided sinusoid amplitude, "
+                    "window-corrected (U)", **r)
+    return f_raw, a_raw
+
+
+def _kurtogram(x, fs, families, bands, opt):
+    """The fast kurtogram (None when no band asks for it), its cells limited to bands that
+    can hold the lines searched (:data:`KURTOGRAM_MIN_ORDERS`) unless ``min_bandwidth``."""
+    if not any(isinstance(b, Mapping) and b.get("strategy") == "kurtogram" for b in bands):
+        return None
+    nl = opt.nlevel
+    if nl is not None:
+        nl = max(1, min(int(nl), max_kurtogram_level(x.size)))
+    min_bw = opt.min_bandwidth
+    if min_bw is None and opt.kurtogram_min_orders is not None:
+        min_bw = (opt.kurtogram_min_orders * opt.n_harmonics
+                  * max(fam.frequency_hz for fam in families))
+        min_bw = min(min_bw, fs / 2.0)  # level 0 (the whole band) stays allowed
+    return fast_kurtogram(x, fs, nl, max_level=opt.max_level, min_bandwidth=min_bw,
+                          demean=opt.demean, level0=opt.level0)
+
+
+def _band_rows(ctx, details, x, bands, opt):
+    """Per band: the band-passed peak, the envelope spectrum and every family's lines."""
+    fs, kg = details["fs"], details["kurtogram"]
 
     def kg_for(ml, mb):
         if ml is None and mb is None:
             return kg
-        return kg.restrict(max_level if ml is None else ml,
-                           min_bandwidth if mb is None else mb)
+        return kg.restrict(opt.max_level if ml is None else ml,
+                           kg.min_bandwidth if mb is None else mb)
 
-    # bands ----------------------------------------------------------------------------------
-    details: dict = {"kurtogram": kg, "bands": {}, "raw": (f_raw, a_raw), "frequencies": freqs,
-                     "families": families, "fr": fr, "fs": fs, "squared": squared}
-    env_scaling = (f"one-sided amplitude of the {'squared ' if squared else ''}envelope "
-                   f"component, mean removed, {window} window ({unit})")
+    unit = "U^2" if opt.squared else "U"
+    env_scaling = (f"one-sided amplitude of the {'squared ' if opt.squared else ''}envelope "
+                   f"component, mean removed, {opt.window} window ({unit})")
+    x_white = None
     for spec in bands:
-        band, prov = resolve_band(spec, fs, kurtogram=kg_for, frequencies=freqs,
-                                  margin=nyquist_margin)
-        low, high = band
-        common = dict(band=prov["name"], band_strategy=prov["strategy"], band_low_hz=low,
-                      band_high_hz=high, clamped=bool(prov.get("clamped", False)))
-        f_env, a_env, y, _ = envelope_spectrum(x, fs, band, squared=squared, window=window,
-                                               order=filter_order, return_signal=True)
-        pk = peak_value(y, skip=settling_samples(fs, band, order=filter_order))
+        band, prov = resolve_band(spec, fs, kurtogram=kg_for, frequencies=details["frequencies"],
+                                  margin=opt.nyquist_margin)
+        common = dict(band=prov["name"], band_strategy=prov["strategy"], band_low_hz=band[0],
+                      band_high_hz=band[1], clamped=bool(prov.get("clamped", False)))
+        if prov.get("prewhiten") and x_white is None:
+            x_white = prewhiten(x)
+        f_env, a_env, y, _ = envelope_spectrum(x_white if prov.get("prewhiten") else x, fs, band,
+                                               squared=opt.squared, window=opt.window,
+                                               order=opt.filter_order, return_signal=True)
+        pk = peak_value(y, skip=settling_samples(fs, band, order=opt.filter_order))
         if prov["strategy"] == "kurtogram":
-            rec(**common, quantity="kurtogram_kurtosis", base=None, order=None, sideband=None,
-                target_hz=prov["fc_hz"], frequency_hz=prov["fc_hz"], amplitude=prov["kurtosis"],
-                scaling=f"complex sub-band kurtosis (-), level {prov['level']:.3f}")
-        rec(**common, quantity="bandpass_peak", base=None, order=0, sideband=0,
-            target_hz=math.nan, frequency_hz=math.nan, amplitude=pk,
-            scaling=f"max |band-passed signal| (U), Butterworth order {filter_order} x2, "
-                    "edge transients excluded")
+            _record(ctx, **common, quantity="kurtogram_kurtosis", base=None, order=None,
+                    sideband=None, target_hz=prov["fc_hz"], frequency_hz=prov["fc_hz"],
+                    amplitude=prov["kurtosis"],
+                    scaling=f"complex sub-band kurtosis (-), level {prov['level']:.3f}")
+        _record(ctx, **common, quantity="bandpass_peak", base=None, order=0, sideband=0,
+                target_hz=math.nan, frequency_hz=math.nan, amplitude=pk,
+                scaling=f"max |band-passed signal| (U), Butterworth order {opt.filter_order} "
+                        "x2, edge transients excluded")
         found = {}
-        for fam in families:
-            rows = search_lines(f_env, a_env, fam, fr=fr, n_harmonics=n_harmonics,
-                                n_sidebands=n_sidebands, **search)
+        for fam in details["families"]:
+            rows = search_lines(f_env, a_env, fam, fr=details["fr"], n_harmonics=opt.n_harmonics,
+                                n_sidebands=opt.n_sidebands, **ctx["search"])
             for r in rows:
-                rec(**common, quantity="envelope_spectrum", base=fam.name, scaling=env_scaling,
-                    **r)
+                _record(ctx, **common, quantity="envelope_spectrum", base=fam.name,
+                        scaling=env_scaling, **r)
             found[fam.name] = rows
         details["bands"][prov["name"]] = {"band": band, "provenance": prov, "f": f_env,
                                           "amplitude": a_env, "peak": pk, "lines": found}
 
+
+def _table(records):
+    """The tidy table with its column types."""
     table = pd.DataFrame.from_records(records, columns=COLUMNS)
     table["order"] = table["order"].astype("Int64")
     table["sideband"] = table["sideband"].astype("Int64")
     table["detected"] = table["detected"].astype("boolean")
     for c in ("floor", "floor_ratio_db", "threshold_db"):
         table[c] = table[c].astype(float)
-    details["verdict"] = fault_verdict(table, families, pfa=pfa, n_tests=n_tests, fr=fr,
-                                       search_percent=search_percent)
-    if full_output:
-        return table, details
     return table

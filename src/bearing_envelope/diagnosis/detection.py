@@ -40,8 +40,11 @@ from functools import lru_cache
 
 import numpy as np
 import pandas as pd
+from scipy.optimize import brentq
+from scipy.stats import beta, norm
 
 __all__ = [
+    "BACKGROUND_BAND",
     "DEFAULT_PFA",
     "Detection",
     "fault_band_metrics",
@@ -54,6 +57,10 @@ __all__ = [
 
 #: Default false-alarm probability of :func:`detect` on a Gaussian-noise spectrum.
 DEFAULT_PFA = 0.01
+
+#: Background band of :func:`detection_statistic`, ``(lo, hi)`` in multiples of the line's
+#: frequency (dimensionless): the floor is the median amplitude over ``[0.5, 1.5] x line``.
+BACKGROUND_BAND = (0.5, 1.5)
 
 _COLUMNS = [
     "spectrum", "target", "target_hz", "order", "sideband", "centre_hz", "band_low_hz",
@@ -250,9 +257,6 @@ def threshold_db(pfa: float = DEFAULT_PFA, n_bins: int = 1,
 def _t2_estimated_median(pfa: float, n: int, groups: tuple[int, ...], t2_inf: float) -> float:
     """``t^2`` with ``pfa(t) = pfa`` for a level that is the mean of the sample medians of
     ``groups`` (one or two counts) of background bins."""
-    from scipy.optimize import brentq
-    from scipy.stats import beta, norm
-
     # E_U[g(U)] = E_Z[g(B^-1(Phi(Z)))], Z standard normal: the trapezoidal rule on a smooth,
     # rapidly decaying integrand (machine precision against adaptive quadrature, also for the
     # small per-test pfa of the record-wise verdict).
@@ -331,7 +335,7 @@ def detection_statistic(
     fr: float | None = None,
     tolerance: float = 0.01,
     tolerance_hz: float | None = None,
-    background: tuple[float, float] = (0.5, 1.5),
+    background: tuple[float, float] = BACKGROUND_BAND,
     sidebands: int = 3,
     exclude_hz: Iterable[float] = (),
     threshold: float | None = None,
@@ -447,8 +451,6 @@ def clopper_pearson(k: int, n: int, confidence: float = 0.95) -> tuple[float, fl
     >>> lo, round(hi, 5)
     (0.0, 0.01222)
     """
-    from scipy.stats import beta
-
     k, n = int(k), _count("n", n, 1)
     if not 0 <= k <= n:
         raise ValueError(f"k must be in [0, n = {n}], got {k}")

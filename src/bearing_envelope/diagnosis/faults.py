@@ -29,17 +29,28 @@ of bins searched) and it is a local maximum.
 
 **Verdict.** A fault is a repetitive impulse train, so its envelope holds a harmonic series:
 a family is detected in a band when its fundamental *and* its second harmonic (at ``2 f_1``;
-only the fundamental when a single harmonic is asked for) are detected there. Testing F
-families in B bands makes ``F x B`` tests; each line is tested at ``pfa / (F x B)``
-(Bonferroni), so that on a record without any fault line the probability of any false
-"detected" in the verdict is at most ``pfa`` (default 1 %), whatever the dependence between
-the bands. Real envelope spectra are crowded (shaft harmonics, the fault's own sidebands, and
-kinematic coincidences: BPFO = n FTF, BPFI = n (fr - FTF)), so the families detected are
-ranked by their margin above the threshold; a weaker family whose fundamental falls on a line
-of a stronger detected family (``k f``, k <= 5, or ``k f +- m`` times that family's own
-sideband spacing, |m| <= 3) or on a shaft harmonic is marked as explained by it. The
-**diagnosis** is the strongest family; other unexplained families are listed as "also above
-threshold".
+only the fundamental when a single harmonic is asked for) are detected there, in a band that
+can hold them (at least :data:`HOLD_ORDERS` x its fundamental wide). Testing F families in B
+bands makes ``F x B`` tests; each line is tested at ``pfa / (F x B)`` (Bonferroni), so that on
+a record without any fault line the probability of any false "detected" in the verdict is at
+most ``pfa`` (default 1 %), whatever the dependence between the bands.
+
+**Confidence** (:func:`evidence_level`): what an analyst checks before acting. ``high``: the
+family found at one frequency (one shaft speed) in at least :data:`HIGH_MIN_BANDS` bands,
+every harmonic searched present, the modulation its fault shows (fr sidebands for an inner
+race turning through the load zone, FTF sidebands for a rolling element carried by the cage,
+none needed for a fixed outer-race defect), and a margin of :data:`HIGH_MIN_MARGIN_DB` over the
+threshold; ``medium``: that many bands without the rest, or :data:`MEDIUM_MIN_BANDS` bands with
+a margin of :data:`MEDIUM_MIN_MARGIN_DB`; ``low``: any other detection. Real envelope spectra
+are crowded (shaft harmonics, the fault's own sidebands, kinematic coincidences: BPFO = Z x FTF,
+3 BPFO = 2 BPFI on the 6205), so a weaker family is **explained** by a stronger one when its
+fundamental falls on ``k f +- m`` spacings of it or on a shaft harmonic, when it is the cage
+period of its train (FTF = BPFO / Z), or when one of its harmonics is a line of it (then it
+counts only with its own evidence, without that harmonic). The **diagnosis** is the strongest
+family; an unexplained family with ``medium`` evidence or better is a **second finding**; one
+with evidence as strong as the diagnosis's makes the verdict :data:`CANNOT_TELL`, and so do
+cage-rate lines alone (a cage fault or a rolling element's modulation). The levels' measured
+meaning on real records: ``benchmarks/cwru_dev.py`` and ``docs/benchmarks.md`` (issue 24).
 """
 
 from __future__ import annotations
@@ -51,14 +62,18 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from ..signal.spectrum import amplitude_at, default_tolerance
+from .detection import BACKGROUND_BAND, detection_statistic
 
 __all__ = [
+    "CANNOT_TELL",
+    "CONFIDENCE_LEVELS",
     "DEFAULT_SEARCH_PERCENT",
     "FAMILY_LABELS",
     "SIDEBAND_SPACING",
     "FaultFamily",
     "FamilyVerdict",
     "Verdict",
+    "evidence_level",
     "fault_families",
     "fault_verdict",
     "search_lines",
@@ -128,7 +143,9 @@ def fault_families(frequencies: Mapping[str, float], *, fr: float,
     sidebands : mapping, optional
         ``name -> spacing name`` (``"fr"``, another family's name, or None), overriding
         :data:`SIDEBAND_SPACING`. Families not listed anywhere get no sidebands. A spacing
-        whose frequency is unknown (``bsf`` without ``ftf``) gives no sidebands.
+        whose frequency is unknown (``bsf`` without ``ftf``) gives no sidebands. A spacing may
+        also be a pair ``(name, Hz)``: a spacing that is not itself a searched family (the
+        sweep's rolling-element cases: ``{"bsf2": ("ftf", f_c)}``).
 
     Returns
     -------
@@ -148,7 +165,10 @@ def fault_families(frequencies: Mapping[str, float], *, fr: float,
     out = []
     for name, hz in freqs.items():
         sb = spacing_map.get(name)
-        sb_hz = known.get(sb) if sb is not None else None
+        if isinstance(sb, tuple):
+            sb, sb_hz = str(sb[0]), float(sb[1])
+        else:
+            sb_hz = known.get(sb) if sb is not None else None
         if sb_hz is None:
             sb = None
         out.append(FaultFamily(name, hz, sb, sb_hz, FAMILY_LABELS.get(name, f"{name} line")))
@@ -158,13 +178,12 @@ def fault_families(frequencies: Mapping[str, float], *, fr: float,
 def _score(f, a, line_hz, half, *, fr, exclude, pfa):
     """Detection of one line (``diagnosis.detection_statistic``); None when the spectrum is
     too short for a background around it."""
-    from .detection import detection_statistic
-
-    # only [0.5, 1.5] x line (+ the search window and the local-maximum check's neighbours)
-    # enters the statistic: pass that slice, not the whole spectrum
+    # only the background band [lo, hi] x line (+ the search window and the local-maximum
+    # check's neighbours) enters the statistic: pass that slice, not the whole spectrum
+    lo, hi = BACKGROUND_BAND
     df = f[1] - f[0]
-    i0 = max(0, int(math.floor((0.5 * line_hz - half) / df)) - 2)
-    i1 = min(f.size, int(math.ceil((1.5 * line_hz + half) / df)) + 3)
+    i0 = max(0, int(math.floor((lo * line_hz - half) / df)) - 2)
+    i1 = min(f.size, int(math.ceil((hi * line_hz + half) / df)) + 3)
     try:
         return detection_statistic(f[i0:i1], a[i0:i1], line_hz, fr=fr, tolerance_hz=half,
                                    sidebands=0, exclude_hz=exclude, pfa=pfa)
@@ -247,7 +266,8 @@ def search_lines(
     spacing = float(family.sideband_hz) if n_sidebands else 0.0
 
     def exclusions(f1, sp):
-        jmax = int(math.ceil(1.5 * (n_harmonics + 1))) + 1
+        # every line of the family inside the background band of the highest harmonic
+        jmax = int(math.ceil(BACKGROUND_BAND[1] * (n_harmonics + 1))) + 1
         out = [j * f1 for j in range(1, jmax + 1)]
         out += [j * f1 + m * sp for j in range(1, jmax + 1) for m in
                 range(-n_sidebands, n_sidebands + 1) if m and sp]
@@ -304,6 +324,48 @@ def search_lines(
     return out
 
 
+# --------------------------------------------------------------------------- the verdict
+#: A band can hold a family when it is at least ``HOLD_ORDERS`` times the family's fundamental
+#: wide: the envelope of a band ``W`` Hz wide has components up to ``W`` only, and a family
+#: needs its fundamental and second harmonic.
+HOLD_ORDERS = 2
+
+#: Bands agree on a family when the fundamental they found lies within ``AGREE_PERCENT`` % (or
+#: two bins) of the best band's: one shaft speed, one line, in every band.
+AGREE_PERCENT = 0.2
+
+#: ``high``: detected, at one frequency, in at least this many bands that can hold the family
+#: (``medium`` with fewer harmonics, no modulation or a lower margin).
+HIGH_MIN_BANDS = 3
+#: ``high``: the fundamental at least this far above its threshold (dB) in the best band.
+HIGH_MIN_MARGIN_DB = 10.0
+#: ``medium`` from fewer bands: detected, at one frequency, in at least this many bands ...
+MEDIUM_MIN_BANDS = 2
+#: ... with the fundamental at least this far above its threshold (dB).
+MEDIUM_MIN_MARGIN_DB = 15.0
+
+#: A family sharing a harmonic with the diagnosis (3 BPFO = 2 BPFI) whose fundamental is within
+#: this many dB of the diagnosis's margin is a rival: the verdict cannot tell them apart.
+RIVAL_MARGIN_DB = 6.0
+
+#: Orders k <= EXPLAIN_MAX_ORDER and sidebands |m| <= EXPLAIN_MAX_SIDEBAND of a stronger family
+#: that explain a weaker family's fundamental.
+EXPLAIN_MAX_ORDER = 6
+EXPLAIN_MAX_SIDEBAND = 3
+#: A cage-rate (FTF) family whose fundamental divides a stronger family's by an integer up to
+#: this is the cage period of that train (BPFO = Z x FTF): not a cage fault.
+CAGE_MAX_DIVISOR = 20
+
+#: The family whose detection means a cage fault: it needs ``high`` evidence of its own.
+CAGE_FAMILY = "ftf"
+
+#: Confidence levels, strongest first; ``CANNOT_TELL`` where the evidence conflicts.
+CONFIDENCE_LEVELS = ("high", "medium", "low")
+CANNOT_TELL = "cannot tell"
+
+_RANK = {"high": 3, "medium": 2, "low": 1, None: 0}
+
+
 @dataclass(frozen=True)
 class FamilyVerdict:
     """The decision on one fault family over all bands of a record.
@@ -313,7 +375,7 @@ class FamilyVerdict:
     family, label : str
         Family name and what a detection means.
     detected : bool
-        Fundamental and second harmonic detected in at least one band.
+        Fundamental and second harmonic detected in at least one band that can hold them.
     band : str or None
         The band with the highest statistic among those where the family is detected (else
         among all bands); None when no band could hold the line.
@@ -331,8 +393,28 @@ class FamilyVerdict:
     bands_detected : tuple of str
         Every band where the family is detected.
     explained_by : str or None
-        For a detected family whose fundamental falls on a line of a stronger detected family
-        or on a shaft harmonic: that line (``"BPFI - 5 fr"``, ``"3 fr"``).
+        For a detected family whose fundamental falls on a line of a stronger family, on a
+        shaft harmonic, divides a stronger family's fundamental (cage rate) or shares a
+        harmonic with it: that line (``"BPFI - 5 fr"``, ``"3 fr"``, ``"BPFO / 9"``,
+        ``"3 BPFO = 2 BPFI"``).
+    bands_agreeing : tuple of str
+        The bands of ``bands_detected`` whose fundamental agrees with the best band's
+        (:data:`AGREE_PERCENT`).
+    n_bands_held : int
+        Bands wide enough to hold the family (:data:`HOLD_ORDERS`).
+    n_orders : int
+        Harmonics searched in the best band.
+    modulation : str or None
+        The modulation a fault of this family shows (``"fr"`` inner race, ``"ftf"`` rolling
+        element, None: none expected).
+    lines : tuple of (int, int, float)
+        ``(order, sideband, frequency_hz)`` of every line detected in the best band.
+    level : str or None
+        The family's evidence on its own: ``high``, ``medium``, ``low`` (see
+        :func:`evidence_level`), None when not detected.
+    role : str or None
+        ``"diagnosis"``, ``"candidate"`` (cannot tell between candidates), ``"second finding"``,
+        ``"explained"``, ``"weak"`` (detected, below the bar of a second finding), None.
     """
 
     family: str
@@ -349,11 +431,38 @@ class FamilyVerdict:
     sideband_name: str | None
     bands_detected: tuple[str, ...]
     explained_by: str | None = None
+    bands_agreeing: tuple[str, ...] = ()
+    n_bands_held: int = 0
+    n_orders: int = 0
+    modulation: str | None = None
+    lines: tuple[tuple[int, int, float], ...] = ()
+    level: str | None = None
+    role: str | None = None
 
     @property
     def margin_db(self) -> float:
-        """``floor_ratio_db - threshold_db``."""
+        """``floor_ratio_db - threshold_db`` (dB)."""
         return self.floor_ratio_db - self.threshold_db
+
+    @property
+    def modulation_ok(self) -> bool:
+        """The expected modulation is seen (always true for a family that expects none)."""
+        return self.modulation is None or self.sideband_name == self.modulation
+
+    def evidence(self) -> list[str]:
+        """The evidence behind :attr:`level`, one short phrase each."""
+        out = [f"detected at one frequency in {len(self.bands_agreeing)} of "
+               f"{self.n_bands_held} bands that can hold it"]
+        if self.harmonics:
+            out.append(f"harmonics {_ranges(self.harmonics)} of {self.n_orders}")
+        if self.modulation is None:
+            out.append("no modulation expected")
+        elif self.modulation_ok:
+            out.append(f"{display_name(self.modulation)} sidebands as expected")
+        else:
+            out.append(f"no {display_name(self.modulation)} sidebands (expected)")
+        out.append(f"{self.margin_db:.1f} dB above threshold")
+        return out
 
     def summary(self) -> str:
         """One line, e.g. ``inner race fault: BPFI 161.7 Hz, harmonics 1-3, fr sidebands,
@@ -394,6 +503,29 @@ def _ranges(ks: Sequence[int]) -> str:
     return ", ".join(f"{a}" if a == b else f"{a}-{b}" for a, b in groups)
 
 
+def evidence_level(v: FamilyVerdict) -> str | None:
+    """The evidence of one detected family on its own: ``high``, ``medium``, ``low`` or None.
+
+    ``high``: detected at one frequency in >= :data:`HIGH_MIN_BANDS` bands, every harmonic
+    searched detected in the best band, the expected modulation seen (fr sidebands for an inner
+    race, FTF sidebands for a rolling element, none needed for an outer race) and the
+    fundamental >= :data:`HIGH_MIN_MARGIN_DB` dB above its threshold. ``medium``: >=
+    :data:`HIGH_MIN_BANDS` agreeing bands without the rest, or >= :data:`MEDIUM_MIN_BANDS`
+    with the fundamental >= :data:`MEDIUM_MIN_MARGIN_DB` dB above its threshold. ``low``: any
+    other detection (one band, or two with weak lines).
+    """
+    if not v.detected:
+        return None
+    nb = len(v.bands_agreeing)
+    full = v.n_orders > 0 and len(v.harmonics) >= v.n_orders
+    if (nb >= HIGH_MIN_BANDS and full and v.modulation_ok
+            and v.margin_db >= HIGH_MIN_MARGIN_DB):
+        return "high"
+    if nb >= HIGH_MIN_BANDS or (nb >= MEDIUM_MIN_BANDS and v.margin_db >= MEDIUM_MIN_MARGIN_DB):
+        return "medium"
+    return "low"
+
+
 @dataclass(frozen=True)
 class Verdict:
     """Per-record verdict of :func:`fault_verdict`.
@@ -401,13 +533,19 @@ class Verdict:
     Attributes
     ----------
     families : tuple of FamilyVerdict
-        One per fault family, in the order of the table.
+        One per fault family, in the order of the table (each with its ``level`` and ``role``).
     pfa : float
         Record-wise false-alarm probability (any family in any band).
     n_tests : int
         Family x band tests; each line is tested at ``pfa_test = pfa / n_tests``.
     pfa_test : float
         The per-test false-alarm probability behind every ``threshold_db``.
+    confidence : str or None
+        ``high``, ``medium``, ``low`` (the diagnosis's :func:`evidence_level`) or
+        :data:`CANNOT_TELL` (two candidates with evidence of the same level); None when no
+        family is detected.
+    candidates : tuple of str
+        The families between which the verdict cannot tell (else empty).
     statistic : str
         Statement of the statistic, the threshold and the decision rule.
     """
@@ -416,30 +554,46 @@ class Verdict:
     pfa: float
     n_tests: int
     pfa_test: float
+    confidence: str | None = None
+    candidates: tuple[str, ...] = ()
     statistic: str = field(default=(
         "S = 20 log10(peak / floor), floor = median amplitude over [0.5, 1.5] x line without "
         "the family's lines and the shaft harmonics; a line is detected if S > "
         "threshold_db(pfa / n_tests, bins searched) (diagnosis.threshold_db, Rayleigh noise) "
         "and it is a local maximum; a family is detected in a band if its fundamental and "
-        "its second harmonic are"))
+        "its second harmonic are; confidence from the bands that agree, the harmonics, the "
+        "expected modulation and the margin (faults.evidence_level)"))
+
+    def _role(self, role: str) -> tuple[FamilyVerdict, ...]:
+        return tuple(v for v in self.families if v.role == role)
 
     @property
     def detected(self) -> tuple[FamilyVerdict, ...]:
-        """The families detected and not explained by a stronger one, strongest first."""
-        return tuple(sorted((v for v in self.families if v.detected and not v.explained_by),
-                            key=lambda v: -v.margin_db))
+        """The diagnosis (or the candidates) and the second findings, strongest first."""
+        return self._role("diagnosis") + self._role("candidate") + self._role("second finding")
 
     @property
     def diagnosis(self) -> FamilyVerdict | None:
-        """The strongest detected family, or None."""
-        d = self.detected
+        """The diagnosed family, or None (no fault detected, or :data:`CANNOT_TELL`)."""
+        d = self._role("diagnosis")
         return d[0] if d else None
 
+    @property
+    def evidence(self) -> list[str]:
+        """The evidence that set :attr:`confidence`."""
+        d = self.diagnosis
+        if d is not None:
+            return d.evidence()
+        if self.candidates:
+            return [f"{display_name(v.family)} and the others reach '{v.level}' evidence"
+                    for v in self._role("candidate")[:1]]
+        return []
+
     def summary_lines(self) -> list[str]:
-        """The diagnosis line, then ``also above threshold`` and ``explained`` lines; or one
-        ``no bearing fault line detected`` line."""
-        d = self.detected
-        if not d:
+        """The diagnosis line with its confidence, then ``second finding`` and ``explained``
+        lines; or one ``no bearing fault detected`` / ``cannot tell`` line."""
+        d = self.diagnosis
+        if d is None and not self.candidates:
             best = max((v for v in self.families if v.band is not None),
                        key=lambda v: v.margin_db, default=None)
             tail = "" if best is None else (
@@ -448,10 +602,17 @@ class Verdict:
                 f"{_ranges(best.harmonics) if best.harmonics else 'none'})")
             return [f"no bearing fault detected at a record-wise false-alarm probability of "
                     f"{self.pfa:g}{tail}"]
-        lines = [d[0].summary()]
-        lines += [f"also above threshold: {v.summary()}" for v in d[1:]]
-        lines += [f"explained: {v.summary()}" for v in self.families
-                  if v.detected and v.explained_by]
+        if d is None:
+            names = " or ".join(display_name(c) for c in self.candidates)
+            lines = [f"cannot tell: {names} ({self.confidence} evidence each)"]
+            lines += [f"candidate: {v.summary()}" for v in self._role("candidate")]
+        else:
+            lines = [f"{d.summary()} [confidence {self.confidence}: "
+                     f"{'; '.join(d.evidence())}]"]
+        lines += [f"second finding ({v.level}): {v.summary()}"
+                  for v in self._role("second finding")]
+        lines += [f"explained: {v.summary()}" for v in self._role("explained")]
+        lines += [f"weak, not a finding: {v.summary()}" for v in self._role("weak")]
         return lines
 
     def to_dict(self) -> dict:
@@ -459,46 +620,221 @@ class Verdict:
         fams = []
         for v in self.families:
             d = {k: getattr(v, k) for k in v.__dataclass_fields__}
-            d["harmonics"] = list(v.harmonics)
-            d["bands_detected"] = list(v.bands_detected)
+            for k in ("harmonics", "bands_detected", "bands_agreeing"):
+                d[k] = list(d[k])
+            d["lines"] = [list(x) for x in v.lines]
+            d["evidence"] = v.evidence() if v.detected else []
             for k, x in d.items():
                 if isinstance(x, float) and not math.isfinite(x):
                     d[k] = None
             fams.append(d)
         diag = self.diagnosis
+        label = ("no fault" if diag is None and not self.candidates else
+                 CANNOT_TELL if diag is None else diag.label)
         return {"diagnosis": None if diag is None else diag.family,
-                "diagnosis_label": "no fault" if diag is None else diag.label,
+                "diagnosis_label": label, "confidence": self.confidence,
+                "candidates": list(self.candidates), "evidence": self.evidence,
+                "second_findings": [v.family for v in self._role("second finding")],
                 "pfa": self.pfa, "n_tests": self.n_tests, "pfa_test": self.pfa_test,
                 "statistic": self.statistic, "summary": self.summary_lines(), "families": fams}
 
 
-def _explanation(v: FamilyVerdict, stronger: Sequence[tuple[FamilyVerdict, FaultFamily]],
-                 fam: FaultFamily, fr: float, half: float) -> str | None:
-    """The line of a stronger family (``k f``, k <= 5, or ``k f +- m`` times its own sideband
-    spacing, |m| <= 3, scaled by its speed ratio) or the shaft harmonic on which ``v``'s
-    fundamental falls (within ``half``), or None."""
-    f0 = v.frequency_hz
-    for sv, sfam in stronger:
-        s = sv.frequency_hz / sfam.frequency_hz
-        sp = s * sfam.sideband_hz if sfam.sideband_hz else 0.0
-        for k in range(1, 6):
-            for m in (range(-3, 4) if sp else (0,)):
-                c = k * sv.frequency_hz + m * sp
-                if abs(f0 - c) <= half:
-                    head = display_name(sv.family) if k == 1 else f"{k} {display_name(sv.family)}"
-                    if m == 0:
-                        return head
-                    return (f"{head} {'+' if m > 0 else '-'} {abs(m)} "
-                            f"{display_name(sfam.sideband_name)}")
-    k = round(f0 / fr)
-    if k >= 1 and abs(f0 - k * fr) <= half:
-        return f"{k} fr"
+def _tolerance(f0: float, df_hz: float) -> float:
+    """Half-width (Hz) within which two found lines are the same line: ``max(2 df,
+    AGREE_PERCENT % of f0)``."""
+    return max(2.0 * df_hz, AGREE_PERCENT / 100.0 * abs(f0))
+
+
+def _comb_line(f0: float, sv: FamilyVerdict, sfam: FaultFamily, tol: float) -> str | None:
+    """The line ``k f +- m sp`` of a stronger family (k <= EXPLAIN_MAX_ORDER, |m| <=
+    EXPLAIN_MAX_SIDEBAND, its spacing scaled by its speed ratio; k = 0 gives the spacing's own
+    harmonics, e.g. FTF for a rolling element) within ``tol`` of ``f0``, or None."""
+    s = sv.frequency_hz / sfam.frequency_hz
+    sp = s * sfam.sideband_hz if sfam.sideband_hz else 0.0
+    ms = range(-EXPLAIN_MAX_SIDEBAND, EXPLAIN_MAX_SIDEBAND + 1) if sp else (0,)
+    for k in range(0, EXPLAIN_MAX_ORDER + 1):
+        for m in ms:
+            if (k == 0 and m <= 0) or abs(f0 - abs(k * sv.frequency_hz + m * sp)) > tol:
+                continue
+            name = display_name(sv.family)
+            if k == 0:
+                return f"{m} {display_name(sfam.sideband_name)}" if m > 1 else \
+                    display_name(sfam.sideband_name)
+            head = name if k == 1 else f"{k} {name}"
+            if m == 0:
+                return head
+            return f"{head} {'+' if m > 0 else '-'} {abs(m)} {display_name(sfam.sideband_name)}"
     return None
 
 
+def _shared_harmonic(v: FamilyVerdict, sv: FamilyVerdict, df_hz: float) -> str | None:
+    """A harmonic k >= 2 of ``v`` found on a detected line of ``sv`` (``"3 BPFO = 2 BPFI"``)."""
+    for k, m, f in v.lines:
+        if m != 0 or k < 2:
+            continue
+        for ks, ms, fs_ in sv.lines:
+            if abs(f - fs_) <= _tolerance(f, df_hz):
+                rhs = display_name(sv.family) if ks == 1 else f"{ks} {display_name(sv.family)}"
+                if ms:
+                    rhs += f" {'+' if ms > 0 else '-'} {abs(ms)} sb"
+                return f"{k} {display_name(v.family)} = {rhs}"
+    return None
+
+
+def _explanation(v: FamilyVerdict, stronger: Sequence[tuple[FamilyVerdict, FaultFamily]],
+                 fr: float, df_hz: float) -> tuple[str | None, str | None]:
+    """Why ``v``'s lines need no fault of their own: ``(line, kind)`` with kind ``"comb"`` (its
+    fundamental on a line of a stronger family or on a shaft harmonic), ``"cage"`` (the cage
+    period of a stronger family's train: its fundamental an integer fraction of theirs) or
+    ``"shared"`` (a harmonic on a stronger family's line, ``3 BPFO = 2 BPFI``); else
+    ``(None, None)``."""
+    f0 = v.frequency_hz
+    tol = _tolerance(f0, df_hz)
+    for sv, sfam in stronger:
+        why = _comb_line(f0, sv, sfam, tol)
+        if why:
+            return why, "comb"
+    k = round(f0 / fr)
+    if k >= 1 and abs(f0 - k * fr) <= tol:
+        return f"{k} fr", "comb"
+    if v.family == CAGE_FAMILY:
+        for sv, _ in stronger:
+            n = round(sv.frequency_hz / f0)
+            if 2 <= n <= CAGE_MAX_DIVISOR and abs(sv.frequency_hz / n - f0) <= tol:
+                return f"{display_name(sv.family)} / {n}", "cage"
+    for sv, _ in stronger:
+        why = _shared_harmonic(v, sv, df_hz)
+        if why:
+            return why, "shared"
+    return None, None
+
+
+def _family_verdict(fam: FaultFamily, rows, df_hz: float) -> FamilyVerdict:
+    """One family's detection over the bands that can hold it (envelope rows of the table)."""
+    width = rows["band_high_hz"].astype(float) - rows["band_low_hz"].astype(float)
+    rows = rows[(width >= HOLD_ORDERS * fam.frequency_hz).to_numpy()]
+    held = list(dict.fromkeys(rows["band"]))
+    fund = rows[(rows["order"] == 1) & (rows["sideband"] == 0)]
+    fund = fund[np.isfinite(fund["floor_ratio_db"].to_numpy(dtype=float))]
+    modulation = SIDEBAND_SPACING.get(fam.name) if fam.sideband_hz else None
+    if fund.empty:
+        return FamilyVerdict(fam.name, fam.label, False, None, math.nan, math.nan, math.nan,
+                             math.nan, math.nan, math.nan, (), None, (), modulation=modulation)
+    ok_bands = []
+    for band, g in rows.groupby("band", sort=False):
+        det = g["detected"].fillna(False).astype(bool)
+        h = g["sideband"] == 0
+        k1 = det[h & (g["order"] == 1)].any()
+        has2 = (h & (g["order"] == 2)).any()
+        k2 = det[h & (g["order"] == 2)].any()
+        if k1 and (k2 or not has2):
+            ok_bands.append(band)
+    det_rows = fund[fund["band"].isin(ok_bands)]
+    pick = det_rows if not det_rows.empty else fund
+    best = pick.loc[pick["floor_ratio_db"].astype(float).idxmax()]
+    band, f1 = best["band"], float(best["frequency_hz"])
+    agree = tuple(str(b) for b, f in zip(det_rows["band"], det_rows["frequency_hz"].astype(float))
+                  if abs(f - f1) <= _tolerance(f1, df_hz))
+    inb = rows[rows["band"] == band]
+    found = inb[inb["detected"].fillna(False).astype(bool)]
+    harmonics = tuple(int(k) for k in sorted(set(found.loc[found["sideband"] == 0, "order"])))
+    sb = fam.sideband_name if (found["sideband"] != 0).any() else None
+    lines = tuple((int(r.order), int(r.sideband), float(r.frequency_hz))
+                  for r in found.itertuples())
+    v = FamilyVerdict(
+        fam.name, fam.label, bool(ok_bands), str(band), float(best["band_low_hz"]),
+        float(best["band_high_hz"]), f1, float(best["amplitude"]),
+        float(best["floor_ratio_db"]), float(best["threshold_db"]), harmonics, sb,
+        tuple(str(b) for b in ok_bands), bands_agreeing=agree if ok_bands else (),
+        n_bands_held=len(held), n_orders=int(inb.loc[inb["sideband"] == 0, "order"].max()),
+        modulation=modulation, lines=lines)
+    return replace(v, level=evidence_level(v))
+
+
+def _own_level(v: FamilyVerdict, shared: str) -> str | None:
+    """The evidence level of ``v`` without its harmonic that falls on another family's line
+    (``shared`` = ``"3 BPFO = 2 BPFI"``): without its second harmonic it is not detected."""
+    k = int(shared.split()[0])
+    if k == 2:
+        return None
+    return evidence_level(replace(v, harmonics=tuple(h for h in v.harmonics if h != k)))
+
+
+def _rivals(own: str | None, v: FamilyVerdict, primary: FamilyVerdict) -> bool:
+    """A family sharing a harmonic with the diagnosis rivals it (cannot tell) when its own
+    evidence (without the shared harmonic) is at the diagnosis's level, or at least ``medium``
+    with a margin within :data:`RIVAL_MARGIN_DB` of the diagnosis's."""
+    if _RANK[own] >= _RANK[primary.level]:
+        return True
+    return _RANK[own] >= _RANK["medium"] and primary.margin_db - v.margin_db <= RIVAL_MARGIN_DB
+
+
+def _rank(v: FamilyVerdict) -> tuple:
+    """Sort key, strongest first: a cage family below the others unless its evidence is high,
+    then level, agreeing bands, margin."""
+    cage_low = v.family == CAGE_FAMILY and v.level != "high"
+    return (not cage_low, _RANK[v.level], len(v.bands_agreeing), v.margin_db)
+
+
+def _decide(out: Sequence[FamilyVerdict], by_fam: Mapping[str, FaultFamily], fr: float,
+            df_hz: float) -> tuple[list[FamilyVerdict], str | None, tuple[str, ...]]:
+    """Roles of the detected families (strongest first; explained ones set aside), the
+    confidence and the candidates when the verdict cannot tell."""
+    roles: dict[str, str] = {}
+    why: dict[str, str] = {}
+    accepted: list[tuple[FamilyVerdict, FaultFamily]] = []
+    for v in sorted((v for v in out if v.detected), key=_rank, reverse=True):
+        line, kind = _explanation(v, accepted, fr, df_hz)
+        primary = accepted[0][0] if accepted else None
+        if line:
+            why[v.family] = line
+            tie = kind == "shared" and _rivals(_own_level(v, line), v, primary)
+            roles[v.family] = "candidate" if tie else "explained"
+            continue
+        strong = v.level in ("high", "medium") and v.family != CAGE_FAMILY
+        if primary is None and v.family == CAGE_FAMILY:
+            # cage-rate lines alone: a cage fault or the load-zone modulation of a rolling
+            # element fault whose own lines are too weak; the envelope cannot tell them apart
+            roles[v.family] = "candidate" if v.level in ("high", "medium") else "weak"
+            continue
+        if primary is None:
+            roles[v.family] = "diagnosis"
+        elif v.family != CAGE_FAMILY and _RANK[v.level] >= _RANK[primary.level]:
+            roles[v.family] = "candidate"  # evidence as strong as the diagnosis's: conflict
+        elif strong:
+            roles[v.family] = "second finding"
+        else:
+            roles[v.family] = "weak"
+            continue
+        accepted.append((v, by_fam[v.family]))
+    candidates = tuple(f for f, r in roles.items() if r == "candidate")
+    confidence = None
+    if not accepted and candidates:  # cage-rate lines only
+        candidates = candidates + tuple(f for f in ("bsf", "bsf2") if f in by_fam)
+        confidence = CANNOT_TELL
+    if accepted:
+        confidence = accepted[0][0].level
+        if candidates:
+            candidates = (accepted[0][0].family,) + candidates
+            roles[accepted[0][0].family] = "candidate"
+            confidence = CANNOT_TELL
+    new = [replace(v, role=roles.get(v.family), explained_by=why.get(v.family)) for v in out]
+    return new, confidence, candidates
+
+
 def fault_verdict(table, families: Sequence[FaultFamily], *, pfa: float, n_tests: int,
-                  fr: float, search_percent: float = DEFAULT_SEARCH_PERCENT) -> Verdict:
+                  fr: float, df_hz: float = 0.0) -> Verdict:
     """Verdict per family from the envelope rows of an :func:`analyze_signal` table.
+
+    Each family is judged over the bands that can hold it (width >= :data:`HOLD_ORDERS` x its
+    fundamental) and gets an :func:`evidence_level`. The strongest family (level, agreeing
+    bands, margin; a cage family only with ``high`` evidence) is the diagnosis; a weaker family
+    whose lines a stronger one explains (:func:`_explanation`: its fundamental on ``k f +- m``
+    spacings of that family or a shaft harmonic, the cage period of its train, or a harmonic
+    shared with it, 3 BPFO = 2 BPFI on the 6205) is ``explained``; an unexplained one is a
+    ``second finding`` only with ``medium`` evidence or better (``high`` for a cage), else
+    ``weak``. Two families with evidence of the same level (or a shared harmonic with evidence
+    as strong as the diagnosis's) give :data:`CANNOT_TELL`.
 
     Parameters
     ----------
@@ -512,52 +848,13 @@ def fault_verdict(table, families: Sequence[FaultFamily], *, pfa: float, n_tests
         Number of family x band tests.
     fr : float
         Shaft rate (Hz), for the explanation of coincident lines.
-    search_percent : float
-        The fundamental's search half-width (percent), the tolerance of a coincidence.
+    df_hz : float, default 0
+        Bin spacing of the envelope spectra (Hz): two lines within ``max(2 df, 0.2 %)`` are
+        one line.
     """
     env = table[table["quantity"] == "envelope_spectrum"]
-    out = []
-    for fam in families:
-        rows = env[env["base"] == fam.name]
-        fund = rows[(rows["order"] == 1) & (rows["sideband"] == 0)]
-        fund = fund[np.isfinite(fund["floor_ratio_db"].to_numpy(dtype=float))]
-        if fund.empty:
-            out.append(FamilyVerdict(fam.name, fam.label, False, None, math.nan, math.nan,
-                                     math.nan, math.nan, math.nan, math.nan, (), None, ()))
-            continue
-        ok_bands = []
-        for band, g in rows.groupby("band", sort=False):
-            det = g["detected"].fillna(False).astype(bool)
-            h = g["sideband"] == 0
-            k1 = det[h & (g["order"] == 1)].any()
-            has2 = (h & (g["order"] == 2)).any()
-            k2 = det[h & (g["order"] == 2)].any()
-            if k1 and (k2 or not has2):
-                ok_bands.append(band)
-        det_rows = fund[fund["band"].isin(ok_bands)]
-        pick = det_rows if not det_rows.empty else fund
-        best = pick.loc[pick["floor_ratio_db"].astype(float).idxmax()]
-        band = best["band"]
-        inb = rows[rows["band"] == band]
-        found = inb[inb["detected"].fillna(False).astype(bool)]
-        harmonics = tuple(int(k) for k in sorted(set(found.loc[found["sideband"] == 0, "order"])))
-        sb = fam.sideband_name if (found["sideband"] != 0).any() else None
-        out.append(FamilyVerdict(
-            fam.name, fam.label, bool(ok_bands), str(band), float(best["band_low_hz"]),
-            float(best["band_high_hz"]), float(best["frequency_hz"]), float(best["amplitude"]),
-            float(best["floor_ratio_db"]), float(best["threshold_db"]), harmonics, sb,
-            tuple(str(b) for b in ok_bands)))
-    # coincidences: strongest first; a weaker family on a stronger one's line is explained
-    by_fam = {fam.name: fam for fam in families}
-    order = sorted((v for v in out if v.detected), key=lambda v: -v.margin_db)
-    accepted: list[tuple[FamilyVerdict, FaultFamily]] = []
-    explained: dict[str, str] = {}
-    for v in order:
-        fam = by_fam[v.family]
-        why = _explanation(v, accepted, fam, fr, search_percent / 100.0 * fam.frequency_hz)
-        if why:
-            explained[v.family] = why
-        else:
-            accepted.append((v, fam))
-    out = [replace(v, explained_by=explained.get(v.family)) for v in out]
-    return Verdict(tuple(out), float(pfa), int(n_tests), float(pfa) / max(int(n_tests), 1))
+    out = [_family_verdict(fam, env[env["base"] == fam.name], float(df_hz)) for fam in families]
+    out, confidence, candidates = _decide(out, {f.name: f for f in families}, float(fr),
+                                          float(df_hz))
+    return Verdict(tuple(out), float(pfa), int(n_tests), float(pfa) / max(int(n_tests), 1),
+                   confidence, candidates)

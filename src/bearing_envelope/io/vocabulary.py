@@ -56,6 +56,10 @@ QUANTITIES = {
     "raw_<fault>": "raw amplitude spectrum at k x the fault frequency",
     "envelope_<fault>": "envelope spectrum at k x the fault frequency found + m x the family's "
                         "sideband spacing (fr for bpfi, ftf for bsf/bsf2; sideband m)",
+    "envelope_bpfi": "sweep, inner-race cases: k x BPFI, sidebands m x fr",
+    "envelope_bpfo": "sweep, outer-race cases: k x BPFO, sidebands m x fr (a check: none "
+                     "expected under a steady load)",
+    "envelope_2bsf": "sweep, rolling-element cases: k x 2 BSF (family bsf2), sidebands m x FTF",
     "bandpass_peak": "max |band-passed signal|; order 0",
     "kurtogram_kurtosis": "kurtosis of the best kurtogram cell (dimensionless); "
                           "frequency_hz = its centre",
@@ -65,12 +69,17 @@ QUANTITIES = {
 #: joins a prefix and the ``base`` (``raw_spectrum`` + ``bpfi`` -> ``raw_bpfi``).
 _MEASURE_PREFIX = {"raw_spectrum": "raw", "envelope_spectrum": "envelope"}
 
+#: Fault families whose tidy name is not the family's key: 2 x BSF (family ``bsf2``) reads
+#: ``2bsf`` (``envelope_2bsf``, ``raw_2bsf``).
+_BASE_TIDY_NAME = {"bsf2": "2bsf"}
+
 
 def quantity_name(measure: str, base=None) -> str:
     """Tidy quantity name of an ``analyze_signal`` measure and base.
 
-    ``("raw_spectrum", "dc") -> "raw_dc"``, ``("envelope_spectrum", "bpfi") -> "envelope_bpfi"``;
-    other measures (``bandpass_peak``, ``kurtogram_kurtosis``) keep their name.
+    ``("raw_spectrum", "dc") -> "raw_dc"``, ``("envelope_spectrum", "bpfi") -> "envelope_bpfi"``,
+    ``("envelope_spectrum", "bsf2") -> "envelope_2bsf"``; other measures (``bandpass_peak``,
+    ``kurtogram_kurtosis``) keep their name.
 
     Raises
     ------
@@ -82,7 +91,7 @@ def quantity_name(measure: str, base=None) -> str:
         return str(measure)
     if base is None or (isinstance(base, float) and math.isnan(base)) or str(base) == "<NA>":
         raise ValueError(f"quantity {measure!r} needs a base (dc, fr or a fault frequency name)")
-    return f"{prefix}_{base}"
+    return f"{prefix}_{_BASE_TIDY_NAME.get(str(base), base)}"
 
 
 

@@ -116,8 +116,6 @@ def read_profile(path: str) -> tuple[np.ndarray, np.ndarray]:
     Returns ``(y, deviation)`` in m. ``deviation`` is the drop of the roller surface from its
     generatrix at the centre (positive = material removed). ``#`` starts a comment.
     """
-    import os
-
     return _read_profile_cached(os.fspath(path), os.path.getmtime(path))
 
 

@@ -42,9 +42,57 @@ from .solves import SolveStats
 from .table import PressureTable, build_table
 
 __all__ = ["location_tables", "location_signals", "outer_race_kinematics",
-           "rolling_element_kinematics", "TWO_PI"]
+           "rolling_element_kinematics", "TWO_PI", "LOCATION_FAMILIES", "event_frequencies",
+           "scene_event_frequencies"]
 
 TWO_PI = 2.0 * math.pi
+
+#: The envelope line family each defect location makes and the spacing its sidebands are
+#: searched at: inner race BPFI with fr sidebands (the defect crosses the load zone once per
+#: shaft turn); outer race BPFO, events of equal load under a steady load, so no sidebands are
+#: expected (fr sidebands are searched as a check); rolling element 2 x BSF (the defect meets both
+#: races once per spin turn) with FTF sidebands (the element crosses the load zone with the cage).
+LOCATION_FAMILIES = {"inner_race": ("bpfi", "fr"), "outer_race": ("bpfo", "fr"),
+                     "rolling_element": ("bsf2", "ftf")}
+
+
+def event_frequencies(fr: float, bpfi: float, z: int, d_mm: float, pitch_mm: float,
+                      alpha_deg: float) -> dict[str, float]:
+    """Rates (Hz) at which the history's events repeat, from the cage rate it uses.
+
+    ``f_c = f_r - BPFI/Z`` (the FTF; with a BPFI override, the implied cage rate), BPFO =
+    ``Z f_c``, BSF = ``f_c (D + d cos alpha)/d`` (the element's spin relative to the cage,
+    :func:`rolling_element_kinematics`), ``bsf2 = 2 BSF``. Without an override these are the
+    geometric frequencies (:func:`bearing_envelope.physics.kinematics.fault_frequencies`) to
+    rounding.
+
+    Parameters
+    ----------
+    fr, bpfi : float
+        Shaft rate and the BPFI used (Hz).
+    z : int
+        Elements per row.
+    d_mm, pitch_mm : float
+        Element and pitch diameters (mm).
+    alpha_deg : float
+        Contact angle (deg).
+
+    Returns
+    -------
+    dict
+        ``{"fr", "bpfi", "bpfo", "ftf", "bsf", "bsf2"}`` in Hz.
+    """
+    f_c = float(fr) - float(bpfi) / int(z)
+    bsf = f_c * (pitch_mm + d_mm * math.cos(math.radians(alpha_deg))) / d_mm
+    return {"fr": float(fr), "bpfi": float(bpfi), "bpfo": int(z) * f_c, "ftf": f_c, "bsf": bsf,
+            "bsf2": 2.0 * bsf}
+
+
+def scene_event_frequencies(scene: Scene) -> dict[str, float]:
+    """:func:`event_frequencies` of a scene."""
+    b = scene.bearing
+    return event_frequencies(scene.operation.shaft_rate_hz, scene.bpfi_hz, b.rollers_per_row,
+                             b.roller_diameter_mm, b.pitch_diameter_mm, b.contact_angle_deg)
 
 
 def _wrap(angle: np.ndarray, period: float) -> np.ndarray:

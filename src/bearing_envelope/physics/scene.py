@@ -671,6 +671,7 @@ class Scene:
         scene_freq = fault_frequencies(1.0, bearing.rollers_per_row, bearing.roller_diameter_mm,
                                        bearing.pitch_diameter_mm, bearing.contact_angle_deg)
         operation = _build_operation(m["operation"], scene_freq.bpfi, bearing.rollers_per_row)
+        _check_override_bearing(operation, bearing)
         if defect.location == "outer_race":
             bearing = dataclasses.replace(bearing, contact_race="outer")
         return cls(bearing, material, operation, load, defect)
@@ -686,9 +687,26 @@ class Scene:
         return cls.from_mapping(None, load_kN=load_kN, depth_um=depth_um)
 
 
+#: The bearing of the source study, the one whose stated BPFI ``operation.bpfi_override_hz``
+#: reproduces (231.9 Hz; geometry alone gives 194.2 Hz).
+STUDY_DESIGNATION = "FAG 534176"
+
+
+def _check_override_bearing(operation: Operation, bearing: Bearing) -> None:
+    """The BPFI override is the study's: refused on a scene naming another catalogue bearing
+    (its fault frequencies then come from its geometry; ``designation: null`` is the study's)."""
+    des = bearing.designation
+    if operation.bpfi_override_hz is not None and des is not None and des != STUDY_DESIGNATION:
+        raise _bad("operation.bpfi_override_hz", operation.bpfi_override_hz,
+                   f"null for bearing.designation {des!r} (the override is the {STUDY_DESIGNATION}"
+                   f" study's stated BPFI; other bearings take their fault frequencies from "
+                   f"geometry)")
+
+
 def _base_mapping(given: Mapping[str, Any] | None) -> dict[str, Any]:
     """The defaults a mapping is merged over: :data:`DEFAULT_SCENE`, with the bearing of the
-    catalogue entry ``bearing.designation`` names (:mod:`bearing_envelope.physics.catalogue`)."""
+    catalogue entry ``bearing.designation`` names (:mod:`bearing_envelope.physics.catalogue`);
+    for another bearing than the study's the default BPFI override is null (geometric)."""
     b = (given or {}).get("bearing") if isinstance(given, Mapping) else None
     des = b.get("designation") if isinstance(b, Mapping) else None
     if des is None:
@@ -698,6 +716,8 @@ def _base_mapping(given: Mapping[str, Any] | None) -> dict[str, Any]:
     base = copy.deepcopy(DEFAULT_SCENE)
     base["bearing"].update(bearing_values(des))
     base["bearing"]["designation"] = des
+    if des != STUDY_DESIGNATION:
+        base["operation"]["bpfi_override_hz"] = None
     return base
 
 

@@ -23,7 +23,8 @@ from .bands import (
 from .envelope import bandpass, envelope, envelope_spectrum, peak_value, settling_samples
 from .kurtogram import Kurtogram, fast_kurtogram, kurtogram_levels, max_kurtogram_level
 from .sk import spectral_kurtosis
-from .spectrum import amplitude_at, amplitude_spectrum
+from .bandselect import infogram_band, protrugram_band
+from .spectrum import amplitude_at, amplitude_spectrum, prewhiten
 
 #: Names that moved to :mod:`bearing_envelope.diagnosis` (module of each), still importable
 #: from here. Resolved on first use (PEP 562), so importing ``signal`` never imports the layer
@@ -58,9 +59,12 @@ __all__ = [
     "envelope",
     "envelope_spectrum",
     "fast_kurtogram",
+    "infogram_band",
     "kurtogram_levels",
     "max_kurtogram_level",
     "peak_value",
+    "prewhiten",
+    "protrugram_band",
     "resolve_band",
     "settling_samples",
     "spectral_kurtosis",

@@ -9,7 +9,9 @@ plain mapping (the form a YAML config carries)::
     {"name": "fixed",     "strategy": "fixed", "low_hz": 5000.0, "high_hz": 9000.0}
 
 Optional keys: ``name`` (defaults to the strategy), ``clamp`` (bool: clamp an upper edge at
-or above Nyquist instead of raising; always on for ``kurtogram``), and for ``kurtogram``
+or above Nyquist instead of raising; always on for ``kurtogram``), ``prewhiten`` (bool: the
+band is taken from the cepstrum-pre-whitened signal, :func:`~bearing_envelope.signal.
+spectrum.prewhiten`; recorded in the provenance), and for ``kurtogram``
 ``max_level`` / ``min_bandwidth`` (guards, see :func:`fast_kurtogram`). ``base`` is a key of
 the frequencies given to :func:`resolve_band` (``"fr"``, ``"bpfi"``, ...) or a number in Hz.
 """
@@ -44,10 +46,10 @@ DEFAULT_BANDS = (
 )
 
 _KEYS = {
-    "kurtogram": {"name", "strategy", "clamp", "max_level", "min_bandwidth"},
-    "fraction": {"name", "strategy", "clamp", "low", "high"},
-    "orders": {"name", "strategy", "clamp", "low", "high", "base"},
-    "fixed": {"name", "strategy", "clamp", "low_hz", "high_hz"},
+    "kurtogram": {"name", "strategy", "clamp", "prewhiten", "max_level", "min_bandwidth"},
+    "fraction": {"name", "strategy", "clamp", "prewhiten", "low", "high"},
+    "orders": {"name", "strategy", "clamp", "prewhiten", "low", "high", "base"},
+    "fixed": {"name", "strategy", "clamp", "prewhiten", "low_hz", "high_hz"},
 }
 
 
@@ -244,4 +246,6 @@ def resolve_band(spec: Mapping, fs: float, *, kurtogram=None, frequencies: Mappi
         band, prov = band_fixed(_need(spec, "low_hz", name), _need(spec, "high_hz", name), fs,
                                 clamp=clamp, margin=margin)
     prov = {"name": name, **prov}
+    if spec.get("prewhiten"):
+        prov["prewhiten"] = True
     return band, prov

@@ -26,8 +26,20 @@ BINARY_CUTOFF = 0.4
 TERNARY_TAPS = 25
 #: Cut-off of the ternary prototype, as a fraction of its Nyquist frequency (2/3 x 0.4).
 TERNARY_CUTOFF = 2.0 / 3.0 * 0.4
+#: log2 of the minimum number of samples per band of the deepest binary level (published
+#: rule ``nlevel <= log2(n) - 7``).
+_DEEPEST_LOG2 = 7
 #: Minimum number of samples of the deepest binary level (published rule nlevel <= log2(n) - 7).
-MIN_DEEPEST_SAMPLES = 128
+MIN_DEEPEST_SAMPLES = 2**_DEEPEST_LOG2
+#: Binary levels computed when ``nlevel`` is not given (the published default), if the signal
+#: is long enough.
+DEFAULT_NLEVEL = 8
+#: Centre of the band of the real input, ``[0, 1/2]`` cycles/sample.
+_REAL_INPUT_CENTRE = 0.25
+#: Shift (cycles/sample, at the parent's rate) from a node's centre to the centres of its
+#: binary halves (1/4 of its band of width 1/2) and of its outer ternary thirds (1/3 of it).
+_BINARY_SHIFT = 0.125
+_TERNARY_SHIFT = 1.0 / 6.0
 
 
 
@@ -128,7 +140,7 @@ def kurtogram_levels(nlevel: int) -> np.ndarray:
 def max_kurtogram_level(n: int) -> int:
     """Largest ``nlevel`` allowed for ``n`` samples: ``floor(log2(n)) - 7`` (>= 128 samples
     per sub-band at the deepest binary level, the rule of the published code)."""
-    return int(math.floor(math.log2(max(int(n), 1)))) - 7
+    return int(math.floor(math.log2(max(int(n), 1)))) - _DEEPEST_LOG2
 
 
 #: Outputs per block of the filter-bank kernel; ``dec * _BLOCK`` is a multiple of the phasor
@@ -136,6 +148,31 @@ def max_kurtogram_level(n: int) -> int:
 _BLOCK = 960
 #: Every demodulation frequency (cycles/sample) is a multiple of 1/24.
 _PERIOD = 24
+
+
+@njit(cache=True, fastmath=True)
+def _demodulate(xr, xi, p, has_imag, cos_c, sin_c, dec, tbase, n_poly, phr, phi):  # pragma: no cover - jit
+    """Polyphase buffers of one block of node ``p`` shifted by ``-f_c``: ``phr[d, jj] + i
+    phi[d, jj] = x[t] exp(-2j pi f_c t)`` at ``t = tbase + dec*jj + d`` (zero before the start),
+    ``cos_c``/``sin_c`` the child's phasor table (see :func:`_bank_step`)."""
+    for d in range(dec):
+        for jj in range(n_poly):
+            trel = dec * jj + d
+            t = tbase + trel
+            if t < 0:
+                phr[d, jj] = 0.0
+                phi[d, jj] = 0.0
+            else:
+                a = xr[p, t]
+                cc = cos_c[trel]
+                ss = sin_c[trel]
+                if has_imag:
+                    b = xi[p, t]
+                    phr[d, jj] = a * cc + b * ss
+                    phi[d, jj] = b * cc - a * ss
+                else:
+                    phr[d, jj] = a * cc
+                    phi[d, jj] = -a * ss
 
 
 @njit(cache=True, fastmath=True)
@@ -174,24 +211,7 @@ def _bank_step(xr, xi, has_imag, tabc, tabs, w, dec, drop, store):  # pragma: no
             nb = m1 - m0
             tbase = dec * (m0 - q_hist)
             for c in range(n_child):
-                for d in range(dec):
-                    for jj in range(q_hist + nb):
-                        trel = dec * jj + d
-                        t = tbase + trel
-                        if t < 0:
-                            phr[d, jj] = 0.0
-                            phi[d, jj] = 0.0
-                        else:
-                            a = xr[p, t]
-                            cc = tabc[c, trel]
-                            ss = tabs[c, trel]
-                            if has_imag:
-                                b = xi[p, t]
-                                phr[d, jj] = a * cc + b * ss
-                                phi[d, jj] = b * cc - a * ss
-                            else:
-                                phr[d, jj] = a * cc
-                                phi[d, jj] = -a * ss
+                _demodulate(xr, xi, p, has_imag, tabc[c], tabs[c], dec, tbase, q_hist + nb, phr, phi)
                 for m in range(nb):
                     accr[m] = 0.0
                     acci[m] = 0.0
@@ -410,24 +430,7 @@ def fast_kurtogram(
     """
     fs = check_fs(fs)
     x = check_signal(x, "x", min_length=2)
-    n = x.size
-    nmax = max_kurtogram_level(n)
-    if nlevel is None:
-        nlevel = min(8, nmax)
-        if nlevel < 1:
-            raise ValueError(
-                f"x has {n} samples: the fast kurtogram needs at least "
-                f"{2 ** (1 + 7)} samples (nlevel >= 1 with >= {MIN_DEEPEST_SAMPLES} per band)"
-            )
-    if isinstance(nlevel, bool) or int(nlevel) != nlevel or int(nlevel) < 1:
-        raise ValueError(f"nlevel must be an integer >= 1, got {nlevel!r}")
-    nlevel = int(nlevel)
-    if nlevel > nmax:
-        raise ValueError(
-            f"nlevel={nlevel} is too deep for a signal of {n} samples: need "
-            f"nlevel <= floor(log2(n)) - 7 = {nmax} (at least {MIN_DEEPEST_SAMPLES} samples "
-            f"per sub-band at the deepest level)"
-        )
+    nlevel = _check_nlevel(nlevel, x.size)
     if max_level is not None:
         max_level = float(max_level)
         if not math.isfinite(max_level) or max_level < 0:
@@ -440,63 +443,11 @@ def fast_kurtogram(
     if demean:
         x = x - x.mean()
 
-    w2, w3 = _prototypes()
     levels = kurtogram_levels(nlevel)
     bandwidths = fs * 2.0 ** -(levels + 1.0)
-    rows: list[np.ndarray] = [None] * len(levels)  # type: ignore[list-item]
-    dropped = np.zeros(len(levels), dtype=int)
-    nsamp = np.zeros(len(levels), dtype=int)
-
-    # level 0, "analytic": |analytic signal|^2 = x^2 + (Hx)^2, Hx by FFT in single precision
-    # (the kurtosis needs ~6 digits; this halves the cost of the largest transform);
-    # "real": E x^4 / (E x^2)^2 - 3 on x itself (Antoni's published code)
-    scale = 1.0 / np.std(x)
-    xs = x * scale
-    if level0 == "real":
-        x2 = xs * xs
-        # _kurt_from_sums gives max(n s4 / s2^2 - 2, 0); the real kurtosis subtracts 3
-        rows[0] = np.maximum(_kurt_from_sums([x2.sum()], [np.dot(x2, x2)], n) - 1.0, 0.0)
-    else:
-        nfft = sp_fft.next_fast_len(n, real=True)
-        spec = sp_fft.rfft(xs.astype(np.float32), nfft, workers=-1)
-        spec *= np.complex64(-1j)  # Hilbert transform: -i sign(f); DC and Nyquist set to 0
-        spec[0] = 0.0
-        if nfft % 2 == 0:
-            spec[-1] = 0.0
-        hx = sp_fft.irfft(spec, nfft, workers=-1)[:n].astype(np.float64)
-        a2 = xs * xs + hx * hx
-        rows[0] = _kurt_from_sums([a2.sum()], [np.dot(a2, a2)], n)
-    nsamp[0] = n
-
-    xr = x[None, :]
-    xi = np.zeros((1, 1))
-    centre = 0.25  # the band of the real input is [0, 1/2] cycles/sample, centred on 1/4
-    drop = 0
-    for k in range(nlevel):
-        m_in = xr.shape[1]
-        # ternary split of binary level k -> row of level k + 1.585 (leaves: moments only)
-        r3 = 2 * k + 2
-        if r3 < len(levels):  # the split of the deepest binary level is not part of the map
-            d3 = _drop_after(drop, TERNARY_TAPS, 3)
-            cb, sb = _tables((centre - 1.0 / 6.0, centre, centre + 1.0 / 6.0), 3, w3.size)
-            _, _, s2, s4 = _bank_step(xr, xi, k > 0, cb, sb, w3, 3, d3, False)
-            cnt = m_in // 3 - d3
-            rows[r3] = _kurt_from_sums(s2, s4, cnt)
-            dropped[r3] = d3
-            nsamp[r3] = cnt
-        # binary split -> level k + 1
-        d2 = _drop_after(drop, BINARY_TAPS, 2)
-        cb, sb = _tables((centre - 0.125, centre + 0.125), 2, w2.size)
-        store = k + 1 < nlevel
-        yr, yi, s2, s4 = _bank_step(xr, xi, k > 0, cb, sb, w2, 2, d2, store)
-        cnt = m_in // 2 - d2
-        r2 = 2 * k + 1
-        rows[r2] = _kurt_from_sums(s2, s4, cnt)
-        dropped[r2] = d2
-        nsamp[r2] = cnt
-        xr, xi = yr, yi
-        centre = 0.0
-        drop = d2
+    rows, dropped, nsamp = _filter_bank(x, nlevel, len(levels))
+    rows[0] = _level0_kurtosis(x, level0)
+    nsamp[0] = x.size
 
     ncol = 3 * 2**nlevel
     matrix = np.empty((len(levels), ncol))
@@ -527,3 +478,93 @@ def fast_kurtogram(
         info={"demean": bool(demean), "level0": level0, "binary_taps": BINARY_TAPS,
               "ternary_taps": TERNARY_TAPS},
     )
+
+
+def _check_nlevel(nlevel, n: int) -> int:
+    """``nlevel`` checked against the signal length ``n`` (default :data:`DEFAULT_NLEVEL`, capped
+    by :func:`max_kurtogram_level`)."""
+    nmax = max_kurtogram_level(n)
+    if nlevel is None:
+        nlevel = min(DEFAULT_NLEVEL, nmax)
+        if nlevel < 1:
+            raise ValueError(
+                f"x has {n} samples: the fast kurtogram needs at least "
+                f"{2 * MIN_DEEPEST_SAMPLES} samples (nlevel >= 1 with >= {MIN_DEEPEST_SAMPLES} per band)"
+            )
+    if isinstance(nlevel, bool) or int(nlevel) != nlevel or int(nlevel) < 1:
+        raise ValueError(f"nlevel must be an integer >= 1, got {nlevel!r}")
+    nlevel = int(nlevel)
+    if nlevel > nmax:
+        raise ValueError(
+            f"nlevel={nlevel} is too deep for a signal of {n} samples: need "
+            f"nlevel <= floor(log2(n)) - {_DEEPEST_LOG2} = {nmax} (at least {MIN_DEEPEST_SAMPLES} samples "
+            f"per sub-band at the deepest level)"
+        )
+    return nlevel
+
+
+def _level0_kurtosis(x: np.ndarray, level0: str) -> np.ndarray:
+    """Kurtosis of the whole band (row 0), one value.
+
+    ``"analytic"``: ``|analytic signal|^2 = x^2 + (Hx)^2``, ``Hx`` by FFT in single precision
+    (the kurtosis needs ~6 digits; this halves the cost of the largest transform); ``"real"``:
+    ``E x^4 / (E x^2)^2 - 3`` on ``x`` itself (Antoni's published code).
+    """
+    n = x.size
+    scale = 1.0 / np.std(x)
+    xs = x * scale
+    if level0 == "real":
+        x2 = xs * xs
+        # _kurt_from_sums gives max(n s4 / s2^2 - 2, 0); the real kurtosis subtracts 3
+        return np.maximum(_kurt_from_sums([x2.sum()], [np.dot(x2, x2)], n) - 1.0, 0.0)
+    nfft = sp_fft.next_fast_len(n, real=True)
+    spec = sp_fft.rfft(xs.astype(np.float32), nfft, workers=-1)
+    spec *= np.complex64(-1j)  # Hilbert transform: -i sign(f); DC and Nyquist set to 0
+    spec[0] = 0.0
+    if nfft % 2 == 0:
+        spec[-1] = 0.0
+    hx = sp_fft.irfft(spec, nfft, workers=-1)[:n].astype(np.float64)
+    a2 = xs * xs + hx * hx
+    return _kurt_from_sums([a2.sum()], [np.dot(a2, a2)], n)
+
+
+def _filter_bank(x: np.ndarray, nlevel: int, n_rows: int):
+    """The 1/3-binary tree below level 0: ``(rows, n_dropped, n_samples)`` (row 0 left empty).
+
+    Binary level ``k`` is split in two (row ``2k + 1``, level ``k + 1``) and, above the deepest
+    level, in three (row ``2k + 2``, level ``k + 1.585``: a leaf, moments only).
+    """
+    w2, w3 = _prototypes()
+    rows: list[np.ndarray] = [None] * n_rows  # type: ignore[list-item]
+    dropped = np.zeros(n_rows, dtype=int)
+    nsamp = np.zeros(n_rows, dtype=int)
+    xr = x[None, :]
+    xi = np.zeros((1, 1))
+    centre = _REAL_INPUT_CENTRE
+    drop = 0
+    for k in range(nlevel):
+        m_in = xr.shape[1]
+        # ternary split of binary level k -> row of level k + 1.585 (leaves: moments only)
+        r3 = 2 * k + 2
+        if r3 < n_rows:  # the split of the deepest binary level is not part of the map
+            d3 = _drop_after(drop, TERNARY_TAPS, 3)
+            cb, sb = _tables((centre - _TERNARY_SHIFT, centre, centre + _TERNARY_SHIFT), 3, w3.size)
+            _, _, s2, s4 = _bank_step(xr, xi, k > 0, cb, sb, w3, 3, d3, False)
+            cnt = m_in // 3 - d3
+            rows[r3] = _kurt_from_sums(s2, s4, cnt)
+            dropped[r3] = d3
+            nsamp[r3] = cnt
+        # binary split -> level k + 1
+        d2 = _drop_after(drop, BINARY_TAPS, 2)
+        cb, sb = _tables((centre - _BINARY_SHIFT, centre + _BINARY_SHIFT), 2, w2.size)
+        store = k + 1 < nlevel
+        yr, yi, s2, s4 = _bank_step(xr, xi, k > 0, cb, sb, w2, 2, d2, store)
+        cnt = m_in // 2 - d2
+        r2 = 2 * k + 1
+        rows[r2] = _kurt_from_sums(s2, s4, cnt)
+        dropped[r2] = d2
+        nsamp[r2] = cnt
+        xr, xi = yr, yi
+        centre = 0.0  # every sub-band signal is centred on 0 Hz
+        drop = d2
+    return rows, dropped, nsamp

@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 from scipy import signal as sp_signal
 
+from .kurtogram import fast_kurtogram
 from .validation import check_fs, check_signal
 
 __all__ = ["spectral_kurtosis"]
@@ -82,8 +83,6 @@ def spectral_kurtosis(
     if not (0.0 <= overlap < 1.0):
         raise ValueError(f"overlap must be in [0, 1), got {overlap!r}")
     if nperseg is None:
-        from .kurtogram import fast_kurtogram
-
         kg = fast_kurtogram(x, fs, nlevel)
         nperseg = max(16, kg.window_length)
     if isinstance(nperseg, bool) or int(nperseg) != nperseg or int(nperseg) < 4:

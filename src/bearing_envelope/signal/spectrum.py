@@ -8,10 +8,12 @@ import math
 import numpy as np
 from scipy import fft as sp_fft
 from scipy import signal as sp_signal
+from scipy.optimize import minimize_scalar
 
 from .validation import check_fs, check_signal
 
-__all__ = ["amplitude_spectrum", "amplitude_at", "default_tolerance"]
+__all__ = ["TOLERANCE_FRACTION", "TOLERANCE_MAX_SPACING", "TOLERANCE_MIN_BINS",
+           "amplitude_spectrum", "amplitude_at", "default_tolerance", "prewhiten"]
 
 
 def _window(window, n: int) -> np.ndarray:
@@ -118,8 +120,6 @@ def _fit_offset(a3, window, n):
     """Offset ``delta`` (bins, |delta| <= 0.5) of a sinusoid from the peak bin of three
     amplitudes ``a3 = (a[i-1], a[i], a[i+1])``, fitting the window's own response
     ``R(j - delta)``, j = -1, 0, 1, to their log-ratios; returns ``(delta, R(-delta))``."""
-    from scipy.optimize import minimize_scalar
-
     a3 = np.maximum(np.asarray(a3, dtype=np.float64), 1e-300)
     obs = np.log(a3[[0, 2]] / a3[1])
 
@@ -210,9 +210,50 @@ def amplitude_at(
     return freq, amp
 
 
+#: Default search half-width of a line, relative to its frequency (dimensionless): 0.2 %
+#: covers the residual speed uncertainty of a harmonic searched around k x a found line.
+TOLERANCE_FRACTION = 0.002
+#: ... and at least this many bins (the bin of the found line is uncertain by half a bin).
+TOLERANCE_MIN_BINS = 2.0
+#: ... and at most this fraction of the sideband spacing (Hz / Hz), so that neighbouring
+#: sidebands never share a search window.
+TOLERANCE_MAX_SPACING = 0.25
+
+
 def default_tolerance(target: float, df: float, fr: float | None = None) -> float:
-    """Default search half-width (Hz): ``max(2 df, 0.002 target)``, at most ``fr / 4``."""
-    tol = max(2.0 * df, 0.002 * abs(target))
+    """Default search half-width (Hz): ``max(TOLERANCE_MIN_BINS df, TOLERANCE_FRACTION
+    target)`` = ``max(2 df, 0.002 target)``, at most ``TOLERANCE_MAX_SPACING fr`` = ``fr / 4``
+    (``fr``: the sideband spacing, Hz; ``df``: the bin spacing, Hz)."""
+    tol = max(TOLERANCE_MIN_BINS * df, TOLERANCE_FRACTION * abs(target))
     if fr is not None:
-        tol = min(tol, 0.25 * fr)
+        tol = min(tol, TOLERANCE_MAX_SPACING * fr)
     return max(tol, 0.0)
+
+
+def prewhiten(x) -> np.ndarray:
+    r"""Cepstrum pre-whitening (Borghesani et al. 2013, MSSP 36): the signal with a flat
+    amplitude spectrum and its phase kept.
+
+    Setting the real cepstrum to zero at every quefrency (the 0 quefrency included) divides
+    each Fourier coefficient by its magnitude: :math:`x_w = \mathcal{F}^{-1}[X / |X|]`. The
+    discrete lines (shaft harmonics, gear mesh) and the resonances are flattened together, so
+    the impulses of a fault stand out in any band of :math:`x_w`, and its (squared) envelope
+    spectrum shows their repetition rate without a band search.
+
+    Parameters
+    ----------
+    x : array_like, 1-D
+        Real signal (any unit), at least 16 samples.
+
+    Returns
+    -------
+    ndarray
+        The whitened signal, same length, dimensionless: each bin of its spectrum has
+        magnitude 1, except 0 Hz (and bins of zero magnitude), which are 0.
+    """
+    x = check_signal(x, "x", min_length=16)
+    spec = sp_fft.rfft(x - x.mean())
+    mag = np.abs(spec)
+    spec = np.divide(spec, mag, out=np.zeros_like(spec), where=mag > 0)
+    spec[0] = 0.0  # the mean is removed: 0 Hz holds only rounding
+    return sp_fft.irfft(spec, n=x.size)

@@ -40,12 +40,14 @@ import math
 from dataclasses import dataclass
 from functools import lru_cache
 from importlib import resources
+from io import StringIO
 from typing import Any
 
 import numpy as np
 import pandas as pd
 
 from ..physics.fidelity import Fidelity, fidelity_from
+from ..physics.scene import Scene
 
 __all__ = ["ErrorModel", "error_model", "case_error_model", "attach_errors", "absolute_error", "measured_points",
            "quantity_class", "scene_differences", "ERROR_COLUMNS"]
@@ -71,8 +73,6 @@ def _load() -> tuple[dict[str, Any], pd.DataFrame]:
     if not first.startswith("# "):
         raise ValueError("data/discretisation_error.csv: the first line must be '# {json header}'")
     header = json.loads(first[2:])
-    from io import StringIO
-
     table = pd.read_csv(StringIO(rest), keep_default_na=False, na_values=["nan", "NaN"])
     return header, table
 
@@ -143,8 +143,6 @@ def scene_differences(scene: Any, depth_um: float) -> list[str]:
     """The keys (``section.key: value vs default``) in which a scene mapping differs from the
     default scene the error model was measured on, with the same depth (and so the default width
     ``w = 2 h``); the sweep values, duration, noise and seeds are not compared."""
-    from ..physics.scene import Scene
-
     flat = _flat(scene)
     ref = _flat(Scene.from_mapping({}, load_kN=float(flat.get("load.value_kN", 500.0)),
                                    depth_um=float(depth_um)).to_mapping())

@@ -26,7 +26,13 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
+from matplotlib.colors import to_rgb  # noqa: E402
 
+from ..diagnosis.faults import display_name  # noqa: E402
+from ..io import atomic_dir, read_case  # noqa: E402
+from ..physics.locations import LOCATION_FAMILIES  # noqa: E402
+from ..signal import spectral_kurtosis  # noqa: E402
+from .pipeline import case_fault_lines  # noqa: E402
 from .tables import public_mode  # noqa: E402
 
 __all__ = [
@@ -148,12 +154,29 @@ def save_figure(fig, path: str | os.PathLike, dpi: int = 120) -> Path:
 
 
 def _per_load(ax, df: pd.DataFrame, y: str, scale: float = 1.0, marker: str = "o"):
-    for load, g in df.groupby("load_kN", sort=True):
+    """One line per load (per location and load when the table has a ``location`` column)."""
+    keys = ["location", "load_kN"] if "location" in df.columns else ["load_kN"]
+    for key, g in df.groupby(keys, sort=True):
         g = g.sort_values("depth_um")
-        ax.plot(g["depth_um"], g[y] * scale, marker=marker, label=f"{load:g} kN")
+        label = f"{key[-1]:g} kN" + (f", {key[0]}" if len(keys) > 1 else "")
+        ax.plot(g["depth_um"], g[y] * scale, marker=marker, label=label)
     ax.set_xlabel("defect depth (µm)")
     ax.grid(True, alpha=0.3)
-    ax.legend(title="load")
+    ax.legend(title="load" if len(keys) == 1 else "load, location")
+
+
+#: The fault line the sweep tests for each defect location (:data:`bearing_envelope.physics.
+#: locations.LOCATION_FAMILIES`).
+LOCATION_LINE = {loc: display_name(fam) for loc, (fam, _) in LOCATION_FAMILIES.items()}
+
+#: Display names of the sweep's fault-family quantities (each location searches its own).
+FAMILY_TITLES = {"bpfi": "BPFI", "bpfo": "BPFO", "2bsf": "2xBSF"}
+
+
+def _family_title(quantities, prefix: str) -> str:
+    """``"BPFI"`` (or ``"BPFI / BPFO"``) for the ``{prefix}_<family>`` quantities present."""
+    fams = sorted({q[len(prefix):] for q in quantities})
+    return " / ".join(FAMILY_TITLES.get(f, f) for f in fams) or "BPFI"
 
 
 def draw_peak_pressure(cases: pd.DataFrame, *, grid: str = "stored in each case file"):
@@ -184,14 +207,18 @@ def fig_peak_pressure(cases: pd.DataFrame, path, *, grid: str = "stored in each 
 
 
 def fig_harmonics_vs_depth(tidy: pd.DataFrame, band: str, path, *, orders=(1, 2)) -> Path:
-    """Figs 12-20: envelope harmonic amplitudes k x BPFI against depth, one line per load."""
-    sel = tidy[(tidy["band"] == band) & (tidy["quantity"] == "envelope_bpfi") & (tidy["sideband"] == 0)]
+    """Figs 12-20: envelope harmonic amplitudes k x BPFI against depth, one line per load
+    (k x each location's fault frequency, one line per location and load, in a location sweep)."""
+    env = tidy["quantity"].astype(str).str.startswith("envelope_")
+    sel = tidy[(tidy["band"] == band) & env & (tidy["sideband"] == 0)]
+    family = _family_title(sel["quantity"].unique(), "envelope_")
     fig, axes = plt.subplots(1, len(orders), figsize=(5 * len(orders), 4), squeeze=False)
     for ax, k in zip(axes[0], orders):
         g = sel[sel["order"] == k]
         _per_load(ax, g, "amplitude", 1e-6)
         ax.set_ylabel("envelope amplitude (MPa)")
-        ax.set_title(f"{k} x BPFI")
+        ax.set_title(f"{k} x {family}" if "/" not in family
+                     else f"{k} x each location's line ({family})")
     lo_hi = sel[["band_low_hz", "band_high_hz"]].drop_duplicates()
     span = (
         f"{lo_hi.iloc[0, 0]:.0f}-{lo_hi.iloc[0, 1]:.0f} Hz" if len(lo_hi) == 1 else "band per case"
@@ -380,8 +407,6 @@ def draw_time_histories(pairs, *, periods: float = 6.0):
 
 
 def _darker(colour: str) -> tuple:
-    from matplotlib.colors import to_rgb
-
     return tuple(0.55 * c for c in to_rgb(colour))
 
 
@@ -395,8 +420,10 @@ def _spectra(spectra_file):
         return {key: s[key] for key in s.files}
 
 
-def fig_raw_spectrum(spectra_file, case: str, fr: float, bpfi: float, path, *, fmax=None) -> Path:
-    """Fig. 7: raw amplitude spectrum of one case with k x fr and k x BPFI marked."""
+def fig_raw_spectrum(spectra_file, case: str, fr: float, bpfi: float, path, *, fmax=None,
+                     line_name: str = "BPFI") -> Path:
+    """Fig. 7: raw amplitude spectrum of one case with k x fr and k x BPFI marked (``bpfi``:
+    the case's fault frequency, named ``line_name``: BPFO, 2xBSF for other locations)."""
     s = _spectra(spectra_file)
     f, a = s["raw_f"], s["raw_a"]
     fmax = fmax or 6 * bpfi
@@ -404,7 +431,8 @@ def fig_raw_spectrum(spectra_file, case: str, fr: float, bpfi: float, path, *, f
     fig, ax = plt.subplots(figsize=(10, 4))
     ax.semilogy(f[keep], a[keep] / 1e6, lw=0.7, color="k")
     for k in range(1, int(fmax / bpfi) + 1):
-        ax.axvline(k * bpfi, color="C3", ls="--", lw=0.8, label="k x BPFI" if k == 1 else None)
+        ax.axvline(k * bpfi, color="C3", ls="--", lw=0.8,
+                   label=f"k x {line_name}" if k == 1 else None)
     for k in range(1, 4):
         ax.axvline(k * fr, color="C0", ls=":", lw=0.8, label="k x fr" if k == 1 else None)
     ax.set_xlabel("frequency (Hz)")
@@ -465,8 +493,6 @@ def draw_kurtogram(kurtogram, case: str, *, signal=None, fs=None, nperseg=None):
         ax.set_xlabel("frequency (kHz)")
         ax.set_ylabel("level")
     if signal is not None:
-        from ..signal import spectral_kurtosis
-
         if nperseg is None:
             nperseg = sk_window(level if level is not None else 7.0)
         nperseg = int(nperseg)
@@ -490,18 +516,23 @@ def fig_kurtogram(kurtogram_file, case: str, path, *, signal=None, fs=None, nper
 
 
 def fig_envelope_spectrum(spectra_file, case: str, band: str, fr: float, bpfi: float, path, *,
-                          n_harmonics: int = 3, n_sidebands: int = 2) -> Path:
-    """Fig. 11: envelope spectrum of one case and band, BPFI harmonics and fr sidebands marked."""
+                          n_harmonics: int = 3, n_sidebands: int = 2, line_name: str = "BPFI",
+                          spacing_name: str = "fr") -> Path:
+    """Fig. 11: envelope spectrum of one case and band, BPFI harmonics and fr sidebands marked
+    (another location: its fault frequency ``bpfi`` named ``line_name`` and its sideband
+    spacing ``fr`` named ``spacing_name``)."""
     s = _spectra(spectra_file)
     f, a = s[f"env_{band}_f"], s[f"env_{band}_a"]
     fig, ax = plt.subplots(figsize=(10, 4))
     ax.plot(f, a / 1e6, lw=0.8, color="k")
     for k in range(1, n_harmonics + 1):
-        ax.axvline(k * bpfi, color="C3", ls="--", lw=0.9, label="k x BPFI" if k == 1 else None)
+        ax.axvline(k * bpfi, color="C3", ls="--", lw=0.9,
+                   label=f"k x {line_name}" if k == 1 else None)
         for m in range(1, n_sidebands + 1):
             for sgn in (-1, 1):
                 ax.axvline(k * bpfi + sgn * m * fr, color="C0", ls=":", lw=0.8,
-                           label="k x BPFI ± m x fr" if (k, m, sgn) == (1, 1, -1) else None)
+                           label=(f"k x {line_name} ± m x {spacing_name}"
+                                  if (k, m, sgn) == (1, 1, -1) else None))
     ax.set_xlim(0, f[-1] if len(f) else 1)
     ax.set_xlabel("frequency (Hz)")
     ax.set_ylabel("envelope amplitude (MPa)")
@@ -529,8 +560,6 @@ def make_figures(*, harmonics, cases, bands, case_files, kurtogram_files, spectr
     outdir : path
         Output folder.
     """
-    from ..io import atomic_dir, read_case
-
     outdir = Path(outdir)
     with atomic_dir(outdir) as tmp:
         tidy = pd.read_csv(harmonics)
@@ -546,12 +575,16 @@ def make_figures(*, harmonics, cases, bands, case_files, kurtogram_files, spectr
         pairs = [(case(p["healthy"]), case(p["defect"])) for p in
                  (example.get("pairs") or [{"healthy": example["healthy"], "defect": example["defect"]}])]
         cd = case(example["defect"])
+        lines, spacing = case_fault_lines(cd)
+        family, f_line = next(iter(lines.items()))
+        sb_name, f_sb = (spacing or {}).get(family, ("fr", cd.fr))
+        line = {"line_name": display_name(family)}
         written = [
             fig_pressure_maps(pairs, tmp / "fig04_pressure_maps.png"),
             fig_time_histories(pairs, tmp / "fig05_time_histories.png"),
             fig_peak_pressure(summary, tmp / "fig06_peak_pressure.png", grid=_grid_text(cd)),
-            fig_raw_spectrum(spectra_files[example["defect"]], example["defect"], cd.fr, cd.bpfi,
-                             tmp / "fig07_raw_spectrum.png"),
+            fig_raw_spectrum(spectra_files[example["defect"]], example["defect"], cd.fr, f_line,
+                             tmp / "fig07_raw_spectrum.png", **line),
         ]
         if analysis.needs_kurtogram:
             x = np.asarray(cd.signals[analysis.signal], dtype=float)
@@ -560,9 +593,10 @@ def make_figures(*, harmonics, cases, bands, case_files, kurtogram_files, spectr
         written.append(fig_band_limits(band_table, tmp / "fig10_band_limits.png", fs=cd.fs))
         for b in analysis.bands:
             written.append(fig_envelope_spectrum(
-                spectra_files[example["defect"]], example["defect"], b.name, cd.fr, cd.bpfi,
+                spectra_files[example["defect"]], example["defect"], b.name, f_sb, f_line,
                 tmp / f"fig11_envelope_spectrum_{b.name}.png",
-                n_harmonics=analysis.harmonics, n_sidebands=analysis.sidebands))
+                n_harmonics=analysis.harmonics, n_sidebands=analysis.sidebands,
+                spacing_name=display_name(sb_name), **line))
         for i, b in enumerate(analysis.bands):
             written.append(fig_harmonics_vs_depth(tidy, b.name, tmp / f"fig{12 + i:02d}_harmonics_{b.name}.png"))
         raw = tidy[(tidy["band"] == "raw") & (tidy["order"] <= 1)]
@@ -573,9 +607,10 @@ def make_figures(*, harmonics, cases, bands, case_files, kurtogram_files, spectr
 def _fig_raw_terms(raw: pd.DataFrame, path) -> Path:
     """Fig. 8: raw-spectrum 0 Hz, 1 x fr and 1 x BPFI amplitudes against depth per load."""
     fig, axes = plt.subplots(1, 3, figsize=(14, 4))
+    faults = sorted(set(raw["quantity"].astype(str)) - {"raw_dc", "raw_fr"}) or ["raw_bpfi"]
     for ax, (q, title) in zip(axes, [("raw_dc", "0 Hz (mean)"), ("raw_fr", "1 x fr"),
-                                      ("raw_bpfi", "1 x BPFI")]):
-        g = raw[(raw["quantity"] == q) & (raw["sideband"] == 0)]
+                                      (faults, f"1 x {_family_title(faults, 'raw_')}")]):
+        g = raw[raw["quantity"].isin([q] if isinstance(q, str) else q) & (raw["sideband"] == 0)]
         _per_load(ax, g, "amplitude", 1e-6)
         ax.set_ylabel("amplitude (MPa)")
         ax.set_title(title)
@@ -583,10 +618,12 @@ def _fig_raw_terms(raw: pd.DataFrame, path) -> Path:
     return save_figure(fig, path)
 
 
-def draw_diagnosability_map(g: pd.DataFrame, band: str, *, vmax: float | None = None):
+def draw_diagnosability_map(g: pd.DataFrame, band: str, *, vmax: float | None = None,
+                            line_name: str = "BPFI"):
     """Heat map of the BPFI detection statistic of one band: one panel per load, depth x SNR
     cells coloured by the statistic (dB) and marked where detected. Panels share the SNR axis,
-    labelled once, so no label runs into the next panel."""
+    labelled once, so no label runs into the next panel. ``line_name``: the fault line tested
+    (a location sweep: the location's, e.g. ``"BPFO (outer_race)"``)."""
     loads = sorted(g["load_kN"].unique())
     if vmax is None:
         vmax = float(np.nanmax(g["statistic_db"])) if len(g) else 1.0
@@ -608,23 +645,29 @@ def draw_diagnosability_map(g: pd.DataFrame, band: str, *, vmax: float | None = 
         ax.set_xlabel("defect depth (µm)")
         ax.set_title(f"{load:g} kN")
     axes[0, 0].set_ylabel("SNR (dB)")
-    fig.colorbar(im, ax=axes[0].tolist(), label="BPFI line / background (dB)")
-    fig.suptitle(f"BPFI detection in the synthetic acceleration, band '{band}' (✓ = detected)")
+    fig.colorbar(im, ax=axes[0].tolist(), label=f"{line_name.split()[0]} line / background (dB)")
+    fig.suptitle(f"{line_name} detection in the synthetic acceleration, band '{band}' "
+                 f"(✓ = detected)")
     return fig
 
 
 def fig_diagnosability_maps(df: pd.DataFrame, outdir) -> list[Path]:
     """Heat maps of the BPFI detection statistic (:func:`draw_diagnosability_map`), one PNG per
     band, written to a temporary folder, then renamed to ``outdir``."""
-    from ..io import atomic_dir
-
     outdir = Path(outdir)
     with atomic_dir(outdir) as tmp:
         written = []
         vmax = float(np.nanmax(df["statistic_db"])) if len(df) else 1.0
-        for band, g in df.groupby("band", sort=False):
-            written.append(save_figure(draw_diagnosability_map(g, band, vmax=vmax),
-                                       tmp / f"diagnosability_{band}.png"))
+        if "location" not in df.columns:
+            for band, g in df.groupby("band", sort=False):
+                written.append(save_figure(draw_diagnosability_map(g, band, vmax=vmax),
+                                           tmp / f"diagnosability_{band}.png"))
+        else:  # a location sweep: one map per band and location (its own fault line)
+            for (band, loc), g in df.groupby(["band", "location"], sort=False):
+                name = f"{LOCATION_LINE[loc]} ({loc})"
+                written.append(save_figure(
+                    draw_diagnosability_map(g, band, vmax=vmax, line_name=name),
+                    tmp / f"diagnosability_{band}_{loc}.png"))
     return [outdir / p.name for p in written]
 
 

@@ -14,8 +14,10 @@ passed to :func:`compare`; its numbers then stand in a second column.
 
 from __future__ import annotations
 
+import html
 import math
 import os
+import re
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -23,10 +25,38 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from ..io import atomic_path
+
 __all__ = ["Finding", "Tables", "read_tables", "flat_band", "findings", "compare", "render_markdown",
            "render_html", "write_page"]
 
 REPRODUCED, PARTLY, NOT = "reproduced", "partly", "not reproduced"
+
+# The numbers of the verdict rules (each finding's ``rule`` text states them in words).
+#: End / centre pressure of the healthy contact above which it has edge overpressure (1).
+EDGE_RATIO = 1.0
+#: The study's Fig. 4: Hertzian contact up to this bearing load, edge overpressure above (kN).
+HERTZIAN_UP_TO_KN = 250
+#: R² of a straight line above which a quantity is "linear" (1).
+LINEAR_R2 = 0.95
+#: R² of ``a + b F + c h + d F h`` for "bilinear" (partly: above the second) (1).
+BILINEAR_R2, BILINEAR_R2_PARTLY = 0.99, 0.9
+#: Raw 1 x BPFI over the 0 Hz term below which the line is "small" (partly: the second) (1).
+SMALL_LINE, SMALL_LINE_PARTLY = 0.01, 0.05
+#: Spearman correlation above which a quantity "depends on" load or depth (1).
+TREND = 0.8
+#: Spearman correlation with load above which raw 1 x fr "depends on the load" (1).
+LOAD_TREND = 0.9
+#: |Spearman| below which there is "no trend" (1).
+NO_TREND = 0.5
+#: Largest relative change over depth at a load for "does not depend on the defect" (1).
+DEPTH_INVARIANT = 0.05
+#: Fraction of cases above which 2 x BPFI is "the higher" (1).
+MOST = 0.5
+#: The study's kurtogram bands above Nyquist (Figs 9-10): every case from this depth (um) ...
+STUDY_CLAMPED_DEPTH_UM = 100
+#: ... and this (depth um, load kN) case.
+STUDY_CLAMPED_ALSO = (80, 750)
 
 
 @dataclass(frozen=True)
@@ -67,9 +97,17 @@ class Finding:
     extra: dict = field(default_factory=dict)
 
 
+#: The defect location of the source study (its findings are about an inner-race defect).
+STUDY_LOCATION = "inner_race"
+
+
 def read_tables(cases, harmonics, bands, label: str = "default") -> Tables:
-    """Read the three CSV tables of a sweep."""
-    return Tables(pd.read_csv(cases), pd.read_csv(harmonics), pd.read_csv(bands), label)
+    """Read the three CSV tables of a sweep; of a location sweep (tables with a ``location``
+    column) only the study's location, the inner race, whose BPFI lines the findings read."""
+    frames = [pd.read_csv(p) for p in (cases, harmonics, bands)]
+    frames = [f[f["location"] == STUDY_LOCATION].reset_index(drop=True)
+              if "location" in f.columns else f for f in frames]
+    return Tables(*frames, label)
 
 
 # --------------------------------------------------------------------------------------------
@@ -145,20 +183,38 @@ def flat_band(bands: pd.DataFrame, depths=(15.0, 50.0), band: str = "kurtogram")
 # --------------------------------------------------------------------------------------------
 # the findings
 
+@dataclass(frozen=True)
+class _Sweep:
+    """The axes of a sweep's cases table."""
+
+    c: pd.DataFrame  # cases sorted by load, depth
+    loads: list
+    depths: list
+    defect_depths: list
+
+
 def findings(t: Tables) -> list[Finding]:
     """Every finding of the study (Figs 4-20) measured on the tables ``t``."""
-    out = []
     c = t.cases.sort_values(["load_kN", "depth_um"])
-    loads = sorted(c["load_kN"].unique())
     depths = sorted(c["depth_um"].unique())
-    defect_depths = [d for d in depths if d > 0]
+    s = _Sweep(c, sorted(c["load_kN"].unique()), depths, [d for d in depths if d > 0])
+    out = []
+    for figure in (_pattern, _peak, _raw_small, _dc, _kurtogram, _raw_lines, _fixed, _bpfi_3_6,
+                   _bpfi_10_13):
+        out += figure(t, s)
+    return out
 
-    # Fig 4: Hertzian at 250 kN, edge overpressure at 500 and 750 kN
+
+def _pattern(t: Tables, s: _Sweep) -> list[Finding]:
+    """Fig 4: Hertzian at 250 kN, edge overpressure at 500 and 750 kN."""
+    c = s.c
+    depths = s.depths
+    out = []
     h0 = c[c["depth_um"] == min(depths)].set_index("load_kN")
     if "edge_ratio" in h0:
         ratio = h0["edge_ratio"]
-        pattern = {f: ("edge overpressure" if r > 1.0 else "Hertzian") for f, r in ratio.items()}
-        want = {f: ("Hertzian" if f <= 250 else "edge overpressure") for f in ratio.index}
+        pattern = {f: ("edge overpressure" if r > EDGE_RATIO else "Hertzian") for f, r in ratio.items()}
+        want = {f: ("Hertzian" if f <= HERTZIAN_UP_TO_KN else "edge overpressure") for f in ratio.index}
         ok = sum(pattern[f] == want[f] for f in ratio.index)
         verdict = REPRODUCED if ok == len(ratio) else (PARTLY if ok else NOT)
         numbers = "; ".join(f"{f:g} kN: end/centre {r:.2f} at roller load "
@@ -172,14 +228,20 @@ def findings(t: Tables) -> list[Finding]:
         "of the healthy contact > 1 = edge overpressure",
         "" if verdict == REPRODUCED else "roller length and end relief are not given by the "
         "study; the defaults (34 mm, 1 mm blend) were chosen to reproduce it"))
+    return out
 
-    # Fig 6: peak pressure nonlinear in depth and load
+
+def _peak(t: Tables, s: _Sweep) -> list[Finding]:
+    """Fig 6: peak pressure nonlinear in depth and load."""
+    c = s.c
+    loads = s.loads
+    out = []
     rows = []
     nonlin = []
     for f in loads:
         g = c[(c["load_kN"] == f) & (c["depth_um"] > 0)]
         r2 = _linear_r2(g["depth_um"], g["p_max_defect_peak_Pa"])
-        nonlin.append(r2 < 0.95)
+        nonlin.append(r2 < LINEAR_R2)
         rows.append(f"{f:g} kN: {g['p_max_defect_peak_Pa'].min() / 1e9:.1f}-"
                     f"{g['p_max_defect_peak_Pa'].max() / 1e9:.1f} GPa (R² of a line in depth {r2:.2f})")
     verdict = REPRODUCED if all(nonlin) else (PARTLY if any(nonlin) else NOT)
@@ -190,12 +252,17 @@ def findings(t: Tables) -> list[Finding]:
         "elastic, grid-dependent rim peaks (no plasticity; README, 'Fidelity presets'); at "
         "750 kN the peak is close to linear in depth"
         if verdict != REPRODUCED else "elastic and grid-dependent values (no plasticity)"))
+    return out
 
-    # Fig 7: small raw BPFI lines
+
+def _raw_small(t: Tables, s: _Sweep) -> list[Finding]:
+    """Fig 7: small raw BPFI lines."""
+    defect_depths = s.defect_depths
+    out = []
     dc = _amp(t, "raw", "raw_dc", 0)
     b1 = _amp(t, "raw", "raw_bpfi", 1)
     rel = (b1[defect_depths] / dc[defect_depths]).to_numpy()
-    verdict = REPRODUCED if np.nanmax(rel) < 0.01 else (PARTLY if np.nanmax(rel) < 0.05 else NOT)
+    verdict = REPRODUCED if np.nanmax(rel) < SMALL_LINE else (PARTLY if np.nanmax(rel) < SMALL_LINE_PARTLY else NOT)
     out.append(Finding(
         "raw_small", "7", "the BPFI lines of the raw spectrum are small",
         verdict, f"raw 1 x BPFI / 0 Hz term: {np.nanmin(rel) * 100:.3f}-{np.nanmax(rel) * 100:.3f} %",
@@ -204,8 +271,13 @@ def findings(t: Tables) -> list[Finding]:
         "no-defect value for a few samples (the elastic rim peaks of Fig. 6), so its BPFI line is "
         "several % of the mean; the study shows the lines only in a figure (reason for the "
         "difference not established)"))
+    return out
 
-    # Fig 8: the 0 Hz term "bilinear" in load and depth
+
+def _dc(t: Tables, s: _Sweep) -> list[Finding]:
+    """Fig 8: the 0 Hz term "bilinear" in load and depth."""
+    dc = _amp(t, "raw", "raw_dc", 0)
+    out = []
     long = dc.stack().rename("a").reset_index()
     X = np.column_stack([np.ones(len(long)), long["load_kN"], long["depth_um"],
                          long["load_kN"] * long["depth_um"]])
@@ -213,7 +285,7 @@ def findings(t: Tables) -> list[Finding]:
     res = long["a"] - X @ coef
     r2 = 1 - np.sum(res ** 2) / np.sum((long["a"] - long["a"].mean()) ** 2)
     depth_span = float((dc.max(axis=1) - dc.min(axis=1)).max() / dc.mean(axis=1).mean())
-    verdict = REPRODUCED if r2 > 0.99 else (PARTLY if r2 > 0.9 else NOT)
+    verdict = REPRODUCED if r2 > BILINEAR_R2 else (PARTLY if r2 > BILINEAR_R2_PARTLY else NOT)
     out.append(Finding(
         "dc", "8", "the 0 Hz term is (seemingly) bilinear in load and defect depth",
         verdict, f"R² of a + b F + c h + d F h: {r2:.4f}; the 0 Hz term spans "
@@ -221,12 +293,18 @@ def findings(t: Tables) -> list[Finding]:
         f"{depth_span * 100:.2f} % of its mean", "bilinear = R² > 0.99 (partly: > 0.9)",
         "the mean is dominated by the load (the defect acts a few % of the time), so a bilinear "
         "fit holds with a tiny depth term" if verdict == REPRODUCED else ""))
+    return out
 
-    # Fig 10: kurtogram bands above Nyquist for the deepest cases only
+
+def _kurtogram(t: Tables, s: _Sweep) -> list[Finding]:
+    """Fig 10: kurtogram bands above Nyquist for the deepest cases only."""
+    loads = s.loads
+    defect_depths = s.defect_depths
+    out = []
     k = t.bands[t.bands["band"] == "kurtogram"]
     if not k.empty:
         clamped = k[(k["clamped"].astype(bool)) & (k["depth_um"] > 0)]
-        study = {(f, d) for f in loads for d in defect_depths if d >= 100 or (d == 80 and f == 750)}
+        study = {(f, d) for f in loads for d in defect_depths if d >= STUDY_CLAMPED_DEPTH_UM or (d, f) == STUDY_CLAMPED_ALSO}
         ours = {(float(r.load_kN), float(r.depth_um)) for r in clamped.itertuples()}
         distinct = k[k["depth_um"] > 0][["low_hz", "high_hz"]].drop_duplicates()
         verdict = REPRODUCED if ours == study else (PARTLY if ours & study else NOT)
@@ -244,7 +322,7 @@ def findings(t: Tables) -> list[Finding]:
         # Figs 12-13: kurtogram-band 1 x BPFI misleading
         kb = _amp(t, "kurtogram", "envelope_bpfi", 1)
         tr = _depth_trend(kb)
-        verdict = REPRODUCED if len(distinct) > 1 and min(abs(v) for v in tr.values()) < 0.5 else \
+        verdict = REPRODUCED if len(distinct) > 1 and min(abs(v) for v in tr.values()) < NO_TREND else \
             (PARTLY if len(distinct) == 1 else NOT)
         out.append(Finding(
             "kurtogram_misleading", "12-13", "the kurtogram-band 1 x BPFI is misleading: the band "
@@ -254,13 +332,19 @@ def findings(t: Tables) -> list[Finding]:
             "breaks (|Spearman| < 0.5 at some load)",
             "" if verdict == REPRODUCED else "one band for every defect case here: the amplitudes "
             "are comparable and the band is simply the top cell (see kurtogram_nyquist)"))
+    return out
 
-    # Fig 8: raw 1 x fr tracks load only; raw 1 x BPFI tracks load and depth
+
+def _raw_lines(t: Tables, s: _Sweep) -> list[Finding]:
+    """Fig 8: raw 1 x fr tracks load only; raw 1 x BPFI tracks load and depth."""
+    defect_depths = s.defect_depths
+    b1 = _amp(t, "raw", "raw_bpfi", 1)
+    out = []
     fr1 = _amp(t, "raw", "raw_fr", 1)
     spread_depth = float(((fr1.max(axis=1) - fr1.min(axis=1)) / fr1.mean(axis=1)).max())
     lt = _load_trend(fr1)
-    verdict = REPRODUCED if spread_depth < 0.05 and min(lt.values()) > 0.9 else \
-        (PARTLY if min(lt.values()) > 0.9 else NOT)
+    verdict = REPRODUCED if spread_depth < DEPTH_INVARIANT and min(lt.values()) > LOAD_TREND else \
+        (PARTLY if min(lt.values()) > LOAD_TREND else NOT)
     out.append(Finding(
         "raw_fr", "8", "raw 1 x fr depends on the load, not on the defect",
         verdict, f"grows with load at every depth (Spearman {min(lt.values()):.2f}-"
@@ -269,15 +353,19 @@ def findings(t: Tables) -> list[Finding]:
         "" if verdict == REPRODUCED else "the defect events are load-zone modulated, so they "
         "add to the 1 x fr line as the depth grows"))
     dt, lt = _depth_trend(b1), _load_trend(b1[defect_depths])
-    verdict = REPRODUCED if min(dt.values()) > 0.8 and min(lt.values()) > 0.8 else \
-        (PARTLY if max(dt.values()) > 0.8 or min(lt.values()) > 0.8 else NOT)
+    verdict = REPRODUCED if min(dt.values()) > TREND and min(lt.values()) > TREND else \
+        (PARTLY if max(dt.values()) > TREND or min(lt.values()) > TREND else NOT)
     out.append(Finding(
         "raw_bpfi", "8", "raw 1 x BPFI depends on both load and defect depth",
         verdict, f"Spearman with depth: {_trend_text(dt, 'kN')}; with load: "
         f"{_trend_text(lt, 'um')}", "both = Spearman > 0.8 with depth at every load and with "
         "load at every depth"))
+    return out
 
-    # Figs 14-15: fixed band, trends and the 60 um dip
+
+def _fixed(t: Tables, s: _Sweep) -> list[Finding]:
+    """Figs 14-15: fixed band, trends and the 60 um dip."""
+    out = []
     fx = _amp(t, "fixed", "envelope_bpfi", 1)
     if not fx.empty:
         dt = _depth_trend(fx)
@@ -288,7 +376,7 @@ def findings(t: Tables) -> list[Finding]:
         lo_hi = t.harmonics[t.harmonics["band"] == "fixed"][["band_low_hz", "band_high_hz"]].iloc[0]
         n_dip = sum(dip.values())
         verdict = REPRODUCED if dip and n_dip == len(dip) else (PARTLY if n_dip or
-                                                                 min(dt.values()) > 0.5 else NOT)
+                                                                 min(dt.values()) > NO_TREND else NOT)
         out.append(Finding(
             "fixed", "14-15", "in the fixed band 1 x BPFI grows with depth and load, with a dip "
             "at 60 um", verdict,
@@ -299,16 +387,21 @@ def findings(t: Tables) -> list[Finding]:
             "" if verdict == REPRODUCED else "no dip here; the study gives no mechanism for it, "
             "and its point sampling is not one: the paper-conventions run (point sampling, the "
             "flat-region band, 2026-11-24) shows no dip either"))
+    return out
 
-    # Figs 16-17: 3-6 x BPFI
+
+def _bpfi_3_6(t: Tables, s: _Sweep) -> list[Finding]:
+    """Figs 16-17: 3-6 x BPFI."""
+    defect_depths = s.defect_depths
+    out = []
     b36_1, b36_2 = _amp(t, "bpfi_3_6", "envelope_bpfi", 1), _amp(t, "bpfi_3_6", "envelope_bpfi", 2)
     if not b36_1.empty:
         r2_1 = np.nanmean([_linear_r2(b36_1.index, b36_1[d]) for d in defect_depths])
         r2_2 = np.nanmean([_linear_r2(b36_2.index, b36_2[d]) for d in defect_depths])
         dt = _depth_trend(b36_1)
-        no_depth = max(abs(v) for v in dt.values()) < 0.5
-        verdict = REPRODUCED if r2_1 > 0.95 and no_depth and r2_2 < r2_1 else \
-            (PARTLY if r2_1 > 0.95 or no_depth else NOT)
+        no_depth = max(abs(v) for v in dt.values()) < NO_TREND
+        verdict = REPRODUCED if r2_1 > LINEAR_R2 and no_depth and r2_2 < r2_1 else \
+            (PARTLY if r2_1 > LINEAR_R2 or no_depth else NOT)
         out.append(Finding(
             "bpfi_3_6", "16-17", "in 3-6 x BPFI, 1 x BPFI is linear in load with no depth trend; "
             "2 x BPFI is nonlinear", verdict,
@@ -318,17 +411,22 @@ def findings(t: Tables) -> list[Finding]:
             "" if verdict == REPRODUCED else "the 1 x BPFI line here grows with depth in every band, "
             "as the pressure the defect removes grows with depth; the study does not explain "
             "its flat trend (reason not established)"))
+    return out
 
-    # Figs 18-20: 10-13 x BPFI
+
+def _bpfi_10_13(t: Tables, s: _Sweep) -> list[Finding]:
+    """Figs 18-20: 10-13 x BPFI."""
+    defect_depths = s.defect_depths
+    out = []
     b1013_1 = _amp(t, "bpfi_10_13", "envelope_bpfi", 1)
     b1013_2 = _amp(t, "bpfi_10_13", "envelope_bpfi", 2)
     if not b1013_1.empty:
         dt1, dt2 = _depth_trend(b1013_1), _depth_trend(b1013_2)
         lt1 = _load_trend(b1013_1[defect_depths])
         ratio = (b1013_2[defect_depths] / b1013_1[defect_depths]).to_numpy()
-        corr = min(dt1.values()) > 0.8 and min(dt2.values()) > 0.8 and min(lt1.values()) > 0.8
+        corr = min(dt1.values()) > TREND and min(dt2.values()) > TREND and min(lt1.values()) > TREND
         higher = float(np.mean(ratio > 1.0))
-        verdict = REPRODUCED if corr and higher > 0.5 else (PARTLY if corr or higher > 0.5 else NOT)
+        verdict = REPRODUCED if corr and higher > MOST else (PARTLY if corr or higher > MOST else NOT)
         out.append(Finding(
             "bpfi_10_13", "18-20", "in 10-13 x BPFI, 1 x and 2 x BPFI both correlate with load "
             "and depth, 2 x BPFI the higher", verdict,
@@ -352,7 +450,10 @@ def compare(cases, harmonics, bands, *, paper=None) -> list[tuple[Finding, Findi
     paper : mapping, optional
         ``{"cases": path, "harmonics": path, "bands": path}`` of the paper-conventions run.
     """
-    a = findings(read_tables(cases, harmonics, bands))
+    t = read_tables(cases, harmonics, bands)
+    if t.harmonics.empty:  # a sweep without inner-race cases: none of the study's findings apply
+        return []
+    a = findings(t)
     if not paper:
         return [(f, None) for f in a]
     b = {f.key: f for f in findings(read_tables(paper["cases"], paper["harmonics"],
@@ -413,9 +514,6 @@ def render_markdown(rows, *, flat: tuple[float, float] | None = None, run_note: 
 def render_html(markdown_text: str) -> str:
     """A self-contained HTML page of :func:`render_markdown`'s text (headings, tables, lists,
     code blocks and paragraphs; enough for this page, no Markdown library needed)."""
-    import html
-    import re
-
     def inline(t):
         t = html.escape(t)
         t = re.sub(r"\*\*(.+?)\*\*", r"<b>\1</b>", t)
@@ -467,8 +565,6 @@ def render_html(markdown_text: str) -> str:
 
 def write_page(text: str, path: str | os.PathLike) -> Path:
     """Write ``text`` atomically (:func:`bearing_envelope.io.atomic_path`)."""
-    from ..io import atomic_path
-
     path = Path(path)
     with atomic_path(path) as tmp:
         with open(tmp, "w", encoding="utf-8") as fh:

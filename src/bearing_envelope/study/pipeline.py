@@ -32,19 +32,23 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from ..diagnosis import analyze_signal
+from ..diagnosis import AnalysisOptions, analyze_signal
 from ..diagnosis.detection import detection_statistic
 from ..io import BandLimits, CaseBands, CaseSpectra
 from ..physics.fidelity import Fidelity
+from ..physics.locations import LOCATION_FAMILIES, event_frequencies
+from ..physics.scene import DEFECT_LOCATIONS
 from ..physics.transfer import (TransferModel, excitation_from_history, select_excitation,
                                 synthesize_acceleration)
 from ..signal import envelope_spectrum, fast_kurtogram, max_kurtogram_level, resolve_band
+from ..signal.bands import clamp_band
 from .accuracy import ErrorModel, attach_errors, error_model
 from .provenance import log_to
 from .settings import AnalysisSettings, CaseId
 from .tables import TIDY_COLUMNS, TIDY_EXTRA_COLUMNS, tidy_from_analysis
 
-__all__ = ["AMPLITUDE_ESTIMATORS", "amplitude_estimator", "history_case", "case_signal", "case_frequencies", "case_bands", "case_harmonics", "case_envelope",
+__all__ = ["AMPLITUDE_ESTIMATORS", "amplitude_estimator", "history_case", "case_signal", "case_frequencies", "case_location", "case_fault_lines",
+           "case_bands", "case_harmonics", "case_envelope",
            "case_summary", "case_acceleration", "diagnosability_bands", "case_diagnosability",
            "case_false_alarms", "FALSE_ALARM_SEED_OFFSET", "log_to"]
 
@@ -106,6 +110,45 @@ def case_frequencies(case) -> dict[str, float]:
             "ftf": float(case.ftf), "bsf": float(case.bsf)}
 
 
+def case_location(case) -> str:
+    """The defect location of a case (``defect.location`` of its scene; the inner race for a
+    case file that records none)."""
+    defect = (getattr(case, "scene", None) or {}).get("defect") or {}
+    return str(defect.get("location") or DEFECT_LOCATIONS[0])
+
+
+def case_fault_lines(case) -> tuple[dict[str, float], dict[str, tuple[str, float]] | None]:
+    """The fault family the sweep searches in a case's spectra, from its scene.
+
+    Inner race: ``{"bpfi": BPFI used}`` with the default fr sidebands (today's analysis);
+    outer race: ``{"bpfo": Z f_c}`` with fr sidebands as a check; rolling element:
+    ``{"bsf2": 2 BSF}`` with FTF sidebands (:data:`bearing_envelope.physics.locations.
+    LOCATION_FAMILIES`). The rates are those of the history's cage rate
+    (:func:`bearing_envelope.physics.locations.event_frequencies`).
+
+    Returns
+    -------
+    frequencies : dict
+        ``family -> Hz`` for :func:`bearing_envelope.diagnosis.analyze_signal`.
+    sideband_spacing : dict or None
+        ``family -> (spacing name, Hz)``; None for the inner race (the default spacing).
+    """
+    loc = case_location(case)
+    if loc == DEFECT_LOCATIONS[0]:
+        return {"bpfi": float(case.bpfi)}, None
+    b = case.scene["bearing"]
+    ev = event_frequencies(float(case.fr), float(case.bpfi), int(b["rollers_per_row"]),
+                           float(b["roller_diameter_mm"]), float(b["pitch_diameter_mm"]),
+                           float(b["contact_angle_deg"]))
+    family, spacing = LOCATION_FAMILIES[loc]
+    return {family: ev[family]}, {family: (spacing, ev[spacing])}
+
+
+def _fundamental(case) -> float:
+    """Nominal fundamental (Hz) of the case's fault family (:func:`case_fault_lines`)."""
+    return float(next(iter(case_fault_lines(case)[0].values())))
+
+
 def _kurtogram(x, fs, analysis: AnalysisSettings):
 
     nlevel = min(analysis.nlevel, max_kurtogram_level(x.size))
@@ -141,10 +184,14 @@ def case_bands(case, analysis: AnalysisSettings) -> tuple[CaseBands, Any]:
     x = case_signal(case, signal)
     fs = float(case.fs)
     freqs = case_frequencies(case)
-    kg = _kurtogram(x, fs, analysis) if analysis.needs_kurtogram else None
+    constant = bool(np.ptp(x) == 0.0)
+    kg = _kurtogram(x, fs, analysis) if analysis.needs_kurtogram and not constant else None
     bands = []
     for spec in analysis.bands:
-        (lo, hi), prov = resolve_band(spec.to_mapping(), fs, kurtogram=kg, frequencies=freqs)
+        if constant and spec.strategy == "kurtogram":
+            (lo, hi), prov = _constant_signal_band(spec.name, fs)
+        else:
+            (lo, hi), prov = resolve_band(spec.to_mapping(), fs, kurtogram=kg, frequencies=freqs)
         bands.append(BandLimits(name=spec.name, strategy=spec.strategy, low_hz=float(lo),
                                 high_hz=float(hi), clamped=bool(prov.get("clamped", False)),
                                 provenance=jsonable(prov)))
@@ -157,6 +204,16 @@ def case_bands(case, analysis: AnalysisSettings) -> tuple[CaseBands, Any]:
             "kurtosis": float(kg.kurtosis)},
     )
     return doc, kg
+
+
+def _constant_signal_band(name: str, fs: float):
+    """The kurtogram band of a constant signal, whose kurtogram is undefined: the level-0 cell,
+    the whole band with its upper edge clamped below Nyquist. A healthy outer race under a
+    steady load gives one (the contact at the fixed defect position never changes with the
+    ``smooth`` load law); its envelope is zero in every band."""
+    lo, hi, info = clamp_band(0.0, fs / 2.0, fs, clamp=True, field="kurtogram")
+    return (lo, hi), {"name": name, "strategy": "kurtogram", "constant_signal": True,
+                      "level": 0, **info}
 
 
 def _as_case_bands(bands) -> CaseBands:
@@ -197,16 +254,14 @@ def case_harmonics(case, analysis: AnalysisSettings, bands, *, full_output: bool
              for b in bands.bands]
     strategies = {b.name: b.strategy for b in bands.bands}
     clamped = {b.name: b.clamped for b in bands.bands}
-    res = analyze_signal(
-        x, fs, fr=float(case.fr), bpfi=float(case.bpfi), bands=specs,
-        n_harmonics=analysis.harmonics,
-        n_sidebands=analysis.sidebands,
-        n_raw_harmonics=analysis.raw_orders_fr,
-        nlevel=None, filter_order=analysis.filter_order,
-        squared=analysis.squared_envelope,
-        full_output=full_output,
-        interpolate=estimator == "interpolated",
-    )
+    faults, spacing = case_fault_lines(case)
+    options = AnalysisOptions(
+        bands=specs, n_harmonics=analysis.harmonics, n_sidebands=analysis.sidebands,
+        n_raw_harmonics=analysis.raw_orders_fr, nlevel=None,
+        filter_order=analysis.filter_order, squared=analysis.squared_envelope,
+        sideband_spacing=spacing, interpolate=estimator == "interpolated")
+    res = analyze_signal(x, fs, fr=float(case.fr), fault_frequencies=faults, options=options,
+                         full_output=full_output)
     df, extra = (res if full_output else (res, None))
     lines = df["quantity"].isin(["raw_spectrum", "envelope_spectrum"]) & (df["base"] != "dc")
     df.loc[lines, "scaling"] = df.loc[lines, "scaling"] + "; " + AMPLITUDE_ESTIMATORS[estimator]
@@ -263,7 +318,7 @@ def case_envelope(case, analysis: AnalysisSettings, bands) -> tuple[pd.DataFrame
         ``(harmonics + 1.5) x BPFI`` (:data:`SPECTRA_MARGIN_ORDERS`).
     """
     df, extra = case_harmonics(case, analysis, bands, full_output=True)
-    fmax = (analysis.harmonics + SPECTRA_MARGIN_ORDERS) * case.bpfi
+    fmax = (analysis.harmonics + SPECTRA_MARGIN_ORDERS) * _fundamental(case)
     env = {}
     for name, b in extra["bands"].items():
         keep = b["f"] <= fmax
@@ -514,8 +569,8 @@ def case_diagnosability(case, sensor: TransferModel, analysis: AnalysisSettings,
         for spec, lo, hi in bands:
             f, a = envelope_spectrum(acc, fs, (lo, hi), order=analysis.filter_order,
                                      squared=analysis.squared_envelope)
-            d = detection_statistic(f, a, float(case.bpfi), fr=float(case.fr),
-                                        background=MAP_BACKGROUND, level="two_sided")
+            d = detection_statistic(f, a, _fundamental(case), fr=float(case.fr),
+                                    background=MAP_BACKGROUND, level="two_sided")
             rows.append({
                 "case": _case_id(case), "load_kN": float(case.load_kN),
                 "depth_um": float(case.depth_um), "snr_db": float(snr),
@@ -574,7 +629,7 @@ def case_false_alarms(case, sensor: TransferModel, analysis: AnalysisSettings, s
             for spec, lo, hi in bands:
                 f, a = envelope_spectrum(acc, fs, (lo, hi), order=analysis.filter_order,
                                          squared=analysis.squared_envelope)
-                d = detection_statistic(f, a, float(case.bpfi), fr=float(case.fr),
+                d = detection_statistic(f, a, _fundamental(case), fr=float(case.fr),
                                         background=MAP_BACKGROUND, level="two_sided")
                 rows.append({"case": _case_id(case), "load_kN": float(case.load_kN),
                              "depth_um": float(case.depth_um), "snr_db": float(snr),

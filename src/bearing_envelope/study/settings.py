@@ -16,7 +16,9 @@ Every failure is a :class:`ConfigError` (a ``ValueError``) whose message is one 
 dotted field (``sweep.depths_um[2]``, ``sensor.modes[0].f_n_hz``) before any job or solve runs.
 
 :class:`CaseId` is the one formatter and parser of case names: ``F{load_kN}kN_h{depth_um}um``
-plus ``_w{width_um}um`` when the sweep sets widths. Numbers are written exactly (the shortest
+plus ``_w{width_um}um`` when the sweep sets widths and ``_ir``/``_or``/``_re`` (the defect
+location, :data:`LOCATION_CODES`) when the sweep sets locations or the scene's is not the inner
+race. Numbers are written exactly (the shortest
 decimal that reads back to the same float, never ``%g``), so every name parses back to the
 values it was made from and two different sweep values never share a name.
 """
@@ -37,16 +39,18 @@ from typing import Any
 
 import numpy as np
 
+from ..io.yamlsafe import YamlLimitError, check_document_size, load_bounded
 from ..physics.fidelity import Fidelity, fidelity_from
 from ..physics.geometry import hertz_estimate
 from ..physics.loads import scene_load_distribution
-from ..physics.scene import Scene
+from ..physics.locations import LOCATION_FAMILIES, scene_event_frequencies
+from ..physics.scene import DEFECT_LOCATIONS, Scene
 from ..physics.transfer import TransferModel
 from ..signal.bands import resolve_band
 from .schema import SCHEMA_PATH, scene_frequencies
 
 __all__ = [
-    "ConfigError", "CaseId", "format_number", "CASE_NAME_REGEX",
+    "ConfigError", "CaseId", "format_number", "CASE_NAME_REGEX", "LOCATION_CODES",
     "BandSpec", "AnalysisSettings", "SweepSettings", "DiagnosabilitySettings", "Settings",
     "SimulationSetup", "section_defaults",
     "read_yaml", "settings_from_mapping", "load_settings", "workflow_settings",
@@ -82,33 +86,48 @@ def format_number(value: float) -> str:
 
 
 _NUM = r"[0-9]+(?:\.[0-9]+)?"
+
+#: Short code of each defect location in case names (``_ir``, ``_or``, ``_re``).
+LOCATION_CODES = {"inner_race": "ir", "outer_race": "or", "rolling_element": "re"}
+_LOCATION_OF_CODE = {v: k for k, v in LOCATION_CODES.items()}
+_LOC = "|".join(LOCATION_CODES.values())
+
 #: Regular expression of a canonical case name (also the workflow's wildcard constraint).
-CASE_NAME_REGEX = rf"F{_NUM}kN_h{_NUM}um(?:_w{_NUM}um)?"
+CASE_NAME_REGEX = rf"F{_NUM}kN_h{_NUM}um(?:_w{_NUM}um)?(?:_(?:{_LOC}))?"
 _CASE_RE = re.compile(
-    rf"^F(?P<load>{_NUM})kN_h(?P<depth>{_NUM})um(?:_w(?P<width>{_NUM})um)?$")
+    rf"^F(?P<load>{_NUM})kN_h(?P<depth>{_NUM})um(?:_w(?P<width>{_NUM})um)?"
+    rf"(?:_(?P<loc>{_LOC}))?$")
 
 
 @dataclass(frozen=True, order=True)
 class CaseId:
-    """One case of the sweep: load (kN), defect depth (um) and, when the sweep sets it, width (um).
+    """One case of the sweep: load (kN), defect depth (um) and, when the sweep sets them, width
+    (um) and defect location.
 
     ``width_um = None`` means the scene's width (``scene.defect.width_um``; null there = 2 x
-    depth, the study's rule). :attr:`name` is the one formatter of case names and
-    :meth:`parse` the one parser; ``CaseId.parse(c.name) == c`` exactly.
+    depth, the study's rule); ``location = None`` the scene's location (``defect.location``; the
+    inner race by default). :attr:`name` is the one formatter of case names and :meth:`parse`
+    the one parser; ``CaseId.parse(c.name) == c`` exactly.
 
     Examples
     --------
     >>> CaseId(500, 50).name
     'F500kN_h50um'
     >>> CaseId.parse("F333.3333kN_h30um_w200um")
-    CaseId(load_kN=333.3333, depth_um=30.0, width_um=200.0)
+    CaseId(load_kN=333.3333, depth_um=30.0, width_um=200.0, location=None)
+    >>> CaseId(1, 279.4, 177.8, "outer_race").name
+    'F1kN_h279.4um_w177.8um_or'
     """
 
     load_kN: float
     depth_um: float
     width_um: float | None = None
+    location: str | None = None
 
     def __post_init__(self) -> None:
+        if self.location is not None and self.location not in LOCATION_CODES:
+            raise ValueError(f"CaseId.location: got {self.location!r}; allowed: None or one of "
+                             f"{list(LOCATION_CODES)}")
         for key in ("load_kN", "depth_um", "width_um"):
             v = getattr(self, key)
             if v is None and key == "width_um":
@@ -120,10 +139,12 @@ class CaseId:
 
     @property
     def name(self) -> str:
-        """Canonical name ``F{load}kN_h{depth}um[_w{width}um]`` (numbers exact)."""
+        """Canonical name ``F{load}kN_h{depth}um[_w{width}um][_{ir|or|re}]`` (numbers exact)."""
         s = f"F{format_number(self.load_kN)}kN_h{format_number(self.depth_um)}um"
         if self.width_um is not None:
             s += f"_w{format_number(self.width_um)}um"
+        if self.location is not None:
+            s += f"_{LOCATION_CODES[self.location]}"
         return s
 
     def __str__(self) -> str:
@@ -149,9 +170,10 @@ class CaseId:
         m = _CASE_RE.match(stem)
         if not m:
             raise ValueError(f"case name {text!r} does not match "
-                             f"'F{{load_kN}}kN_h{{depth_um}}um[_w{{width_um}}um]'")
+                             f"'F{{load_kN}}kN_h{{depth_um}}um[_w{{width_um}}um][_{{{_LOC}}}]'")
         case = cls(float(m["load"]), float(m["depth"]),
-                   None if m["width"] is None else float(m["width"]))
+                   None if m["width"] is None else float(m["width"]),
+                   None if m["loc"] is None else _LOCATION_OF_CODE[m["loc"]])
         if case.name != stem:
             raise ValueError(f"case name {text!r} is not canonical; the canonical name of this "
                              f"case is {case.name!r}")
@@ -162,7 +184,7 @@ class CaseId:
         """The id of a read case file (:class:`bearing_envelope.io.Case`).
 
         Uses the ``case`` attribute the writers store; for older files, load and depth (and the
-        width when it is not the default 2 x depth).
+        width when it is not the default 2 x depth, the location when it is not the inner race).
         """
         attrs = getattr(case, "attrs", {}) or {}
         if attrs.get("case"):
@@ -170,19 +192,32 @@ class CaseId:
                 return cls.parse(str(attrs["case"]))
             except ValueError:
                 pass
-        width = ((getattr(case, "scene", None) or {}).get("defect") or {}).get("width_um")
+        defect = (getattr(case, "scene", None) or {}).get("defect") or {}
+        width = defect.get("width_um")
         depth = float(case.depth_um)
         if width is None or depth == 0 or float(width) == 2.0 * depth:
             width = None
-        return cls(float(case.load_kN), depth, width)
+        location = defect.get("location")
+        if location == DEFECT_LOCATIONS[0]:
+            location = None
+        return cls(float(case.load_kN), depth, width, location)
 
     def scene_mapping(self, scene: Mapping[str, Any] | None) -> dict[str, Any]:
-        """The ``scene:`` mapping of this case (a copy; ``defect.width_um`` set when given)."""
+        """The ``scene:`` mapping of this case (a copy; ``defect.width_um`` and
+        ``defect.location`` set when given)."""
         m = copy.deepcopy(dict(scene or {}))
-        if self.width_um is not None:
+        if self.width_um is not None or self.location is not None:
             m["defect"] = dict(m.get("defect") or {})
+        if self.width_um is not None:
             m["defect"]["width_um"] = self.width_um
+        if self.location is not None:
+            m["defect"]["location"] = self.location
         return m
+
+    @property
+    def healthy(self) -> "CaseId":
+        """The healthy race (depth 0, no width) of this case's load and location."""
+        return CaseId(self.load_kN, 0.0, None, self.location)
 
     def scene(self, scene: Mapping[str, Any] | None = None):
         """Build and validate this case's :class:`bearing_envelope.physics.scene.Scene`."""
@@ -200,16 +235,22 @@ def _err(where: str, value: Any, allowed: str) -> ConfigError:
 
 @dataclass(frozen=True)
 class SweepSettings:
-    """The ``sweep:`` section: loads (kN), depths (um) and optional widths (um).
+    """The ``sweep:`` section: loads (kN), depths (um), optional widths (um) and locations.
 
     Without ``widths_um`` every depth keeps the study's width w = 2 h (27 cases, names without a
     width). With ``widths_um`` each defect depth is combined with each width (names carry
     ``_w{width}um``); the healthy race (depth 0) stays one case per load, without a width.
+    With ``locations`` (``inner_race``, ``outer_race``, ``rolling_element``) every case is
+    repeated per location, healthy races included (the healthy contact differs: the inner race's,
+    the outer race's, or the element's two), and names carry ``_ir``, ``_or`` or ``_re``; the
+    settings set a one-location axis themselves when the scene's location is not the inner race,
+    so that those names say where the defect is too.
     """
 
     loads_kN: tuple[float, ...]
     depths_um: tuple[float, ...]
     widths_um: tuple[float, ...] | None = None
+    locations: tuple[str, ...] | None = None
 
     @classmethod
     def from_mapping(cls, m: Mapping[str, Any]) -> "SweepSettings":
@@ -232,24 +273,44 @@ class SweepSettings:
             return tuple(out)
 
         widths = None if m.get("widths_um") is None else values("widths_um", 0.0, True)
-        return cls(values("loads_kN", 0.0, True), values("depths_um", 0.0, False), widths)
+        locations = _locations(m.get("locations"))
+        return cls(values("loads_kN", 0.0, True), values("depths_um", 0.0, False), widths,
+                   locations)
 
     def cases(self) -> list[CaseId]:
-        """Every case, loads outer, depths inner (widths innermost when set)."""
+        """Every case: locations outermost (when set), then loads, depths, widths innermost."""
         out = []
-        for f in self.loads_kN:
-            for h in self.depths_um:
-                if self.widths_um is None:
-                    out.append(CaseId(f, h))
-                elif h == 0:
-                    out.append(CaseId(f, 0.0))
-                else:
-                    out.extend(CaseId(f, h, w) for w in self.widths_um)
+        for loc in (self.locations or (None,)):
+            for f in self.loads_kN:
+                for h in self.depths_um:
+                    if self.widths_um is None:
+                        out.append(CaseId(f, h, None, loc))
+                    elif h == 0:
+                        out.append(CaseId(f, 0.0, None, loc))
+                    else:
+                        out.extend(CaseId(f, h, w, loc) for w in self.widths_um)
         names = [c.name for c in out]
         if len(set(names)) != len(names):  # cannot happen with exact names; kept as a guard
             dup = sorted({n for n in names if names.count(n) > 1})
             raise ConfigError(f"sweep: values collapse into the same case name(s) {dup}")
         return out
+
+
+def _locations(raw: Any) -> tuple[str, ...] | None:
+    """``sweep.locations``: None, or a non-empty list of distinct defect locations."""
+    if raw is None:
+        return None
+    if not isinstance(raw, Sequence) or isinstance(raw, str) or not raw:
+        raise _err("sweep.locations", raw, f"null or a non-empty list of {list(DEFECT_LOCATIONS)}")
+    out: list[str] = []
+    for i, v in enumerate(raw):
+        if v not in DEFECT_LOCATIONS:
+            raise _err(f"sweep.locations[{i}]", v, f"one of {list(DEFECT_LOCATIONS)}")
+        if v in out:
+            raise ConfigError(f"sweep.locations[{i}]: {v!r} repeats sweep.locations"
+                              f"[{out.index(v)}]; allowed: distinct values")
+        out.append(v)
+    return tuple(out)
 
 
 @dataclass(frozen=True)
@@ -490,10 +551,13 @@ def read_yaml(path: str | os.PathLike) -> dict[str, Any]:
     if not os.path.exists(p):
         raise ConfigError(f"{p}: config file not found")
     try:
+        check_document_size(p)
         with open(p, encoding="utf-8") as fh:
-            doc = yaml.load(fh, Loader=_unique_key_loader())  # noqa: S506 (a SafeLoader subclass)
+            doc = load_bounded(fh, _unique_key_loader())  # aliases bounded (io.yamlsafe)
     except ConfigError:
         raise
+    except YamlLimitError as exc:
+        raise ConfigError(f"{p}: {exc}") from None
     except yaml.MarkedYAMLError as exc:
         mark = exc.problem_mark or exc.context_mark
         where = f"{p}, line {mark.line + 1}, column {mark.column + 1}" if mark else p
@@ -657,6 +721,7 @@ def _build(cfg: dict, source: str, partial: bool) -> Settings:
         raise _err("sweep.widths_um", list(sweep.widths_um),
                    "null while scene.defect.width_um is set (give the width in one place)")
     if sweep is not None:
+        sweep = _location_axis(sweep, scene_map)
         scenes = {}
         for case in sweep.cases():
             where = f"case {case.name}: "
@@ -693,33 +758,83 @@ def _build(cfg: dict, source: str, partial: bool) -> Settings:
                 raise ConfigError("sensor.snr_db: missing; analysis.signal = 'acceleration' needs "
                                   "the noise level of the accelerometer signal (dB; null for a "
                                   "noise-free signal)")
+    if analysis is not None and sweep is not None and sweep.locations is not None:
+        _check_family_harmonics(analysis, scenes, fs)
     diag = DiagnosabilitySettings.from_mapping(cfg.get("diagnosability"))
     return Settings(source=source, config=cfg, sweep=sweep, fidelity=fidelity,
                     scene_mapping=scene_map, analysis=analysis, sensor=sensor,
                     diagnosability=diag, tradeoff=dict(cfg.get("tradeoff") or {}))
 
 
+def _location_axis(sweep: SweepSettings, scene_map: Mapping[str, Any]) -> SweepSettings:
+    """The sweep with its location axis: ``sweep.locations`` as given (refused next to a scene
+    location other than the inner race: one place for it), else the scene's location when it
+    is not the inner race (names then say ``_or`` / ``_re``), else none (names as before)."""
+    scene_loc = (scene_map.get("defect") or {}).get("location")
+    if scene_loc is None or scene_loc == DEFECT_LOCATIONS[0]:
+        return sweep
+    if sweep.locations is not None:
+        raise _err("sweep.locations", list(sweep.locations),
+                   f"null while scene.defect.location is {scene_loc!r} (give the location in one "
+                   f"place)")
+    return dataclasses.replace(sweep, locations=(str(scene_loc),))
+
+
+def _check_family_harmonics(analysis: AnalysisSettings, scenes, fs: float) -> None:
+    """K harmonics of each swept location's fault line (and its sidebands) below Nyquist."""
+    for case, sc in scenes.items():
+        family, spacing = LOCATION_FAMILIES[sc.defect.location]
+        ev = scene_event_frequencies(sc)
+        top = analysis.harmonics * ev[family] + analysis.sidebands * ev[spacing]
+        if top >= fs / 2:
+            raise _err("analysis.harmonics", analysis.harmonics,
+                       f"K with K x {family} + M x {spacing} ({top:g} Hz, case {case.name}) "
+                       f"below Nyquist ({fs / 2:g} Hz)")
+
+
+#: A ball bridges a pit wider than its contact (2a across rolling) when the pit is short
+#: axially against the contact ellipse (2b): the contact keeps both axial lobes and the pit
+#: bottom is never reached. Allowed up to this fraction of 2b, the largest measured
+#: (``benchmarks/wide_pit.py``: the CWRU 0.021 in pit at 1 kN, 0.25 of 2b on the inner race,
+#: 0.26 on the outer; window solve vs whole-ellipse solve, docs/benchmarks.md, issue 23 parts 5-6).
+BRIDGE_MAX_FRACTION = 0.26
+
+
 def _check_widths(sweep: SweepSettings, scenes, load_distribution, hertz_estimate,
                   widths: Mapping[str, float] | None = None) -> None:
     """Each width must be narrower than the contact (2 a, Hertz) of the most loaded roller at the
-    smallest load, so that the defect lies inside the contact band it crosses. ``widths``:
-    field name -> width (um); default the sweep's ``widths_um``."""
+    smallest load, so that the defect lies inside the contact band it crosses; a ball may also
+    bridge a wider pit whose axial extent is at most :data:`BRIDGE_MAX_FRACTION` x 2b.
+    ``widths``: field name -> width (um); default the sweep's ``widths_um``."""
     f_min = min(sweep.loads_kN)
     if widths is None:
         widths = {f"sweep.widths_um[{i}]": w for i, w in enumerate(sweep.widths_um)}
-    case = next((c for c in scenes if c.load_kN == f_min
-                 and (c.width_um is not None or scenes[c].defect.active)), None)
-    if case is None:      # no defect in the sweep: the width is never used
+    cand = [c for c in scenes if c.load_kN == f_min
+            and (c.width_um is not None or scenes[c].defect.active)]
+    if not cand:      # no defect in the sweep: the width is never used
         return
-    sc = scenes[case]
-    q_max = load_distribution(sc).q_max
-    two_a_um = 2e6 * hertz_estimate(sc, q_max).a
+    # one case per location (the contact differs: inner, outer race); the narrowest counts
+    per_loc = {c.location: c for c in reversed(cand)}
+    ellipse = {loc: hertz_estimate(scenes[c], load_distribution(scenes[c]).q_max)
+               for loc, c in per_loc.items()}
+    loc = min(ellipse, key=lambda k: ellipse[k].a)
+    sc = scenes[per_loc[loc]]
+    # the narrowest contact sets 2a, the shortest 2b (each may be another location's)
+    two_a_um, two_b_um = 2e6 * ellipse[loc].a, 2e6 * min(e.b for e in ellipse.values())
+    d = sc.defect
     for field, w in widths.items():
-        extent = w if sc.defect.orientation == "axial" else None
-        if extent is not None and w >= two_a_um:
-            raise _err(field, w,
-                       f"a width below the contact width 2a = {two_a_um:.4g} um of the most loaded "
-                       f"roller at the smallest load ({f_min:g} kN)")
+        if d.orientation != "axial" or w < two_a_um:
+            continue
+        axial_um = w if d.shape == "cylinder" else 1e6 * d.extent_y_m
+        bridge_um = BRIDGE_MAX_FRACTION * two_b_um
+        if sc.bearing.kind == "ball" and axial_um <= bridge_um:
+            continue     # the ball bridges the pit (benchmarks/wide_pit.py)
+        also = (f", or for a ball a pit whose axial extent is at most {BRIDGE_MAX_FRACTION:g} x "
+                f"2b = {bridge_um:.4g} um" if sc.bearing.kind == "ball" else "")
+        raise _err(field, w,
+                   f"a width below the contact width 2a = {two_a_um:.4g} um of the most loaded "
+                   f"roller at the smallest load ({f_min:g} kN"
+                   f"{'' if loc is None else ', ' + loc}){also}")
 
 
 def load_settings(path: str | os.PathLike | None = None, *, partial: bool = False) -> Settings:

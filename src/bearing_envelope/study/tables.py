@@ -11,6 +11,7 @@ like the study's Figs 8, 12 and 14-20. Files are written and read by :mod:`beari
 
 from __future__ import annotations
 
+import html
 import os
 from collections.abc import Iterable, Mapping
 
@@ -28,14 +29,18 @@ __all__ = [
     "tidy_from_analysis",
     "concat_tidy",
     "band_table",
+    "add_location",
     "pivot_tables",
     "write_csv_atomic",
     "parse_case_name",
     "table_html",
 ]
 
+from ..io import public_mode as _io_public_mode
+from ..io import write_csv_atomic as _io_write_csv_atomic
 from ..io.vocabulary import (BAND_STRATEGIES, QUANTITIES, RAW_BAND, TIDY_COLUMNS,  # noqa: F401
                          TIDY_EXTRA_COLUMNS, TIDY_SORT, quantity_name)
+from .settings import CaseId, format_number
 
 
 def tidy_from_analysis(table: pd.DataFrame, strategies: Mapping[str, str] | None = None
@@ -75,24 +80,18 @@ def parse_case_name(name: str) -> tuple[float, float]:
     Kept for callers of the former helper; new code uses ``CaseId.parse`` (which also gives the
     width of a ``..._w{width}um`` name).
     """
-    from .settings import CaseId
-
     c = CaseId.parse(name)
     return c.load_kN, c.depth_um
 
 
 def public_mode(path) -> None:
     """Alias of :func:`bearing_envelope.io.public_mode` (kept for existing callers)."""
-    from ..io import public_mode as mode
-
-    mode(path)
+    _io_public_mode(path)
 
 
 def write_csv_atomic(df: pd.DataFrame, path: str | os.PathLike, **kwargs) -> None:
     """Write ``df`` to CSV atomically: :func:`bearing_envelope.io.write_csv_atomic`."""
-    from ..io import write_csv_atomic as write
-
-    write(df, path, **kwargs)
+    _io_write_csv_atomic(df, path, **kwargs)
 
 
 def concat_tidy(frames: Iterable[pd.DataFrame]) -> pd.DataFrame:
@@ -115,9 +114,52 @@ def concat_tidy(frames: Iterable[pd.DataFrame]) -> pd.DataFrame:
     if bad.any():
         rows = df.loc[bad, ["case", "band", "quantity", "order", "sideband"]].head(5)
         raise ValueError(f"non-finite amplitudes in {int(bad.sum())} rows, e.g.\n{rows}")
-    extra = [c for c in df.columns if c not in TIDY_COLUMNS]
-    df = df[TIDY_COLUMNS + extra]
-    return df.sort_values(TIDY_SORT, kind="stable").reset_index(drop=True)
+    lead, sort = list(TIDY_COLUMNS), list(TIDY_SORT)
+    df = add_location(df)
+    if "location" in df.columns:
+        # a key like load and depth, the first of the sort
+        lead.insert(lead.index("depth_um") + 1, "location")
+        sort.insert(0, "location")
+    df = add_width(df)
+    if "width_um" in df.columns:
+        # a sweep over widths: a key like load and depth (empty: the healthy race)
+        lead.insert(lead.index("depth_um") + 1, "width_um")
+        sort.insert(sort.index("depth_um") + 1, "width_um")
+    extra = [c for c in df.columns if c not in lead]
+    df = df[lead + extra]
+    dup = df.duplicated(["case", "band", "quantity", "order", "sideband"], keep=False)
+    if dup.any():
+        rows = df.loc[dup, ["case", "band", "quantity", "order", "sideband"]].head(4)
+        raise ValueError(f"{int(dup.sum())} tidy rows share case, band, quantity, order and "
+                         f"sideband, e.g. {rows.to_dict('records')}")
+    return df.sort_values(sort, kind="stable").reset_index(drop=True)
+
+
+def add_location(df: pd.DataFrame) -> pd.DataFrame:
+    """``df`` with a ``location`` column after ``depth_um`` (``inner_race``, ``outer_race``,
+    ``rolling_element``) read from its case names, when a name carries one (a sweep over
+    locations, or a scene's location other than the inner race); else ``df`` unchanged, so the
+    default sweep's tables stay as they were."""
+    locations = [CaseId.parse(c).location for c in df["case"]]
+    if all(loc is None for loc in locations):
+        return df
+    df = df.drop(columns=["location"], errors="ignore")
+    df.insert(list(df.columns).index("depth_um") + 1, "location", locations)
+    return df
+
+
+def add_width(df: pd.DataFrame) -> pd.DataFrame:
+    """``df`` with a ``width_um`` column after ``depth_um`` (the defect width of a sweep over
+    widths, NaN for the healthy race) read from its case names, when a name carries one; else
+    ``df`` unchanged."""
+    width_of = {c: CaseId.parse(c).width_um for c in df["case"].unique()}
+    widths = [width_of[c] for c in df["case"]]
+    if all(w is None for w in widths):
+        return df
+    df = df.drop(columns=["width_um"], errors="ignore")
+    df.insert(list(df.columns).index("depth_um") + 1, "width_um",
+              [np.nan if w is None else w for w in widths])
+    return df
 
 
 def band_table(bands: Iterable) -> pd.DataFrame:
@@ -138,19 +180,54 @@ def band_table(bands: Iterable) -> pd.DataFrame:
 def pivot_tables(tidy: pd.DataFrame, *, sideband: int = 0) -> dict[str, pd.DataFrame]:
     """Load x depth pivot of every (band, quantity, order) at one sideband index.
 
+    With a ``location`` column (a sweep over defect locations) there is one pivot per location
+    that has the quantity, named with ``__{location}`` (each location searches its own family:
+    ``envelope_bpfi``, ``envelope_bpfo``, ``envelope_2bsf``). With a ``width_um`` column (a
+    sweep over defect widths) there is one pivot per width, named with ``__w{width}``; the
+    healthy race (no width) is depth 0 of each. Every cell holds exactly one amplitude: two
+    rows for one cell raise ``ValueError`` (nothing is dropped).
+
     Returns
     -------
     dict
-        ``"{band}__{quantity}__{order}"`` -> DataFrame indexed by load (kN), columns depth (um).
+        ``"{band}__{quantity}__{order}[__{location}][__w{width}]"`` -> DataFrame indexed by
+        load (kN), columns depth (um).
     """
     sel = tidy[tidy["sideband"] == sideband]
     out: dict[str, pd.DataFrame] = {}
     for (band, quantity, order), g in sel.groupby(["band", "quantity", "order"], sort=True):
-        p = g.pivot_table(index="load_kN", columns="depth_um", values="amplitude", aggfunc="first")
-        p.index.name = "load_kN"
-        p.columns.name = "depth_um"
-        out[f"{band}__{quantity}__{order:g}"] = p
+        stem = f"{band}__{quantity}__{order:g}"
+        groups = [(stem, g)]
+        if "location" in g.columns:
+            groups = [(f"{stem}__{loc}", gl) for loc, gl in g.groupby("location", sort=False)]
+        for name, gg in groups:
+            out.update(_width_pivots(gg, name))
     return out
+
+
+def _width_pivots(g: pd.DataFrame, name: str) -> dict[str, pd.DataFrame]:
+    """One pivot of ``g`` named ``name``, or one per width (``__w{width}``) when ``g`` has a
+    ``width_um`` column; the healthy race (no width) is depth 0 of each."""
+    if "width_um" not in g.columns:
+        return {name: _pivot(g, name)}
+    healthy = g[g["width_um"].isna()]
+    return {f"{name}__w{format_number(w)}": _pivot(pd.concat([healthy, gw]),
+                                                   f"{name}__w{format_number(w)}")
+            for w, gw in g[g["width_um"].notna()].groupby("width_um", sort=True)}
+
+
+def _pivot(g: pd.DataFrame, name: str) -> pd.DataFrame:
+    """Load x depth pivot of ``g`` (one amplitude per cell, else ``ValueError``)."""
+    dup = g.duplicated(["load_kN", "depth_um"], keep=False)
+    if dup.any():
+        cells = sorted(set(zip(g.loc[dup, "load_kN"], g.loc[dup, "depth_um"])))
+        raise ValueError(f"pivot {name}: {len(cells)} load x depth cell(s) hold more than one "
+                         f"amplitude, e.g. (load_kN, depth_um) = {cells[:3]}; a sweep axis is "
+                         f"missing from the table")
+    p = g.pivot(index="load_kN", columns="depth_um", values="amplitude")
+    p.index.name = "load_kN"
+    p.columns.name = "depth_um"
+    return p
 
 
 def table_html(tables, title: str, caption: str = "") -> str:
@@ -163,8 +240,6 @@ def table_html(tables, title: str, caption: str = "") -> str:
     title, caption : str
         Page title and a paragraph under it.
     """
-    import html
-
     style = ("body{font-family:sans-serif;font-size:12px;margin:1em}"
              "table{border-collapse:collapse;margin-bottom:1.5em}"
              "td,th{border:1px solid #bbb;padding:2px 5px;text-align:right}th{background:#eee}")

@@ -62,7 +62,11 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
+from ..contact import halfspace as _hs
 from ..physics.fidelity import PRESETS, Fidelity, fidelity_from
+from ..physics.history import simulate
+from ..physics.scene import DEFAULT_SCENE, Scene
+from .pipeline import case_bands, case_harmonics, history_case
 from .schema import scene_frequencies
 from .settings import AnalysisSettings, CaseId
 
@@ -145,8 +149,6 @@ def _apply_knob(base: Fidelity, knob: str, value) -> tuple[Fidelity, dict]:
 def _base_value(base: Fidelity, scene_map: Mapping, knob: str):
     k = knob[:-len("[linear]")] if knob.endswith("[linear]") else knob
     if k in _SCENE_KNOBS:
-        from ..physics.scene import DEFAULT_SCENE
-
         return float((scene_map.get("defect", {}) or {}).get(k, DEFAULT_SCENE["defect"][k]))
     if k == "offset_density":
         return 1.0
@@ -169,11 +171,9 @@ def _merge(a: Mapping, b: Mapping) -> dict:
 
 def _clear_kernel_cache() -> None:
     try:
-        from ..contact import halfspace as _hs
-
         with _hs._CACHE_LOCK:
             _hs._CACHE.clear()
-    except (ImportError, AttributeError):  # pragma: no cover - cache layout changed
+    except AttributeError:  # pragma: no cover - cache layout changed
         pass
 
 
@@ -183,9 +183,6 @@ def run_variant(scene, fidelity: Fidelity, analysis) -> dict[str, Any]:
     Returns a dict with ``cpu_s``, ``wall_s``, ``n_solves``, ``n_iterations``, ``p_max``
     (the history, Pa), and ``metrics``: ``{(metric, band): estimate}``.
     """
-    from ..physics.history import simulate
-    from .pipeline import case_bands, case_harmonics, history_case
-
     _clear_kernel_cache()
     c0, w0 = time.process_time(), time.perf_counter()
     hist = simulate(scene, fidelity)
@@ -289,20 +286,59 @@ def tradeoff_study(
         base point of each knob (repeated under every knob), ``knob = "reference"`` the
         reference run (error 0).
     """
-    from ..physics.scene import Scene
-
     if not (isinstance(revolutions, (int, float)) and revolutions > 0):
         raise ValueError(f"tradeoff.revolutions must be > 0, got {revolutions!r}")
     base_f = fidelity_from(base)
     knobs = dict(DEFAULT_KNOBS if knobs is None else knobs)
     scene_map = _merge(scene or {}, {"operation": {"revolutions": float(revolutions)}})
+    an = _analysis_used(analysis)
+    if reference_element not in ("uniform", "linear"):
+        raise ValueError(f"tradeoff.reference_element must be uniform or linear, got {reference_element!r}")
+    all_knobs = _expand_knobs(knobs, element_series, base_f, scene_map)
+    ref_f = _reference_fidelity(reference, base_f, all_knobs, reference_element)
+    preset_f = {str(n): fidelity_from(s) for n, s in (presets or {}).items()}
+
+    rows: list[dict] = []
+    ref_keys: dict[str, str] = {}
+    for load_kN, depth_um in cases:
+        load_kN, depth_um = float(load_kN), float(depth_um)
+        runs = _CaseRuns(load_kN, depth_um, an, scene_map, cache, progress)
+        ref = runs.run(ref_f, {}) if ref_f is not None else None
+        if ref is not None:
+            ref_keys[runs.name] = runs.last_key
+        results = [(k, vs, fid, sc, v, runs.run(fid, sc))
+                   for k, vs, fid, sc, v in _variants(all_knobs, base_f, preset_f)]
+        finest = _knob_references(all_knobs, base_f, scene_map, results)
+        out = _RowWriter(rows, load_kN, depth_um, ref, scene_map, base_f)
+        if ref is not None:
+            out.emit("reference", "reference", ref_f, {}, ref, False, True, None)
+        for k, vs, fid, sc, v, res in results:
+            is_base = k != "preset" and _same(v, _base_value(base_f, scene_map, k)) and \
+                not k.endswith("[linear]")
+            kref = finest.get(k) if k != "preset" else None
+            out.emit(k, vs, fid, sc, res, bool(is_base), False, kref)
+    df = pd.DataFrame(rows, columns=COLUMNS)
+    if ref_f is None:
+        df["error"] = df["error_knob"]
+    df.attrs["reference_keys"] = ref_keys   # case -> key of the reference run in ``cache``
+    return df
+
+
+def _analysis_used(analysis: Mapping[str, Any] | None) -> dict[str, Any]:
+    """The analysis settings of the study: its fixed metrics' harmonics, and the keys of
+    :data:`ANALYSIS_KEYS_USED` from ``analysis``."""
     an = {"signal": "p_max", "nlevel": 8, "filter_order": 4, "squared_envelope": False,
           "harmonics": 2, "sidebands": 0, "raw_orders_fr": 1, "bands": DEFAULT_BANDS}
     if analysis:
         an.update({k: v for k, v in analysis.items()
                    if k in ANALYSIS_KEYS_USED})
-    if reference_element not in ("uniform", "linear"):
-        raise ValueError(f"tradeoff.reference_element must be uniform or linear, got {reference_element!r}")
+    return an
+
+
+def _expand_knobs(knobs: Mapping[str, Sequence], element_series: Sequence[str], base_f: Fidelity,
+                  scene_map: Mapping) -> dict[str, list]:
+    """Every knob's values (checked, the base value inserted in order) and the ``[linear]``
+    repeats of ``element_series``."""
     for k in element_series:
         if k not in knobs:
             raise ValueError(f"tradeoff.element_series: {k!r} is not one of the knobs {sorted(knobs)}")
@@ -322,9 +358,12 @@ def tradeoff_study(
     for k in element_series:
         if base_f.element != "linear":
             all_knobs[f"{k}[linear]"] = list(all_knobs[k])
+    return all_knobs
 
-    # the common reference
-    ref_f, ref_scene = None, {}
+
+def _reference_fidelity(reference, base_f: Fidelity, all_knobs: Mapping[str, list],
+                        reference_element: str) -> Fidelity | None:
+    """The common reference (None for ``"per_knob"``): see the module docstring."""
     if isinstance(reference, str) and reference == "finest":
         ref_f = dataclasses.replace(base_f, name="reference", element=reference_element)
         for k, vals in all_knobs.items():
@@ -332,97 +371,103 @@ def tradeoff_study(
                 continue
             fine = vals[-1]
             ref_f, _ = _apply_knob(ref_f, k, fine)
-        ref_f = dataclasses.replace(ref_f, name="reference")
-    elif isinstance(reference, str) and reference == "per_knob":
-        ref_f = None
-    elif isinstance(reference, (Mapping, Fidelity)) or reference in PRESETS:
-        ref_f = dataclasses.replace(fidelity_from(reference), name="reference")
-    else:
-        raise ValueError(f"tradeoff.reference: got {reference!r}; allowed: finest | per_knob | "
-                         f"a preset name | a fidelity mapping")
+        return dataclasses.replace(ref_f, name="reference")
+    if isinstance(reference, str) and reference == "per_knob":
+        return None
+    if isinstance(reference, (Mapping, Fidelity)) or reference in PRESETS:
+        return dataclasses.replace(fidelity_from(reference), name="reference")
+    raise ValueError(f"tradeoff.reference: got {reference!r}; allowed: finest | per_knob | "
+                     f"a preset name | a fidelity mapping")
 
-    preset_f = {str(n): fidelity_from(s) for n, s in (presets or {}).items()}
 
-    rows: list[dict] = []
-    ref_keys: dict[str, str] = {}
-    last_key = [""]
-    for load_kN, depth_um in cases:
-        load_kN, depth_um = float(load_kN), float(depth_um)
-        cache_c: dict[str, dict] = (cache.setdefault(CaseId(load_kN, depth_um).name, {})
-                                    if cache is not None else {})
+def _variants(all_knobs: Mapping[str, list], base_f: Fidelity, preset_f: Mapping[str, Fidelity]):
+    """``(knob, value text, fidelity, scene overrides, value)`` of every run but the reference."""
+    variants: list[tuple[str, str, Fidelity, dict, Any]] = []
+    for k, vals in all_knobs.items():
+        for v in vals:
+            fid, sc_over = _apply_knob(base_f, k, v)
+            fid = dataclasses.replace(fid, name=f"{k}={v}")
+            variants.append((k, _fmt(v), fid, sc_over, v))
+    for n, f in preset_f.items():
+        variants.append(("preset", n, f, {}, n))
+    return variants
 
-        def run(fid: Fidelity, sc_over: dict):
-            key = json.dumps([{k: v for k, v in fid.to_dict().items() if k != "name"}, sc_over],
-                             sort_keys=True, default=str)
-            key = json.dumps([key, an, scene_map], sort_keys=True, default=str)
-            if key not in cache_c:
-                sc = Scene.from_mapping(_merge(scene_map, sc_over), load_kN=load_kN, depth_um=depth_um)
-                cache_c[key] = run_variant(sc, fid, an)
-                if progress:
-                    r = cache_c[key]
-                    progress(f"{CaseId(load_kN, depth_um).name} {fid.name} {sc_over or ''}: "
-                             f"{r['cpu_s']:.1f} s cpu, {r['wall_s']:.1f} s wall, {r['n_solves']} solves")
-            last_key[0] = key
-            return cache_c[key]
 
-        ref = run(ref_f, {}) if ref_f is not None else None
-        if ref is not None:
-            ref_keys[CaseId(load_kN, depth_um).name] = last_key[0]
-        variants: list[tuple[str, str, Fidelity, dict, Any]] = []
-        for k, vals in all_knobs.items():
-            for v in vals:
-                fid, sc_over = _apply_knob(base_f, k, v)
-                fid = dataclasses.replace(fid, name=f"{k}={v}")
-                variants.append((k, _fmt(v), fid, sc_over, v))
-        for n, f in preset_f.items():
-            variants.append(("preset", n, f, {}, n))
-        results = [(k, vs, fid, sc, v, run(fid, sc)) for k, vs, fid, sc, v in variants]
-        finest = {}
-        for k, vals in all_knobs.items():
-            kk = k[:-len("[linear]")] if k.endswith("[linear]") else k
-            fv = _base_value(base_f, scene_map, kk) if (kk in _SCENE_KNOBS or kk == "element") \
-                else vals[-1]
-            if k.endswith("[linear]"):
-                fv = vals[-1]
-            finest[k] = next(r for kk2, vs, fid, sc, v, r in results if kk2 == k and _same(v, fv))
+def _knob_references(all_knobs: Mapping[str, list], base_f: Fidelity, scene_map: Mapping,
+                     results: list) -> dict[str, dict]:
+    """The run of each knob's own reference: its finest value (scene knobs and ``element``:
+    the base value; ``[linear]`` repeats: their finest)."""
+    finest = {}
+    for k, vals in all_knobs.items():
+        kk = k[:-len("[linear]")] if k.endswith("[linear]") else k
+        fv = _base_value(base_f, scene_map, kk) if (kk in _SCENE_KNOBS or kk == "element") \
+            else vals[-1]
+        if k.endswith("[linear]"):
+            fv = vals[-1]
+        finest[k] = next(r for kk2, vs, fid, sc, v, r in results if kk2 == k and _same(v, fv))
+    return finest
 
-        def emit(knob, vstr, fid, sc_over, res, is_base, is_ref, kref):
-            common = ref if ref is not None else kref
-            for (metric, band), est in res["metrics"].items():
-                rv = common["metrics"].get((metric, band), math.nan) if common is not None else math.nan
-                e = _error(metric, est, rv, res["p_max"], common["p_max"] if common else None, depth_um)
-                if kref is not None:
-                    rk = kref["metrics"].get((metric, band), math.nan)
-                    ek = _error(metric, est, rk, res["p_max"], kref["p_max"], depth_um)
-                else:
-                    ek = math.nan
-                if is_ref:
-                    e = 0.0 if not math.isnan(e) else e
-                rows.append({
-                    "case": CaseId(load_kN, depth_um).name, "load_kN": load_kN, "depth_um": depth_um,
-                    "knob": knob, "value": vstr, "is_base": is_base, "is_reference": is_ref,
-                    "element": fid.element,
-                    "edge_radius_um": float(_merge(scene_map, sc_over).get("defect", {}).get(
-                        "edge_radius_um", _base_value(base_f, scene_map, "edge_radius_um"))),
-                    "fidelity": json.dumps({k: v for k, v in fid.to_dict().items() if k != "name"},
-                                           sort_keys=True),
-                    "cpu_s": res["cpu_s"], "wall_s": res["wall_s"], "n_solves": res["n_solves"],
-                    "n_iterations": res["n_iterations"], "metric": metric, "band": band,
-                    "estimate": est, "reference_value": rv, "error": e, "error_knob": ek,
-                })
 
-        if ref is not None:
-            emit("reference", "reference", ref_f, {}, ref, False, True, None)
-        for k, vs, fid, sc, v, res in results:
-            is_base = k != "preset" and _same(v, _base_value(base_f, scene_map, k)) and \
-                not k.endswith("[linear]")
-            kref = finest.get(k) if k != "preset" else None
-            emit(k, vs, fid, sc, res, bool(is_base), False, kref)
-    df = pd.DataFrame(rows, columns=COLUMNS)
-    if ref_f is None:
-        df["error"] = df["error_knob"]
-    df.attrs["reference_keys"] = ref_keys   # case -> key of the reference run in ``cache``
-    return df
+class _CaseRuns:
+    """The runs of one case, by key (fidelity, scene overrides, analysis, scene), through
+    ``cache`` when given."""
+
+    def __init__(self, load_kN: float, depth_um: float, an: Mapping, scene_map: Mapping,
+                 cache: dict | None, progress):
+        self.load_kN, self.depth_um, self.an, self.scene_map = load_kN, depth_um, an, scene_map
+        self.name = CaseId(load_kN, depth_um).name
+        self.cache: dict[str, dict] = cache.setdefault(self.name, {}) if cache is not None else {}
+        self.progress = progress
+        self.last_key = ""
+
+    def run(self, fid: Fidelity, sc_over: dict) -> dict:
+        key = json.dumps([{k: v for k, v in fid.to_dict().items() if k != "name"}, sc_over],
+                         sort_keys=True, default=str)
+        key = json.dumps([key, self.an, self.scene_map], sort_keys=True, default=str)
+        if key not in self.cache:
+            sc = Scene.from_mapping(_merge(self.scene_map, sc_over), load_kN=self.load_kN,
+                                    depth_um=self.depth_um)
+            self.cache[key] = run_variant(sc, fid, self.an)
+            if self.progress:
+                r = self.cache[key]
+                self.progress(f"{self.name} {fid.name} {sc_over or ''}: "
+                              f"{r['cpu_s']:.1f} s cpu, {r['wall_s']:.1f} s wall, {r['n_solves']} solves")
+        self.last_key = key
+        return self.cache[key]
+
+
+class _RowWriter:
+    """Appends the tidy rows of one run of one case to ``rows``."""
+
+    def __init__(self, rows: list, load_kN: float, depth_um: float, ref: dict | None,
+                 scene_map: Mapping, base_f: Fidelity):
+        self.rows, self.load_kN, self.depth_um, self.ref = rows, load_kN, depth_um, ref
+        self.scene_map, self.base_f = scene_map, base_f
+
+    def emit(self, knob, vstr, fid, sc_over, res, is_base, is_ref, kref) -> None:
+        depth_um, common = self.depth_um, self.ref if self.ref is not None else kref
+        edge = float(_merge(self.scene_map, sc_over).get("defect", {}).get(
+            "edge_radius_um", _base_value(self.base_f, self.scene_map, "edge_radius_um")))
+        for (metric, band), est in res["metrics"].items():
+            rv = common["metrics"].get((metric, band), math.nan) if common is not None else math.nan
+            e = _error(metric, est, rv, res["p_max"], common["p_max"] if common else None, depth_um)
+            if kref is not None:
+                rk = kref["metrics"].get((metric, band), math.nan)
+                ek = _error(metric, est, rk, res["p_max"], kref["p_max"], depth_um)
+            else:
+                ek = math.nan
+            if is_ref:
+                e = 0.0 if not math.isnan(e) else e
+            self.rows.append({
+                "case": CaseId(self.load_kN, depth_um).name, "load_kN": self.load_kN,
+                "depth_um": depth_um, "knob": knob, "value": vstr, "is_base": is_base,
+                "is_reference": is_ref, "element": fid.element, "edge_radius_um": edge,
+                "fidelity": json.dumps({k: v for k, v in fid.to_dict().items() if k != "name"},
+                                       sort_keys=True),
+                "cpu_s": res["cpu_s"], "wall_s": res["wall_s"], "n_solves": res["n_solves"],
+                "n_iterations": res["n_iterations"], "metric": metric, "band": band,
+                "estimate": est, "reference_value": rv, "error": e, "error_knob": ek,
+            })
 
 
 def _same(a, b) -> bool:
@@ -524,6 +569,7 @@ def plot_tradeoff(df: pd.DataFrame, path=None, *, metrics: Sequence[tuple[str, s
 
     Returns the matplotlib ``Figure`` (saved to ``path`` when given).
     """
+    # lazy: matplotlib adds ~1.5 s to importing this module (the study runs need no plots)
     from matplotlib.figure import Figure
 
     metrics = list(metrics) if metrics is not None else metric_labels(df)
@@ -534,7 +580,7 @@ def plot_tradeoff(df: pd.DataFrame, path=None, *, metrics: Sequence[tuple[str, s
     axes = fig.subplots(nrows, ncols, squeeze=False).ravel()
     knobs = [k for k in dict.fromkeys(df["knob"]) if k not in ("reference", "preset")]
     base_knobs = [k for k in knobs if not k.endswith("[linear]")]
-    import matplotlib
+    import matplotlib  # lazy, as Figure above
 
     cmap = matplotlib.colormaps["tab10"]
     colour = {k: cmap(i % 10) for i, k in enumerate(base_knobs)}

@@ -1,0 +1,787 @@
+"""Measured vibration records: read one file safely, list many, name a bearing.
+
+Everything here refuses what it cannot read faithfully, with one line that names the file (or
+the option) and what is allowed, instead of guessing:
+
+- CSV: the delimiter (``,`` ``;`` tab ``|`` or blanks) and the decimal mark (``.`` or ``,``) are
+  detected from the first lines; a file where ``,`` may be either (``0,037719`` on every line)
+  is refused unless ``delimiter``/``decimal`` settle it, so a decimal fraction never becomes a
+  number of its own.
+- ``.npy``: the header's shape and dtype are checked against the file size (a truncated file
+  or a lying header never allocates what it claims) and the memory the analysis will need
+  against the memory available, before any sample is read (the samples are memory-mapped and
+  only the chosen channel is copied). Never unpickled (``allow_pickle=False``).
+- ``.npz``: the members' headers are read first (no array is loaded to find the signal);
+  empty, truncated and corrupt archives are refused.
+- MATLAB ``.mat`` (v4-v7): CWRU's layout ``X###_DE_time`` / ``_FE_time`` / ``_BA_time`` with
+  ``X###RPM`` (channel chosen by ``channel``, default DE; the shaft rate from the RPM), or any
+  variable named with ``column``.
+- ``.wav`` (``scipy.io.wavfile``): the sampling rate from the file, integer PCM as counts.
+- a case file ``.h5`` of ``bearing-envelope simulate``.
+
+Complex, boolean and object data are refused (an imaginary part is never dropped silently).
+
+Bearings named by designation (:func:`bearing_geometry`) come from the bearing catalogue
+(:mod:`bearing_envelope.physics.catalogue`, ``data/bearings.yaml``): ``6205`` is ``SKF
+6205-2RS``, ``6203`` is ``SKF 6203``.
+"""
+
+# pandas (CSV) and scipy.io (.mat, .wav) are imported by the reader that needs them: reading an
+# .npy or .npz needs neither, and they cost ~0.5-1 s of start-up.
+from __future__ import annotations
+
+import csv
+import json
+import math
+import os
+import re
+import zipfile
+import zlib
+
+import numpy as np
+from numpy.lib import format as npf
+
+from .. import io as _io  # read_case looked up at call time (callers may substitute it)
+from ..physics.catalogue import bearing_sources, bearing_values, designations
+
+__all__ = ["SUFFIXES", "MEMORY_FACTOR", "read_record", "sniff_csv", "read_manifest",
+           "collect_records", "bearing_geometry", "known_bearings", "check_memory"]
+
+#: File types :func:`read_record` reads.
+SUFFIXES = (".csv", ".npy", ".npz", ".mat", ".wav", ".h5", ".hdf5")
+
+#: Peak memory of one analysis per byte of float64 samples: issue 22's tester measured 5.1 GB
+#: RSS for a 268 MB ``.npy`` (19x); 4 M samples (32 MB) took 1.0 GB peak RSS here, 0.7 GB above
+#: a short record's (22x). The check uses 24x.
+MEMORY_FACTOR = 24.0
+
+_TIME_NAMES = ("time", "t", "time_s", "times", "seconds")
+_FS_NAMES = ("fs", "Fs", "FS", "sampling_rate", "sample_rate", "sampling_frequency")
+_FR_NAMES = ("fr", "shaft_hz", "shaft_rate_hz")
+_RPM_NAMES = ("rpm", "RPM")
+_MM_PER_INCH = 25.4
+_SNIFF_BYTES = 65536
+_SNIFF_LINES = 200
+
+
+# ------------------------------------------------------------------------------ values
+def _human_bytes(n: float) -> str:
+    for unit in ("B", "kB", "MB", "GB", "TB"):
+        if n < 1000 or unit == "TB":
+            return f"{n:.3g} {unit}" if unit != "B" else f"{int(n)} B"
+        n /= 1000.0
+    return f"{n:.3g} TB"  # pragma: no cover
+
+
+def _check_dtype(dtype, path: str, what: str) -> None:
+    """Refuse complex, boolean, object and non-numeric data (one line naming the file)."""
+    dtype = np.dtype(dtype)
+    if dtype.hasobject:
+        raise ValueError(f"file: {path}: {what} holds Python objects (reading them would need "
+                         f"unpickling, which is refused); allowed: real numbers")
+    if dtype.kind == "c":
+        raise ValueError(f"file: {path}: {what} holds complex values ({dtype}); allowed: real "
+                         f"numbers (pass the real part or the magnitude explicitly)")
+    if dtype.kind == "b":
+        raise ValueError(f"file: {path}: {what} holds booleans; allowed: real numbers")
+    if dtype.kind not in "iuf":
+        raise ValueError(f"file: {path}: {what} holds {dtype} data; allowed: real numbers")
+
+
+def available_memory() -> int | None:
+    """Bytes of memory available now (``MemAvailable`` of ``/proc/meminfo``), or None."""
+    try:
+        with open("/proc/meminfo", encoding="ascii") as fh:
+            for line in fh:
+                if line.startswith("MemAvailable:"):
+                    return int(line.split()[1]) * 1024
+    except (OSError, ValueError, IndexError):
+        return None
+    return None
+
+
+def check_memory(n_samples: int, path: str, *, available: int | None = None) -> None:
+    """Refuse a record whose analysis would need more memory than is available.
+
+    Parameters
+    ----------
+    n_samples : int
+        Samples of the signal to analyse.
+    path : str
+        The file, for the message.
+    available : int, optional
+        Bytes available (default :func:`available_memory`; unknown: no check).
+    """
+    need = MEMORY_FACTOR * 8.0 * n_samples
+    avail = available_memory() if available is None else available
+    if avail is not None and need > avail:
+        raise ValueError(f"file: {path}: analysing its {n_samples} samples needs about "
+                         f"{_human_bytes(need)} of memory ({MEMORY_FACTOR:g} x the "
+                         f"{_human_bytes(8.0 * n_samples)} of float64 samples), "
+                         f"{_human_bytes(avail)} available; cut the record into shorter pieces")
+
+
+def _real_vector(a, path: str, what: str) -> np.ndarray:
+    """A 1-D float64 copy of a (dtype checked first)."""
+    a = np.asarray(a)
+    _check_dtype(a.dtype, path, what)
+    return np.array(a, dtype=np.float64).ravel()
+
+
+def _fs_from_time(t, path: str) -> float:
+    t = np.asarray(t, dtype=float)
+    dt = np.diff(t)
+    if t.size < 3 or not np.all(dt > 0):
+        raise ValueError(f"file: {path}: the time column is not increasing; give --fs")
+    step = float(np.median(dt))
+    if np.max(np.abs(dt - step)) > 1e-3 * step:
+        raise ValueError(f"file: {path}: the time column is not uniformly sampled; give --fs")
+    return 1.0 / step
+
+
+def _pick(names, column, what: str, path: str) -> str:
+    names = list(names)
+    if column is not None:
+        if column in names:
+            return column
+        raise ValueError(f"--column: {path} has no {what} {column!r} (available: "
+                         f"{', '.join(map(str, names)) or 'none'})")
+    if len(names) == 1:
+        return names[0]
+    if not names:
+        raise ValueError(f"file: {path} holds no numeric signal; allowed: a {what} with a "
+                         f"real vector")
+    raise ValueError(f"--column: {path} holds several {what}s ({', '.join(map(str, names))}); "
+                     f"choose one with --column")
+
+
+def _column_index(column, n: int, path: str, what: str) -> int:
+    try:
+        idx = int(str(column))
+    except ValueError:
+        raise ValueError(f"--column: {column!r} is not an index; {path} holds {n} {what}s, "
+                         f"allowed: an integer 0 .. {n - 1}") from None
+    if not -n <= idx < n:
+        raise ValueError(f"--column: index {idx} is out of range; {path} has {n} {what}s "
+                         f"(0-based)")
+    return idx
+
+
+# --------------------------------------------------------------------------------- CSV
+_DOT_NUM = re.compile(r"^[+-]?(\d+\.\d*|\.\d+|\d+)([eE][+-]?\d+)?$")
+_COMMA_NUM = re.compile(r"^[+-]?\d+,\d+([eE][+-]?\d+)?$")
+_INT = re.compile(r"^[+-]?\d+$")
+_NAMES = {",": "commas", ";": "semicolons", "\t": "tabs", "|": "bars", r"\s+": "blanks"}
+
+
+def _is_number(tok: str) -> bool:
+    try:
+        float(tok)
+    except ValueError:
+        return False
+    return True
+
+
+def _split(line: str, sep: str) -> list[str]:
+    if sep == r"\s+":
+        return line.split()
+    return [t.strip().strip('"').strip("'") for t in line.split(sep)]
+
+
+def _csv_lines(path: str) -> list[str]:
+    try:
+        with open(path, "rb") as fh:
+            head = fh.read(_SNIFF_BYTES)
+            more = fh.read(1) != b""
+    except OSError:
+        raise
+    try:
+        text = head.decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        if not (more and exc.start >= len(head) - 4):  # a character cut at the block's end
+            raise ValueError(f"file: {path} is not a UTF-8 text CSV (byte {exc.start}); "
+                             f"allowed: text with numbers") from None
+        text = head[:exc.start].decode("utf-8-sig")
+    lines = [ln for ln in text.splitlines() if ln.strip() and not ln.lstrip().startswith("#")]
+    if more and lines:
+        lines = lines[:-1]  # possibly cut
+    return lines[:_SNIFF_LINES]
+
+
+def sniff_csv(path: str, *, delimiter: str | None = None, decimal: str | None = None
+              ) -> tuple[str, str, bool]:
+    """Delimiter, decimal mark and header of a numeric CSV, from its first lines.
+
+    Parameters
+    ----------
+    path : str
+        The file.
+    delimiter : str, optional
+        Force the delimiter (``","``, ``";"``, ``"\\t"``, ``"|"``, or ``"space"`` for blanks).
+    decimal : {".", ","}, optional
+        Force the decimal mark.
+
+    Returns
+    -------
+    (str, str, bool)
+        Delimiter (``r"\\s+"`` for blanks), decimal mark and whether the first line is a
+        header.
+
+    Raises
+    ------
+    ValueError
+        When the file holds no data line, or when ``,`` could be the delimiter or the
+        decimal mark (every value an integer, the second field looking like a fraction):
+        one line naming the file and ``--delimiter``/``--decimal``.
+    """
+    lines = _csv_lines(path)
+    if not lines:
+        raise ValueError(f"file: {path} holds no data line; allowed: a CSV of numbers")
+    if delimiter == "space":
+        delimiter = r"\s+"
+    head_is_text = not all(_is_number(t) or _COMMA_NUM.match(t) for t in
+                           _split(lines[0], delimiter or _guess_sep(lines)) if t)
+    body = lines[1:] if head_is_text else lines
+    if not body:
+        raise ValueError(f"file: {path} holds a header and no data line")
+    sep = delimiter or _guess_sep(body)
+    dec = decimal or _guess_decimal(body, sep, path)
+    if sep == "," and dec == ",":
+        raise ValueError(f"--decimal: ',' cannot be the decimal mark of {path} when ',' also "
+                         f"delimits its fields; give --delimiter")
+    return sep, dec, head_is_text
+
+
+def _guess_sep(lines: list[str]) -> str:
+    for sep in (";", "\t", "|", ","):
+        counts = {ln.count(sep) for ln in lines}
+        if len(counts) == 1 and counts != {0}:
+            return sep
+    return r"\s+" if all(len(ln.split()) > 1 for ln in lines) else ","
+
+
+def _guess_decimal(lines: list[str], sep: str, path: str) -> str:
+    toks = [t for ln in lines for t in _split(ln, sep) if t]
+    dots = any("." in t and _DOT_NUM.match(t) for t in toks)
+    commas = any(_COMMA_NUM.match(t) for t in toks)
+    if dots and commas:
+        raise ValueError(f"file: {path} mixes '.' and ',' decimal marks; give --decimal")
+    if commas:
+        return ","
+    if sep == "," and not dots and all(_INT.match(t) for t in toks):
+        rows = [_split(ln, sep) for ln in lines]
+        tails = [r[1] for r in rows if len(r) == 2]
+        lead0 = any(len(t) > 1 and t.lstrip("+-").startswith("0") for r in rows for t in r[1:])
+        same = len(tails) == len(rows) and len({len(t) for t in tails}) == 1
+        if lead0 or same:
+            raise ValueError(f"file: {path}: ',' may be the delimiter or the decimal mark "
+                             f"(e.g. {lines[0].strip()!r}); refused as ambiguous, give "
+                             f"--delimiter and --decimal")
+    return "."
+
+
+def _read_csv(path, column, delimiter, decimal) -> dict:
+    import pandas as pd
+
+    sep, dec, header = sniff_csv(path, delimiter=delimiter, decimal=decimal)
+    try:
+        df = pd.read_csv(path, sep=sep, decimal=dec, header=0 if header else None,
+                         engine="python" if sep == r"\s+" else "c", comment="#",
+                         skip_blank_lines=True, dtype=str, keep_default_na=False,
+                         encoding="utf-8-sig")
+    except (pd.errors.ParserError, ValueError, UnicodeDecodeError) as exc:
+        raise ValueError(f"file: {path} is not a regular CSV ({_NAMES.get(sep, sep)} between "
+                         f"fields): {str(exc).splitlines()[0]}") from None
+    cols = [str(c).strip() for c in df.columns]
+    df.columns = cols
+    tcols = [c for c in cols if c.lower() in _TIME_NAMES]
+    data_cols = [c for c in cols if c not in tcols]
+    if column is not None and column not in cols and str(column).lstrip("-").isdigit():
+        column = cols[_column_index(column, len(cols), path, "column")]
+    name = _pick(data_cols if column is None else cols, column, "column", path)
+    out = {"x": _csv_numbers(df[name], path, name, sep, dec, header), "fs": None,
+           "source": f"csv:{name}"}
+    if tcols:
+        out["fs"] = _fs_from_time(_csv_numbers(df[tcols[0]], path, tcols[0], sep, dec, header),
+                                  path)
+    return out
+
+
+def _csv_numbers(series, path, name, sep, dec, header) -> np.ndarray:
+    import pandas as pd
+
+    text = series.str.strip()
+    if dec == ",":
+        text = text.str.replace(",", ".", regex=False)
+    values = pd.to_numeric(text, errors="coerce").to_numpy(dtype=float)
+    bad = np.isnan(values) & ~text.str.lower().isin(["nan"]).to_numpy()
+    if bad.any():
+        i = int(np.flatnonzero(bad)[0])
+        raise ValueError(f"file: {path}: column {name!r}, line {i + 1 + int(header)}: "
+                         f"{series.iloc[i]!r} is not a number; allowed: real numbers with "
+                         f"{dec!r} as decimal mark, fields separated by "
+                         f"{_NAMES.get(sep, sep)} (else give --delimiter/--decimal)")
+    return values
+
+
+# --------------------------------------------------------------------------------- .npy
+def _npy_header(fh, path: str, what: str):
+    """(shape, fortran_order, dtype) of an open ``.npy`` stream (left after the header)."""
+    try:
+        version = npf.read_magic(fh)
+        if version == (1, 0):
+            shape, fortran, dtype = npf.read_array_header_1_0(fh)
+        elif version == (2, 0):
+            shape, fortran, dtype = npf.read_array_header_2_0(fh)
+        else:
+            shape, fortran, dtype = npf._read_array_header(fh, version)  # 3.0: no public reader
+    except (ValueError, EOFError, OSError, SyntaxError) as exc:
+        raise ValueError(f"file: {path}: {what} has no valid .npy header "
+                         f"({str(exc).splitlines()[0] if str(exc) else type(exc).__name__})"
+                         ) from None
+    _check_dtype(dtype, path, what)
+    return tuple(int(d) for d in shape), bool(fortran), np.dtype(dtype)
+
+
+def _check_size(shape, dtype, have: int, path: str, what: str) -> None:
+    need = math.prod(shape) * dtype.itemsize
+    if need > have:
+        raise ValueError(f"file: {path}: {what} has a header that claims shape {shape} of "
+                         f"{dtype} ({_human_bytes(need)}) but only {_human_bytes(have)} of data "
+                         f"follow; the file is truncated or its header is wrong")
+
+
+def _channel_of(shape, column, path: str) -> tuple[int | None, int]:
+    """(channel index or None, samples) of an array of ``shape`` (1-D, or 2-D channels)."""
+    if len(shape) > 2 or (len(shape) == 1 and column is not None) or len(shape) == 0:
+        opt = "--column" if column is not None else "file"
+        raise ValueError(f"{opt}: {path} holds a {len(shape)}-D array of shape {shape}; "
+                         f"allowed: a 1-D signal (without --column) or a 2-D array of "
+                         f"channels (--column = channel index)")
+    if len(shape) == 1:
+        return None, shape[0]
+    n_ch = min(shape)
+    if column is None and n_ch > 1:
+        raise ValueError(f"--column: {path} holds a 2-D array of shape {shape} "
+                         f"({n_ch} channels); choose one with --column INDEX")
+    idx = 0 if column is None else _column_index(column, n_ch, path, "channel")
+    return idx, max(shape)
+
+
+def _take(a, idx):
+    if idx is None:
+        return a
+    return a[:, idx] if a.shape[0] >= a.shape[1] else a[idx]
+
+
+def _read_npy(path, column) -> dict:
+    with open(path, "rb") as fh:
+        shape, fortran, dtype = _npy_header(fh, path, "the array")
+        offset = fh.tell()
+    _check_size(shape, dtype, os.path.getsize(path) - offset, path, "the array")
+    idx, n = _channel_of(shape, column, path)
+    check_memory(n, path)
+    a = np.load(path, mmap_mode="r", allow_pickle=False) if math.prod(shape) else \
+        np.load(path, allow_pickle=False)
+    return {"x": _real_vector(_take(a, idx), path, "the array"), "source": "npy"}
+
+
+# --------------------------------------------------------------------------------- .npz
+def _npz_members(zf: zipfile.ZipFile, path: str) -> dict:
+    """``name -> (shape, dtype)`` of every ``.npy`` member, from the headers only."""
+    out = {}
+    for info in zf.infolist():
+        if not info.filename.endswith(".npy"):
+            continue
+        name = info.filename[:-4]
+        with zf.open(info) as fh:
+            try:
+                version = npf.read_magic(fh)
+                shape, _, dtype = (npf.read_array_header_1_0(fh) if version == (1, 0)
+                                   else npf.read_array_header_2_0(fh))
+            except (ValueError, EOFError) as exc:
+                raise ValueError(f"file: {path}: member {name!r} has no valid .npy header "
+                                 f"({exc})") from None
+            if not np.dtype(dtype).hasobject:
+                _check_size(tuple(shape), np.dtype(dtype), info.file_size - fh.tell(), path,
+                            f"member {name!r}")
+        out[name] = (tuple(int(d) for d in shape), np.dtype(dtype))
+    return out
+
+
+def _read_npz(path, column) -> dict:
+    try:
+        with zipfile.ZipFile(path) as zf:
+            members = _npz_members(zf, path)
+        if not members:
+            raise ValueError(f"file: {path} holds no arrays; allowed: an .npz with a real "
+                             f"signal vector (and optionally fs)")
+        with np.load(path, allow_pickle=False) as z:
+            return _from_npz(z, members, column, path)
+    except (zipfile.BadZipFile, zipfile.LargeZipFile, EOFError, OSError, zlib.error) as exc:
+        raise ValueError(f"file: {path} is not a readable .npz (truncated or corrupt: "
+                         f"{exc})") from None
+
+
+def _from_npz(z, members: dict, column, path: str) -> dict:
+    small = {k: z[k] for k, (shape, dt) in members.items()
+             if math.prod(shape) <= 1 and dt.kind in "iuf"}
+    out = _scalars(small, path)
+    meta = members.get("meta_json")
+    if meta is not None and meta[1].kind == "U" and math.prod(meta[0]) <= 1:
+        out.update(_meta(z["meta_json"], out))
+    name = _choose(members, column, path)
+    shape, dt = members[name]
+    _check_dtype(dt, path, f"variable {name!r}")
+    if sum(d > 1 for d in shape) > 1:
+        raise ValueError(f"file: {path}: variable {name!r} has shape {shape}; allowed: one "
+                         f"signal (a vector; save one channel per variable)")
+    check_memory(math.prod(shape), path)
+    out["x"] = _real_vector(z[name], path, f"variable {name!r}")
+    if out["fs"] is None:
+        for k, (shape, _) in members.items():
+            if k.lower() in _TIME_NAMES and math.prod(shape) == out["x"].size:
+                out["fs"] = _fs_from_time(np.ravel(z[k]), path)
+    out["source"] = f"npz:{name}"
+    return out
+
+
+def _choose(members: dict, column, path: str) -> str:
+    cands = [k for k, (shape, dt) in members.items()
+             if dt.kind in "iufcb" and math.prod(shape) > 1 and k.lower() not in _TIME_NAMES]
+    return _pick(cands if column is None else list(members), column, "variable", path)
+
+
+def _scalars(arrays: dict, path: str) -> dict:
+    """fs and fr (Hz) from scalar entries (``fs``, ``fr``/``shaft_hz``, ``rpm``)."""
+    out: dict = {"fs": None, "fr": None}
+    for names, key, scale in ((_FS_NAMES, "fs", 1.0), (_FR_NAMES, "fr", 1.0),
+                              (_RPM_NAMES, "fr", 1.0 / 60.0)):
+        if out[key] is not None:
+            continue
+        for k in names:
+            if k in arrays and np.size(arrays[k]) == 1:
+                v = np.asarray(arrays[k])
+                if v.dtype.kind in "iuf":
+                    out[key] = float(v.ravel()[0]) * scale
+                    break
+    return out
+
+
+def _meta(raw, out: dict) -> dict:
+    """The shaft rate of a ``meta_json`` entry (``shaft_hz``) when no scalar gave one."""
+    try:
+        meta = json.loads(str(np.asarray(raw).ravel()[0]) if np.size(raw) else "{}")
+    except (ValueError, TypeError):
+        return {}
+    fr = meta.get("shaft_hz") if isinstance(meta, dict) else None
+    if out.get("fr") is None and isinstance(fr, (int, float)) and math.isfinite(fr) and fr > 0:
+        return {"fr": float(fr)}
+    return {}
+
+
+# --------------------------------------------------------------------------------- .mat
+_CWRU_VAR = re.compile(r"^X(\d+)_(DE|FE|BA)_time$")
+_CWRU_RPM = re.compile(r"^X(\d+)RPM$")
+
+
+def _read_mat(path, column, channel) -> dict:
+    from scipy.io import loadmat
+
+    try:
+        m = {k: v for k, v in loadmat(path).items() if not k.startswith("__")}
+    except NotImplementedError:
+        raise ValueError(f"file: {path} is a MATLAB v7.3 (HDF5) file; allowed: v4-v7 .mat "
+                         f"(save with -v7)") from None
+    except Exception as exc:  # scipy raises ValueError, TypeError, MatReadError, ... on junk
+        raise ValueError(f"file: {path} is not a readable MATLAB .mat file "
+                         f"({type(exc).__name__}: {str(exc).splitlines()[0] if str(exc) else ''})"
+                         ) from None
+    out = _scalars(m, path)
+    cwru = {k: _CWRU_VAR.match(k) for k in m}
+    cwru = {k: mt for k, mt in cwru.items() if mt}
+    if column is None and cwru:
+        name = _cwru_pick(cwru, channel, path)
+        number = cwru[name].group(1)
+        rpm = [v for k, v in m.items() if (mt := _CWRU_RPM.match(k)) and mt.group(1) == number]
+        if rpm and np.size(rpm[0]) == 1 and out["fr"] is None:
+            out["fr"] = float(np.asarray(rpm[0]).ravel()[0]) / 60.0
+    else:
+        cands = [k for k, v in m.items() if isinstance(v, np.ndarray) and v.dtype.kind in "iufcb"
+                 and v.size > 1 and k.lower() not in _TIME_NAMES]
+        name = _pick(cands if column is None else list(m), column, "variable", path)
+    shape = np.shape(m[name])
+    if sum(d > 1 for d in shape) > 1:
+        raise ValueError(f"file: {path}: variable {name!r} has shape {shape}; allowed: one "
+                         f"signal (a vector; save one channel per variable)")
+    out["x"] = _real_vector(m[name], path, f"variable {name!r}")
+    if out["fs"] is None:
+        for k in m:
+            if k.lower() in _TIME_NAMES and np.size(m[k]) == out["x"].size:
+                out["fs"] = _fs_from_time(np.ravel(m[k]), path)
+    out["source"] = f"mat:{name}"
+    return out
+
+
+def _cwru_pick(cwru: dict, channel: str, path: str) -> str:
+    names = [k for k, mt in cwru.items() if mt.group(2) == channel]
+    if not names:
+        have = sorted({mt.group(2) for mt in cwru.values()})
+        raise ValueError(f"--channel: {path} has no {channel} channel (X###_{channel}_time); "
+                         f"it has {', '.join(have)}")
+    if len(names) > 1:  # a few CWRU files hold two records: prefer the file's own number
+        digits = re.findall(r"\d+", os.path.basename(path))
+        own = [k for k in names if cwru[k].group(1).lstrip("0") in
+               {d.lstrip("0") for d in digits}]
+        if len(own) == 1:
+            return own[0]
+        raise ValueError(f"--column: {path} holds several {channel} records "
+                         f"({', '.join(sorted(names))}); choose one with --column")
+    return names[0]
+
+
+# --------------------------------------------------------------------------------- .wav
+def _read_wav(path, column) -> dict:
+    from scipy.io import wavfile
+
+    try:
+        fs, a = wavfile.read(path, mmap=False)
+    except Exception as exc:  # scipy raises ValueError, EOFError, struct.error, ... on junk
+        raise ValueError(f"file: {path} is not a readable WAV file "
+                         f"({str(exc).splitlines()[0] if str(exc) else type(exc).__name__})"
+                         ) from None
+    idx = None
+    if a.ndim > 1 or column is not None:
+        idx, _ = _channel_of(a.shape, column, path)
+    return {"x": _real_vector(_take(a, idx), path, "the audio"), "fs": float(fs),
+            "source": "wav" if idx is None else f"wav:{idx}"}
+
+
+# --------------------------------------------------------------------------------- case
+def _read_case(path, signal) -> dict:
+    case = _io.read_case(path)
+    signals = dict(getattr(case, "signals", {}) or {})
+    if signal not in signals and getattr(case, signal, None) is not None:
+        signals[signal] = getattr(case, signal)
+    if signal not in signals:
+        raise ValueError(f"--signal: {path} has no signal {signal!r} (available: "
+                         f"{', '.join(sorted(signals))})")
+    return {"x": _real_vector(signals[signal], path, f"signal {signal!r}"), "fs": float(case.fs),
+            "fr": float(case.fr), "bpfi": float(case.bpfi), "source": f"case:{signal}"}
+
+
+# --------------------------------------------------------------------------------- entry
+def read_record(path: str, *, column=None, channel: str = "DE", signal: str = "p_max",
+                delimiter: str | None = None, decimal: str | None = None) -> dict:
+    """Read one record and what the file says about it.
+
+    Parameters
+    ----------
+    path : str
+        ``.csv``, ``.npy``, ``.npz``, ``.mat``, ``.wav`` or a case file ``.h5``.
+    column : str or int, optional
+        CSV column (name or 0-based index), ``.npz``/``.mat`` variable, channel index of a
+        2-D ``.npy`` or a multi-channel ``.wav``.
+    channel : {"DE", "FE", "BA"}
+        Accelerometer of a CWRU ``.mat`` file (drive end, fan end, base).
+    signal : str
+        Signal of a case file.
+    delimiter, decimal : str, optional
+        Force the CSV dialect (see :func:`sniff_csv`).
+
+    Returns
+    -------
+    dict
+        ``{"x": float64 ndarray, "fs": float | None, "fr": float | None, "bpfi": float |
+        None, "source": str}``.
+
+    Raises
+    ------
+    ValueError
+        One line naming the file (``file: PATH ...``) or the option, and what is allowed.
+    FileNotFoundError
+        No such file.
+    """
+    if not os.path.exists(path):
+        raise FileNotFoundError(f"no such file: {path}")
+    if os.path.isdir(path):
+        raise ValueError(f"file: {path!r} is a directory; allowed: a signal file")
+    ext = os.path.splitext(path)[1].lower()
+    if ext in (".h5", ".hdf5"):
+        return _read_case(path, signal)
+    readers = {".csv": lambda: _read_csv(path, column, delimiter, decimal),
+               ".npy": lambda: _read_npy(path, column),
+               ".npz": lambda: _read_npz(path, column),
+               ".mat": lambda: _read_mat(path, column, channel),
+               ".wav": lambda: _read_wav(path, column)}
+    if ext not in readers:
+        raise ValueError(f"file: {path}: unsupported file type {ext!r}; allowed: "
+                         f"{', '.join(SUFFIXES)}")
+    out = {"fs": None, "fr": None, "bpfi": None}
+    out.update(readers[ext]())
+    return out
+
+
+# ------------------------------------------------------------------------------ batches
+def _is_manifest(path: str) -> bool:
+    try:
+        with open(path, encoding="utf-8-sig", errors="replace") as fh:
+            first = fh.readline()
+    except OSError:
+        return False
+    return "file" in [t.strip().strip('"').lower() for t in re.split(r"[,;\t|]", first)]
+
+
+def collect_records(paths) -> list[str]:
+    """Files of ``paths``: files as given, folders expanded (sorted, non-recursive) to the
+    files of :data:`SUFFIXES`, leaving out a folder's CSV manifests (a header with a ``file``
+    column)."""
+    out: list[str] = []
+    for p in paths:
+        if os.path.isdir(p):
+            found = sorted(os.path.join(p, f) for f in os.listdir(p)
+                           if os.path.splitext(f)[1].lower() in SUFFIXES
+                           and os.path.isfile(os.path.join(p, f)))
+            found = [f for f in found if not (f.lower().endswith(".csv") and _is_manifest(f))]
+            if not found:
+                raise ValueError(f"file: folder {p} holds no record; allowed: "
+                                 f"{', '.join(SUFFIXES)} files")
+            out.extend(found)
+        else:
+            out.append(p)
+    return out
+
+
+_MANIFEST_NUM = {"fs": ("fs", "fs_hz", "sampling_rate"),
+                 "fr": ("fr", "fr_hz", "shaft_hz", "shaft_rate_hz"),
+                 "rpm": ("rpm", "rpm_nominal", "shaft_rpm")}
+
+
+def read_manifest(path: str) -> list[dict]:
+    """Rows of a CSV manifest: ``file`` (relative to the manifest's folder) and optionally
+    ``fs`` (Hz), ``fr`` / ``shaft_hz`` (Hz) or ``rpm`` / ``rpm_nominal``, ``bearing``
+    (designation, :func:`bearing_geometry`), ``column``, ``channel``.
+
+    Returns
+    -------
+    list of dict
+        ``{"file", "fs", "fr", "bearing", "column", "channel"}`` (None where not given).
+    """
+    if not os.path.isfile(path):
+        raise ValueError(f"--manifest: no such file: {path}")
+    lines = _csv_lines(path)
+    if not lines:
+        raise ValueError(f"--manifest: {path} is empty; allowed: a CSV with a 'file' column")
+    sep = _guess_sep(lines)
+    sep = "," if sep == r"\s+" else sep
+    with open(path, encoding="utf-8-sig", newline="") as fh:
+        rows = list(csv.DictReader(fh, delimiter=sep))
+    if not rows or "file" not in [(k or "").strip().lower() for k in rows[0]]:
+        raise ValueError(f"--manifest: {path} has no 'file' column; allowed columns: file, fs, "
+                         f"fr (or shaft_hz, rpm), bearing, column, channel")
+    base = os.path.dirname(os.path.abspath(path))
+    return [_manifest_row(row, i + 2, path, base) for i, row in enumerate(rows)]
+
+
+def _manifest_row(row: dict, line: int, path: str, base: str) -> dict:
+    row = {(k or "").strip().lower(): (v or "").strip() for k, v in row.items()}
+    if not row.get("file"):
+        raise ValueError(f"--manifest: {path} line {line}: empty 'file'")
+    out = {"file": os.path.join(base, row["file"]), "fs": None, "fr": None,
+           "bearing": row.get("bearing") or None, "column": row.get("column") or None,
+           "channel": (row.get("channel") or None)}
+    for key, names in _MANIFEST_NUM.items():
+        for n in names:
+            if row.get(n):
+                try:
+                    v = float(row[n])
+                except ValueError:
+                    v = math.nan
+                if not (math.isfinite(v) and v > 0):
+                    raise ValueError(f"--manifest: {path} line {line}: {n} = {row[n]!r}; "
+                                     f"allowed: a number > 0")
+                out[key] = v
+                break
+    rpm = out.pop("rpm", None)
+    if out["fr"] is None and rpm is not None:
+        out["fr"] = rpm / 60.0
+    if out["channel"] is not None and out["channel"].upper() not in ("DE", "FE", "BA"):
+        raise ValueError(f"--manifest: {path} line {line}: channel = {out['channel']!r}; "
+                         f"allowed: DE, FE, BA")
+    if out["channel"] is not None:
+        out["channel"] = out["channel"].upper()
+    if out["bearing"] is not None:
+        try:
+            bearing_geometry(out["bearing"])
+        except ValueError as exc:
+            raise ValueError(f"--manifest: {path} line {line}: "
+                             f"{str(exc).replace('--bearing: ', '')}") from None
+    return out
+
+
+# ------------------------------------------------------------------------------ bearings
+def _aliases(designation: str) -> set[str]:
+    """Names a catalogue entry answers to: ``"SKF 6205-2RS"`` -> itself, ``"6205-2RS"``,
+    ``"6205"``."""
+    out = {_key(designation)}
+    words = designation.split()
+    if len(words) > 1:
+        out.add(_key(" ".join(words[1:])))
+    m = re.search(r"\d{3,}", designation)
+    if m:
+        out.add(m.group(0))
+    return out
+
+
+def _key(name: str) -> str:
+    return re.sub(r"[\s_]+", "-", str(name).strip().upper())
+
+
+def known_bearings() -> dict[str, str]:
+    """``alias -> catalogue designation`` of every entry of the bearing catalogue
+    (:mod:`bearing_envelope.physics.catalogue`, ``data/bearings.yaml``)."""
+    out: dict[str, str] = {}
+    for d in designations():
+        for a in _aliases(d):
+            out.setdefault(a, d)
+    return out
+
+
+def bearing_geometry(designation: str) -> dict:
+    """Geometry of a catalogue bearing named by designation (``"6205"``, ``"SKF 6205-2RS"``,
+    ``"6205-2RS JEM SKF"``): the catalogue's rolling elements, their diameter, the pitch
+    diameter (``(bore + OD) / 2`` where the catalogue gives none) and contact angle.
+
+    Returns
+    -------
+    dict
+        ``designation`` (the catalogue's), ``n_rollers``, ``roller_diameter_mm``,
+        ``pitch_diameter_mm``, ``contact_angle_deg``, ``source`` (of each value).
+
+    Raises
+    ------
+    ValueError
+        ``--bearing: ... allowed: ...`` for an unknown designation.
+    """
+    table = known_bearings()
+    key = _key(designation)
+    name = table.get(key)
+    if name is None:  # "6205-2RS JEM SKF": its first designation number
+        m = re.search(r"\d{3,}", key)
+        name = table.get(m.group(0)) if m else None
+    if name is None:
+        raise ValueError(f"--bearing: unknown bearing {designation!r}; allowed: "
+                         f"{', '.join(designations())} (or 6205, 6203, ...; or give the "
+                         f"geometry: --n-rollers, --roller-diameter-mm/-in, "
+                         f"--pitch-diameter-mm/-in)")
+    v, src = bearing_values(name), bearing_sources(name)
+    pitch = v["pitch_diameter_mm"]
+    if pitch is None:
+        pitch = 0.5 * (v["bore_mm"] + v["outside_diameter_mm"])
+    return {"designation": name, "n_rollers": int(v["rollers_per_row"]),
+            "roller_diameter_mm": float(v["roller_diameter_mm"]),
+            "pitch_diameter_mm": float(pitch),
+            "contact_angle_deg": float(v.get("contact_angle_deg") or 0.0),
+            "source": {k: src[k] for k in ("rollers_per_row", "roller_diameter_mm",
+                                           "pitch_diameter_mm", "contact_angle_deg")
+                       if k in src}}

@@ -1,0 +1,157 @@
+"""Demodulation-band selectors other than the fast kurtogram: the infogram (Antoni 2016) and the
+protrugram (Barszcz & Jabłoński 2011), on a grid of bands wide enough to hold the envelope
+lines of interest.
+
+Both are implemented from the papers with scipy band-pass filters (no filter bank): the band
+candidates are few once narrow cells are excluded (a band narrower than the lines searched
+cannot hold them), so plain zero-phase Butterworth filtering of each candidate is affordable.
+
+Infogram (Antoni 2016, MSSP 74, "The infogram: entropic evidence of the signature of repetitive
+transients"): for each cell of the 1/3-binary tree of the fast kurtogram, the squared envelope
+``SE`` of the band-passed analytic signal; its spectral negentropy in the time domain
+``dI_e = < SE/<SE> ln(SE/<SE>) >`` (impulsiveness) and in the frequency domain
+``dI_E = < S/<S> ln(S/<S>) >`` with ``S`` the squared magnitude of the squared-envelope spectrum
+(cyclostationarity: repetition); the *average* infogram ``(dI_e + dI_E) / 2`` picks the cell.
+
+Protrugram (Barszcz & Jabłoński 2011, MSSP 25): a band of fixed width slides over the spectrum;
+for each position the kurtosis of the envelope-spectrum amplitudes (up to ``fmax_env``) measures
+how much the envelope spectrum is made of a few lines; the maximum picks the centre.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from scipy import signal as sp_signal
+
+from .bands import NYQUIST_MARGIN
+from .envelope import bandpass
+from .validation import check_fs, check_positive, check_signal
+
+__all__ = ["infogram_band", "protrugram_band", "tree_cells"]
+
+
+def tree_cells(fs: float, max_level: float, min_bandwidth: float = 0.0):
+    """Cells ``(level, low, high)`` (Hz) of the 1/3-binary tree of the fast kurtogram up to
+    ``max_level``: level ``k`` splits ``[0, fs/2]`` into ``2^k`` bands, level ``k + log2(3) - 1``
+    into ``3 x 2^(k-1)``; only bands at least ``min_bandwidth`` Hz wide."""
+    fs = check_fs(fs)
+    nyq = fs / 2.0
+    out = []
+    k = 0
+    while k <= max_level:
+        for level, n in ((k, 2 ** k), (k + math.log2(3) - 1, 3 * 2 ** (k - 1))):
+            if level > max_level or (k == 0 and level != k) or n < 1:
+                continue
+            bw = nyq / n
+            if bw < min_bandwidth:
+                continue
+            out.extend((float(level), i * bw, (i + 1) * bw) for i in range(int(n)))
+        k += 1
+    return out
+
+
+def _clip(low: float, high: float, fs: float) -> tuple[float, float]:
+    return max(low, 0.0), min(high, NYQUIST_MARGIN * fs / 2.0)
+
+
+def _negentropy(p: np.ndarray) -> float:
+    """``< p/<p> ln(p/<p>) >`` of a non-negative array (0 ln 0 = 0)."""
+    r = p / p.mean()
+    with np.errstate(divide="ignore", invalid="ignore"):
+        v = np.where(r > 0, r * np.log(r), 0.0)
+    return float(v.mean())
+
+
+def infogram_band(x, fs: float, *, max_level: float = 8.0, min_bandwidth: float = 0.0):
+    """The cell of the highest average spectral negentropy (Antoni 2016).
+
+    Parameters
+    ----------
+    x : array_like, 1-D
+        Real signal (any unit).
+    fs : float
+        Sampling frequency (Hz).
+    max_level : float, default 8
+        Deepest level of the tree.
+    min_bandwidth : float, default 0
+        Cells narrower than this (Hz) are not candidates.
+
+    Returns
+    -------
+    (low, high) : tuple of float
+        The band (Hz; the upper edge at most ``NYQUIST_MARGIN x fs/2``).
+    info : dict
+        ``level``, ``negentropy_time``, ``negentropy_freq``, ``negentropy`` (the average) of
+        the chosen cell, and ``n_cells`` searched.
+    """
+    fs = check_fs(fs)
+    x = check_signal(x, "x", min_length=64)
+    x = x - x.mean()
+    best = None
+    cells = tree_cells(fs, max_level, min_bandwidth)
+    if not cells:
+        raise ValueError(f"min_bandwidth = {min_bandwidth:g} Hz: no cell of the tree is that "
+                         f"wide (fs/2 = {fs / 2:g} Hz)")
+    for level, low, high in cells:
+        lo, hi = _clip(low, high, fs)
+        y = x if (lo == 0.0 and hi >= NYQUIST_MARGIN * fs / 2.0) else bandpass(x, fs, (lo, hi))
+        se = np.abs(sp_signal.hilbert(y)) ** 2
+        ses = np.abs(np.fft.rfft(se - se.mean()))[1:] ** 2
+        i_t, i_f = _negentropy(se), _negentropy(ses)
+        cand = (0.5 * (i_t + i_f), level, lo, hi, i_t, i_f)
+        if best is None or cand[0] > best[0]:
+            best = cand
+    avg, level, lo, hi, i_t, i_f = best
+    return (lo, hi), {"level": level, "negentropy": avg, "negentropy_time": i_t,
+                      "negentropy_freq": i_f, "n_cells": len(cells)}
+
+
+def protrugram_band(x, fs: float, *, bandwidth: float, step: float | None = None,
+                    fmax_env: float | None = None):
+    """The band of fixed ``bandwidth`` whose envelope spectrum has the largest kurtosis
+    (Barszcz & Jabłoński 2011).
+
+    Parameters
+    ----------
+    x : array_like, 1-D
+        Real signal (any unit).
+    fs : float
+        Sampling frequency (Hz).
+    bandwidth : float
+        Width of the sliding band (Hz).
+    step : float, optional
+        Step of its centre (Hz); default ``bandwidth / 4``.
+    fmax_env : float, optional
+        Envelope-spectrum bins up to this frequency (Hz) enter the kurtosis; default
+        ``bandwidth``.
+
+    Returns
+    -------
+    (low, high) : tuple of float
+        The band (Hz).
+    info : dict
+        ``kurtosis`` of the chosen band's envelope spectrum and ``n_bands`` searched.
+    """
+    fs = check_fs(fs)
+    x = check_signal(x, "x", min_length=64)
+    bandwidth = check_positive(bandwidth, "bandwidth")
+    step = bandwidth / 4.0 if step is None else check_positive(step, "step")
+    fmax_env = bandwidth if fmax_env is None else check_positive(fmax_env, "fmax_env")
+    top = NYQUIST_MARGIN * fs / 2.0
+    if bandwidth >= top:
+        raise ValueError(f"bandwidth = {bandwidth:g} Hz: allowed below {top:g} Hz "
+                         f"(0.98 fs/2)")
+    f = np.fft.rfftfreq(x.size, 1.0 / fs)
+    sel = (f > 0) & (f <= fmax_env)
+    best = None
+    lows = np.arange(0.0, top - bandwidth + 1e-9, step)
+    for low in lows:
+        env = np.abs(sp_signal.hilbert(bandpass(x, fs, (low, low + bandwidth))))
+        a = np.abs(np.fft.rfft(env - env.mean()))[sel]
+        z = (a - a.mean()) / a.std()
+        kurt = float(np.mean(z ** 4))
+        if best is None or kurt > best[0]:
+            best = (kurt, float(low))
+    return (best[1], best[1] + bandwidth), {"kurtosis": best[0], "n_bands": int(lows.size)}
