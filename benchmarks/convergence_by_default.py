@@ -19,7 +19,23 @@ each case's signals, to compare with a run without the cache.
 
 ``margin``: the removed force at the table's largest load and the centred defect (x = 0) for
 the window's axial margins (um; ``whole``: a window over the whole roller), from a direct zoom
-solve (:func:`bearing_envelope.physics.table.direct_pressure`'s route).
+solve (:func:`bearing_envelope.physics.table.direct_pressure`'s route), far field frozen and
+responding.
+
+``dump`` / ``diff``: the sweep's numbers before and after: ``dump`` (run once with each tree on
+``PYTHONPATH``) stores the signals of a few cases; ``diff`` (this tree) reads the main envelope
+and raw lines of both with the same bands and prints after / before per signal (physics at the
+peak bin, estimator, both)::
+
+    PYTHONPATH=old/src python benchmarks/convergence_by_default.py dump --out /tmp/before
+    PYTHONPATH=src python benchmarks/convergence_by_default.py dump --out /tmp/after
+    PYTHONPATH=src python benchmarks/convergence_by_default.py diff --before /tmp/before \
+        --after /tmp/after
+
+``acquisition``: the post-event undershoot of p_max, its peak and the kurtogram's best cell for
+point samples, today's Kaiser FIR and three non-negative decimation kernels.
+
+Run 2026-11-26 for ``docs/benchmarks.md``, "Convergence by default (issue 25)".
 """
 
 from __future__ import annotations
