@@ -473,16 +473,21 @@ def _read_csv(path, required, what, **kwargs):
     return df
 
 
+def _write_table(path, table, required, what: str) -> str:
+    """Write ``table`` as CSV atomically after checking it holds the ``required`` columns."""
+    missing = [c for c in required if c not in table.columns]
+    if missing:
+        raise ValueError(f"{what} lacks the columns {missing}")
+    return write_csv_atomic(table, path)
+
+
 def write_tidy(path: str | os.PathLike, table) -> str:
     """Write a tidy harmonic table (per case or aggregated) as CSV, atomically.
 
     The columns must include :data:`bearing_envelope.study.tables.TIDY_COLUMNS` (ValueError naming the
     missing ones otherwise); extra columns follow them.
     """
-    missing = [c for c in TIDY_COLUMNS if c not in table.columns]
-    if missing:
-        raise ValueError(f"tidy table lacks the columns {missing}")
-    return write_csv_atomic(table, path)
+    return _write_table(path, table, TIDY_COLUMNS, "tidy table")
 
 
 def read_tidy(path: str | os.PathLike):
@@ -492,10 +497,7 @@ def read_tidy(path: str | os.PathLike):
 
 def write_case_table(path: str | os.PathLike, table) -> str:
     """Write the per-case summary table (one row per case) as CSV, atomically."""
-    missing = [c for c in CASE_TABLE_COLUMNS if c not in table.columns]
-    if missing:
-        raise ValueError(f"case table lacks the columns {missing}")
-    return write_csv_atomic(table, path)
+    return _write_table(path, table, CASE_TABLE_COLUMNS, "case table")
 
 
 def read_case_table(path: str | os.PathLike):
@@ -505,10 +507,7 @@ def read_case_table(path: str | os.PathLike):
 
 def write_band_table(path: str | os.PathLike, table) -> str:
     """Write the band table (columns :data:`BAND_TABLE_COLUMNS`) as CSV, atomically."""
-    missing = [c for c in BAND_TABLE_COLUMNS if c not in table.columns]
-    if missing:
-        raise ValueError(f"band table lacks the columns {missing}")
-    return write_csv_atomic(table, path)
+    return _write_table(path, table, BAND_TABLE_COLUMNS, "band table")
 
 
 def read_band_table(path: str | os.PathLike):
