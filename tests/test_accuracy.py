@@ -6,8 +6,9 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from bearing_envelope.study.accuracy import (ERROR_COLUMNS, absolute_error, attach_errors, case_error_model,
-                                       error_model, measured_points)
+from bearing_envelope.study.accuracy import (ERROR_COLUMNS, FAR_FIELD_SIGNALS, MEASURED_FAR_FIELD,
+                                             absolute_error, attach_errors, case_error_model,
+                                             error_model, measured_points)
 from bearing_envelope.physics.fidelity import PRESETS, fidelity_from
 from bearing_envelope.physics.history import simulate
 from bearing_envelope.io import read_case, read_error_model, write_case
@@ -86,9 +87,25 @@ def test_attach_errors_by_signal_and_quantity_class():
 
 @pytest.fixture(scope="module")
 def pair():
-    """One case outside the measured set (500 kN, 30 um) at draft and at standard."""
+    """One case outside the measured set (500 kN, 30 um) at draft and at standard, with the far
+    field the error model was measured with (frozen), so every signal's bars apply."""
     sc = Scene.from_mapping({"operation": {"revolutions": 3.0}}, load_kN=500, depth_um=30)
-    return {f: simulate(sc, f) for f in ("draft", "standard")}
+    return {f: simulate(sc, fidelity_from({"preset": f, "far_field": MEASURED_FAR_FIELD}))
+            for f in ("draft", "standard")}
+
+
+def test_integral_signal_bars_are_withheld_under_the_coupled_far_field():
+    # the model's integral-signal errors were measured with the frozen far field, which the
+    # coupled far field halves (issue 25): under it they get no bar, with the reason; p_max,
+    # which the far field does not move, keeps its bars
+    responds = error_model("standard", 50)
+    frozen = error_model(fidelity_from({"preset": "standard", "far_field": "frozen"}), 50)
+    assert set(frozen.table["signal"]) >= {"p_max", "removed_force", "approach_change"}
+    assert set(responds.table["signal"]) == set(frozen.table["signal"]) - set(FAR_FIELD_SIGNALS)
+    out = attach_errors(pd.DataFrame([_row()]), responds, "removed_force")
+    assert np.isnan(out["rel_error_est"].iloc[0])
+    assert "frozen far field" in out["error_basis"].iloc[0]
+    assert attach_errors(pd.DataFrame([_row()]), responds, "p_max")["rel_error_est"].notna().all()
 
 
 def test_estimates_bound_the_difference_between_two_fidelities(pair):
@@ -121,7 +138,7 @@ def test_case_file_carries_the_error_table(tmp_path, pair):
                       error_model=case_error_model(pair["standard"]))
     attrs, table = read_error_model(path)
     assert attrs["point"] == "standard" and attrs["kind"] == "defect"
-    ref = error_model("standard", 30).table
+    ref = error_model(pair["standard"].fidelity, 30).table
     assert len(table) == len(ref)
     np.testing.assert_allclose(table["rel_error"].to_numpy(), ref["rel_error"].to_numpy())
     # the analysis of the file carries the same estimates

@@ -60,7 +60,6 @@ EXEMPT_FUNCTIONS = {(f"{PACKAGE}.signal", "__getattr__")}
 #: Remove an entry when its function is split (a test warns about an entry that no longer
 #: applies).
 KNOWN_LONG_FUNCTIONS = {
-    (f"{PACKAGE}.io.case", "write_case"): "issue 21 part 3 (io/case.py)",
 }
 
 

@@ -309,7 +309,7 @@ def _write_minimal_case(path, case):
     """A case file in the layout of bearing_envelope.io (its current format version), by hand."""
     import h5py
 
-    from bearing_envelope.io import FORMAT_VERSION
+    from bearing_envelope.io import FORMAT_VERSION, seal
 
     with h5py.File(path, "w") as h5:
         h5.attrs["format"] = "bearing_envelope.case"
@@ -323,6 +323,7 @@ def _write_minimal_case(path, case):
         h5["signals/p_max_defect"] = case.signals["p_max_defect"]
         h5["signals/roller_load"] = case.roller_load
         h5["signals/defect_offset"] = np.zeros(n)
+        seal(h5)  # the attribute digest every case file of this version carries
     return str(path)
 
 

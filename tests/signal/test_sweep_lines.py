@@ -62,7 +62,7 @@ def test_sweep_table_lines_unchanged(case):
     bin nearest its frequency) with the amplitude a Hann-windowed bin reads there (closed
     form); every other line the table holds is below its threshold."""
     analysis = {"signal": "p_max", "harmonics": 3, "sidebands": 2, "raw_orders_fr": 3,
-                "nlevel": 6, "bands": [
+                "amplitude": "peak_bin", "nlevel": 6, "bands": [
                     {"name": "kurtogram", "strategy": "kurtogram"},
                     {"name": "fixed", "strategy": "fixed", "low_hz": 15000.0,
                      "high_hz": 25000.0}]}

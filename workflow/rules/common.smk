@@ -5,9 +5,20 @@ import sys
 from pathlib import Path
 
 from bearing_envelope.study.figures import example_pairs
-from bearing_envelope.io import set_aside_unreadable
+from bearing_envelope.study.limits import precheck, profile_files
+from bearing_envelope.study.recovery import is_dry_run, marker_if_present, recover_case_files
 from bearing_envelope.study.provenance import code_dependencies
 from bearing_envelope.study.settings import CASE_NAME_REGEX, CaseId, workflow_settings
+
+
+def check_limits(settings, files):
+    """bearing_envelope.study.limits.precheck (config-as-code, case names, lower bounds,
+    tradeoff section, resource estimate per case): one line naming the field, no job runs."""
+    try:
+        return precheck(settings, files)
+    except ValueError as exc:
+        print(f"bearing_envelope: invalid configuration: {exc}", file=sys.stderr)
+        raise SystemExit(1)
 
 
 def load_workflow_settings():
@@ -25,6 +36,7 @@ def load_workflow_settings():
 
 
 SETTINGS = load_workflow_settings()
+ESTIMATES = check_limits(SETTINGS, workflow.configfiles)  # bearing_envelope.study.limits
 
 # Library code is an input of the rules that use it: editing a module reruns the stages whose
 # script imports it (directly or through other package modules), derived from the imports.
@@ -47,14 +59,6 @@ DEPTHS = list(SETTINGS.sweep.depths_um)
 CASE_IDS = SETTINGS.cases
 CASES = [c.name for c in CASE_IDS]
 BAND_NAMES = [b.name for b in SETTINGS.analysis.bands]
-
-# An unreadable case file (killed copy, disk error) is moved aside with a warning before the DAG
-# is built, so Snakemake sees it missing and rebuilds it (never on a dry run).
-if workflow.is_main_process and not workflow.dryrun:
-    for _stage in ("cases", "sensor"):
-        for _case in CASES:
-            set_aside_unreadable(f"results/{_stage}/{_case}.h5")
-
 
 wildcard_constraints:
     case=CASE_NAME_REGEX,
@@ -116,6 +120,11 @@ HEALTHY = [c.name for c in CASE_IDS if c.depth_um == 0]
 ANALYSIS_STAGE = "sensor" if SETTINGS.analysis.signal == "acceleration" else "cases"
 
 
+def recovery_consumers(stage, case):
+    """Files made from results/{stage}/{case}.h5 (bearing_envelope.study.recovery)."""
+    return [f"results/bands/{case}.json"] + ([f"results/sensor/{case}.h5"] if stage == "cases" else [])
+
+
 def analysis_case(wildcards):
     return f"results/{ANALYSIS_STAGE}/{wildcards.case}.h5"
 
@@ -147,3 +156,11 @@ def paper_run_tables(wildcards=None):
     names = ("cases", "harmonics", "bands")
     paths = {n: os.path.join(run, "results", "tables", f"{n}.csv") for n in names}
     return paths if all(os.path.exists(p) for p in paths.values()) else {}
+
+
+# Before the DAG: every case file verified in full (checksums, attribute digest); a bad one is
+# moved aside, and a bad or deleted one is rebuilt with what is made from it, in this run
+# (bearing_envelope.study.recovery; nothing changes on a dry run).
+if workflow.is_main_process:
+    recover_case_files({"cases": CASES, ANALYSIS_STAGE: CASES}, recovery_consumers,
+                       dry_run=is_dry_run(workflow=workflow))

@@ -5,11 +5,12 @@
 import sys as _sys
 from pathlib import Path as _Path
 
-from bearing_envelope.study.settings import ConfigError as _ConfigError, read_yaml as _read_yaml
+from bearing_envelope.study.limits import refuse_config_code as _refuse_config_code
+from bearing_envelope.study.settings import ConfigError as _ConfigError
 
 if not workflow.overwrite_configfiles and _Path("config.yaml").is_file():
     try:
-        _read_yaml("config.yaml")
+        _refuse_config_code(["config.yaml"])  # before Snakemake's YTE could run it
     except _ConfigError as _exc:
         print(f"bearing_envelope: invalid configuration: {_exc}", file=_sys.stderr)
         raise SystemExit(1)

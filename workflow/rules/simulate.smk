@@ -4,6 +4,7 @@
 rule simulate:
     input:
         code=script_code("simulate.py"),
+        profile=profile_files(SETTINGS),
     output:
         "results/cases/{case}.h5",
     params:

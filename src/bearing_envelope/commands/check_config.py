@@ -34,7 +34,10 @@ def run(args) -> int:
     # lazy: keeps `bearing-envelope --help` ~0.4 s (numba, pandas: ~4 s)
     from bearing_envelope.study.settings import load_settings
 
+    from bearing_envelope.study.limits import precheck
+
     st = load_settings(args.config)
+    precheck(st, [st.source])
     cases = st.cases
     print(f"{st.source}: valid; fidelity {st.fidelity.name}; {len(cases)} cases: "
           f"{', '.join(c.name for c in cases[:6])}{' ...' if len(cases) > 6 else ''}",

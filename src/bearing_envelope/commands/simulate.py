@@ -78,15 +78,16 @@ def run(args) -> int:
     from bearing_envelope.physics.history import simulate
     from bearing_envelope.io import write_case
     from bearing_envelope.study.accuracy import case_error_model
+    from bearing_envelope.study.limits import check_case
     from bearing_envelope.study.settings import CaseId, load_settings
 
     path = resolve_config(args.config)
     if path is None:
-        scene_map, fid = {}, fidelity_from(None)
+        scene_map, fid, cfg = {}, fidelity_from(None), {}
         source = "no config file (no --config and no ./config.yaml): the built-in scene"
     else:
         st = load_settings(path, partial=True)
-        scene_map, fid = st.scene_mapping, st.fidelity
+        scene_map, fid, cfg = st.scene_mapping, st.fidelity, st.config
         source = f"config {path}"
     if not args.quiet:
         print(f"simulate: {source}", file=sys.stderr)
@@ -95,6 +96,7 @@ def run(args) -> int:
     case = CaseId(args.load_kn, args.depth_um, args.width_um)
     scene = case.scene(scene_map)
     check_output(args.output)
+    check_case(case, scene, fid, cfg)  # memory and CPU estimate before any allocation
     hist = simulate(scene, fid, progress=not args.quiet, use_numba=not args.numpy)
     write_case(args.output, hist, extra_attrs={"config_file": str(path or ""), "case": case.name},
                error_model=case_error_model(hist))

@@ -7,6 +7,7 @@ Layouts: ``docs/file-format.md``. Nothing here knows where the workflow puts the
 
 from __future__ import annotations
 
+import io as _io
 import json
 import os
 import shutil as _shutil
@@ -19,6 +20,8 @@ import numpy as np
 from .. import __version__
 from .atomic import atomic_path, write_csv_atomic
 from .case import git_commit, jsonable, read_case
+from .integrity import (CHECKSUM_OPTIONS, DiskFullError, estimate_h5_bytes, is_disk_full,
+                        require_free_space, seal, free_bytes, write_image)
 from .vocabulary import BAND_TABLE_COLUMNS, CASE_TABLE_COLUMNS, TIDY_COLUMNS
 
 __all__ = [
@@ -380,33 +383,51 @@ def write_sensor_case(path: str | os.PathLike, acceleration, *, case, source=Non
         v = getattr(case, key, None)
         if v is not None:
             meta[key] = float(v)
-    with atomic_path(path, suffix) as tmp:
+    needed = estimate_h5_bytes([acc, acc]) + (os.path.getsize(source) if source else 0)
+    require_free_space(path, needed)
+    try:
         if suffix == ".npz":
-            with open(tmp, "wb") as fh:
-                np.savez(fh, acceleration=acc, time=np.arange(acc.size) / fs,
-                         provenance=np.array(text), format=np.array("bearing_envelope.sensor"),
-                         format_version=np.array(ARTEFACT_FORMATS["sensor"]),
-                         **{k: np.array(v) for k, v in meta.items()})
-        else:
-            import h5py  # lazy: importing io stays ~0.7 s (h5py +0.2 s, only for .h5)
-
-            if source is None:
-                raise ValueError("write_sensor_case: an .h5 output copies the case file; give source")
-            _shutil.copyfile(os.fspath(source), tmp)
-            with h5py.File(tmp, "a") as h5:
-                sg = h5.require_group("signals")
-                if "acceleration" in sg:
-                    del sg["acceleration"]
-                d = sg.create_dataset("acceleration", data=acc, compression="gzip",
-                                      compression_opts=4, shuffle=True)
-                d.attrs["units"] = "excitation units x mode gain (m/s^2 for gains in (m/s^2)/Pa)"
-                d.attrs["description"] = "synthetic accelerometer signal (bearing-envelope sensor)"
-                d.attrs["provenance"] = text
-                if "time" not in h5:
-                    h5.create_dataset("time", data=np.arange(acc.size) / fs)
-                h5.attrs["sensor_json"] = text
-                h5.attrs["sensor_format_version"] = ARTEFACT_FORMATS["sensor"]
+            with atomic_path(path, suffix) as tmp:
+                with open(tmp, "wb") as fh:
+                    np.savez(fh, acceleration=acc, time=np.arange(acc.size) / fs,
+                             provenance=np.array(text), format=np.array("bearing_envelope.sensor"),
+                             format_version=np.array(ARTEFACT_FORMATS["sensor"]),
+                             **{k: np.array(v) for k, v in meta.items()})
+            return os.fspath(path)
+        image = _sensor_image(acc, fs, text, source)
+        with atomic_path(path, suffix) as tmp:
+            write_image(tmp, tmp, image)
+    except OSError as exc:
+        if isinstance(exc, DiskFullError) or not is_disk_full(exc, path):
+            raise
+        raise DiskFullError(os.fspath(path), needed, free_bytes(path)) from None
     return os.fspath(path)
+
+
+def _sensor_image(acc, fs: float, text: str, source) -> bytes:
+    """The sensor case file's bytes: the case file ``source`` with ``/signals/acceleration``
+    added and the digest resealed, built in memory (HDF5 never meets a full disk)."""
+    import h5py
+
+    if source is None:
+        raise ValueError("write_sensor_case: an .h5 output copies the case file; give source")
+    buf = _io.BytesIO(_Path(source).read_bytes())
+    with h5py.File(buf, "r+") as h5:
+        sg = h5.require_group("signals")
+        if "acceleration" in sg:
+            del sg["acceleration"]
+        d = sg.create_dataset("acceleration", data=acc, compression="gzip", compression_opts=4,
+                              shuffle=True, **(CHECKSUM_OPTIONS if acc.size else {}))
+        d.attrs["units"] = "excitation units x mode gain (m/s^2 for gains in (m/s^2)/Pa)"
+        d.attrs["description"] = "synthetic accelerometer signal (bearing-envelope sensor)"
+        d.attrs["provenance"] = text
+        if "time" not in h5:
+            h5.create_dataset("time", data=np.arange(acc.size) / fs,
+                              **(CHECKSUM_OPTIONS if acc.size else {}))
+        h5.attrs["sensor_json"] = text
+        h5.attrs["sensor_format_version"] = ARTEFACT_FORMATS["sensor"]
+        seal(h5)
+    return buf.getvalue()
 
 
 def read_sensor(path: str | os.PathLike) -> SensorSignal:
@@ -452,16 +473,21 @@ def _read_csv(path, required, what, **kwargs):
     return df
 
 
+def _write_table(path, table, required, what: str) -> str:
+    """Write ``table`` as CSV atomically after checking it holds the ``required`` columns."""
+    missing = [c for c in required if c not in table.columns]
+    if missing:
+        raise ValueError(f"{what} lacks the columns {missing}")
+    return write_csv_atomic(table, path)
+
+
 def write_tidy(path: str | os.PathLike, table) -> str:
     """Write a tidy harmonic table (per case or aggregated) as CSV, atomically.
 
     The columns must include :data:`bearing_envelope.study.tables.TIDY_COLUMNS` (ValueError naming the
     missing ones otherwise); extra columns follow them.
     """
-    missing = [c for c in TIDY_COLUMNS if c not in table.columns]
-    if missing:
-        raise ValueError(f"tidy table lacks the columns {missing}")
-    return write_csv_atomic(table, path)
+    return _write_table(path, table, TIDY_COLUMNS, "tidy table")
 
 
 def read_tidy(path: str | os.PathLike):
@@ -471,10 +497,7 @@ def read_tidy(path: str | os.PathLike):
 
 def write_case_table(path: str | os.PathLike, table) -> str:
     """Write the per-case summary table (one row per case) as CSV, atomically."""
-    missing = [c for c in CASE_TABLE_COLUMNS if c not in table.columns]
-    if missing:
-        raise ValueError(f"case table lacks the columns {missing}")
-    return write_csv_atomic(table, path)
+    return _write_table(path, table, CASE_TABLE_COLUMNS, "case table")
 
 
 def read_case_table(path: str | os.PathLike):
@@ -484,10 +507,7 @@ def read_case_table(path: str | os.PathLike):
 
 def write_band_table(path: str | os.PathLike, table) -> str:
     """Write the band table (columns :data:`BAND_TABLE_COLUMNS`) as CSV, atomically."""
-    missing = [c for c in BAND_TABLE_COLUMNS if c not in table.columns]
-    if missing:
-        raise ValueError(f"band table lacks the columns {missing}")
-    return write_csv_atomic(table, path)
+    return _write_table(path, table, BAND_TABLE_COLUMNS, "band table")
 
 
 def read_band_table(path: str | os.PathLike):

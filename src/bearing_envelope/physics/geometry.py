@@ -95,18 +95,23 @@ def make_grid(x_lo: float, x_hi: float, y_lo: float, y_hi: float, dx: float, dy:
     return Grid(x, y, float(dx), float(dy))
 
 
-@lru_cache(maxsize=8)
-def _read_profile_cached(path: str, mtime: float):
+def _two_columns(path: str, names: str) -> tuple[np.ndarray, np.ndarray]:
+    """The two columns of a text or CSV file (``#`` comments), at least 3 rows, finite, the
+    first strictly increasing; ``names`` (e.g. ``"y_mm, deviation_um"``) names them in errors."""
     data = np.loadtxt(path, delimiter=None if not path.endswith(".csv") else ",", comments="#",
                       ndmin=2)
     if data.shape[1] != 2 or data.shape[0] < 3:
-        raise ValueError(f"expected two columns (y_mm, deviation_um) and >= 3 rows, got shape "
-                         f"{data.shape}")
+        raise ValueError(f"expected two columns ({names}) and >= 3 rows, got shape {data.shape}")
     if not np.all(np.isfinite(data)):
         raise ValueError("non-finite values")
-    y, dev = data[:, 0], data[:, 1]
-    if not np.all(np.diff(y) > 0):
-        raise ValueError("axial positions must increase strictly")
+    if not np.all(np.diff(data[:, 0]) > 0):
+        raise ValueError("positions must increase strictly")
+    return data[:, 0], data[:, 1]
+
+
+@lru_cache(maxsize=8)
+def _read_profile_cached(path: str, mtime: float):
+    y, dev = _two_columns(path, "y_mm, deviation_um")
     return y * 1e-3, dev * 1e-6
 
 
@@ -121,16 +126,7 @@ def read_profile(path: str) -> tuple[np.ndarray, np.ndarray]:
 
 @lru_cache(maxsize=8)
 def _read_defect_profile_cached(path: str, mtime: float):
-    data = np.loadtxt(path, delimiter=None if not path.endswith(".csv") else ",", comments="#",
-                      ndmin=2)
-    if data.shape[1] != 2 or data.shape[0] < 3:
-        raise ValueError(f"expected two columns (x_um, depth_um) and >= 3 rows, got shape "
-                         f"{data.shape}")
-    if not np.all(np.isfinite(data)):
-        raise ValueError("non-finite values")
-    x, dep = data[:, 0], data[:, 1]
-    if not np.all(np.diff(x) > 0):
-        raise ValueError("positions must increase strictly")
+    x, dep = _two_columns(path, "x_um, depth_um")
     if np.any(dep < 0) or not np.any(dep > 0):
         raise ValueError("depths must be >= 0 with at least one > 0")
     return x * 1e-6, dep * 1e-6

@@ -27,7 +27,14 @@ Model only what the scene requires (issue 3, design.md section 2):
    rolling only. The window's no-defect solve carries the force the global solve put on the same
    cells; its approach then drives the defect solves under displacement control (the force the
    defect removes, ~0.1-1 % of Q, is recorded). Results are read only ``window_margin_um`` inside
-   the window's axial edges. Symmetry ``P(Q, -x) = P(Q, x)``; each offset is warm-started from
+   the window's axial edges. The far field outside the window responds (``fidelity.far_field:
+   responds``, issue 25): it takes up part of the load the defect sheds at fixed approach, by
+   reciprocity with a flat-punch solve of the far contact and a shape from the centred defect
+   (:func:`~bearing_envelope.physics.solves.far_response`); with it frozen at its no-defect
+   pressure (``frozen``, before issue 25) the removed force was 2.2x too large at a 400 um
+   margin. The global grid covers the contact only (its extent does not depend on the defect),
+   so the global no-defect solves of a load are the same for every depth and can be shared
+   (:mod:`~bearing_envelope.physics.nodefect_cache`). Symmetry ``P(Q, -x) = P(Q, x)``; each offset is warm-started from
    its neighbour (a stalled warm start is retried from the no-defect window solution, then cold).
    Offset nodes are multiples of the window spacing (every node sees the defect at the same
    sub-cell position). Interpolation (:class:`PressureTable`): ratios ``P/P0(Q)``, rows read at
@@ -50,6 +57,7 @@ dispatch to it and leave the inner-race path untouched.
 from __future__ import annotations
 
 import math
+import os
 import time as _time
 from dataclasses import dataclass, field
 
@@ -60,6 +68,7 @@ from .fidelity import Fidelity, fidelity_from
 from .kernels import HAVE_NUMBA, synth_kernel
 from .loads import LoadDistribution, scene_load_distribution
 from .locations import location_signals, location_tables
+from .nodefect_cache import NoDefectCache
 from .scene import Scene
 from .solves import SolveStats
 from .table import PressureTable, build_table
@@ -227,7 +236,7 @@ def synthesize_case(scene: Scene, table: PressureTable, ld: LoadDistribution,
 
 
 def simulate(scene: Scene, fidelity: Fidelity | str | None = None, *, progress: bool = False,
-             use_numba: bool = True) -> History:
+             use_numba: bool = True, nodefect_cache: str | os.PathLike | None = None) -> History:
     """Simulate one case: load distribution, contact table, acquisition of every signal, noise.
 
     Parameters
@@ -238,11 +247,15 @@ def simulate(scene: Scene, fidelity: Fidelity | str | None = None, *, progress: 
         Show a tqdm bar over the contact solves (only on a terminal).
     use_numba : bool
         Use the numba synthesis kernels (else numpy).
+    nodefect_cache : path, optional
+        Folder of the content-addressed store of the global no-defect solves
+        (:mod:`~bearing_envelope.physics.nodefect_cache`): shared by every case of a load, the
+        results bit-identical to solving them. None: solved every time.
     """
     fid = fidelity_from(fidelity)
     t_start = _time.perf_counter()
     ld = scene_load_distribution(scene)
-    stats = SolveStats()
+    stats = SolveStats(cache=None if nodefect_cache is None else NoDefectCache(nodefect_cache))
     if scene.defect.location == "inner_race":
         table, nodes, snaps = build_table(scene, fid, q_max=ld.q_max, stats=stats,
                                           progress=progress)
@@ -268,6 +281,8 @@ def simulate(scene: Scene, fidelity: Fidelity | str | None = None, *, progress: 
         "n_solves": stats.n_solves, "n_iterations": stats.n_iterations,
         "n_failed_solves": stats.n_failed, "failed_solver_seconds": stats.failed_seconds,
         "n_stall_guard": stats.n_stall_guard,
+        "nodefect_cache_hits": stats.cache.hits if stats.cache else 0,
+        "nodefect_cache_misses": stats.cache.misses if stats.cache else 0,
         "solver_seconds": stats.solver_seconds, "table_seconds": t_table,
         "synthesis_seconds": t_synth, "wall_seconds": _time.perf_counter() - t_start,
     }

@@ -16,6 +16,7 @@ from ..contact import (ContactConvergenceError, ContactGridError, ElasticHalfSpa
                        solve_contact)
 from .fidelity import Fidelity
 from .geometry import Grid, gap_field, hertz_estimate, make_grid
+from .nodefect_cache import GlobalSolution, NoDefectCache, global_key
 from .scene import Scene
 
 __all__ = ["SolveStats", "LoadNode", "DefectSolve", "RimStrip", "GlobalGridError", "global_solve",
@@ -32,6 +33,8 @@ class SolveStats:
     failed_seconds: float = 0.0
     n_stall_guard: int = 0     # solves whose preconditioner the solver's stall guard dropped
     callback: Callable[[], None] | None = field(default=None, repr=False)
+    #: Where the global no-defect solves are looked up and stored (None: always solved).
+    cache: NoDefectCache | None = field(default=None, repr=False)
 
     def solve(self, *args, **kwargs):
         """:func:`solve_contact` with its cost counted, also when it raises (stalled solves
@@ -82,6 +85,8 @@ class LoadNode:
     approach_global: float = 0.0   # approach of the global no-defect solve at q (m)
     area_global: float = 0.0       # contact area of the global no-defect solve (m^2)
     area_window0: float = 0.0      # contact area of the window's no-defect solve (m^2)
+    #: The far field's linear response (:class:`FarResponse`); None = frozen far field
+    far: "FarResponse | None" = field(repr=False, default=None)
 
 
 def _bilinear(xg: np.ndarray, yg: np.ndarray, f: np.ndarray, x: np.ndarray, y: np.ndarray,
@@ -136,42 +141,122 @@ class GlobalGridError(RuntimeError):
 
 
 def global_solve(scene: Scene, fid: Fidelity, q_load: float, extent: float, stats: SolveStats,
-                  p_init=None):
+                  p_init=None) -> tuple[Grid, GlobalSolution]:
     """Global no-defect solve over the whole roller length (plus one ``+inf`` cell each side).
 
     The half-extent across rolling starts at ``extent`` (m) and grows by
     :data:`GLOBAL_GRID_GROWTH` whenever the pressure reaches the grid's edge
     (:class:`~bearing_envelope.contact.ContactGridError`), at most :data:`GLOBAL_GRID_ATTEMPTS`
-    sizes. Returns ``(grid, solution)``; raises :class:`GlobalGridError` naming the load and the
-    last extent.
+    sizes. With ``stats.cache`` (and no ``p_init``) the result is read from / stored in the
+    content-addressed no-defect store (:mod:`~bearing_envelope.physics.nodefect_cache`), keyed by
+    the initial grid's gap field and everything else the solve reads. Returns ``(grid,
+    solution)``; raises :class:`GlobalGridError` naming the load and the last extent.
     """
-    e_star = scene.material.e_star_pa
     dxg, dyg = fid.global_dx_m, fid.global_dy_m
     half = scene.bearing.half_length_m
+    grid = make_grid(-extent, extent, -half - GLOBAL_END_CELLS * dyg, half + GLOBAL_END_CELLS * dyg,
+                     dxg, dyg)
+    gap = gap_field(scene, grid, None)
+    cache = stats.cache if p_init is None else None
+    if cache is not None:
+        sha, key = global_key(gap, grid.x, grid.y, _global_key_fields(scene, fid, q_load))
+        hit = cache.load(sha, key)
+        if hit is not None:
+            gx, gy, dx, dy, sol = hit
+            return Grid(gx, gy, dx, dy), sol
+    grid, sol = _global_solve_grown(scene, fid, q_load, extent, grid, gap, stats, p_init)
+    if cache is not None:
+        cache.store(sha, key, grid.x, grid.y, grid.dx, grid.dy, sol)
+    return grid, sol
+
+
+def _global_key_fields(scene: Scene, fid: Fidelity, q_load: float) -> dict:
+    """The scalars a global solve depends on besides its initial grid and gap field."""
+    return {"q_load_n": float(q_load), "e_star_pa": float(scene.material.e_star_pa),
+            "hardness_pa": scene.material.hardness_pa, "tol": float(fid.tol),
+            "max_iter": int(fid.max_iter), "element": fid.element,
+            "growth": float(GLOBAL_GRID_GROWTH), "attempts": int(GLOBAL_GRID_ATTEMPTS),
+            "half_length_m": float(scene.bearing.half_length_m)}
+
+
+def _global_solve_grown(scene: Scene, fid: Fidelity, q_load: float, extent: float, grid: Grid,
+                        gap: np.ndarray, stats: SolveStats, p_init) -> tuple[Grid, GlobalSolution]:
+    """The solve of :func:`global_solve` on ``grid`` (gap ``gap``), enlarged while the contact
+    reaches its edge."""
+    e_star = scene.material.e_star_pa
+    dxg, dyg = grid.dx, grid.dy
+    half = scene.bearing.half_length_m
     for _attempt in range(GLOBAL_GRID_ATTEMPTS):
-        grid = make_grid(-extent, extent, -half - GLOBAL_END_CELLS * dyg, half + GLOBAL_END_CELLS * dyg,
-                         dxg, dyg)
         try:
-            sol = stats.solve(gap_field(scene, grid, None), dxg, dyg, q_load, e_star, tol=fid.tol,
+            sol = stats.solve(gap, dxg, dyg, q_load, e_star, tol=fid.tol,
                               max_iter=fid.max_iter, p_init=p_init, boundary="raise",
                               halfspace=_halfspace(grid, e_star, "scipy", fid.element),
                               element=fid.element, hardness=scene.material.hardness_pa)
-            return grid, sol
+            return grid, GlobalSolution(np.asarray(sol.pressure, dtype=np.float64),
+                                        float(sol.approach), float(sol.contact_area),
+                                        int(sol.iterations), float(sol.residual))
         except ContactGridError:
             extent *= GLOBAL_GRID_GROWTH
+            grid = make_grid(-extent, extent, -half - GLOBAL_END_CELLS * dyg,
+                             half + GLOBAL_END_CELLS * dyg, dxg, dyg)
+            gap = gap_field(scene, grid, None)
     raise GlobalGridError(f"global grid could not be sized at roller load {q_load:.6g} N: the "
                           f"contact reached the edge of every grid up to a half-extent of "
                           f"{extent / GLOBAL_GRID_GROWTH:.4g} m across rolling")
 
 
+def global_extent(fid: Fidelity, kappa: float, a_hertz: float) -> float:
+    """Half-extent (m) across rolling of the global grid at the start of :func:`global_solve`:
+    ``global_extent x kappa x a_H``, the contact and a margin. It does not depend on the defect
+    (the zoom window may reach further: :func:`_far_field` extends the global pressure with
+    unloaded cells), so every depth case of a load solves the same global contacts (issue 25:
+    shared through :mod:`~bearing_envelope.physics.nodefect_cache`)."""
+    return fid.global_extent * kappa * a_hertz
+
+
+def _far_field(grid: Grid, pg: np.ndarray, win: Grid, j_lo: int, j_hi: int, m: int,
+               e_star: float, element: str) -> np.ndarray:
+    """Displacement at the window's cells of the global pressure outside the window's axial
+    columns ``j_lo..j_hi`` (m).
+
+    Each coarse cell is split into ``m`` axial sub-cells (the same load) and convolved on the
+    global x grid at the window's axial spacing, so the result is exact in y at the window's
+    columns and only interpolated (linearly) in x. Where the window reaches beyond the global
+    grid across rolling, the grid is extended by unloaded cells at the same spacing (outside the
+    contact the pressure is 0, so this is what a larger global grid would give).
+    """
+    dxg, dyg = grid.dx, grid.dy
+    p_out = pg.astype(float).copy()
+    p_out[:, j_lo:j_hi + 1] = 0.0
+    reach = float(max(abs(win.x[0]), abs(win.x[-1])))
+    n_pad = max(0, int(math.ceil((reach - float(grid.x[-1])) / dxg - 1e-9)))
+    xg = grid.x
+    if n_pad:
+        p_out = np.pad(p_out, ((n_pad, n_pad), (0, 0)))
+        xg = np.concatenate([grid.x[0] - dxg * np.arange(n_pad, 0, -1), grid.x,
+                             grid.x[-1] + dxg * np.arange(1, n_pad + 1)])
+    if m > 1:
+        p_out = np.repeat(p_out, m, axis=1)
+    hs_f = _halfspace(Grid(xg, np.zeros(p_out.shape[1]), dxg, dyg / m), e_star, "scipy",
+                      element)
+    u_cols = hs_f.displacement(p_out)[:, j_lo * m:(j_hi + 1) * m]
+    u_ext = np.empty(win.shape)
+    for k in range(win.shape[1]):
+        u_ext[:, k] = np.interp(win.x, xg, u_cols[:, k], left=np.nan, right=np.nan)
+    return u_ext
+
+
 def solve_load(scene: Scene, fid: Fidelity, q_load: float, kappa: float, stats: SolveStats,
-                p_init_global=None) -> LoadNode:
+                p_init_global=None, *, with_far: bool = True) -> LoadNode:
+    """Global no-defect solve and zoom window at roller load ``q_load`` (:class:`LoadNode`);
+    ``with_far=False`` skips the far field's response (:func:`far_response`: only the removed force
+    needs it; the table's pressure checks do not)."""
     e_star = scene.material.e_star_pa
     a, s, dxw, dyw, xh, yd, hy_read, hy = window_spec(scene, fid, q_load, kappa)
     dxg, dyg = fid.global_dx_m, fid.global_dy_m
     xw = make_grid(-xh, xh, 0.0, 1.0, dxw, 1.0).x
-    extent = max(fid.global_extent * kappa * a, float(np.max(np.abs(xw))) + dxg)
-    grid, sol = global_solve(scene, fid, q_load, extent, stats, p_init_global)
+    grid, sol = global_solve(scene, fid, q_load, global_extent(fid, kappa, a), stats,
+                             p_init_global)
     pg = sol.pressure
     # solved half-width at the defect's axial position
     jy = int(np.argmin(np.abs(grid.y - yd)))
@@ -186,19 +271,7 @@ def solve_load(scene: Scene, fid: Fidelity, q_load: float, kappa: float, stats: 
     y0 = grid.y[j_lo] - 0.5 * dyg
     win = Grid(xw, y0 + (np.arange(ny_w) + 0.5) * (dyg / m), dxw, dyg / m)
     hs = _halfspace(win, e_star, "auto", fid.element)
-    # far field: the global pressure outside the window, each coarse cell split into m axial
-    # sub-cells (the same load), convolved on the global x grid at the window's axial spacing,
-    # so u_ext is exact in y at the window's columns and only interpolated (linearly) in x
-    p_out = pg.astype(float).copy()
-    p_out[:, j_lo:j_hi + 1] = 0.0
-    if m > 1:
-        p_out = np.repeat(p_out, m, axis=1)
-    hs_f = _halfspace(Grid(grid.x, np.zeros(p_out.shape[1]), dxg, dyg / m), e_star, "scipy",
-                      fid.element)
-    u_cols = hs_f.displacement(p_out)[:, j_lo * m:(j_hi + 1) * m]
-    u_ext = np.empty(win.shape)
-    for k in range(win.shape[1]):
-        u_ext[:, k] = np.interp(win.x, grid.x, u_cols[:, k], left=np.nan, right=np.nan)
+    u_ext = _far_field(grid, pg, win, j_lo, j_hi, m, e_star, fid.element)
     gwin = gap_field(scene, win, None)
     void = ~np.isfinite(gwin)
     u_ext[void] = 0.0
@@ -220,6 +293,10 @@ def solve_load(scene: Scene, fid: Fidelity, q_load: float, kappa: float, stats: 
         # the contact does not reach the defect's axial position at this load (e.g. a defect
         # near a roller end at a small load): nothing to zoom into
         approach0, pw0 = sol.approach, np.zeros(win.shape)
+    far = None
+    if with_far and fid.far_field == "responds" and f_win > 0:
+        far = far_response(scene, fid, grid, pg, win, j_lo, j_hi, m, stats,
+                           WindowState(g0, approach0, pw0, hs))
     strip = np.abs(win.y - yd) <= hy_read + 1e-12
     gstrip = np.abs(grid.y - yd) <= hy_read + 1e-12
     outside = float(pg[:, ~gstrip].max()) if np.any(~gstrip) else 0.0
@@ -229,15 +306,127 @@ def solve_load(scene: Scene, fid: Fidelity, q_load: float, kappa: float, stats: 
     return LoadNode(q_load, a, grid, pg.astype(np.float32), approach0, win, u_ext,
                     pw0, strip, outside, p0, w0, half_width, cons, hs,
                     approach_global=float(sol.approach), area_global=float(sol.contact_area),
-                    area_window0=float(np.count_nonzero(pw0 > 0)) * win.dx * win.dy)
+                    area_window0=float(np.count_nonzero(pw0 > 0)) * win.dx * win.dy,
+                    far=far)
+
+
+#: Approach (m) of the far-field flat-punch solve (:func:`far_response`); the response is
+#: linear, so only the scale of the solved pressures depends on it.
+FAR_RESPONSE_APPROACH = 1e-6
+#: Displacement (m) imposed on the no-defect window to measure its pressure response to the far
+#: field's take-up (:func:`far_response`): small against the approach (~50 um), large against the
+#: solver's tolerance times the pressure.
+WINDOW_RESPONSE_STEP = 1e-8
+
+
+@dataclass
+class WindowState:
+    """The no-defect window of a load node (internal): gap with the far field's displacement,
+    approach, pressure and half-space operator."""
+
+    gap: np.ndarray
+    approach: float
+    pressure: np.ndarray
+    halfspace: Any
+
+
+@dataclass
+class FarResponse:
+    """The far field's linear response at one load node (:func:`far_response`).
+
+    ``z``: displacement at the window's cells of the far field's flat-punch pressure per unit
+    approach (dimensionless); ``stiffness``: the force (N) of the take-up's shape ``psi_c``
+    (:func:`far_response`); ``window_z``, ``window_force``: ``sum(z R) dA_w`` and
+    ``sum(R) dA_w`` (N) of the no-defect window's pressure response ``R`` (Pa) to the
+    displacement of ``psi_c``.
+    """
+
+    z: np.ndarray
+    stiffness: float
+    window_z: float
+    window_force: float
+
+    def uptake(self, dp: np.ndarray, cell: float) -> float:
+        """Force (N) the far field and the window together regain when the window's pressure
+        changes by ``dp`` (Pa) at fixed approach: the far field's pressure change is taken as
+        ``alpha psi_c`` (the take-up's shape); it unloads the window further by ``alpha R``;
+        reciprocity fixes ``alpha``: ``alpha stiffness = -sum(z (dp + alpha R)) dA``; the gain
+        is ``alpha (stiffness + window_force)``."""
+        alpha = -float(np.sum(self.z * dp)) * cell / (self.stiffness + self.window_z)
+        return alpha * (self.stiffness + self.window_force)
+
+
+def far_response(scene: Scene, fid: Fidelity, grid: Grid, pg: np.ndarray, win: Grid, j_lo: int,
+                 j_hi: int, m: int, stats: SolveStats, w0: WindowState) -> FarResponse | None:
+    """How the far field takes up the load the window sheds (issue 25 part C).
+
+    The far field (the no-defect global contact outside the window's columns) is linear: its
+    contact set is fixed (the defect changes the contact's force by ~1e-3). Three solves:
+
+    1. ``psi``, the far-field pressure that raises the far contact uniformly by one unit of
+       displacement while the window carries nothing (``K_ff psi = 1``: a flat punch on the
+       global grid); ``z = K_wf psi`` at the window's cells. By reciprocity a window pressure
+       change ``dp`` changes the far field's force at fixed approach by ``-sum(z dp) dA``,
+       exactly for any ``dp``.
+    2. The shape of that take-up: the far field's pressure response ``psi_c`` to the pressure
+       the centred defect removes from the frozen window (one window solve with the defect at
+       x = 0, its pressure change summed onto the global cells, convolved, and the far field
+       solved under the opposite displacement).
+    3. The no-defect window's pressure response ``R`` to the displacement of ``psi_c``: the
+       far field's take-up unloads the window further (:meth:`FarResponse.uptake` closes the
+       loop).
+
+    Returns None for a healthy race or when the far field carries no load.
+    """
+    far = pg > 0
+    far[:, j_lo:j_hi + 1] = False
+    if not far.any() or not scene.defect.active:
+        return None
+    e_star = scene.material.e_star_pa
+    kw = dict(tol=fid.tol, max_iter=fid.max_iter, boundary="ignore", element=fid.element)
+    hs_g = _halfspace(grid, e_star, "scipy", fid.element)
+    punch = stats.solve(np.where(far, 0.0, np.inf), grid.dx, grid.dy, None, e_star,
+                        approach=FAR_RESPONSE_APPROACH, halfspace=hs_g, **kw)
+    z = np.nan_to_num(_far_field(grid, punch.pressure, win, j_lo, j_hi, m, e_star, fid.element)
+                      / FAR_RESPONSE_APPROACH, nan=0.0)
+    cen = stats.solve(gap_field(scene, win, 0.0) + (w0.gap - gap_field(scene, win, None)),
+                      win.dx, win.dy, None, e_star, approach=w0.approach, p_init=w0.pressure,
+                      halfspace=w0.halfspace, hardness=scene.material.hardness_pa, **kw)
+    lost = _on_global_cells(grid, win, j_lo, m, w0.pressure - cen.pressure)
+    u_lost = hs_g.displacement(lost)
+    shape = stats.solve(np.where(far, -u_lost, np.inf), grid.dx, grid.dy, None, e_star,
+                        approach=0.0, halfspace=hs_g, **kw)
+    if not np.any(shape.pressure > 0):
+        return None
+    z_c = np.nan_to_num(_far_field(grid, shape.pressure, win, j_lo, j_hi, m, e_star,
+                                   fid.element), nan=0.0)
+    step = WINDOW_RESPONSE_STEP / max(float(np.abs(z_c).max()), 1e-300)
+    resp = stats.solve(w0.gap + step * z_c, win.dx, win.dy, None, e_star, approach=w0.approach,
+                       p_init=w0.pressure, halfspace=w0.halfspace,
+                       hardness=scene.material.hardness_pa, **kw)
+    R = (resp.pressure - w0.pressure) / step
+    cell = win.dx * win.dy
+    return FarResponse(z, float(shape.pressure.sum()) * grid.dx * grid.dy,
+                       float(np.sum(z * R)) * cell, float(np.sum(R)) * cell)
+
+
+def _on_global_cells(grid: Grid, win: Grid, j_lo: int, m: int, p_w: np.ndarray) -> np.ndarray:
+    """A window pressure field as pressures on the global grid's cells (the same force per
+    cell; window cells beyond the global grid across rolling are dropped: the far field sees
+    them from at least a window margin away, where that is a shift of < one global cell)."""
+    out = np.zeros(grid.shape)
+    i = np.floor((win.x - (grid.x[0] - 0.5 * grid.dx)) / grid.dx).astype(int)
+    ok = (i >= 0) & (i < grid.shape[0])
+    cols = p_w.reshape(p_w.shape[0], -1, m).sum(axis=2)           # m sub-columns per column
+    np.add.at(out, (i[ok], slice(j_lo, j_lo + cols.shape[1])), cols[ok])
+    return out * (win.dx * win.dy) / (grid.dx * grid.dy)
 
 
 def outside_max(scene: Scene, fid: Fidelity, q_load: float, kappa: float,
                  stats: SolveStats) -> float:
     """Maximum no-defect pressure outside the read strip from a global solve only (Pa)."""
     a, s, dxw, dyw, xh, yd, hy_read, hy = window_spec(scene, fid, q_load, kappa)
-    extent = max(fid.global_extent * kappa * a, xh + fid.global_dx_m)
-    grid, sol = global_solve(scene, fid, q_load, extent, stats)
+    grid, sol = global_solve(scene, fid, q_load, global_extent(fid, kappa, a), stats)
     gstrip = np.abs(grid.y - yd) <= hy_read + 1e-12
     return float(sol.pressure[:, ~gstrip].max()) if np.any(~gstrip) else 0.0
 
@@ -296,7 +485,7 @@ def defect_solve(scene: Scene, fid: Fidelity, node: LoadNode, x_d: float, stats:
     if not strips:
         W = float(p[:, node.strip].max())
         Pd = neighbourhood_max(scene, fid, win, p, x_d)
-        dF = float(node.p_window0.sum() - p.sum()) * cell
+        dF = float(node.p_window0.sum() - p.sum()) * cell - _far_uptake(node, p)
         dA = float(np.count_nonzero(p > 0)) * cell - node.area_window0
         return DefectSolve(max(W, node.outside_max), Pd, p, dF, dA, W)
     # parent cells replaced by a strip count through the strip's force and area; the parent is
@@ -320,9 +509,17 @@ def defect_solve(scene: Scene, fid: Fidelity, node: LoadNode, x_d: float, stats:
     Pd = max(Pd, neighbourhood_max(scene, fid, win, pp, x_d))
     force += float(p[~replaced].sum()) * cell
     area += float(np.count_nonzero(p[~replaced] > 0)) * cell
-    dF = float(node.p_window0.sum()) * cell - force
+    dF = float(node.p_window0.sum()) * cell - force - _far_uptake(node, p)
     dA = area - node.area_window0
     return DefectSolve(max(W, node.outside_max), Pd, p, dF, dA, W)
+
+
+def _far_uptake(node: LoadNode, p: np.ndarray) -> float:
+    """Force (N) the far field takes up at fixed approach when the window's pressure goes from
+    the no-defect ``p_window0`` to ``p`` (:class:`FarResponse`); 0 with a frozen far field."""
+    if node.far is None:
+        return 0.0
+    return node.far.uptake(p - node.p_window0, node.window.dx * node.window.dy)
 
 
 @dataclass

@@ -455,7 +455,7 @@ def _interpolation_checks(scene: Scene, fid: Fidelity, table: "PressureTable", q
             qc = float(rng.uniform(qn[0], qn[-1]) ** 3)
             # offsets where the defect overlaps the contact (beyond, the table is exact)
             reach = table.kappa * table.a_coef * qc ** (1 / 3) + 0.5 * ex
-            node = solve_load(scene, fid, qc, table.kappa, stats)
+            node = solve_load(scene, fid, qc, table.kappa, stats, with_far=False)
             pairs = []
             for _k in range(CHECK_OFFSETS_PER_LOAD):
                 pairs.append((round(float(rng.uniform(0.0, reach)) / dxw) * dxw, checks))

@@ -47,10 +47,28 @@ from .provenance import log_to
 from .settings import AnalysisSettings, CaseId
 from .tables import TIDY_COLUMNS, TIDY_EXTRA_COLUMNS, tidy_from_analysis
 
-__all__ = ["history_case", "case_signal", "case_frequencies", "case_location", "case_fault_lines",
+__all__ = ["AMPLITUDE_ESTIMATORS", "amplitude_estimator", "history_case", "case_signal", "case_frequencies", "case_location", "case_fault_lines",
            "case_bands", "case_harmonics", "case_envelope",
            "case_summary", "case_acceleration", "diagnosability_bands", "case_diagnosability",
            "case_false_alarms", "FALSE_ALARM_SEED_OFFSET", "log_to"]
+
+
+#: ``analysis.amplitude`` -> the statement appended to the ``scaling`` of every spectral line
+#: (raw and envelope) read that way (issue 25: the estimator of every amplitude is stated).
+AMPLITUDE_ESTIMATORS = {
+    "interpolated": "interpolated peak: the window's response fitted to the 3 bins around the "
+                    "largest, scalloping-corrected",
+    "peak_bin": "largest bin, no scalloping correction (up to 15 % low between bins)",
+}
+
+
+def amplitude_estimator(analysis: AnalysisSettings) -> str:
+    """``analysis.amplitude`` (the schema's default: ``interpolated``), checked."""
+    name = analysis.amplitude
+    if name not in AMPLITUDE_ESTIMATORS:
+        raise ValueError(f"analysis.amplitude: got {name!r}; allowed: "
+                         f"{' | '.join(AMPLITUDE_ESTIMATORS)}")
+    return name
 
 
 def _case_id(case) -> str:
@@ -211,9 +229,10 @@ def case_harmonics(case, analysis: AnalysisSettings, bands, *, full_output: bool
     Parameters
     ----------
     case : bearing_envelope.io.Case
-    analysis : mapping
+    analysis : AnalysisSettings
         The config's ``analysis`` section (``signal``, ``harmonics``, ``sidebands``,
-        ``raw_orders_fr``, ``filter_order``, ``squared_envelope``).
+        ``raw_orders_fr``, ``filter_order``, ``squared_envelope``, ``amplitude``: the line
+        estimator, :data:`AMPLITUDE_ESTIMATORS`, stated in each line's ``scaling``).
     bands : bearing_envelope.io.CaseBands
         The case's band limits (a mapping as in the bands file is accepted too).
     full_output : bool
@@ -230,6 +249,7 @@ def case_harmonics(case, analysis: AnalysisSettings, bands, *, full_output: bool
     signal = analysis.signal
     x = case_signal(case, signal)
     fs = float(case.fs)
+    estimator = amplitude_estimator(analysis)
     specs = [{"name": b.name, "strategy": "fixed", "low_hz": b.low_hz, "high_hz": b.high_hz}
              for b in bands.bands]
     strategies = {b.name: b.strategy for b in bands.bands}
@@ -239,10 +259,12 @@ def case_harmonics(case, analysis: AnalysisSettings, bands, *, full_output: bool
         bands=specs, n_harmonics=analysis.harmonics, n_sidebands=analysis.sidebands,
         n_raw_harmonics=analysis.raw_orders_fr, nlevel=None,
         filter_order=analysis.filter_order, squared=analysis.squared_envelope,
-        sideband_spacing=spacing)
+        sideband_spacing=spacing, interpolate=estimator == "interpolated")
     res = analyze_signal(x, fs, fr=float(case.fr), fault_frequencies=faults, options=options,
                          full_output=full_output)
     df, extra = (res if full_output else (res, None))
+    lines = df["quantity"].isin(["raw_spectrum", "envelope_spectrum"]) & (df["base"] != "dc")
+    df.loc[lines, "scaling"] = df.loc[lines, "scaling"] + "; " + AMPLITUDE_ESTIMATORS[estimator]
     df = tidy_from_analysis(df, strategies)
     df = df[df["quantity"] != "kurtogram_kurtosis"]
     df["clamped"] = [clamped.get(n, False) for n in df["band"]]

@@ -10,6 +10,7 @@
 from __future__ import annotations
 
 import ast
+import errno
 import os
 from pathlib import Path
 
@@ -128,7 +129,9 @@ class log_to:
         import sys
         import traceback
 
-        if exc_type is not None:
+        if isinstance(exc, OSError) and exc.errno == errno.ENOSPC:
+            print(f"error: {exc}", file=self._fh)  # a full disk: one line, no traceback
+        elif exc_type is not None:
             traceback.print_exception(exc_type, exc, tb, file=self._fh)
         sys.stderr = self._old
         self._fh.close()

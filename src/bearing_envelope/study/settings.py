@@ -39,6 +39,7 @@ from typing import Any
 
 import numpy as np
 
+from ..io.yamlsafe import YamlLimitError, check_document_size, load_bounded
 from ..physics.fidelity import Fidelity, fidelity_from
 from ..physics.geometry import hertz_estimate
 from ..physics.loads import scene_load_distribution
@@ -348,6 +349,7 @@ class AnalysisSettings:
     harmonics: int
     sidebands: int
     raw_orders_fr: int
+    amplitude: str                   # spectral-line estimator: interpolated | peak_bin
 
     @classmethod
     def from_mapping(cls, m: Mapping[str, Any], *, fs: float, freqs: Mapping[str, float],
@@ -549,10 +551,13 @@ def read_yaml(path: str | os.PathLike) -> dict[str, Any]:
     if not os.path.exists(p):
         raise ConfigError(f"{p}: config file not found")
     try:
+        check_document_size(p)
         with open(p, encoding="utf-8") as fh:
-            doc = yaml.load(fh, Loader=_unique_key_loader())  # noqa: S506 (a SafeLoader subclass)
+            doc = load_bounded(fh, _unique_key_loader())  # aliases bounded (io.yamlsafe)
     except ConfigError:
         raise
+    except YamlLimitError as exc:
+        raise ConfigError(f"{p}: {exc}") from None
     except yaml.MarkedYAMLError as exc:
         mark = exc.problem_mark or exc.context_mark
         where = f"{p}, line {mark.line + 1}, column {mark.column + 1}" if mark else p

@@ -40,7 +40,7 @@ from ..io import public_mode as _io_public_mode
 from ..io import write_csv_atomic as _io_write_csv_atomic
 from ..io.vocabulary import (BAND_STRATEGIES, QUANTITIES, RAW_BAND, TIDY_COLUMNS,  # noqa: F401
                          TIDY_EXTRA_COLUMNS, TIDY_SORT, quantity_name)
-from .settings import CaseId
+from .settings import CaseId, format_number
 
 
 def tidy_from_analysis(table: pd.DataFrame, strategies: Mapping[str, str] | None = None
@@ -120,8 +120,18 @@ def concat_tidy(frames: Iterable[pd.DataFrame]) -> pd.DataFrame:
         # a key like load and depth, the first of the sort
         lead.insert(lead.index("depth_um") + 1, "location")
         sort.insert(0, "location")
+    df = add_width(df)
+    if "width_um" in df.columns:
+        # a sweep over widths: a key like load and depth (empty: the healthy race)
+        lead.insert(lead.index("depth_um") + 1, "width_um")
+        sort.insert(sort.index("depth_um") + 1, "width_um")
     extra = [c for c in df.columns if c not in lead]
     df = df[lead + extra]
+    dup = df.duplicated(["case", "band", "quantity", "order", "sideband"], keep=False)
+    if dup.any():
+        rows = df.loc[dup, ["case", "band", "quantity", "order", "sideband"]].head(4)
+        raise ValueError(f"{int(dup.sum())} tidy rows share case, band, quantity, order and "
+                         f"sideband, e.g. {rows.to_dict('records')}")
     return df.sort_values(sort, kind="stable").reset_index(drop=True)
 
 
@@ -135,6 +145,20 @@ def add_location(df: pd.DataFrame) -> pd.DataFrame:
         return df
     df = df.drop(columns=["location"], errors="ignore")
     df.insert(list(df.columns).index("depth_um") + 1, "location", locations)
+    return df
+
+
+def add_width(df: pd.DataFrame) -> pd.DataFrame:
+    """``df`` with a ``width_um`` column after ``depth_um`` (the defect width of a sweep over
+    widths, NaN for the healthy race) read from its case names, when a name carries one; else
+    ``df`` unchanged."""
+    width_of = {c: CaseId.parse(c).width_um for c in df["case"].unique()}
+    widths = [width_of[c] for c in df["case"]]
+    if all(w is None for w in widths):
+        return df
+    df = df.drop(columns=["width_um"], errors="ignore")
+    df.insert(list(df.columns).index("depth_um") + 1, "width_um",
+              [np.nan if w is None else w for w in widths])
     return df
 
 
@@ -158,29 +182,49 @@ def pivot_tables(tidy: pd.DataFrame, *, sideband: int = 0) -> dict[str, pd.DataF
 
     With a ``location`` column (a sweep over defect locations) there is one pivot per location
     that has the quantity, named with ``__{location}`` (each location searches its own family:
-    ``envelope_bpfi``, ``envelope_bpfo``, ``envelope_2bsf``).
+    ``envelope_bpfi``, ``envelope_bpfo``, ``envelope_2bsf``). With a ``width_um`` column (a
+    sweep over defect widths) there is one pivot per width, named with ``__w{width}``; the
+    healthy race (no width) is depth 0 of each. Every cell holds exactly one amplitude: two
+    rows for one cell raise ``ValueError`` (nothing is dropped).
 
     Returns
     -------
     dict
-        ``"{band}__{quantity}__{order}[__{location}]"`` -> DataFrame indexed by load (kN),
-        columns depth (um).
+        ``"{band}__{quantity}__{order}[__{location}][__w{width}]"`` -> DataFrame indexed by
+        load (kN), columns depth (um).
     """
     sel = tidy[tidy["sideband"] == sideband]
     out: dict[str, pd.DataFrame] = {}
     for (band, quantity, order), g in sel.groupby(["band", "quantity", "order"], sort=True):
         stem = f"{band}__{quantity}__{order:g}"
-        if "location" not in g.columns:
-            out[stem] = _pivot(g)
-            continue
-        for loc, gl in g.groupby("location", sort=False):
-            out[f"{stem}__{loc}"] = _pivot(gl)
+        groups = [(stem, g)]
+        if "location" in g.columns:
+            groups = [(f"{stem}__{loc}", gl) for loc, gl in g.groupby("location", sort=False)]
+        for name, gg in groups:
+            out.update(_width_pivots(gg, name))
     return out
 
 
-def _pivot(g: pd.DataFrame) -> pd.DataFrame:
-    """Load x depth pivot of the amplitudes of ``g``."""
-    p = g.pivot_table(index="load_kN", columns="depth_um", values="amplitude", aggfunc="first")
+def _width_pivots(g: pd.DataFrame, name: str) -> dict[str, pd.DataFrame]:
+    """One pivot of ``g`` named ``name``, or one per width (``__w{width}``) when ``g`` has a
+    ``width_um`` column; the healthy race (no width) is depth 0 of each."""
+    if "width_um" not in g.columns:
+        return {name: _pivot(g, name)}
+    healthy = g[g["width_um"].isna()]
+    return {f"{name}__w{format_number(w)}": _pivot(pd.concat([healthy, gw]),
+                                                   f"{name}__w{format_number(w)}")
+            for w, gw in g[g["width_um"].notna()].groupby("width_um", sort=True)}
+
+
+def _pivot(g: pd.DataFrame, name: str) -> pd.DataFrame:
+    """Load x depth pivot of ``g`` (one amplitude per cell, else ``ValueError``)."""
+    dup = g.duplicated(["load_kN", "depth_um"], keep=False)
+    if dup.any():
+        cells = sorted(set(zip(g.loc[dup, "load_kN"], g.loc[dup, "depth_um"])))
+        raise ValueError(f"pivot {name}: {len(cells)} load x depth cell(s) hold more than one "
+                         f"amplitude, e.g. (load_kN, depth_um) = {cells[:3]}; a sweep axis is "
+                         f"missing from the table")
+    p = g.pivot(index="load_kN", columns="depth_um", values="amplitude")
     p.index.name = "load_kN"
     p.columns.name = "depth_um"
     return p

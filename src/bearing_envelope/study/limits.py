@@ -1,0 +1,341 @@
+"""Limits before allocation: what passes the pre-run check runs, and fits the machine.
+
+:func:`precheck` is the second half of the workflow's pre-run check (``common.smk`` calls it
+after :func:`bearing_envelope.study.settings.workflow_settings`; ``bearing-envelope
+check-config`` too). It refuses, with one line naming the field, the value and what is
+allowed:
+
+- a config file asking Snakemake for YTE templating (``__use_yte__``): templating runs Python;
+- a case whose name would be too long for a file name, or does not read back exactly;
+- a hardness below :data:`MIN_HARDNESS_GPA`, a record shorter than the analysis' longest
+  kurtogram window (:func:`min_revolutions`);
+- a ``tradeoff:`` section that :func:`bearing_envelope.study.tradeoff.study_from_config` refuses;
+- a missing ``scene.bearing.profile_file``;
+- a case whose estimated memory or CPU time (:func:`estimate_case`) exceeds the machine's
+  available memory or the stated limits (``limits.max_case_memory_GB``,
+  ``limits.max_case_cpu_s``; :data:`DEFAULT_LIMITS`).
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+
+from ..physics.acquisition import auto_oversample
+from ..physics.loads import scene_load_distribution
+from ..physics.solves import window_spec
+from ..signal.kurtogram import max_kurtogram_level
+from .settings import ConfigError, format_number, read_yaml
+from ..physics.fidelity import fidelity_from
+from .tradeoff import _apply_knob
+
+__all__ = ["DEFAULT_LIMITS", "MIN_HARDNESS_GPA", "MAX_CASE_NAME_CHARS", "ResourceEstimate",
+           "estimate_case", "check_case", "min_revolutions", "refuse_config_code", "available_memory_bytes", "precheck",
+           "profile_files"]
+
+#: Stated limits per case when the config has no ``limits:`` section: CPU seconds of one
+#: simulation job (the default sweep needs 7-10 s per case) and memory (None: the machine's
+#: available memory).
+DEFAULT_LIMITS = {"max_case_cpu_s": 3600.0, "max_case_memory_GB": None}
+
+#: Lowest hardness accepted, GPa: below it the hardness bound flattens every contact (pure
+#: lead is 0.04 GPa; bearing steel about 7.4 GPa).
+MIN_HARDNESS_GPA = 0.1
+
+#: Samples the fast kurtogram needs for its first level (``max_kurtogram_level(n) >= 1``).
+MIN_KURTOGRAM_SAMPLES = 2 ** 8
+
+#: Longest exact text of one sweep value in a case name (``format_number``), characters.
+MAX_VALUE_CHARS = 24
+
+#: Longest case name accepted (characters, without ``.h5``): file systems allow 255 bytes per
+#: name, and the workflow adds suffixes such as ``_kurtogram.npz`` and ``.unreadable-{time}``.
+MAX_CASE_NAME_CHARS = 120
+
+#: Float64 signals kept per output sample by a simulation (contact, integral, kinematic
+#: signals, clean copies, time) and the working copies while writing them.
+_SIGNALS_PER_SAMPLE = 24
+
+#: Bytes per grid cell of one contact solve: DC-FFT on the doubled grid (4 cells, complex128)
+#: for the kernel and two work arrays, plus the CG vectors (measured peak: 0.3-0.5 GB for the
+#: standard window grids).
+_BYTES_PER_CELL = 4 * 16 * 4 + 8 * 10
+
+#: Bytes of the anti-alias filter design per unit of oversampling (about 54 taps per unit,
+#: float64, and the design's temporaries: measured 4 GiB for oversample 1e7).
+_FILTER_BYTES_PER_OVERSAMPLE = 54 * 8 * 3
+
+#: Memory of the interpreter and libraries, bytes (measured: 150-200 MB before any array).
+_BASE_BYTES = 250e6
+
+#: CPU seconds per grid cell and CG iteration of a solve, per fine (oversampled) sample of the
+#: history synthesis, and of imports and setup; calibrated so that the default sweep's cases come out at their
+#: measured 5-10 s (``docs/benchmarks.md``).
+_CPU_S_PER_CELL_ITERATION = 4.0e-9
+_BASE_CPU_S = 1.5
+_CPU_S_PER_FINE_SAMPLE = 2.0e-6
+_CG_ITERATIONS = 60
+
+#: Load nodes above which the table's solve count, not its grid, is named as the cause.
+_MANY_LOADS = 50
+
+#: Window solves per load node besides the offsets: the no-defect window and the checks.
+_EXTRA_WINDOW_SOLVES = 2
+
+_GB = 1e9
+
+
+@dataclass(frozen=True)
+class ResourceEstimate:
+    """Estimated resources of one simulation job."""
+
+    case: str
+    n_samples: int
+    oversample: int
+    global_cells: int
+    window_cells: int
+    n_solves: int
+    memory_bytes: float
+    cpu_seconds: float
+    #: Field(s) of the config -> bytes / CPU seconds they account for (the largest names the
+    #: field to change when the estimate is refused).
+    memory_parts: tuple = ()
+    cpu_parts: tuple = ()
+
+    def culprit(self, kind: str) -> str:
+        """The config field behind the largest part of the ``memory`` or ``cpu`` estimate."""
+        parts = dict(self.memory_parts if kind == "memory" else self.cpu_parts)
+        return max(parts, key=parts.get) if parts else "scene"
+
+    def describe(self) -> str:
+        return (f"{self.n_samples:,} samples x {self.oversample} oversample, "
+                f"{self.global_cells:,} global + {self.window_cells:,} window cells x "
+                f"{self.n_solves} solves: about {self.memory_bytes / _GB:.3g} GB and "
+                f"{self.cpu_seconds:.3g} CPU s")
+
+
+def _cells(extent_m: float, step_m: float) -> float:
+    return max(1.0, 2.0 * extent_m / step_m)
+
+
+def _oversample(scene, fidelity) -> int:
+    """The acquisition's internal oversampling factor (without designing its filter)."""
+    acq = scene.operation.acquisition
+    if acq.mode == "point":
+        return 1
+    return auto_oversample(scene, fidelity) if acq.oversample == "auto" else int(acq.oversample)
+
+
+def estimate_case(name: str, scene, fidelity) -> ResourceEstimate:
+    """Memory and CPU time of one case's simulation, from its scene and fidelity alone.
+
+    Samples x signals for the history (the acquisition works block-wise at the fine rate),
+    grid cells x solves for the contact table (``n_loads`` global solves, and per load node the
+    window solves at the table's offsets). An order-of-magnitude estimate: within a factor
+    of 3 of the measured cases, enough to refuse what cannot fit.
+    """
+    op = scene.operation
+    n = int(math.ceil(op.revolutions / op.shaft_rate_hz * op.fs_hz))
+    over = _oversample(scene, fidelity)
+    q = scene_load_distribution(scene).q_max
+    a, _s, dx, dy, xh, _yd, _hy_read, hy = window_spec(scene, fidelity, q, 1.0)
+    g_cells = _cells(fidelity.global_extent * a, fidelity.global_dx_um * 1e-6) * \
+        _cells(scene.bearing.half_length_m, fidelity.global_dy_um * 1e-6)
+    w_cells = _cells(xh, dx) * _cells(hy, dy)
+    offsets = min(fidelity.max_offsets, fidelity.n_offsets) + fidelity.n_checks \
+        + _EXTRA_WINDOW_SOLVES
+    solves = fidelity.n_loads * (1 + offsets)
+    fine = _CPU_S_PER_FINE_SAMPLE * n * over
+    solve = _CPU_S_PER_CELL_ITERATION * _CG_ITERATIONS * fidelity.n_loads * (
+        g_cells * math.log2(4 * g_cells) + offsets * w_cells * math.log2(4 * w_cells))
+    grid_field = ("fidelity.n_loads" if fidelity.n_loads > _MANY_LOADS else
+                  "fidelity.local_dx_um / local_dy_um" if w_cells >= g_cells else
+                  "fidelity.global_dx_um / global_dy_um")
+    samples_field = "scene.operation.revolutions x fs_hz"
+    over_field = "scene.operation.acquisition.oversample"
+    memory_parts = ((samples_field, 8.0 * _SIGNALS_PER_SAMPLE * n),
+                    (grid_field, _BYTES_PER_CELL * max(g_cells, w_cells)),
+                    (over_field, _FILTER_BYTES_PER_OVERSAMPLE * over))
+    cpu_parts = ((samples_field if over <= _MANY_LOADS else over_field, fine), (grid_field, solve))
+    return ResourceEstimate(name, n, over, int(g_cells), int(w_cells), solves,
+                            _BASE_BYTES + sum(v for _, v in memory_parts),
+                            _BASE_CPU_S + fine + solve, memory_parts, cpu_parts)
+
+
+def available_memory_bytes() -> float:
+    """Memory available to new processes (``MemAvailable`` of /proc/meminfo; else physical)."""
+    try:
+        with open("/proc/meminfo", encoding="ascii") as fh:
+            for line in fh:
+                if line.startswith("MemAvailable:"):
+                    return float(line.split()[1]) * 1024.0
+    except OSError:
+        pass
+    return float(os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES"))
+
+
+def min_revolutions(scene) -> float:
+    """Shortest record (shaft revolutions) the bands job can analyse: the fast kurtogram needs
+    :data:`MIN_KURTOGRAM_SAMPLES` samples for its first level
+    (:func:`bearing_envelope.signal.max_kurtogram_level` >= 1); shorter records fail in the job
+    with ``nlevel must be an integer >= 1``."""
+    return MIN_KURTOGRAM_SAMPLES / scene.operation.fs_hz * scene.operation.shaft_rate_hz
+
+
+def refuse_config_code(files: Sequence[str | os.PathLike]) -> None:
+    """Read each config file strictly (:func:`~bearing_envelope.study.settings.read_yaml`) and
+    refuse ``__use_yte__`` (Snakemake's YTE templating evaluates Python in the file)."""
+    for f in files:
+        doc = read_yaml(f)
+        if "__use_yte__" in doc:
+            raise ConfigError(
+                f"{os.fspath(f)}: __use_yte__: {doc['__use_yte__']!r}; allowed: the key absent "
+                f"(YTE templating runs Python from the config file; a config here is data)")
+
+
+def _limits(config: Mapping) -> dict:
+    out = dict(DEFAULT_LIMITS)
+    given = config.get("limits") or {}
+    if not isinstance(given, Mapping):
+        raise ConfigError(f"limits: got {given!r}; allowed: a mapping with max_case_cpu_s, "
+                          f"max_case_memory_GB")
+    for key, value in given.items():
+        if key not in DEFAULT_LIMITS:
+            raise ConfigError(f"limits.{key}: unknown key; allowed: {', '.join(DEFAULT_LIMITS)}")
+        if value is not None and (isinstance(value, bool) or not isinstance(value, (int, float))
+                                  or not math.isfinite(value) or value <= 0):
+            raise ConfigError(f"limits.{key}: got {value!r}; allowed: a number > 0 or null")
+        out[key] = value
+    return out
+
+
+def _check_case(case, scene, analysis, limits: dict, memory_cap: float, fidelity) -> None:
+    """The per-case checks of :func:`precheck` (name, lower bounds, resource estimate)."""
+    if len(case.name) > MAX_CASE_NAME_CHARS:
+        raise ConfigError(f"sweep: case name {case.name[:40]}... has {len(case.name)} "
+                          f"characters; allowed: at most {MAX_CASE_NAME_CHARS}")
+    hard = scene.material.hardness_pa
+    if hard is not None and hard < MIN_HARDNESS_GPA * 1e9:
+        raise ConfigError(f"scene.material.hardness_GPa: got {hard / 1e9:g}; allowed: null or "
+                          f">= {MIN_HARDNESS_GPA:g} GPa")
+    n = int(math.ceil(scene.operation.revolutions / scene.operation.shaft_rate_hz
+                      * scene.operation.fs_hz))
+    if analysis is not None and max_kurtogram_level(n) < 1:
+        raise ConfigError(f"scene.operation.revolutions: got {scene.operation.revolutions:g} "
+                          f"({n} samples); allowed: >= {min_revolutions(scene):.3g} (the "
+                          f"kurtogram needs {MIN_KURTOGRAM_SAMPLES} samples)")
+    est = estimate_case(case.name, scene, fidelity)
+    if est.memory_bytes > memory_cap:
+        raise ConfigError(f"{est.culprit('memory')}: case {case.name} would need about "
+                          f"{est.memory_bytes / _GB:.3g} GB ({est.describe()}); allowed: "
+                          f"<= {memory_cap / _GB:.3g} GB (the available memory or "
+                          f"limits.max_case_memory_GB)")
+    if est.cpu_seconds > limits["max_case_cpu_s"]:
+        raise ConfigError(f"{est.culprit('cpu')}: case {case.name} would need about "
+                          f"{est.cpu_seconds:.3g} CPU s ({est.describe()}); allowed: "
+                          f"<= {limits['max_case_cpu_s']:g} CPU s (limits.max_case_cpu_s)")
+
+
+def _check_sweep_values(sweep) -> None:
+    """Sweep values whose exact text fits a case name (``1e-300`` is 302 digits long)."""
+    for key in ("loads_kN", "depths_um", "widths_um"):
+        for i, v in enumerate(getattr(sweep, key) or ()):
+            text = format_number(v)
+            if len(text) > MAX_VALUE_CHARS:
+                raise ConfigError(f"sweep.{key}[{i}]: got {v!r} ({len(text)} digits in a case "
+                                  f"name); allowed: a value written with at most "
+                                  f"{MAX_VALUE_CHARS} characters (e.g. 0.5, 12.25)")
+
+
+#: Keys of the ``tradeoff:`` section (:func:`bearing_envelope.study.tradeoff.study_from_config`).
+_TRADEOFF_KEYS = ("cases", "revolutions", "base", "reference", "reference_element",
+                  "element_series", "knobs", "presets")
+
+
+def _check_tradeoff(section: Mapping) -> None:
+    """The ``tradeoff:`` section as the trade study will read it (without running it)."""
+    for key in section:
+        if key not in _TRADEOFF_KEYS:
+            raise ConfigError(f"tradeoff.{key}: unknown key; allowed: {', '.join(_TRADEOFF_KEYS)}")
+    try:
+        base = fidelity_from(section.get("base", "standard"))
+        for c in section.get("cases", []):
+            if len(c) != 2 or not all(isinstance(v, (int, float)) and v >= 0 for v in c):
+                raise ValueError(f"tradeoff.cases: got {c!r}; allowed: [load_kN, depth_um]")
+        rev = section.get("revolutions", 4.0)
+        if isinstance(rev, bool) or not isinstance(rev, (int, float)) or not rev > 0:
+            raise ValueError(f"tradeoff.revolutions: got {rev!r}; allowed: a number > 0")
+        for knob, values in (section.get("knobs") or {}).items():
+            if isinstance(values, str) or not isinstance(values, Sequence) or not values:
+                raise ValueError(f"tradeoff.knobs.{knob}: got {values!r}; allowed: a list of "
+                                 f"values, coarse to fine")
+            for v in values:
+                _apply_knob(base, str(knob), v)
+        presets = section.get("presets", [])
+        for p in (presets.values() if isinstance(presets, Mapping) else presets):
+            fidelity_from(p)
+        if section.get("reference", "finest") not in ("finest", "per_knob"):
+            fidelity_from(section["reference"])
+    except (ValueError, TypeError, KeyError) as exc:
+        msg = str(exc)
+        raise ConfigError(msg if msg.startswith("tradeoff") else f"tradeoff: {msg}") from None
+
+
+def precheck(settings, files: Sequence[str | os.PathLike] = ()) -> list[ResourceEstimate]:
+    """The checks of this module on validated settings; returns each case's estimate.
+
+    Raises
+    ------
+    ConfigError
+        One line naming the field, the value and what is allowed.
+    """
+    refuse_config_code(files)
+    cfg = settings.config
+    if settings.tradeoff:
+        _check_tradeoff(settings.tradeoff)
+    limits = _limits(cfg)
+    cap = available_memory_bytes()
+    if limits["max_case_memory_GB"] is not None:
+        cap = min(cap, limits["max_case_memory_GB"] * _GB)
+    profile = ((settings.scene_mapping.get("bearing") or {}).get("profile_file"))
+    if profile and not os.path.isfile(profile):
+        raise ConfigError(f"scene.bearing.profile_file: {profile!r} not found; allowed: an "
+                          f"existing CSV file (position_mm, deviation_um)")
+    out = []
+    if settings.sweep is None:
+        return out
+    _check_sweep_values(settings.sweep)
+    setup = settings.simulation
+    for case in settings.sweep.cases():
+        scene = setup.scene(case)
+        _check_case(case, scene, settings.analysis, limits, cap, setup.fidelity)
+        out.append(estimate_case(case.name, scene, setup.fidelity))
+    return out
+
+
+def profile_files(settings) -> list[str]:
+    """Files the cases depend on besides the config (``scene.bearing.profile_file``): inputs of
+    the simulate rule, so that editing one reruns the simulations (its SHA-256 is stored in
+    each case as ``profile_file_sha256``)."""
+    profile = (settings.scene_mapping.get("bearing") or {}).get("profile_file")
+    return [os.fspath(profile)] if profile else []
+
+
+def check_case(case, scene, fidelity, config: Mapping | None = None, analysis=None) -> ResourceEstimate:
+    """The per-case checks of :func:`precheck` for one case outside the workflow
+    (``bearing-envelope simulate``): lower bounds and the resource estimate against the
+    available memory and the ``limits:`` of ``config`` (defaults :data:`DEFAULT_LIMITS`).
+
+    Raises
+    ------
+    ConfigError
+        One line naming the field, the estimate and what is allowed.
+    """
+    limits = _limits(config or {})
+    cap = available_memory_bytes()
+    if limits["max_case_memory_GB"] is not None:
+        cap = min(cap, limits["max_case_memory_GB"] * _GB)
+    _check_case(case, scene, analysis, limits, cap, fidelity)
+    return estimate_case(case.name, scene, fidelity)

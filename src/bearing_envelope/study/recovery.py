@@ -1,0 +1,152 @@
+"""Recovery before the DAG: a corrupt or deleted case file is rebuilt with everything after it.
+
+Snakemake (>= 8) does not rerun the job of a missing intermediate file while the files made
+from it are present and up to date (it treats it like a ``temp()`` file): deleting a case file,
+or moving a corrupt one aside, then gives "Nothing to be done". So, before the DAG is built,
+:func:`recover_case_files` verifies every case file in full
+(:func:`bearing_envelope.io.case_file_problem`: every chunk against its checksum, the attribute
+digest), moves a bad one aside, and for a missing one whose consumers' outputs exist touches a
+*rebuild marker* (:func:`rebuild_marker`, ``results/.rebuild/{stage}/{case}``). The marker is
+an input of the case's first consumer (rules ``bands`` and ``sensor``) while it exists: newer
+than that consumer's outputs, it makes the consumer rerun, the consumer needs the missing case,
+and Snakemake reruns the case and everything downstream -- in the same run.
+
+Nothing is moved or touched on a dry run or any other command that runs no job
+(:func:`is_dry_run`): then the warning says what a real run would do.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+from dataclasses import dataclass
+from pathlib import Path
+
+from ..io import case_file_problem, set_aside_unreadable
+
+__all__ = ["NON_EXECUTING_FLAGS", "is_dry_run", "rebuild_marker", "marker_if_present",
+           "Recovery", "recover_case_files"]
+
+#: Long command-line options of Snakemake after which no job runs (dry run, summaries, reports,
+#: lint, unlock, cleanup, graph output): the pre-run recovery then changes nothing.
+NON_EXECUTING_FLAGS = frozenset({
+    "--dry-run", "--dryrun", "--touch", "--report", "--lint", "--unlock", "--list-rules",
+    "--list", "--list-target-rules", "--lt", "--summary", "--detailed-summary", "--dag",
+    "--rulegraph", "--filegraph", "--d3dag", "--cleanup-metadata", "--cm", "--list-changes",
+    "--lc", "--list-input-changes", "--li", "--list-params-changes", "--lp",
+    "--list-code-changes", "--list-untracked", "--lu", "--delete-all-output",
+    "--delete-temp-output", "--print-compilation", "--containerize", "--archive",
+    "--generate-unit-tests", "--export-cwl", "--conda-create-envs-only", "--conda-cleanup-envs",
+    "--cleanup-shadow", "--version", "--help", "--show-failed-logs-only",
+})
+
+#: Short options of Snakemake that run no job: -n (dry run), -t (touch), -S (summary),
+#: -D (detailed summary), -l (list rules), -h (help), -v (version).
+_NON_EXECUTING_SHORT = frozenset("ntSDlhv")
+
+#: Short options that take a value (the rest of a cluster is that value, not more flags).
+_SHORT_WITH_VALUE = frozenset("jcsdRTPCUO")
+
+MARKER_DIR = "results/.rebuild"
+
+
+def _short_flags(arg: str) -> set[str]:
+    """The flags of a short-option cluster (``-np`` -> {n, p}; ``-j2`` -> {j})."""
+    flags = set()
+    for ch in arg[1:]:
+        flags.add(ch)
+        if ch in _SHORT_WITH_VALUE:
+            break
+    return flags
+
+
+def is_dry_run(argv: list[str] | None = None, workflow=None) -> bool:
+    """Whether this Snakemake invocation runs no job (so must change no file).
+
+    ``workflow.dryrun`` is read when given, but Snakemake 8.x/9.x set it only after the
+    Snakefile was parsed (it is False while the workflow's own code runs), so the command line
+    decides: any of :data:`NON_EXECUTING_FLAGS` or a short-option cluster holding ``-n``,
+    ``-t``, ``-S``, ``-D``, ``-l``.
+    """
+    if workflow is not None and getattr(workflow, "dryrun", False):
+        return True
+    # An option's value that looks like a flag (``-s -n``) counts as the flag: a false "dry
+    # run" only skips the recovery, a missed one would change files on a dry run.
+    for arg in list(sys.argv if argv is None else argv)[1:]:
+        if arg.startswith("--"):
+            if arg.split("=", 1)[0] in NON_EXECUTING_FLAGS:
+                return True
+        elif arg.startswith("-") and len(arg) > 1 and not arg[1].isdigit():
+            if _short_flags(arg) & _NON_EXECUTING_SHORT:
+                return True
+    return False
+
+
+def rebuild_marker(stage: str, case: str) -> str:
+    """Path of the rebuild marker of ``results/{stage}/{case}.h5``."""
+    return f"{MARKER_DIR}/{stage}/{case}"
+
+
+def marker_if_present(stage: str, case: str) -> list[str]:
+    """``[marker]`` when the case's rebuild marker exists, else ``[]`` (a rule input)."""
+    path = rebuild_marker(stage, case)
+    return [path] if os.path.exists(path) else []
+
+
+@dataclass
+class Recovery:
+    """What :func:`recover_case_files` found and did (paths relative to the working folder)."""
+
+    set_aside: list[str]
+    rebuilt_missing: list[str]
+    dry_run: bool
+
+
+def _touch(path: str) -> None:
+    Path(path).parent.mkdir(parents=True, exist_ok=True)
+    Path(path).touch()
+
+
+def recover_case_files(stages: dict[str, list[str]], consumers, *, dry_run: bool,
+                       warn=None) -> Recovery:
+    """Verify every case file; move bad ones aside and mark missing ones for rebuilding.
+
+    Parameters
+    ----------
+    stages : dict
+        Stage (``cases``, ``sensor``) -> case names; the files are ``results/{stage}/{case}.h5``.
+    consumers : callable
+        ``consumers(stage, case)`` -> paths made from that file; when one exists, a missing
+        file gets its rebuild marker touched (otherwise nothing was built from it yet and
+        Snakemake builds it anyway).
+    dry_run : bool
+        Change nothing; the warnings say what a real run would do.
+    warn : callable, optional
+        Receives each one-line warning (default: stderr).
+    """
+    say = warn or (lambda m: print(m, file=sys.stderr))
+    found = Recovery([], [], dry_run)
+    for stage, cases in stages.items():
+        for case in cases:
+            path = f"results/{stage}/{case}.h5"
+            if os.path.isfile(path):
+                problem = case_file_problem(path)
+                if problem is None:
+                    continue
+                if dry_run:
+                    say(f"warning: {path}: {problem}; a real run moves it aside and rebuilds it")
+                    found.set_aside.append(path)
+                    continue
+                set_aside_unreadable(path, warn=say)
+                found.set_aside.append(path)
+            elif not any(os.path.exists(p) for p in consumers(stage, case)):
+                continue
+            else:
+                found.rebuilt_missing.append(path)
+                if dry_run:
+                    say(f"warning: {path} is missing; a real run rebuilds it and what is made "
+                        f"from it")
+                    continue
+            if not dry_run:
+                _touch(rebuild_marker(stage, case))
+    return found
