@@ -118,3 +118,13 @@ def test_cwru_ball_record_not_confident_at_the_measured_speed():
     v = analyze_signal(x, fs, fr=meta["shaft_hz"], fault_frequencies=faults, full_output=True,
                        options=AnalysisOptions(n_harmonics=3, measure_speed=True))[1]["verdict"]
     assert v.confidence not in ("high", "medium")
+
+
+def test_noise_without_shaft_lines_keeps_the_nominal_speed():
+    """No rotor lines: the largest bin of each 2 % window is noise; the speed is not 'measured'
+    from it (which would move every fault line by up to 2 %) and the nominal rate is kept."""
+    rng = np.random.default_rng(7)
+    for trial in range(20):
+        est = estimate_shaft_rate(rng.standard_normal(N), FS, FR_NOMINAL)
+        assert not est.measured and est.hz == FR_NOMINAL
+    assert estimate_shaft_rate(_shaft(29.70), FS, FR_NOMINAL).measured

@@ -210,7 +210,8 @@ def run_chain(x, fs, fr, faults, bands, nlevel, args):
         n_raw_harmonics=args.raw_harmonics, nlevel=nlevel, max_level=args.max_level,
         min_bandwidth=args.min_bandwidth, filter_order=args.filter_order, squared=args.squared,
         window=args.window, interpolate=args.interpolate, level0=args.level0,
-        search_percent=args.search_percent, pfa=args.pfa)
+        search_percent=args.search_percent, pfa=args.pfa,
+        measure_speed=getattr(args, "speed", "measured") == "measured")
     return analyze_signal(x, fs, fr=fr, fault_frequencies=faults, options=options,
                           full_output=True)
 

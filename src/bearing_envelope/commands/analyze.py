@@ -131,6 +131,12 @@ def _add_analysis_args(p) -> None:
     p.add_argument("--clamp", action="store_true",
                    help="clamp a fixed band's upper edge above Nyquist to 0.98 fs/2 instead of "
                         "refusing it")
+    p.add_argument("--speed", choices=("measured", "nominal"), default="measured",
+                   help="measured (default): the shaft rate is read from the record's shaft "
+                        "harmonics (diagnosis.speed) and every fault frequency is scaled to it, "
+                        "fundamentals then searched within 0.5 %%; nominal: the given --fr / rpm "
+                        "as is, fundamentals searched within --search-percent (the rates of "
+                        "README 'What the confidence means' are with measured)")
     p.add_argument("--search-percent", type=float, default=1.0,
                    help="half-width of the search for each fault fundamental, percent of its "
                         "nominal frequency (default 1; real lines sit 0.2-0.7 %% off when the "

@@ -298,8 +298,8 @@ def analyze_signal(x, fs: float, *, fr: float, bpfi: float | None = None,
     fs, x, fr, families, bands = _check_inputs(x, fs, fr, bpfi, fault_frequencies, opt)
     n_tests = max(1, len(families) * len(bands))
     ctx = {"records": [], "search": dict(
-        search_percent=(opt.measured_speed_search_percent if opt.measure_speed
-                        else opt.search_percent), tolerance_hz=opt.tolerance_hz, pfa=opt.pfa / n_tests,
+        search_percent=(opt.measured_speed_search_percent
+                        if speed is not None and speed.measured else opt.search_percent), tolerance_hz=opt.tolerance_hz, pfa=opt.pfa / n_tests,
         interpolate=opt.interpolate, window=opt.window, n=x.size)}
     f_raw, a_raw = _raw_rows(ctx, x, fs, fr, families, opt)
     kg = _kurtogram(x, fs, families, bands, opt)
