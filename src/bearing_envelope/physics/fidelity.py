@@ -297,7 +297,8 @@ def fidelity_from(spec: str | Mapping[str, Any] | Fidelity | None = None) -> Fid
     known = {f.name for f in dataclasses.fields(Fidelity)}
     unknown = sorted(set(spec) - known)
     if unknown:
-        raise ValueError(f"fidelity: unknown key(s) {unknown}; allowed: {sorted(known | {'preset'})}")
+        raise ValueError(f"fidelity: unknown key(s) {unknown}; allowed: "
+                         f"{', '.join(sorted(known | {'preset'}))}")
     base = PRESETS[preset]
     spec.setdefault("name", "custom" if spec else base.name)
     # integers given as floats in YAML (e.g. 5.0) are accepted for integer fields
