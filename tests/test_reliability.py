@@ -140,10 +140,13 @@ def test_killed_run_resumes_and_a_concurrent_run_is_refused(tiny, tmp_path):
     lock = wd / ".snakemake" / "locks"
     while time.monotonic() < deadline and not (lock.exists() and any(lock.iterdir())):
         time.sleep(0.2)
-    second = run(wd, cfg, check=False)  # same folder, while the first holds the lock
+    assert first.poll() is None, "the first run ended before its lock was seen"
+    os.killpg(first.pid, signal.SIGSTOP)  # frozen while it holds the lock: no race with its end
+    try:
+        second = run(wd, cfg, check=False)  # same folder, while the first holds the lock
+    finally:
+        os.killpg(first.pid, signal.SIGKILL)  # mid-run (its simulation or a later job)
     assert second.returncode != 0 and "Directory cannot be locked" in second.stderr
-    assert first.poll() is None, "the first run ended before it could be killed"
-    os.killpg(first.pid, signal.SIGKILL)  # mid-run (its simulation or a later job)
     first.wait()
     run(wd, cfg, "--unlock")
     run(wd, cfg)
