@@ -237,3 +237,18 @@ def test_figure_folders_are_swapped_whole_and_writers_never_share_a_temp_folder(
             raise RuntimeError("interrupted")
     assert sorted(p.name for p in out.iterdir()) == ["y.png"]
     assert sorted(p.name for p in tmp_path.iterdir()) == ["figures"]
+
+
+@pytest.mark.parametrize("widths", [None, [60.0, 60.0]])
+def test_depth_axis_says_the_width_follows_the_depth_unless_width_is_its_own_axis(widths):
+    """At w = 2 h the 'depth' axis varies the width (the pit bottom is not touched above
+    ~2 um), so the label says so; with ``sweep.widths_um`` the width is a column of its own."""
+    cases = pd.DataFrame({"load_kN": [250, 250], "depth_um": [0, 15],
+                          "p_max_peak_Pa": [2e9, 6e9], "p_max_defect_peak_Pa": [2e9, 9e9]})
+    if widths is not None:
+        cases["width_um"] = widths
+    fig = figures.draw_peak_pressure(cases)
+    labels = [ax.get_xlabel() for ax in fig.axes]
+    matplotlib.pyplot.close(fig)
+    assert all(("w = 2h" in lab) == (widths is None) for lab in labels), labels
+    assert all(lab.startswith("defect depth h") for lab in labels), labels

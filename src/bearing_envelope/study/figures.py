@@ -153,6 +153,18 @@ def save_figure(fig, path: str | os.PathLike, dpi: int = 120) -> Path:
     return path
 
 
+def depth_label(df: pd.DataFrame) -> str:
+    """The depth axis's label: at the study's w = 2 h the axis varies the width too.
+
+    Depth alone matters only while the pit bottom carries load (below 1.7-2.5 um at
+    w = 2 h: docs/benchmarks.md, "Depth below which the pit bottom carries load"), so over
+    15-100 um a w = 2 h sweep is a sweep of the defect's width.
+    """
+    if "width_um" in df.columns:
+        return "defect depth h (µm)"
+    return "defect depth h (µm), width w = 2h"
+
+
 def _per_load(ax, df: pd.DataFrame, y: str, scale: float = 1.0, marker: str = "o"):
     """One line per load (per location and load when the table has a ``location`` column)."""
     keys = ["location", "load_kN"] if "location" in df.columns else ["load_kN"]
@@ -160,7 +172,7 @@ def _per_load(ax, df: pd.DataFrame, y: str, scale: float = 1.0, marker: str = "o
         g = g.sort_values("depth_um")
         label = f"{key[-1]:g} kN" + (f", {key[0]}" if len(keys) > 1 else "")
         ax.plot(g["depth_um"], g[y] * scale, marker=marker, label=label)
-    ax.set_xlabel("defect depth (µm)")
+    ax.set_xlabel(depth_label(df))
     ax.grid(True, alpha=0.3)
     ax.legend(title="load" if len(keys) == 1 else "load, location")
 
@@ -273,7 +285,7 @@ def draw_band_limits(bands: pd.DataFrame, *, fs: float | None = None):
         fig.colorbar(im, ax=ax, label="band centre (kHz)")
         ax.set_xticks(range(len(depths)), [f"{d:g}" for d in depths])
         ax.set_yticks(range(len(loads)), [f"{v:g}" for v in loads])
-        ax.set_xlabel("defect depth (µm)")
+        ax.set_xlabel(depth_label(bands))
         ax.set_ylabel("load (kN)")
         ax.set_title(f"band '{name}' per case: limits in kHz (* clamped below Nyquist)", fontsize=9)
     ax = axes[0, -1]
@@ -642,7 +654,7 @@ def draw_diagnosability_map(g: pd.DataFrame, band: str, *, vmax: float | None = 
             for j in range(stat.shape[1]):
                 if bool(det.to_numpy()[i, j]):
                     ax.text(j, i, "✓", ha="center", va="center", color="cyan", fontsize=11)
-        ax.set_xlabel("defect depth (µm)")
+        ax.set_xlabel(depth_label(g))
         ax.set_title(f"{load:g} kN")
     axes[0, 0].set_ylabel("SNR (dB)")
     fig.colorbar(im, ax=axes[0].tolist(), label=f"{line_name.split()[0]} line / background (dB)")
