@@ -1,6 +1,6 @@
 """The draft sweep through a real (local, single-node) SLURM cluster equals a local run.
 
-Starts the cluster with ci/slurm-local.sh (Debian packages, needs root), runs the draft sweep with
+Starts the cluster with ci/slurm-local.sh (Debian packages, needs root), runs one load of the draft sweep with
 ``--profile profiles/slurm`` (snakemake-executor-plugin-slurm, job status via squeue since there
 is no accounting database), runs the same config locally with ``-j2`` and compares the tables.
 The cluster is stopped afterwards (unless it was already running before the test).
@@ -85,12 +85,19 @@ def slurm_cluster():
                 print(f"ci/slurm-local.sh stop failed:\n{stopped.stdout}\n{stopped.stderr}", file=sys.stderr)
 
 
+#: One load of the draft sweep (healthy + one defect case: every rule runs, 15 jobs instead of
+#: 24); later config files override earlier ones key by key.
+ONE_LOAD = "sweep: {loads_kN: [250], depths_um: [0, 50]}\n"
+
+
 def _snakemake(workdir: Path, *extra: str) -> tuple[subprocess.CompletedProcess, float]:
+    override = workdir / "one_load.yaml"
+    override.write_text(ONE_LOAD)
     cmd = [
         sys.executable, "-m", "snakemake",
         "--snakefile", str(SNAKEFILE),
         "--directory", str(workdir),
-        "--configfile", str(CONFIG),
+        "--configfile", str(CONFIG), str(override),
         *extra,
     ]
     t0 = time.monotonic()
