@@ -159,3 +159,30 @@ def test_band_count_breaks_a_tie_at_the_same_level(bpfi_bands, expect):
     else:
         assert v.diagnosis.family == expect and v.confidence == "low"
         assert v.diagnosis.bands_agreeing == ("kurtogram", "fs4_3fs8")
+
+
+
+@pytest.mark.parametrize("bpfi_margin, expect", [(16.0, "candidate"), (8.0, "explained")])
+def test_shared_harmonic_rival_at_any_level(bpfi_margin, expect):
+    """3 x BPFO = 2 x BPFI exactly (hand-built envelope table). BPFO in all four bands, 20 dB
+    above threshold (high); BPFI in one band (low), its second harmonic on BPFO's third, its
+    fundamental and third harmonic on their own. 16 dB above threshold (within RIVAL_MARGIN_DB
+    = 6 dB of BPFO's margin) it rivals the diagnosis at any level: cannot tell (the former
+    rule asked for medium own evidence and explained it away); 8 dB (12 dB below) it is
+    explained and BPFO stands alone."""
+    import pandas as pd
+
+    from bearing_envelope.diagnosis.faults import fault_families, fault_verdict
+    bpfo = 2.0 * BPFI / 3.0
+    fams = fault_families({"bpfo": bpfo, "bpfi": BPFI}, fr=FR, sidebands={"bpfi": None})
+    on, off = (True, True, True), (False, False, False)
+    rows = _rows("bpfo", bpfo, BANDS4, [20.0] * 4, [on] * 4)
+    rows += _rows("bpfi", BPFI, BANDS4, [bpfi_margin] * 4, [on, off, off, off])
+    v = fault_verdict(pd.DataFrame(rows), fams, pfa=0.01, n_tests=8, fr=FR, df_hz=0.1)
+    f = {x.family: x for x in v.families}
+    assert f["bpfo"].level == "high" and f["bpfi"].level == "low"
+    assert f["bpfi"].explained_by == "2 BPFI = 3 BPFO" and f["bpfi"].role == expect
+    if expect == "candidate":
+        assert v.diagnosis is None and v.confidence == CANNOT_TELL
+    else:
+        assert v.diagnosis.family == "bpfo" and v.confidence == "high"

@@ -772,12 +772,16 @@ def _own_level(v: FamilyVerdict, shared: str) -> str | None:
 
 def _rivals(own: str | None, v: FamilyVerdict, primary: FamilyVerdict) -> bool:
     """A family sharing a harmonic with the diagnosis rivals it (cannot tell) when its own
-    evidence (without the shared harmonic) is at the diagnosis's level, or at least ``medium``
-    with a margin within :data:`RIVAL_MARGIN_DB` of the diagnosis's."""
+    evidence (without the shared harmonic) is at the diagnosis's level, or, at any level, its
+    fundamental stands within :data:`RIVAL_MARGIN_DB` of the diagnosis's margin (issue 24
+    second pass: the former rule asked for ``medium`` own evidence as well; a one-band series
+    as strong as the diagnosis's fundamental is a rival all the same)."""
+    if own is None:
+        return False
     if _RANK[own] >= _RANK[primary.level]:
         # no band tie-break here: v's agreeing bands were counted with the shared line
         return True
-    return _RANK[own] >= _RANK["medium"] and primary.margin_db - v.margin_db <= RIVAL_MARGIN_DB
+    return primary.margin_db - v.margin_db <= RIVAL_MARGIN_DB
 
 
 #: Two families at the same evidence level conflict only when the stronger one is not found,
