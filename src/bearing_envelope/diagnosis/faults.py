@@ -48,8 +48,11 @@ fundamental falls on ``k f +- m`` spacings of it or on a shaft harmonic, when it
 period of its train (FTF = BPFO / Z), or when one of its harmonics is a line of it (then it
 counts only with its own evidence, without that harmonic). The **diagnosis** is the strongest
 family; an unexplained family with ``medium`` evidence or better is a **second finding**; one
-with evidence as strong as the diagnosis's makes the verdict :data:`CANNOT_TELL`, and so do
-cage-rate lines alone (a cage fault or a rolling element's modulation). The levels' measured
+with evidence as strong as the diagnosis's makes the verdict :data:`CANNOT_TELL` (as strong:
+the same level found in as many agreeing bands, :data:`BAND_TIE_BREAK`; a family sharing a
+harmonic with the diagnosis, on its own lines without the shared one: the same level, or a
+fundamental within :data:`RIVAL_MARGIN_DB` of the diagnosis's margin), and so do cage-rate
+lines alone (a cage fault or a rolling element's modulation). The levels' measured
 meaning on real records: ``benchmarks/cwru_dev.py`` and ``docs/benchmarks.md`` (issue 24).
 """
 
