@@ -15,7 +15,8 @@ fundamentals searched within 0.5 % of their kinematic value at it).
 A verdict is ``right`` (the labelled family; 2 x BSF counts for a ball), ``wrong`` (another
 family named) or ``abstain`` (no diagnosis: nothing detected, or "cannot tell").
 
-``--variants`` repeats the evaluation with the kurtogram's former unlimited cell
+``--variants`` repeats the evaluation without the band-count tie-break of the second pass
+(``faults.BAND_TIE_BREAK = False``), with the kurtogram's former unlimited cell
 (``kurtogram_min_orders=None``), with a fifth band, the full band of the cepstrum-pre-whitened
 signal (Borghesani et al. 2013), and with the kurtogram band replaced by the infogram's (Antoni
 2016) or the protrugram's (Barszcz & Jabłoński 2011) choice among bands at least as wide as
@@ -310,6 +311,8 @@ def main(argv=None) -> int:
                       "measure_speed=True))", df)
     print("\n" + df.drop(columns=["cpu_s", "truth_in_candidates"]).to_markdown(index=False))
     if args.variants:
+        _print_evaluation("without the band-count tie-break (faults.BAND_TIE_BREAK = False)",
+                          _without_tie_break(records))
         former = dataclasses.replace(OPTIONS, kurtogram_min_orders=None)
         _print_evaluation("kurtogram cell unlimited (former)", evaluate(records, former)[0])
         cpw = dataclasses.replace(OPTIONS, bands=(*DEFAULT_BANDS, CPW_BAND))
@@ -332,6 +335,16 @@ def main(argv=None) -> int:
     if not args.no_mc:
         _print_mc(records, args.trials)
     return 0
+
+
+def _without_tie_break(records) -> pd.DataFrame:
+    """The evaluation with the second pass's band-count tie-break off."""
+    keep = faults.BAND_TIE_BREAK
+    faults.BAND_TIE_BREAK = False
+    try:
+        return evaluate(records, OPTIONS)[0]
+    finally:
+        faults.BAND_TIE_BREAK = keep
 
 
 def _print_mc(records, trials):

@@ -99,3 +99,90 @@ def test_noise_only_no_diagnosis(seed):
     v = _verdict(np.random.default_rng(100 + seed).standard_normal(N))
     assert v.diagnosis is None and v.confidence is None and v.detected == ()
     assert v.to_dict()["diagnosis_label"] == "no fault"
+
+
+def test_bpfi_series_on_three_bpfo_is_not_explained_away():
+    """Issue 24, second pass: an inner-race train (fr sidebands) 4-5 dB weaker than an
+    outer-race train on a bearing where 3 x BPFO = 2 x BPFI. BPFI's second harmonic is BPFO's
+    third, but its fundamental and third harmonic stand on their own: a rival (cannot tell),
+    not an explained family behind a confident outer-race verdict (the former rule dropped any
+    family whose second harmonic was shared)."""
+    faults = dict(FAULTS, bpfo=2.0 * BPFI / 3.0)
+    x = _train(2.0 * BPFI / 3.0) + _train(BPFI, FR, amp=0.5, noise=0.0, seed=3)
+    v = _verdict(x, faults)
+    fams = {f.family: f for f in v.families}
+    assert fams["bpfi"].explained_by == "2 BPFI = 3 BPFO" and fams["bpfi"].role == "candidate"
+    assert v.diagnosis is None and v.confidence == CANNOT_TELL
+    assert set(v.candidates) == {"bpfo", "bpfi"}
+
+
+def _rows(family, f1, bands, margins, detected):
+    """Envelope rows of one family: harmonics 1-3 (no sidebands) in each band, each line
+    ``margin`` dB above a 12 dB threshold, ``detected`` as given (per band: 3 flags)."""
+    out = []
+    for (name, lo, hi), m, det in zip(bands, margins, detected):
+        for k, d in zip((1, 2, 3), det):
+            out.append({"quantity": "envelope_spectrum", "base": family, "band": name,
+                        "band_low_hz": lo, "band_high_hz": hi, "order": k, "sideband": 0,
+                        "frequency_hz": k * f1, "amplitude": 1.0,
+                        "floor_ratio_db": 12.0 + (m if d else -3.0), "threshold_db": 12.0,
+                        "detected": d})
+    return out
+
+
+BANDS4 = [("kurtogram", 3000.0, 4500.0), ("fs4_3fs8", 3000.0, 4500.0),
+          ("bpfi_3_6", 480.0, 980.0), ("bpfi_10_13", 1600.0, 2100.0)]
+
+
+@pytest.mark.parametrize("bpfi_bands, expect", [(2, "bpfi"), (1, None)])
+def test_band_count_breaks_a_tie_at_the_same_level(bpfi_bands, expect):
+    """Two families at the same ('low') level: BPFI found at one frequency in two bands, 2 x
+    BSF in one. The family seen in more bands is the diagnosis (low); with one band each the
+    verdict cannot tell."""
+    import pandas as pd
+
+    from bearing_envelope.diagnosis.faults import fault_families, fault_verdict
+    fams = fault_families({"bpfi": BPFI, "bsf": BSF}, fr=FR, sidebands={"bsf": None,
+                                                                        "bsf2": None})
+    on, off = (True, True, False), (False, False, False)
+    bpfi = [on] * bpfi_bands + [off] * (4 - bpfi_bands)
+    rows = _rows("bpfi", BPFI, BANDS4, [5.0] * 4, bpfi)
+    rows += _rows("bsf2", 2 * BSF, BANDS4, [5.0] * 4, [off, off, on, off])
+    rows += _rows("bsf", BSF, BANDS4, [0.0] * 4, [off] * 4)
+    table = pd.DataFrame(rows)
+    v = fault_verdict(table, fams, pfa=0.01, n_tests=12, fr=FR, df_hz=0.1)
+    levels = {f.family: f.level for f in v.families}
+    assert levels["bpfi"] == "low" and levels["bsf2"] == "low"
+    if expect is None:
+        assert v.diagnosis is None and v.confidence == CANNOT_TELL
+        assert set(v.candidates) == {"bpfi", "bsf2"}
+    else:
+        assert v.diagnosis.family == expect and v.confidence == "low"
+        assert v.diagnosis.bands_agreeing == ("kurtogram", "fs4_3fs8")
+
+
+
+@pytest.mark.parametrize("bpfi_margin, expect", [(16.0, "candidate"), (8.0, "explained")])
+def test_shared_harmonic_rival_at_any_level(bpfi_margin, expect):
+    """3 x BPFO = 2 x BPFI exactly (hand-built envelope table). BPFO in all four bands, 20 dB
+    above threshold (high); BPFI in one band (low), its second harmonic on BPFO's third, its
+    fundamental and third harmonic on their own. 16 dB above threshold (within RIVAL_MARGIN_DB
+    = 6 dB of BPFO's margin) it rivals the diagnosis at any level: cannot tell (the former
+    rule asked for medium own evidence and explained it away); 8 dB (12 dB below) it is
+    explained and BPFO stands alone."""
+    import pandas as pd
+
+    from bearing_envelope.diagnosis.faults import fault_families, fault_verdict
+    bpfo = 2.0 * BPFI / 3.0
+    fams = fault_families({"bpfo": bpfo, "bpfi": BPFI}, fr=FR, sidebands={"bpfi": None})
+    on, off = (True, True, True), (False, False, False)
+    rows = _rows("bpfo", bpfo, BANDS4, [20.0] * 4, [on] * 4)
+    rows += _rows("bpfi", BPFI, BANDS4, [bpfi_margin] * 4, [on, off, off, off])
+    v = fault_verdict(pd.DataFrame(rows), fams, pfa=0.01, n_tests=8, fr=FR, df_hz=0.1)
+    f = {x.family: x for x in v.families}
+    assert f["bpfo"].level == "high" and f["bpfi"].level == "low"
+    assert f["bpfi"].explained_by == "2 BPFI = 3 BPFO" and f["bpfi"].role == expect
+    if expect == "candidate":
+        assert v.diagnosis is None and v.confidence == CANNOT_TELL
+    else:
+        assert v.diagnosis.family == "bpfo" and v.confidence == "high"

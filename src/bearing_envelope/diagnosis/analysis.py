@@ -15,7 +15,7 @@ from ..signal.envelope import envelope_spectrum, peak_value, settling_samples
 from .faults import (DEFAULT_SEARCH_PERCENT, FaultFamily, fault_families, fault_verdict,
                      search_lines)
 from ..signal.kurtogram import fast_kurtogram, max_kurtogram_level
-from ..signal.spectrum import amplitude_spectrum, prewhiten
+from ..signal.spectrum import TOLERANCE_MIN_BINS, amplitude_spectrum, prewhiten
 from .speed import MEASURED_SPEED_SEARCH_PERCENT, estimate_shaft_rate
 
 __all__ = ["COLUMNS", "DEFAULT_PFA", "KURTOGRAM_MIN_ORDERS", "AnalysisOptions", "analyze_signal",
@@ -300,7 +300,8 @@ def analyze_signal(x, fs: float, *, fr: float, bpfi: float | None = None,
     ctx = {"records": [], "search": dict(
         search_percent=(opt.measured_speed_search_percent
                         if speed is not None and speed.measured else opt.search_percent), tolerance_hz=opt.tolerance_hz, pfa=opt.pfa / n_tests,
-        interpolate=opt.interpolate, window=opt.window, n=x.size)}
+        interpolate=opt.interpolate, window=opt.window, n=x.size,
+        min_search_bins=(TOLERANCE_MIN_BINS if speed is not None and speed.measured else 0.0))}
     f_raw, a_raw = _raw_rows(ctx, x, fs, fr, families, opt)
     kg = _kurtogram(x, fs, families, bands, opt)
     details = {"kurtogram": kg, "bands": {}, "raw": (f_raw, a_raw), "options": opt,

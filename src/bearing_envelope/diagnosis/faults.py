@@ -48,8 +48,11 @@ fundamental falls on ``k f +- m`` spacings of it or on a shaft harmonic, when it
 period of its train (FTF = BPFO / Z), or when one of its harmonics is a line of it (then it
 counts only with its own evidence, without that harmonic). The **diagnosis** is the strongest
 family; an unexplained family with ``medium`` evidence or better is a **second finding**; one
-with evidence as strong as the diagnosis's makes the verdict :data:`CANNOT_TELL`, and so do
-cage-rate lines alone (a cage fault or a rolling element's modulation). The levels' measured
+with evidence as strong as the diagnosis's makes the verdict :data:`CANNOT_TELL` (as strong:
+the same level found in as many agreeing bands, :data:`BAND_TIE_BREAK`; a family sharing a
+harmonic with the diagnosis, on its own lines without the shared one: the same level, or a
+fundamental within :data:`RIVAL_MARGIN_DB` of the diagnosis's margin), and so do cage-rate
+lines alone (a cage fault or a rolling element's modulation). The levels' measured
 meaning on real records: ``benchmarks/cwru_dev.py`` and ``docs/benchmarks.md`` (issue 24).
 """
 
@@ -205,6 +208,7 @@ def search_lines(
     interpolate: bool = False,
     window="hann",
     n: int | None = None,
+    min_search_bins: float = 0.0,
 ) -> list[dict]:
     r"""Fundamental, harmonics and sidebands of one fault family in a spectrum.
 
@@ -231,6 +235,11 @@ def search_lines(
     interpolate, window, n
         Refine the reported frequency and amplitude of each peak bin, see
         :func:`~bearing_envelope.signal.amplitude_at` (the floor ratio stays the bin's).
+    min_search_bins : float, default 0
+        The fundamental's search half-width is at least this many bins (the resolution floor
+        the harmonics' :func:`~bearing_envelope.signal.spectrum.default_tolerance` has: a line
+        between two bins shows in either; 0.5 % of a 12 Hz cage rate is less than one bin of
+        a 10 s record).
 
     Returns
     -------
@@ -292,7 +301,8 @@ def search_lines(
                                                                  window=window, n=n)
         return rec, ff
 
-    half1 = float(tolerance_hz) if tolerance_hz is not None else p / 100.0 * F
+    half1 = (float(tolerance_hz) if tolerance_hz is not None
+             else max(p / 100.0 * F, float(min_search_bins) * df))
     first = line(1, 0, F, F, half1, exclusions(F, spacing))
     if first is None:
         return []
@@ -753,20 +763,45 @@ def _family_verdict(fam: FaultFamily, rows, df_hz: float) -> FamilyVerdict:
 
 def _own_level(v: FamilyVerdict, shared: str) -> str | None:
     """The evidence level of ``v`` without its harmonic that falls on another family's line
-    (``shared`` = ``"3 BPFO = 2 BPFI"``): without its second harmonic it is not detected."""
+    (``shared`` = ``"3 BPFO = 2 BPFI"``): the fundamental and another of its harmonics must be
+    left (a harmonic series without the shared line; issue 24 second pass: 2 BPFI = 3 BPFO no
+    longer removes a BPFI series whose fundamental and third harmonic stand on their own)."""
     k = int(shared.split()[0])
-    if k == 2:
+    rest = tuple(h for h in v.harmonics if h != k)
+    if 1 not in rest or len(rest) < 2:
         return None
-    return evidence_level(replace(v, harmonics=tuple(h for h in v.harmonics if h != k)))
+    return evidence_level(replace(v, harmonics=rest))
 
 
 def _rivals(own: str | None, v: FamilyVerdict, primary: FamilyVerdict) -> bool:
     """A family sharing a harmonic with the diagnosis rivals it (cannot tell) when its own
-    evidence (without the shared harmonic) is at the diagnosis's level, or at least ``medium``
-    with a margin within :data:`RIVAL_MARGIN_DB` of the diagnosis's."""
+    evidence (without the shared harmonic) is at the diagnosis's level, or, at any level, its
+    fundamental stands within :data:`RIVAL_MARGIN_DB` of the diagnosis's margin (issue 24
+    second pass: the former rule asked for ``medium`` own evidence as well; a one-band series
+    as strong as the diagnosis's fundamental is a rival all the same)."""
+    if own is None:
+        return False
     if _RANK[own] >= _RANK[primary.level]:
+        # no band tie-break here: v's agreeing bands were counted with the shared line
         return True
-    return _RANK[own] >= _RANK["medium"] and primary.margin_db - v.margin_db <= RIVAL_MARGIN_DB
+    return primary.margin_db - v.margin_db <= RIVAL_MARGIN_DB
+
+
+#: Two families at the same evidence level conflict only when the stronger one is not found,
+#: at one frequency, in more bands (evidence combined across demodulation bands: a family seen
+#: in more bands is more credible; issue 24: all 4 bands 28/28 right, 1-2 bands 6/22). Not
+#: applied to a family sharing a harmonic with the stronger one (its bands were counted with
+#: the shared line).
+BAND_TIE_BREAK = True
+
+
+def _conflicts(v: FamilyVerdict, primary: FamilyVerdict) -> bool:
+    """``v`` (weaker by :func:`_rank`) has evidence as strong as ``primary``'s: the same level
+    (or higher) and, with :data:`BAND_TIE_BREAK`, as many agreeing bands."""
+    if _RANK[v.level] < _RANK[primary.level]:
+        return False
+    return not (BAND_TIE_BREAK and _RANK[v.level] == _RANK[primary.level]
+                and len(primary.bands_agreeing) > len(v.bands_agreeing))
 
 
 def _rank(v: FamilyVerdict) -> tuple:
@@ -799,7 +834,7 @@ def _decide(out: Sequence[FamilyVerdict], by_fam: Mapping[str, FaultFamily], fr:
             continue
         if primary is None:
             roles[v.family] = "diagnosis"
-        elif v.family != CAGE_FAMILY and _RANK[v.level] >= _RANK[primary.level]:
+        elif v.family != CAGE_FAMILY and _conflicts(v, primary):
             roles[v.family] = "candidate"  # evidence as strong as the diagnosis's: conflict
         elif strong:
             roles[v.family] = "second finding"
