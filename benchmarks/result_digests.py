@@ -22,7 +22,11 @@ import pandas as pd
 #: Attributes and columns that record provenance or timing, not results.
 VOLATILE = ("created_utc", "host", "git_commit", "package_version", "version", "config_file",
             "wall", "seconds", "cpu", "time_s", "python", "numpy", "scipy", "numba", "h5py",
-            "workflow", "source_file", "code_")
+            "workflow", "source_file", "code_",
+            # execution statistics: with the shared no-defect store (issue 25) how many solves a
+            # case ran and how many it read from the store depend on the job order; the
+            # file's content digest covers them (its arrays are compared one by one here)
+            "n_solves", "n_iterations", "nodefect_cache", "content_sha256")
 
 
 def _volatile(name: str) -> bool:

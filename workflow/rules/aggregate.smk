@@ -27,6 +27,8 @@ rule aggregate:
         ),
     log:
         "logs/aggregate.log",
+    benchmark:
+        "logs/benchmarks/aggregate.tsv"
     conda:
         ENV
     threads: 1

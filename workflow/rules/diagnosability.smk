@@ -84,6 +84,8 @@ rule diagnosability:
         ),
     log:
         "logs/diagnosability.log",
+    benchmark:
+        "logs/benchmarks/diagnosability.tsv"
     conda:
         ENV
     threads: 1

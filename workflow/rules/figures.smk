@@ -22,6 +22,8 @@ rule figures:
         example=example_cases,
     log:
         "logs/figures.log",
+    benchmark:
+        "logs/benchmarks/figures.tsv"
     conda:
         ENV
     threads: 1

@@ -20,6 +20,8 @@ rule report_tables:
         ),
     log:
         "logs/report_tables.log",
+    benchmark:
+        "logs/benchmarks/report_tables.tsv"
     conda:
         ENV
     threads: 1
@@ -47,6 +49,8 @@ rule paper:
         ),
     log:
         "logs/paper.log",
+    benchmark:
+        "logs/benchmarks/paper.tsv"
     conda:
         ENV
     threads: 1

@@ -518,12 +518,12 @@ def _level0_kurtosis(x: np.ndarray, level0: str) -> np.ndarray:
         # _kurt_from_sums gives max(n s4 / s2^2 - 2, 0); the real kurtosis subtracts 3
         return np.maximum(_kurt_from_sums([x2.sum()], [np.dot(x2, x2)], n) - 1.0, 0.0)
     nfft = sp_fft.next_fast_len(n, real=True)
-    spec = sp_fft.rfft(xs.astype(np.float32), nfft, workers=-1)
+    spec = sp_fft.rfft(xs.astype(np.float32), nfft)  # one transform: one thread (threads: 1)
     spec *= np.complex64(-1j)  # Hilbert transform: -i sign(f); DC and Nyquist set to 0
     spec[0] = 0.0
     if nfft % 2 == 0:
         spec[-1] = 0.0
-    hx = sp_fft.irfft(spec, nfft, workers=-1)[:n].astype(np.float64)
+    hx = sp_fft.irfft(spec, nfft)[:n].astype(np.float64)
     a2 = xs * xs + hx * hx
     return _kurt_from_sums([a2.sum()], [np.dot(a2, a2)], n)
 

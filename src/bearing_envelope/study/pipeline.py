@@ -39,7 +39,7 @@ from ..physics.fidelity import Fidelity
 from ..physics.locations import LOCATION_FAMILIES, event_frequencies
 from ..physics.scene import DEFECT_LOCATIONS
 from ..physics.transfer import (TransferModel, excitation_from_history, select_excitation,
-                                synthesize_acceleration)
+                                structure_response, synthesize_acceleration)
 from ..signal import envelope_spectrum, fast_kurtogram, max_kurtogram_level, resolve_band
 from ..signal.bands import clamp_band
 from .accuracy import ErrorModel, attach_errors, error_model
@@ -559,11 +559,13 @@ def case_diagnosability(case, sensor: TransferModel, analysis: AnalysisSettings,
         raise ValueError(f"kurtogram_from must be 'clean' or 'record', got {kurtogram_from!r}")
     fs = float(case.fs)
     model, exc, ref = _sensor_setup(case, sensor, reference)
+    response = structure_response(exc, fs, model, reference=ref)  # shared by every SNR
     bands = diagnosability_bands(case, sensor, analysis, reference=reference)
     rows = []
     for snr in snr_db:
         acc, _info = synthesize_acceleration(exc, fs, model, reference=ref, seed=model.seed,
-                                             fr=float(case.fr), snr_db=float(snr))
+                                             fr=float(case.fr), snr_db=float(snr),
+                                             response=response)
         if kurtogram_from == "record":
             bands = diagnosability_bands(case, sensor, analysis, record=acc)
         for spec, lo, hi in bands:
@@ -616,6 +618,7 @@ def case_false_alarms(case, sensor: TransferModel, analysis: AnalysisSettings, s
     n_trials = int(n_trials)
     fs = float(case.fs)
     model, exc, ref = _sensor_setup(case, sensor, reference)
+    response = structure_response(exc, fs, model, reference=ref)  # shared by every trial
     bands = diagnosability_bands(case, sensor, analysis, reference=reference)
     snr_db = list(snr_db)
     rows = []
@@ -623,7 +626,8 @@ def case_false_alarms(case, sensor: TransferModel, analysis: AnalysisSettings, s
         for snr in snr_db:
             seed = _trial_seed(model.seed, case, trial, snr)
             acc, _ = synthesize_acceleration(exc, fs, model, reference=ref, seed=seed,
-                                             fr=float(case.fr), snr_db=float(snr))
+                                             fr=float(case.fr), snr_db=float(snr),
+                                             response=response)
             if kurtogram_from == "record":
                 bands = diagnosability_bands(case, sensor, analysis, record=acc)
             for spec, lo, hi in bands:
