@@ -1,14 +1,16 @@
 """Error bars: the measured discretisation-error model and its use (issue 13 part 5)."""
 
 import dataclasses
+import math
 
 import numpy as np
 import pandas as pd
 import pytest
 
-from bearing_envelope.study.accuracy import (ERROR_COLUMNS, FAR_FIELD_SIGNALS, MEASURED_FAR_FIELD,
-                                             absolute_error, attach_errors, case_error_model,
-                                             error_model, measured_points)
+from bearing_envelope.study.accuracy import (ERROR_COLUMNS, FAR_FIELD_SIGNALS, absolute_error,
+                                             attach_errors, case_error_model, error_model,
+                                             lookup_rel_error, measured_far_field,
+                                             measured_points, rows_at_load)
 from bearing_envelope.physics.fidelity import PRESETS, fidelity_from
 from bearing_envelope.physics.history import simulate
 from bearing_envelope.io import read_case, read_error_model, write_case
@@ -90,7 +92,7 @@ def pair():
     """One case outside the measured set (500 kN, 30 um) at draft and at standard, with the far
     field the error model was measured with (frozen), so every signal's bars apply."""
     sc = Scene.from_mapping({"operation": {"revolutions": 3.0}}, load_kN=500, depth_um=30)
-    return {f: simulate(sc, fidelity_from({"preset": f, "far_field": MEASURED_FAR_FIELD}))
+    return {f: simulate(sc, fidelity_from({"preset": f, "far_field": measured_far_field()}))
             for f in ("draft", "standard")}
 
 
@@ -153,3 +155,26 @@ def test_case_file_carries_the_error_table(tmp_path, pair):
     assert row["rel_error_est"] == pytest.approx(float(exp["rel_error"].iloc[0]))
     e = row["rel_error_est"]
     assert row["error_est"] == pytest.approx(e / (1 - e) * abs(row["amplitude"]))
+
+
+def _per_load_table():
+    rows = []
+    for load, e in ((250.0, 0.01), (500.0, 0.03), (750.0, 0.02)):
+        for q, f in (("envelope_bpfi", 1.0), ("rms", 0.5)):
+            rows.append({"point": "p", "load_kN": load, "kind": "defect", "signal": "p_max",
+                         "quantity_class": q, "rel_error": e * f, "n_values": 10})
+    return pd.DataFrame(rows)
+
+
+def test_rows_at_load_reads_the_load_the_larger_bracket_or_the_nearest():
+    t = _per_load_table()
+    at = {ld: lookup_rel_error(t, "p", ld, "defect", "p_max", "envelope_bpfi")
+          for ld in (250, 500, 600, 750, 100, 900, None)}
+    assert at[250] == 0.01 and at[500] == 0.03 and at[750] == 0.02
+    assert at[600] == 0.03                      # between 500 and 750: the larger of the two
+    assert at[100] == 0.01 and at[900] == 0.02  # outside: the nearest model load
+    assert at[None] == 0.03                     # no load: the worst over the loads
+    assert math.isnan(lookup_rel_error(t, "p", 500, "defect", "p_max", "raw_fr"))
+    rows, rule = rows_at_load(t[t.point == "p"], 600.0)
+    assert "500 and 750 kN" in rule and len(rows) == 2
+    assert rows.set_index("quantity_class").loc["rms", "n_values"] == 20
