@@ -183,3 +183,32 @@ def test_rows_at_load_reads_the_load_the_larger_bracket_or_the_nearest():
     rows, rule = rows_at_load(t[t.point == "p"], 600.0)
     assert "500 and 750 kN" in rule and len(rows) == 2
     assert rows.set_index("quantity_class").loc["rms", "n_values"] == 20
+
+
+def _csv_rows():
+    from importlib import resources
+    from io import StringIO
+
+    text = resources.files("bearing_envelope").joinpath("data/discretisation_error.csv").read_text()
+    return pd.read_csv(StringIO(text.partition("\n")[2]))
+
+
+def test_error_model_reads_the_csv_rows_of_the_case_load():
+    # the package's model, read back through error_model at each model load, between two loads
+    # (the larger of the two rows) and outside them (the nearest load)
+    raw = _csv_rows()
+    row = raw[(raw.point == "standard") & (raw.kind == "defect") & (raw.signal == "p_max")
+              & (raw.quantity_class == "envelope_bpfi")].set_index("load_kN")["rel_error"]
+    assert set(row.index) == {250.0, 500.0, 750.0}
+
+    def est(load):
+        t = error_model("standard", 50, load_kN=load).table
+        return float(t[(t.signal == "p_max") & (t.quantity_class == "envelope_bpfi")]
+                     ["rel_error"].iloc[0])
+
+    for load in (250.0, 500.0, 750.0):
+        assert est(load) == row[load]
+    assert est(600.0) == max(row[500.0], row[750.0])
+    assert est(100.0) == row[250.0] and est(1000.0) == row[750.0]
+    sc = Scene.from_mapping({}, load_kN=750, depth_um=50).to_mapping()
+    assert "750 kN rows" in error_model("standard", 50, sc).basis

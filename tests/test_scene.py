@@ -101,11 +101,11 @@ def test_fidelity_presets():
     assert set(PRESETS) == {"draft", "fast", "standard", "accurate", "paper"}
     assert fidelity_from(None).name == "standard"
     # issue 25 part 6: standard (the converged default) = fast (the former default) + rim strips
-    # + a 20 um axial global grid; accurate = fast + rim strips + a 40 um axial global grid
+    # + a 40 um axial global grid; accurate = standard with a 20 um axial global grid
     fast, std, acc = (fidelity_from(n) for n in ("fast", "standard", "accurate"))
     assert fast.rim_dx_um is None and fast.global_dy_um == 80.0
     assert std.rim_dx_um == acc.rim_dx_um == 0.5
-    assert std.global_dy_um == 20.0 and acc.global_dy_um == 40.0
+    assert std.global_dy_um == 40.0 and acc.global_dy_um == 20.0
     for f in dataclasses.fields(Fidelity):
         if f.name not in ("name", "rim_dx_um", "global_dy_um"):
             assert getattr(fast, f.name) == getattr(std, f.name) == getattr(acc, f.name), f.name
