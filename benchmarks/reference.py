@@ -418,7 +418,8 @@ def write_model(model: pd.DataFrame, out: Path, cases) -> None:
             for p in sorted(set(model.point))}
     header = {"source": "benchmarks/reference.py",
               "date": f"{info.get('date')} to {time.strftime('%H:%M UTC', time.gmtime())}",
-              "reference": "accurate + each knob's ladder (rim_dx 0.5/0.25 um, global_dy "
+              "reference": "the base (fast + rim strips 0.5 um + global_dy 40 um, the preset "
+                           "standard) + each knob's ladder (rim_dx 0.5/0.25 um, global_dy "
                            "80/40/20/10 um, local_dy 40/20/10/5 um, window margin 400/1600 um, "
                            "tol 1e-5/1e-6, n_loads 5/9, offsets x1/x2; the finer levels where "
                            "built): Richardson or finest per knob, corrections added "
