@@ -1,5 +1,9 @@
 """Accuracy per CPU second against a converged reference (issue 13 part 4), by hand.
 
+Since issue 25 part 5 the package's error model comes from ``benchmarks/reference.py`` (a
+reference that refines every knob, the model kept per load), which reuses this module's tables,
+metrics and Richardson step; ``--write-model`` here writes the former model, pooled over loads.
+
     nice -n 5 python benchmarks/accuracy.py --out results_bench/accuracy               # all
     nice -n 5 python benchmarks/accuracy.py --out results_bench/accuracy --cases '[[750,15]]'
     python benchmarks/accuracy.py --out results_bench/accuracy --report-only            # tables
