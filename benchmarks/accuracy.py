@@ -1,5 +1,9 @@
 """Accuracy per CPU second against a converged reference (issue 13 part 4), by hand.
 
+Since issue 25 part 5 the package's error model comes from ``benchmarks/reference.py`` (a
+reference that refines every knob, the model kept per load), which reuses this module's tables,
+metrics and Richardson step; ``--write-model`` here writes the former model, pooled over loads.
+
     nice -n 5 python benchmarks/accuracy.py --out results_bench/accuracy               # all
     nice -n 5 python benchmarks/accuracy.py --out results_bench/accuracy --cases '[[750,15]]'
     python benchmarks/accuracy.py --out results_bench/accuracy --report-only            # tables
@@ -47,6 +51,7 @@ and worst error per group), ``accuracy.md`` (the tables of ``docs/benchmarks.md`
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import json
 import math
 import os
@@ -180,7 +185,7 @@ def build(out, load, depth, run, spec):
 
 def analysis_config() -> dict:
     st = load_settings(Path(__file__).resolve().parents[1] / "config.yaml")
-    return st.analysis.to_mapping()
+    return st.analysis
 
 
 def metrics(sc, sig, analysis) -> list[dict]:
@@ -200,7 +205,7 @@ def metrics(sc, sig, analysis) -> list[dict]:
                                fr=sc.operation.shaft_rate_hz, bpfi=sc.bpfi_hz, bpfo=ff.bpfo,
                                ftf=ff.ftf, bsf=ff.bsf, load_kN=sc.load.load_kN,
                                depth_um=sc.defect.depth_um, scene=sc.to_mapping(), attrs={})
-        an = {**analysis, "signal": name}
+        an = dataclasses.replace(analysis, signal=name)
         doc, _ = case_bands(case, an)
         h = case_harmonics(case, an, doc)
         h = h[h["quantity"] != "kurtogram_kurtosis"]
@@ -225,31 +230,36 @@ def _warm_up(out, cases):
             return
 
 
-def evaluate(out, cases, revolutions, ref_oversample, analysis):
+def evaluate_run(out, load, depth, run, spec, revolutions, ref_oversample, analysis):
+    """The metrics of one case at one run (its cached table, its own acquisition; ``ref_*``
+    runs at ``ref_oversample``), with the table's CPU and the synthesis of 100 revolutions."""
+    sc = scene(load, depth, revolutions)
+    path = table_path(out, load, depth, spec.get("_table", run))
+    if not path.exists():
+        return []
+    rec = pickle.loads(path.read_bytes())
+    if run.startswith("ref"):
+        acq = {"mode": "antialiased", "oversample": ref_oversample}
+    elif "_oversample" in spec:
+        acq = {"mode": "antialiased", "oversample": int(spec["_oversample"])}
+    else:
+        acq = acquisition_settings(sc, rec["fidelity"])
+    c0 = time.process_time()
+    _, sig, _ = synthesize_case(sc, rec["table"], rec["ld"], rec["fidelity"], acquisition=acq)
+    synth = (time.process_time() - c0) * 100.0 / revolutions
+    return [{"load_kN": load, "depth_um": depth, "run": run, **r, "table_cpu_s": rec["cpu_s"],
+             "synth_cpu_s_100rev": synth, "cpu_s": rec["cpu_s"] + synth,
+             "n_solves": rec["n_solves"], "oversample": acq["oversample"]}
+            for r in metrics(sc, sig, analysis)]
+
+
+def evaluate(out, cases, revolutions, ref_oversample, analysis, runs=None):
     rows = []
     _warm_up(out, cases)
     for load, depth in cases:
-        sc = scene(load, depth, revolutions)
-        for run, spec in all_runs().items():
-            path = table_path(out, load, depth, spec.get("_table", run))
-            if not path.exists():
-                continue
-            rec = pickle.loads(path.read_bytes())
-            if run.startswith("ref"):
-                acq = {"mode": "antialiased", "oversample": ref_oversample}
-            elif "_oversample" in spec:
-                acq = {"mode": "antialiased", "oversample": int(spec["_oversample"])}
-            else:
-                acq = acquisition_settings(sc, rec["fidelity"])
-            c0 = time.process_time()
-            _, sig, _ = synthesize_case(sc, rec["table"], rec["ld"], rec["fidelity"],
-                                        acquisition=acq)
-            synth = (time.process_time() - c0) * 100.0 / revolutions
-            for r in metrics(sc, sig, analysis):
-                rows.append({"load_kN": load, "depth_um": depth, "run": run, **r,
-                             "table_cpu_s": rec["cpu_s"], "synth_cpu_s_100rev": synth,
-                             "cpu_s": rec["cpu_s"] + synth, "n_solves": rec["n_solves"],
-                             "oversample": acq["oversample"]})
+        for run, spec in (runs or all_runs()).items():
+            rows += evaluate_run(out, load, depth, run, spec, revolutions, ref_oversample,
+                                 analysis)
     return pd.DataFrame(rows)
 
 

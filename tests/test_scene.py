@@ -1,3 +1,4 @@
+import dataclasses
 import math
 
 import pytest
@@ -97,11 +98,18 @@ def test_default_mapping_is_a_copy():
 
 
 def test_fidelity_presets():
-    assert set(PRESETS) == {"draft", "standard", "accurate", "paper"}
+    assert set(PRESETS) == {"draft", "fast", "standard", "accurate", "paper"}
     assert fidelity_from(None).name == "standard"
-    acc = fidelity_from("accurate")        # standard + rim strips + a finer axial global grid
-    assert acc.rim_dx_um == 0.5 and acc.global_dy_um < PRESETS["standard"].global_dy_um
-    assert acc.local_dx_um == PRESETS["standard"].local_dx_um
+    # issue 25 part 6: standard (the converged default) = fast (the former default) + rim strips
+    # + a 40 um axial global grid; accurate = standard with a 20 um axial global grid
+    fast, std, acc = (fidelity_from(n) for n in ("fast", "standard", "accurate"))
+    assert fast.rim_dx_um is None and fast.global_dy_um == 80.0
+    assert std.rim_dx_um == acc.rim_dx_um == 0.5
+    assert std.global_dy_um == 40.0 and acc.global_dy_um == 20.0
+    for f in dataclasses.fields(Fidelity):
+        if f.name not in ("name", "rim_dx_um", "global_dy_um"):
+            assert getattr(fast, f.name) == getattr(std, f.name) == getattr(acc, f.name), f.name
+    assert PRESETS["draft"].rim_dx_um is None and PRESETS["paper"].rim_dx_um is None
     d = fidelity_from("draft")
     assert d.local_dx_um > PRESETS["paper"].local_dx_um
     f = fidelity_from({"preset": "draft", "n_loads": 4})

@@ -36,7 +36,7 @@ def register(subparsers) -> None:
     p.add_argument("--width-um", type=float, default=None,
                    help="defect width across rolling, um (default: the config's, null = 2 x depth)")
     p.add_argument("--fidelity", default=None,
-                   help="preset draft | standard | accurate | paper (overrides the config's `fidelity:`)")
+                   help="preset draft | fast | standard | accurate | paper (overrides the config's `fidelity:`)")
     p.add_argument("--numpy", action="store_true", help="numpy synthesis instead of the numba kernel")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress bar and no summary")
     p.add_argument("-o", "--output", required=True, help="output case file (.h5)")

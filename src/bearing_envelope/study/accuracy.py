@@ -1,16 +1,23 @@
 """Estimated discretisation error of the reported amplitudes (error bars, issue 13 part 5).
 
-``benchmarks/accuracy.py`` measures, for each fidelity point (the presets and the candidates
-between them) on representative cases of the default scene, the relative error of every
-amplitude the analysis reports (peak and rms of each signal, raw spectrum lines, envelope
-lines and sidebands in each band) against a converged reference (the Richardson value of a rim
-refinement ladder). Its ``--write-model`` stores, per fidelity point, case kind (``defect`` /
-``healthy``), signal and quantity class (:func:`quantity_class`: ``peak``, ``rms``, each raw
-line family, envelope lines, their sidebands, the band-passed peak), the worst relative error
-over the measured cases, the analysis bands and the orders, in the package file
-``data/discretisation_error.csv`` (a JSON header line, then the table). Pooled so, the estimates
-covered 95-100 % of a held-out case's amplitudes at every point (97-100 % of its main lines at
-the presets), against 41-100 % kept per band and order.
+``benchmarks/reference.py`` (issue 25 part 5, reusing ``benchmarks/accuracy.py``) measures, for
+each fidelity point (the presets and the knob ladders between them) on cases of the default
+scene, the relative error of every amplitude the analysis reports (peak and rms of each signal,
+raw spectrum lines, envelope lines and sidebands in each band; interpolated amplitudes, the far
+field ``responds``) against a reference that refines every knob (rim strips, global and window
+axial spacing, window margin, tolerance, table load nodes and offsets). Its ``--write-model``
+stores, per fidelity point, **load**, case kind (``defect`` / ``healthy``), signal and quantity
+class (:func:`quantity_class`: ``peak``, ``rms``, each raw line family, envelope lines, their
+sidebands, the band-passed peak), the worst relative error over the model's cases at that load
+(two depths), the analysis bands and the orders, in the package file
+``data/discretisation_error.csv`` (a JSON provenance line, then the table).
+
+**Per load** (:func:`rows_at_load`): a case at a model load (250, 500, 750 kN) reads that load's
+rows; between two model loads, the larger of the two loads' errors (conservative: no
+interpolation of an error bound); outside the model's loads, the nearest load's rows; with no
+load given, the worst over the model's loads. On three held-out cases (500 kN / 50 um,
+250 kN / 40 um, 750 kN / 20 um) the default ``standard``'s bars covered 96-100 % of every
+quantity class but the peak (56 %; ``docs/benchmarks.md``, "Reference and converged default").
 
 :func:`error_model` picks the rows that apply to a case: the fidelity must equal a measured
 point in every numerical field (``name``, ``n_checks`` and ``n_snapshot_offsets`` do not change
@@ -28,7 +35,7 @@ the signals and are ignored), otherwise there is no estimate and the basis says 
 
 A difference between two cases smaller than the sum of their ``error_est`` is not resolved
 by the simulation at that fidelity. The estimate is an upper value over the measured cases
-(250 and 750 kN, 15 and 100 um deep; 500 kN healthy) of the default scene (flat defect, 20 um
+(250, 500 and 750 kN; 15 and 100 um deep and healthy) of the default scene (flat defect, 20 um
 rim, elastic) and its five analysis bands: it does not cover a scene whose rim radius, shape or
 hardness differ.
 """
@@ -50,7 +57,8 @@ from ..physics.fidelity import Fidelity, fidelity_from
 from ..physics.scene import Scene
 
 __all__ = ["ErrorModel", "error_model", "case_error_model", "attach_errors", "absolute_error", "measured_points",
-           "quantity_class", "scene_differences", "ERROR_COLUMNS"]
+           "measured_far_field", "quantity_class", "rows_at_load", "lookup_rel_error",
+           "scene_differences", "ERROR_COLUMNS"]
 
 #: Columns :func:`attach_errors` adds to a tidy table.
 ERROR_COLUMNS = ["rel_error_est", "error_est", "error_basis"]
@@ -58,13 +66,10 @@ ERROR_COLUMNS = ["rel_error_est", "error_est", "error_basis"]
 #: Fidelity fields that do not change the signals (not compared when matching a point).
 _IGNORED = ("name", "n_checks", "n_snapshot_offsets", "far_field")
 
-#: The far-field model of every measured point (the error model predates issue 25's coupled far
-#: field, and the stored fidelities carry no ``far_field`` key).
-MEASURED_FAR_FIELD = "frozen"
-
 #: Signals whose values the far-field model changes (removed force and approach halve with the
 #: coupled far field, issue 25); p_max and p_max_defect move by < 0.03 %, so their measured
-#: errors stand whatever the far field.
+#: errors stand whatever the far field. A case whose ``far_field`` is not the model's
+#: (:func:`measured_far_field`) gets no bars for these.
 FAR_FIELD_SIGNALS = ("removed_force", "contact_force", "approach", "approach_change",
                      "contact_area")
 
@@ -84,7 +89,52 @@ def _load() -> tuple[dict[str, Any], pd.DataFrame]:
         raise ValueError("data/discretisation_error.csv: the first line must be '# {json header}'")
     header = json.loads(first[2:])
     table = pd.read_csv(StringIO(rest), keep_default_na=False, na_values=["nan", "NaN"])
+    if "load_kN" not in table:                   # a model pooled over loads (before issue 25)
+        table.insert(1, "load_kN", np.nan)
     return header, table
+
+
+def measured_far_field() -> str:
+    """The far-field model every measured point was run with (the header's ``far_field``; a
+    model written before issue 25 has none and was measured ``frozen``)."""
+    return str(_load()[0].get("far_field", "frozen"))
+
+
+def rows_at_load(rows: pd.DataFrame, load_kN: float | None) -> tuple[pd.DataFrame, str]:
+    """The errors of one point and case kind at a load: ``(table, rule)``, the table with columns
+    ``signal, quantity_class, rel_error, n_values``. At a model load its rows; between two model
+    loads the larger of the two; outside them the nearest; ``None``: the worst over all."""
+    loads = np.sort(rows["load_kN"].dropna().unique())
+    if loads.size == 0:
+        use, rule = rows["load_kN"].unique(), "pooled over the model's loads"
+    elif load_kN is None:
+        use, rule = loads, "no load given: the worst over the model's loads"
+    elif np.isclose(loads, load_kN, rtol=1e-9).any():
+        use = loads[np.isclose(loads, load_kN, rtol=1e-9)]
+        rule = f"the model's {use[0]:g} kN rows"
+    elif load_kN < loads[0] or load_kN > loads[-1]:
+        use = loads[[int(np.argmin(np.abs(loads - load_kN)))]]
+        rule = f"the nearest model load's rows ({use[0]:g} kN; {load_kN:g} kN is outside)"
+    else:
+        i = int(np.searchsorted(loads, load_kN))
+        use = loads[i - 1:i + 1]
+        rule = (f"the larger of the model's {use[0]:g} and {use[1]:g} kN rows ({load_kN:g} kN "
+                f"lies between)")
+    sub = rows[rows["load_kN"].isin(use)]
+    g = sub.groupby(["signal", "quantity_class"], sort=True)
+    out = pd.DataFrame({"rel_error": g["rel_error"].max(), "n_values": g["n_values"].sum()})
+    return out.reset_index(), rule
+
+
+def lookup_rel_error(table: pd.DataFrame, point: str, load_kN: float | None, kind: str,
+                     signal: str, qclass: str) -> float:
+    """The estimated relative error of one amplitude (NaN where none was measured): the rows of
+    ``table`` (the model's columns) for ``point`` and ``kind`` read at ``load_kN`` by
+    :func:`rows_at_load`."""
+    rows = table[(table["point"] == point) & (table["kind"] == kind)]
+    t, _ = rows_at_load(rows, load_kN)
+    hit = t[(t["signal"] == signal) & (t["quantity_class"] == qclass)]
+    return float(hit["rel_error"].iloc[0]) if len(hit) else math.nan
 
 
 def measured_points() -> dict[str, Fidelity]:
@@ -125,12 +175,15 @@ class ErrorModel:
         One sentence: the source of the estimate, or why there is none.
     table : pandas.DataFrame
         Columns ``signal, quantity_class, rel_error, n_values`` (empty when ``point`` is None).
+    withheld : tuple of str
+        Signals whose bars are withheld: the case's far field is not the model's.
     """
 
     point: str | None
     kind: str
     basis: str
     table: pd.DataFrame
+    withheld: tuple[str, ...] = ()
 
 
 #: Scene keys that may differ from the default scene without voiding the estimate: the sweep
@@ -170,7 +223,7 @@ def scene_differences(scene: Any, depth_um: float) -> list[str]:
 
 
 def error_model(fidelity: Fidelity | str | None, depth_um: float,
-                scene: Any = None) -> ErrorModel:
+                scene: Any = None, load_kN: float | None = None) -> ErrorModel:
     """The measured discretisation errors that apply to a case at ``fidelity``.
 
     Parameters
@@ -182,6 +235,9 @@ def error_model(fidelity: Fidelity | str | None, depth_um: float,
         The case's scene (:meth:`bearing_envelope.physics.scene.Scene.to_mapping`): if it differs from
         the default scene in anything but the sweep values, duration, noise and seeds
         (:func:`scene_differences`), there is no estimate and the basis names the keys.
+    load_kN : float, optional
+        The case's load (kN); default: the scene's ``load.value_kN``. The rows of that load are
+        read by :func:`rows_at_load` (no load: the worst over the model's loads).
     """
     fid = fidelity_from(fidelity)
     header, table = _load()
@@ -198,16 +254,18 @@ def error_model(fidelity: Fidelity | str | None, depth_um: float,
         return ErrorModel(None, kind, f"not estimated: fidelity {fid.name!r} is not one of the "
                           f"measured points {sorted(header['fidelities'])} "
                           f"(benchmarks/accuracy.py)", table.iloc[0:0].copy())
-    rows = table[(table["point"] == match) & (table["kind"] == kind)].drop(
-        columns=["point", "kind"]).reset_index(drop=True)
-    if fid.far_field != MEASURED_FAR_FIELD:
-        rows = rows[~rows["signal"].isin(FAR_FIELD_SIGNALS)].reset_index(drop=True)
+    if load_kN is None and scene is not None:
+        load_kN = _flat(scene).get("load.value_kN")
+    rows, rule = rows_at_load(table[(table["point"] == match) & (table["kind"] == kind)],
+                              None if load_kN is None else float(load_kN))
+    withheld = FAR_FIELD_SIGNALS if fid.far_field != measured_far_field() else ()
+    rows = rows[~rows["signal"].isin(withheld)].reset_index(drop=True)
     cases = ", ".join(f"{c[0]:g} kN/{c[1]:g} um" for c in header["cases"]
                       if (c[1] > 0) == (kind == "defect"))
-    basis = (f"{match}: worst relative error over {cases} (default scene) and the bands "
-             f"{', '.join(header.get('bands', []))} against a converged reference, "
+    basis = (f"{match}: {rule}, worst relative error over the model's cases ({cases}; default "
+             f"scene) and the bands against a reference refining every knob, "
              f"{header['source']} {header['date']}")
-    return ErrorModel(match, kind, basis, rows)
+    return ErrorModel(match, kind, basis, rows, tuple(withheld))
 
 
 def case_error_model(history) -> ErrorModel:
@@ -233,10 +291,9 @@ def attach_errors(table: pd.DataFrame, model: ErrorModel, signal: str) -> pd.Dat
             key = (signal, quantity_class(q, sb))
             if key in est:
                 rel[i] = est[key]
-            elif signal in FAR_FIELD_SIGNALS and model.point is not None:
+            elif signal in model.withheld:
                 basis[i] = (f"not estimated: the errors of {signal} were measured with the "
-                            f"{MEASURED_FAR_FIELD} far field (benchmarks/accuracy.py, not rerun "
-                            f"with the coupled far field of issue 25)")
+                            f"{measured_far_field()} far field, not the case's")
             else:
                 basis[i] = f"not estimated: {key[1]} of {signal} was not measured"
     out["rel_error_est"] = rel

@@ -117,6 +117,18 @@ _OFFSET_FIELDS = ("n_offsets", "offsets_per_width", "max_offsets")
 # knobs
 
 
+def _replace(base: Fidelity, **kw) -> Fidelity:
+    """``base`` with ``kw``; the base's rim strips are dropped where they cannot refine the new
+    setting (linear elements, or a window spacing they do not divide by an integer >= 2): the
+    default has them since issue 25, and a knob of the window must still be measurable."""
+    if "rim_dx_um" not in kw and base.rim_dx_um is not None:
+        dx, el = kw.get("local_dx_um", base.local_dx_um), kw.get("element", base.element)
+        r = dx / base.rim_dx_um
+        if el != "uniform" or r < 2 - 1e-9 or abs(r - round(r)) > 1e-6:
+            kw["rim_dx_um"] = None
+    return dataclasses.replace(base, **kw)
+
+
 def _apply_knob(base: Fidelity, knob: str, value) -> tuple[Fidelity, dict]:
     """The fidelity of one knob value and the scene overrides it implies."""
     if knob in _SCENE_KNOBS:
@@ -132,7 +144,7 @@ def _apply_knob(base: Fidelity, knob: str, value) -> tuple[Fidelity, dict]:
             offset_step_um=base.offset_step_um / f), {}
     if knob.endswith("[linear]"):
         fid, sc = _apply_knob(base, knob[:-len("[linear]")], value)
-        return dataclasses.replace(fid, element="linear"), sc
+        return _replace(fid, element="linear"), sc
     names = {f.name for f in dataclasses.fields(Fidelity)}
     if knob not in names or knob in ("name",):
         raise ValueError(f"tradeoff.knobs: unknown knob {knob!r}; allowed: fidelity fields "
@@ -143,7 +155,7 @@ def _apply_knob(base: Fidelity, knob: str, value) -> tuple[Fidelity, dict]:
         v = int(v)
     elif ftype is float and isinstance(v, int):
         v = float(v)
-    return dataclasses.replace(base, **{knob: v}), {}
+    return _replace(base, **{knob: v}), {}
 
 
 def _base_value(base: Fidelity, scene_map: Mapping, knob: str):
@@ -365,7 +377,7 @@ def _reference_fidelity(reference, base_f: Fidelity, all_knobs: Mapping[str, lis
                         reference_element: str) -> Fidelity | None:
     """The common reference (None for ``"per_knob"``): see the module docstring."""
     if isinstance(reference, str) and reference == "finest":
-        ref_f = dataclasses.replace(base_f, name="reference", element=reference_element)
+        ref_f = _replace(base_f, name="reference", element=reference_element)
         for k, vals in all_knobs.items():
             if k in ("element",) or k in _SCENE_KNOBS or k.endswith("[linear]"):
                 continue
