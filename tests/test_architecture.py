@@ -38,6 +38,8 @@ MAX_BODY_LINES = 80
 
 #: Layer of each top-level sub-package / module; a module may import its own layer and below.
 LAYERS = {
+    # below every layer: scalar argument checks, importing nothing of the package
+    "checks": -1,
     "contact": 0,
     "physics": 1,
     "signal": 2,

@@ -34,6 +34,8 @@ from dataclasses import dataclass
 from scipy.optimize import brentq
 from scipy.special import ellipe, ellipk, ellipkm1
 
+from ..checks import check_positive
+
 __all__ = ["HertzContact", "sphere", "elliptical", "elliptic_ratio", "curvature_difference",
            "harris_point_contact", "hamrock_brewe"]
 
@@ -78,13 +80,6 @@ class HertzContact:
         return self.p0 * np.sqrt(np.clip(s, 0.0, None))
 
 
-def _check_positive(name: str, value: float) -> float:
-    value = float(value)
-    if not math.isfinite(value) or value <= 0.0:
-        raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
-    return value
-
-
 def sphere(force: float, radius: float, e_star: float) -> HertzContact:
     """Hertz contact of a sphere (equivalent radius ``R``) on a flat.
 
@@ -116,9 +111,9 @@ def sphere(force: float, radius: float, e_star: float) -> HertzContact:
     >>> round(c.a * 1e3, 4), round(c.p0 / 1e9, 4)
     (0.1868, 1.3678)
     """
-    force = _check_positive("force", force)
-    radius = _check_positive("radius", radius)
-    e_star = _check_positive("e_star", e_star)
+    force = check_positive(force, "force")
+    radius = check_positive(radius, "radius")
+    e_star = check_positive(e_star, "e_star")
     a = (3.0 * force * radius / (4.0 * e_star)) ** (1.0 / 3.0)
     p0 = 3.0 * force / (2.0 * math.pi * a * a)
     return HertzContact(a, a, p0, a * a / radius, force / (math.pi * a * a), force)
@@ -202,10 +197,10 @@ def elliptical(force: float, rx: float, ry: float, e_star: float) -> HertzContac
     >>> round(c.a * 1e3, 2), round(c.b * 1e3, 1), round(c.p0 / 1e9, 2)
     (0.33, 15.9, 2.46)
     """
-    force = _check_positive("force", force)
-    rx = _check_positive("rx", rx)
-    ry = _check_positive("ry", ry)
-    e_star = _check_positive("e_star", e_star)
+    force = check_positive(force, "force")
+    rx = check_positive(rx, "rx")
+    ry = check_positive(ry, "ry")
+    e_star = check_positive(e_star, "e_star")
     ax, ay = 0.5 / rx, 0.5 / ry
     a_maj, a_min = min(ax, ay), max(ax, ay)
     k = elliptic_ratio(a_min / a_maj)
@@ -234,8 +229,8 @@ def curvature_difference(rx: float, ry: float) -> tuple[float, float]:
     (Harris & Kotzalas 2007, vol. 1, eqs. 2.26-2.27: the curvature difference of two bodies; for
     a ball on a race ``1/R_x = 2/d +- 1/R_race``, ``1/R_y = 2/d - 1/(f d)``).
     """
-    rx = _check_positive("rx", rx)
-    ry = _check_positive("ry", ry)
+    rx = check_positive(rx, "rx")
+    ry = check_positive(ry, "ry")
     s = 1.0 / rx + 1.0 / ry
     return s, abs(1.0 / rx - 1.0 / ry) / s
 
@@ -272,8 +267,8 @@ def harris_point_contact(force: float, rx: float, ry: float, e_star: float) -> H
     with ``E*`` instead of steel's constants). The major axis lies along the direction of the
     larger radius. Parameters and return as :func:`elliptical` (``a`` along ``x``).
     """
-    force = _check_positive("force", force)
-    e_star = _check_positive("e_star", e_star)
+    force = check_positive(force, "force")
+    e_star = check_positive(e_star, "e_star")
     srho, frho = curvature_difference(rx, ry)
     if frho < 1e-12:
         kappa = 1.0
@@ -323,10 +318,10 @@ def hamrock_brewe(force: float, rx: float, ry: float, e_star: float) -> HertzCon
     Technol. 105 (1983) 171-177; Hamrock, Schmid & Jacobson, *Fundamentals of Machine
     Elements*, ch. 8. Stated accuracy a few per cent (k within ~3 %).
     """
-    force = _check_positive("force", force)
-    rx = _check_positive("rx", rx)
-    ry = _check_positive("ry", ry)
-    e_prime = 2.0 * _check_positive("e_star", e_star)
+    force = check_positive(force, "force")
+    rx = check_positive(rx, "rx")
+    ry = check_positive(ry, "ry")
+    e_prime = 2.0 * check_positive(e_star, "e_star")
     alpha_r = max(rx, ry) / min(rx, ry)
     k = HB_K_COEF * alpha_r ** HB_K_EXP
     ee = HB_E_CONST + HB_E_COEF / alpha_r

@@ -43,6 +43,8 @@ import pandas as pd
 from scipy.optimize import brentq
 from scipy.stats import beta, norm
 
+from ..checks import check_positive
+
 __all__ = [
     "BACKGROUND_BAND",
     "DEFAULT_PFA",
@@ -80,18 +82,6 @@ def _spectrum(f, a) -> tuple[np.ndarray, np.ndarray, float]:
     if np.any(df <= 0):
         raise ValueError("f must be strictly increasing")
     return f, a, float(np.median(df))
-
-
-def _positive(name: str, value, allow_zero: bool = False) -> float:
-    if isinstance(value, bool):
-        raise ValueError(f"{name} must be a number, got {value!r}")
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a number, got {value!r}") from None
-    if not math.isfinite(v) or v < 0 or (v == 0 and not allow_zero):
-        raise ValueError(f"{name} must be a finite number {'>=' if allow_zero else '>'} 0, got {value!r}")
-    return v
 
 
 def _count(name: str, value, minimum: int) -> int:
@@ -156,20 +146,20 @@ def fault_band_metrics(
         raise ValueError(f"targets must be a non-empty mapping name -> Hz, got {targets!r}")
     harmonics = _count("harmonics", harmonics, 1)
     sidebands = _count("sidebands", sidebands, 0)
-    enbw = _positive("enbw", enbw)
+    enbw = check_positive(enbw, "enbw")
     if bandwidth_hz is not None:
-        bandwidth_hz = _positive("bandwidth_hz", bandwidth_hz)
+        bandwidth_hz = check_positive(bandwidth_hz, "bandwidth_hz")
     else:
-        bandwidth = _positive("bandwidth", bandwidth)
+        bandwidth = check_positive(bandwidth, "bandwidth")
         if bandwidth >= 1.0:
             raise ValueError(f"bandwidth (relative) must be in (0, 1), got {bandwidth!r}")
     if sidebands > 0:
         if fr is None:
             raise ValueError("fr (shaft rate, Hz) is required when sidebands > 0")
-        fr = _positive("fr", fr)
+        fr = check_positive(fr, "fr")
     rows = []
     for name, F in targets.items():
-        F = _positive(f"targets[{name!r}]", F)
+        F = check_positive(F, f"targets[{name!r}]")
         union = np.zeros(f.size, dtype=bool)
         target_rows = []
         for k in range(1, harmonics + 1):
@@ -377,16 +367,16 @@ def detection_statistic(
     Detection
     """
     f, a, df_hz = _spectrum(f, amplitude)
-    line = _positive("line_hz", line_hz)
-    half = _positive("tolerance_hz", tolerance_hz) if tolerance_hz is not None else \
-        _positive("tolerance", tolerance) * line
+    line = check_positive(line_hz, "line_hz")
+    half = check_positive(tolerance_hz, "tolerance_hz") if tolerance_hz is not None else \
+        check_positive(tolerance, "tolerance") * line
     half = max(half, 0.5 * df_hz)
     lo, hi = (float(background[0]), float(background[1])) if len(background) == 2 else (None, None)
     if lo is None or not 0.0 <= lo < 1.0 < hi:
         raise ValueError(f"background must be (lo, hi) with 0 <= lo < 1 < hi, got {background!r}")
     sidebands = _count("sidebands", sidebands, 0)
     if fr is not None:
-        fr = _positive("fr", fr)
+        fr = check_positive(fr, "fr")
     if line + half > f[-1]:
         raise ValueError(f"line_hz = {line:g} Hz (+ tolerance) lies beyond the spectrum (f max = {f[-1]:g} Hz)")
     tol_sel = np.abs(f - line) <= half + 1e-9 * df_hz

@@ -23,6 +23,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from ..checks import check_positive
+
 __all__ = ["FaultFrequencies", "fault_frequencies"]
 
 
@@ -51,13 +53,6 @@ class FaultFrequencies:
     def orders(self) -> dict[str, float]:
         """Return the frequencies as multiples of the shaft rate."""
         return {k: getattr(self, k) / self.fr for k in ("bpfo", "bpfi", "ftf", "bsf")}
-
-
-def _check_positive(name: str, value: float) -> float:
-    v = float(value)
-    if not math.isfinite(v) or v <= 0.0:
-        raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
-    return v
 
 
 def fault_frequencies(
@@ -95,11 +90,11 @@ def fault_frequencies(
     >>> round(ff.bpfi, 4)
     5.4152
     """
-    fr = _check_positive("fr", fr)
+    fr = check_positive(fr, "fr")
     if int(n_rollers) != n_rollers or n_rollers < 1:
         raise ValueError(f"n_rollers must be an integer >= 1, got {n_rollers!r}")
-    d = _check_positive("roller_diameter", roller_diameter)
-    pd = _check_positive("pitch_diameter", pitch_diameter)
+    d = check_positive(roller_diameter, "roller_diameter")
+    pd = check_positive(pitch_diameter, "pitch_diameter")
     if d >= pd:
         raise ValueError(
             f"roller_diameter ({d}) must be smaller than pitch_diameter ({pd})"

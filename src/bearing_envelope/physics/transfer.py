@@ -47,6 +47,8 @@ from typing import Any
 import numpy as np
 from scipy import signal as sps
 
+from ..checks import check_number
+
 __all__ = [
     "EXCITATION_KINDS",
     "Mode",
@@ -80,18 +82,6 @@ _DISCRETIZATIONS = ("impulse", "bilinear")
 # --------------------------------------------------------------------------------------------
 # validation helpers
 # --------------------------------------------------------------------------------------------
-def _number(name: str, value: Any) -> float:
-    if isinstance(value, bool):
-        raise ValueError(f"{name} must be a number, got {value!r}")
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a number, got {value!r}") from None
-    if not math.isfinite(v):
-        raise ValueError(f"{name} must be finite, got {value!r}")
-    return v
-
-
 def _check_keys(name: str, mapping: Any, allowed: Sequence[str]) -> Mapping:
     if not isinstance(mapping, Mapping):
         raise ValueError(f"{name} must be a mapping, got {type(mapping).__name__} {mapping!r}")
@@ -124,9 +114,9 @@ class Mode:
     gain: float = 1.0
 
     def __post_init__(self) -> None:
-        f = _number("f_n_hz", self.f_n_hz)
-        z = _number("zeta", self.zeta)
-        g = _number("gain", self.gain)
+        f = check_number(self.f_n_hz, "f_n_hz")
+        z = check_number(self.zeta, "zeta")
+        g = check_number(self.gain, "gain")
         if f <= 0.0:
             raise ValueError(f"f_n_hz must be > 0 Hz, got {self.f_n_hz!r}")
         if not 0.0 < z < 1.0:
@@ -191,7 +181,7 @@ class Tone:
         for key in ("frequency_hz", "order", "amplitude"):
             v = getattr(self, key)
             if v is not None:
-                v = _number(key, v)
+                v = check_number(v, key)
                 if (key == "amplitude" and v < 0) or (key != "amplitude" and v <= 0):
                     bound = ">= 0" if key == "amplitude" else "> 0"
                     raise ValueError(f"{key} must be {bound}, got {getattr(self, key)!r}")
@@ -199,7 +189,7 @@ class Tone:
         for key in ("level_db", "phase_rad"):
             v = getattr(self, key)
             if v is not None:
-                object.__setattr__(self, key, _number(key, v))
+                object.__setattr__(self, key, check_number(v, key))
 
     def frequency(self, fr: float | None) -> float:
         """Tone frequency in Hz (``order * fr`` for an order tone)."""
@@ -207,7 +197,7 @@ class Tone:
             return self.frequency_hz
         if fr is None:
             raise ValueError(f"tone with order={self.order:g} needs the shaft rate fr (Hz)")
-        return self.order * _number("fr", fr)
+        return self.order * check_number(fr, "fr")
 
     @classmethod
     def from_mapping(cls, m: Mapping, where: str = "tone") -> Tone:
@@ -237,7 +227,7 @@ class NoiseSpec:
 
     def __post_init__(self) -> None:
         if self.snr_db is not None:
-            v = _number("snr_db", self.snr_db)
+            v = check_number(self.snr_db, "snr_db")
             if not -80.0 <= v <= 200.0:
                 raise ValueError(f"snr_db must be in [-80, 200] dB, got {self.snr_db!r}")
             object.__setattr__(self, "snr_db", v)
@@ -285,7 +275,7 @@ class TransferModel:
             raise ValueError(
                 f"excitation must be one of {tuple(EXCITATION_KINDS)}, got {self.excitation!r}"
             )
-        s = _number("excitation_scale", self.excitation_scale)
+        s = check_number(self.excitation_scale, "excitation_scale")
         if s <= 0:
             raise ValueError(f"excitation_scale must be > 0, got {self.excitation_scale!r}")
         object.__setattr__(self, "excitation_scale", s)
@@ -338,7 +328,7 @@ class TransferModel:
 
     def check_fs(self, fs: float) -> None:
         """Raise ValueError if any mode is not below ``fs/2``."""
-        fs = _number("fs", fs)
+        fs = check_number(fs, "fs")
         if fs <= 0:
             raise ValueError(f"fs must be > 0 Hz, got {fs!r}")
         for i, m in enumerate(self.modes):
@@ -409,7 +399,7 @@ def excitation_from_history(x: np.ndarray, *, scale: float = 1.0) -> np.ndarray:
         raise ValueError(f"excitation must be a 1-D array with >= 2 samples, got shape {x.shape}")
     if not np.all(np.isfinite(x)):
         raise ValueError("excitation contains non-finite values")
-    return _number("scale", scale) * (x - x.mean())
+    return check_number(scale, "scale") * (x - x.mean())
 
 
 # --------------------------------------------------------------------------------------------
@@ -430,7 +420,7 @@ def mode_sos(mode: Mode, fs: float, method: str = "impulse") -> np.ndarray:
     Either way B is then scaled so that ``|H(exp(j omega_n T))| = g``. Poles:
     ``|z| = exp(-zeta omega_n T) < 1`` (impulse) — always stable.
     """
-    fs = _number("fs", fs)
+    fs = check_number(fs, "fs")
     mode.check_fs(fs)
     T = 1.0 / fs
     wn = 2.0 * math.pi * mode.f_n_hz
@@ -573,7 +563,7 @@ def synthesize_acceleration(
         ``p_defect``, ``p_noise``, ``p_tones``, ``defect_definition``, ``seed``, ``fs``,
         ``model`` (``TransferModel.to_dict()``), tone frequencies and phases.
     """
-    fs = _number("fs", fs)
+    fs = check_number(fs, "fs")
     if fs <= 0:
         raise ValueError(f"fs must be > 0 Hz, got {fs!r}")
     model.check_fs(fs)

@@ -1,10 +1,18 @@
-"""Input checks shared by the signal functions (clear errors naming the offending field)."""
+"""Input checks shared by the signal functions (clear errors naming the offending field).
+
+``check_positive`` is :func:`bearing_envelope.checks.check_positive`, the one number check of
+every layer, read here under the name the signal and diagnosis modules import.
+"""
 
 from __future__ import annotations
 
 import math
 
 import numpy as np
+
+from ..checks import check_positive
+
+__all__ = ["check_band", "check_fs", "check_positive", "check_signal"]
 
 
 def check_fs(fs, name: str = "fs") -> float:
@@ -16,13 +24,6 @@ def check_fs(fs, name: str = "fs") -> float:
     if not math.isfinite(v) or v <= 0.0:
         raise ValueError(f"{name} must be a finite number > 0 (Hz), got {fs!r}")
     return v
-
-
-def check_positive(value, name: str, *, allow_none: bool = False):
-    """Return a finite positive float, or None when allowed."""
-    if value is None and allow_none:
-        return None
-    return check_fs(value, name)
 
 
 def check_signal(x, name: str = "x", *, min_length: int = 2, allow_complex: bool = False):

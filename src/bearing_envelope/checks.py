@@ -1,0 +1,50 @@
+"""Checks of scalar arguments, shared by every layer (clear errors naming the argument).
+
+This module sits below the layers (docs/architecture.md): it imports nothing of the package,
+so ``contact``, ``physics``, ``signal`` and ``diagnosis`` all read their number checks from
+here instead of each keeping its own copy.
+"""
+
+from __future__ import annotations
+
+import math
+
+__all__ = ["check_number", "check_positive"]
+
+
+def _float(value, name: str) -> float:
+    """``float(value)``; ``ValueError`` naming ``name`` for a bool or what ``float`` cannot read."""
+    if isinstance(value, bool):
+        raise ValueError(f"{name} must be a number, got {value!r}")
+    try:
+        return float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a number, got {value!r}") from None
+
+
+def check_number(value, name: str) -> float:
+    """Return ``value`` as a finite float.
+
+    Raises ``ValueError`` naming ``name``: ``"{name} must be a number"`` for a bool or what
+    ``float`` cannot read, ``"{name} must be finite"`` for NaN or infinity.
+    """
+    v = _float(value, name)
+    if not math.isfinite(v):
+        raise ValueError(f"{name} must be finite, got {value!r}")
+    return v
+
+
+def check_positive(value, name: str, *, allow_zero: bool = False, allow_none: bool = False):
+    """Return ``value`` as a finite float ``> 0`` (``>= 0`` with ``allow_zero``).
+
+    ``None`` is returned as is when ``allow_none``. Raises ``ValueError`` naming ``name``:
+    ``"{name} must be a number"`` for a bool or what ``float`` cannot read, ``"{name} must be a
+    finite number > 0"`` (``>= 0``) for NaN, infinity or a value out of range.
+    """
+    if value is None and allow_none:
+        return None
+    v = _float(value, name)
+    if not math.isfinite(v) or v < 0 or (v == 0 and not allow_zero):
+        raise ValueError(f"{name} must be a finite number {'>= 0' if allow_zero else '> 0'}, "
+                         f"got {value!r}")
+    return v
