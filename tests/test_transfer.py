@@ -20,7 +20,6 @@ from bearing_envelope.physics.transfer import (
     measure_snr_db,
     mode_sos,
     select_excitation,
-    structure_response,
     synthesize_acceleration,
 )
 
@@ -394,23 +393,3 @@ def test_cli_sensor_on_real_case_file(tmp_path):
     f = np.fft.rfftfreq(env.size, 1 / case.fs)
     stat, detected = detect(f, 2 * np.abs(np.fft.rfft(env)) / env.size, case.bpfi, fr=case.fr)
     assert detected, stat
-
-
-def test_a_shared_structure_response_gives_the_same_records_bit_for_bit():
-    """The false-alarm and map jobs compute the noise-free response once and reuse it for
-    every noise realisation (issue 25 part 7): the records are those computed from scratch."""
-    p, base = _case_like_excitation()
-    e, ref = excitation_from_history(p), excitation_from_history(base)
-    model = TransferModel((Mode(4000, 0.03, 1e-9), Mode(7000, 0.05, 5e-10)),
-                          tones=(Tone(order=1.0, level_db=0.0),))
-    for reference in (ref, None):
-        shared = structure_response(e, FS, model, reference=reference)
-        for seed, snr in ((0, 10.0), (5, -20.0), (123, None)):
-            a, ia = synthesize_acceleration(e, FS, model, reference=reference, seed=seed,
-                                            fr=15.8, snr_db=snr)
-            b, ib = synthesize_acceleration(e, FS, model, reference=reference, seed=seed,
-                                            fr=15.8, snr_db=snr, response=shared)
-            assert np.array_equal(a, b)
-            assert ia == ib
-    with pytest.raises(ValueError, match="samples"):
-        synthesize_acceleration(e[:-1], FS, model, response=shared)

@@ -60,8 +60,6 @@ __all__ = [
     "mode_sos",
     "impulse_response",
     "apply_structure",
-    "StructureResponse",
-    "structure_response",
     "synthesize_acceleration",
     "measure_snr_db",
 ]
@@ -489,36 +487,6 @@ def measure_snr_db(defect_part: np.ndarray, noise: np.ndarray) -> float:
     return 10.0 * math.log10(pd / pn)
 
 
-@dataclass(frozen=True)
-class StructureResponse:
-    """The noise-free part of :func:`synthesize_acceleration`: ``y = H e``, the defect part
-    ``d`` (``H e - H e_ref``, or ``y`` without a reference), ``p_defect = var(d)`` and the
-    definition's text."""
-
-    y: np.ndarray
-    d: np.ndarray
-    p_defect: float
-    definition: str
-
-
-def structure_response(excitation: np.ndarray, fs: float, model: TransferModel, *,
-                       reference: np.ndarray | None = None) -> StructureResponse:
-    """The structure's response to ``excitation`` (and to ``reference``): what every noise
-    realisation of :func:`synthesize_acceleration` shares."""
-    e = np.asarray(excitation, dtype=float)
-    y = apply_structure(e, fs, model)
-    if reference is not None:
-        ref = np.asarray(reference, dtype=float)
-        if ref.shape != e.shape:
-            raise ValueError(f"reference must have the excitation's shape {e.shape}, got {ref.shape}")
-        d = y - apply_structure(ref, fs, model)
-        definition = "var(H e - H e_ref)"
-    else:
-        d = y
-        definition = "var(H e)"
-    return StructureResponse(y, d, float(np.var(d)), definition)
-
-
 def synthesize_acceleration(
     excitation: np.ndarray,
     fs: float,
@@ -528,7 +496,6 @@ def synthesize_acceleration(
     seed: int | None = None,
     fr: float | None = None,
     snr_db: float | None | str = "model",
-    response: StructureResponse | None = None,
 ) -> tuple[np.ndarray, dict[str, Any]]:
     """Synthetic accelerometer signal: structure response + noise at a target SNR + tones.
 
@@ -550,9 +517,6 @@ def synthesize_acceleration(
         Shaft rate (Hz), needed by tones given as orders.
     snr_db : float, None or "model"
         Overrides ``model.noise.snr_db`` (None = no noise).
-    response : StructureResponse, optional
-        :func:`structure_response` of these ``excitation``, ``reference`` and ``model``,
-        computed once for many noise realisations (the same numbers, bit for bit; issue 25).
 
     Returns
     -------
@@ -577,11 +541,17 @@ def synthesize_acceleration(
     if target is not None:
         target = NoiseSpec(target).snr_db  # validates the range
     rng = np.random.default_rng(int(seed))
-    if response is None:
-        response = structure_response(e, fs, model, reference=reference)
-    elif response.y.shape != e.shape:
-        raise ValueError(f"response has {response.y.size} samples, the excitation {e.size}")
-    y, d, p_defect, definition = response.y, response.d, response.p_defect, response.definition
+    y = apply_structure(e, fs, model)
+    if reference is not None:
+        ref = np.asarray(reference, dtype=float)
+        if ref.shape != e.shape:
+            raise ValueError(f"reference must have the excitation's shape {e.shape}, got {ref.shape}")
+        d = y - apply_structure(ref, fs, model)
+        definition = "var(H e - H e_ref)"
+    else:
+        d = y
+        definition = "var(H e)"
+    p_defect = float(np.var(d))
 
     noise = np.zeros_like(y)
     if target is not None:

@@ -39,7 +39,7 @@ from ..physics.fidelity import Fidelity
 from ..physics.locations import LOCATION_FAMILIES, event_frequencies
 from ..physics.scene import DEFECT_LOCATIONS
 from ..physics.transfer import (TransferModel, excitation_from_history, select_excitation,
-                                structure_response, synthesize_acceleration)
+                                synthesize_acceleration)
 from ..signal import envelope_spectrum, fast_kurtogram, max_kurtogram_level, resolve_band
 from ..signal.bands import clamp_band
 from .accuracy import ErrorModel, attach_errors, error_model
@@ -514,6 +514,37 @@ def diagnosability_bands(case, sensor: TransferModel, analysis: AnalysisSettings
     return out
 
 
+def _record_tests(case, sensor: TransferModel, analysis: AnalysisSettings, setup, bands,
+                  snr: float, seed: int, kurtogram_from: str) -> list[tuple[Any, float, float, Any]]:
+    """One noisy record of a case tested as a cell of the map (internal; shared by
+    :func:`case_diagnosability` and :func:`case_false_alarms`).
+
+    The record is the case's synthetic acceleration at ``snr`` (dB) with noise seed ``seed``
+    (``setup`` = :func:`_sensor_setup`'s model, excitation and reference excitation); with
+    ``kurtogram_from="record"`` the bands are this record's (:func:`diagnosability_bands`),
+    else ``bands``. In each band its envelope spectrum's BPFI line is tested against the
+    background :data:`MAP_BACKGROUND` (:func:`~bearing_envelope.diagnosis.detection.detection_statistic`).
+
+    Returns
+    -------
+    list of (band spec, low_hz, high_hz, detection result)
+    """
+    model, exc, ref = setup
+    fs = float(case.fs)
+    acc, _ = synthesize_acceleration(exc, fs, model, reference=ref, seed=seed,
+                                     fr=float(case.fr), snr_db=float(snr))
+    if kurtogram_from == "record":
+        bands = diagnosability_bands(case, sensor, analysis, record=acc)
+    out = []
+    for spec, lo, hi in bands:
+        f, a = envelope_spectrum(acc, fs, (lo, hi), order=analysis.filter_order,
+                                 squared=analysis.squared_envelope)
+        d = detection_statistic(f, a, _fundamental(case), fr=float(case.fr),
+                                background=MAP_BACKGROUND, level="two_sided")
+        out.append((spec, lo, hi, d))
+    return out
+
+
 def case_diagnosability(case, sensor: TransferModel, analysis: AnalysisSettings,
                         snr_db, *, reference=None, kurtogram_from: str = "clean") -> pd.DataFrame:
     """Is BPFI detected in the synthetic acceleration of a case, per SNR and band strategy?
@@ -557,22 +588,13 @@ def case_diagnosability(case, sensor: TransferModel, analysis: AnalysisSettings,
     """
     if kurtogram_from not in ("clean", "record"):
         raise ValueError(f"kurtogram_from must be 'clean' or 'record', got {kurtogram_from!r}")
-    fs = float(case.fs)
-    model, exc, ref = _sensor_setup(case, sensor, reference)
-    response = structure_response(exc, fs, model, reference=ref)  # shared by every SNR
+    setup = _sensor_setup(case, sensor, reference)
+    ref = setup[2]
     bands = diagnosability_bands(case, sensor, analysis, reference=reference)
     rows = []
     for snr in snr_db:
-        acc, _info = synthesize_acceleration(exc, fs, model, reference=ref, seed=model.seed,
-                                             fr=float(case.fr), snr_db=float(snr),
-                                             response=response)
-        if kurtogram_from == "record":
-            bands = diagnosability_bands(case, sensor, analysis, record=acc)
-        for spec, lo, hi in bands:
-            f, a = envelope_spectrum(acc, fs, (lo, hi), order=analysis.filter_order,
-                                     squared=analysis.squared_envelope)
-            d = detection_statistic(f, a, _fundamental(case), fr=float(case.fr),
-                                    background=MAP_BACKGROUND, level="two_sided")
+        for spec, lo, hi, d in _record_tests(case, sensor, analysis, setup, bands, snr,
+                                             sensor.seed, kurtogram_from):
             rows.append({
                 "case": _case_id(case), "load_kN": float(case.load_kN),
                 "depth_um": float(case.depth_um), "snr_db": float(snr),
@@ -616,25 +638,15 @@ def case_false_alarms(case, sensor: TransferModel, analysis: AnalysisSettings, s
     if float(case.depth_um) > 0:
         raise ValueError(f"case_false_alarms needs a healthy case (depth 0), got {_case_id(case)}")
     n_trials = int(n_trials)
-    fs = float(case.fs)
-    model, exc, ref = _sensor_setup(case, sensor, reference)
-    response = structure_response(exc, fs, model, reference=ref)  # shared by every trial
+    setup = _sensor_setup(case, sensor, reference)
     bands = diagnosability_bands(case, sensor, analysis, reference=reference)
     snr_db = list(snr_db)
     rows = []
     for trial in range(n_trials):
         for snr in snr_db:
-            seed = _trial_seed(model.seed, case, trial, snr)
-            acc, _ = synthesize_acceleration(exc, fs, model, reference=ref, seed=seed,
-                                             fr=float(case.fr), snr_db=float(snr),
-                                             response=response)
-            if kurtogram_from == "record":
-                bands = diagnosability_bands(case, sensor, analysis, record=acc)
-            for spec, lo, hi in bands:
-                f, a = envelope_spectrum(acc, fs, (lo, hi), order=analysis.filter_order,
-                                         squared=analysis.squared_envelope)
-                d = detection_statistic(f, a, _fundamental(case), fr=float(case.fr),
-                                        background=MAP_BACKGROUND, level="two_sided")
+            seed = _trial_seed(sensor.seed, case, trial, snr)
+            for spec, _lo, _hi, d in _record_tests(case, sensor, analysis, setup, bands, snr,
+                                                   seed, kurtogram_from):
                 rows.append({"case": _case_id(case), "load_kN": float(case.load_kN),
                              "depth_um": float(case.depth_um), "snr_db": float(snr),
                              "band": spec.name, "trial": trial,
