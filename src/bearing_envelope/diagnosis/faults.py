@@ -36,8 +36,10 @@ a record without any fault line the probability of any false "detected" in the v
 most ``pfa`` (default 1 %), whatever the dependence between the bands.
 
 **Confidence** (:func:`evidence_level`): what an analyst checks before acting. ``high``: the
-family found at one frequency (one shaft speed) in at least :data:`HIGH_MIN_BANDS` bands,
-every harmonic searched present, the modulation its fault shows (fr sidebands for an inner
+family found at one frequency (one shaft speed) in at least :data:`HIGH_MIN_BANDS` distinct
+bands (:func:`distinct_bands`: bands sharing more than :data:`DISTINCT_BAND_OVERLAP` of the
+narrower one's width demodulate the same resonance and count once), every harmonic searched
+present, the modulation its fault shows (fr sidebands for an inner
 race turning through the load zone, FTF sidebands for a rolling element carried by the cage,
 none needed for a fixed outer-race defect), and a margin of :data:`HIGH_MIN_MARGIN_DB` over the
 threshold; ``medium``: that many bands without the rest, or :data:`MEDIUM_MIN_BANDS` bands with
