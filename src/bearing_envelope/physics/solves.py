@@ -393,7 +393,12 @@ def far_response(scene: Scene, fid: Fidelity, grid: Grid, pg: np.ndarray, win: G
                         approach=FAR_RESPONSE_APPROACH, halfspace=hs_g, **kw)
     z = np.nan_to_num(_far_field(grid, punch.pressure, win, j_lo, j_hi, m, e_star, fid.element)
                       / FAR_RESPONSE_APPROACH, nan=0.0)
-    cen = stats.solve(gap_field(scene, win, 0.0) + (w0.gap - gap_field(scene, win, None)),
+    g_none = gap_field(scene, win, None)
+    # the far field's displacement (0 beyond the roller ends, where both gaps are +inf)
+    u_ext = np.zeros(win.shape)
+    fin = np.isfinite(g_none)
+    u_ext[fin] = w0.gap[fin] - g_none[fin]
+    cen = stats.solve(gap_field(scene, win, 0.0) + u_ext,
                       win.dx, win.dy, None, e_star, approach=w0.approach, p_init=w0.pressure,
                       halfspace=w0.halfspace, hardness=scene.material.hardness_pa, **kw)
     lost = _on_global_cells(grid, win, j_lo, m, w0.pressure - cen.pressure)
