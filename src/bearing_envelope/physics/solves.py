@@ -5,6 +5,7 @@ for the model). Public entry points are used by :mod:`~bearing_envelope.physics.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import time as _time
 from dataclasses import dataclass, field
@@ -87,6 +88,8 @@ class LoadNode:
     area_window0: float = 0.0      # contact area of the window's no-defect solve (m^2)
     #: The far field's linear response (:class:`FarResponse`); None = frozen far field
     far: "FarResponse | None" = field(repr=False, default=None)
+    #: The no-defect window with axial end strips (:func:`_end_reference`), once solved
+    end_ref: dict = field(repr=False, default_factory=dict)
 
 
 def _bilinear(xg: np.ndarray, yg: np.ndarray, f: np.ndarray, x: np.ndarray, y: np.ndarray,
@@ -518,17 +521,50 @@ def defect_solve(scene: Scene, fid: Fidelity, node: LoadNode, x_d: float, stats:
     Pd = max(Pd, neighbourhood_max(scene, fid, win, pp, x_d))
     force += float(p[~owned].sum()) * cell
     area += float(np.count_nonzero(p[~owned] > 0)) * cell
-    dF = float(node.p_window0.sum()) * cell - force - _far_uptake(node, p)
-    dA = area - node.area_window0
+    f0, a0, p0 = float(node.p_window0.sum()) * cell, node.area_window0, node.p_window0
+    if any(st.axis == 1 for st in strips):
+        f0, a0, p0 = _end_reference(scene, fid, node, stats)
+    dF = f0 - force - _far_uptake(node, p, p0)
+    dA = area - a0
     return DefectSolve(max(W, node.outside_max), Pd, p, dF, dA, W)
 
 
-def _far_uptake(node: LoadNode, p: np.ndarray) -> float:
+def _end_reference(scene: Scene, fid: Fidelity, node: LoadNode,
+                   stats: SolveStats) -> tuple[float, float, np.ndarray]:
+    """Force (N), contact area (m^2) and window field (Pa) of the no-defect window with its
+    axial end strips, solved once per load node (cached in ``node.end_ref``) with the same
+    alternation (:func:`_strip_schwarz`, no rim strips): the removed force is counted from it,
+    so that the difference of the two axial spacings is not (measured without it: 0.036 N, 10 %
+    of the removed force, at 750 kN / 20 um, Q = 120 kN)."""
+    if "ref" not in node.end_ref:
+        win = node.window
+        cell = win.dx * win.dy
+        g0 = gap_field(scene, win, None) + node.u_ext
+        strips, p = _strip_schwarz(scene, dataclasses.replace(fid, rim_dx_um=None), node, None,
+                                   g0, node.p_window0, stats)
+        owned = np.zeros(win.shape, bool)
+        force = float(node.p_window0.sum()) * cell if not strips else 0.0
+        area = node.area_window0 if not strips else 0.0
+        for st in strips:
+            owned |= st.own
+            cc = st.grid.dx * st.grid.dy
+            force += float(st.pressure[st.fine_own].sum()) * cc
+            area += float(np.count_nonzero(st.pressure[st.fine_own] > 0)) * cc
+        if strips:
+            force += float(p[~owned].sum()) * cell
+            area += float(np.count_nonzero(p[~owned] > 0)) * cell
+        node.end_ref["ref"] = (force, area, p)
+    return node.end_ref["ref"]
+
+
+def _far_uptake(node: LoadNode, p: np.ndarray, p0: np.ndarray | None = None) -> float:
     """Force (N) the far field takes up at fixed approach when the window's pressure goes from
-    the no-defect ``p_window0`` to ``p`` (:class:`FarResponse`); 0 with a frozen far field."""
+    the no-defect ``p0`` (default ``p_window0``) to ``p`` (:class:`FarResponse`); 0 with a
+    frozen far field."""
     if node.far is None:
         return 0.0
-    return node.far.uptake(p - node.p_window0, node.window.dx * node.window.dy)
+    return node.far.uptake(p - (node.p_window0 if p0 is None else p0),
+                           node.window.dx * node.window.dy)
 
 
 @dataclass
@@ -674,10 +710,11 @@ def _end_intervals(scene: Scene, fid: Fidelity, win: Grid) -> list[tuple[int, in
 def _refine_strips(scene: Scene, fid: Fidelity, node: LoadNode, x_d: float, p: np.ndarray,
                    stats: SolveStats) -> list[RimStrip]:
     """Solve the rim strips (``fid.rim_dx_um``) and the axial end strips (``fid.end_dy_um``)
-    under the window's displacement (:func:`_solve_strip`). The rim strips own their rows; an
-    end strip owns its columns outside them (the corners stay resolved across rolling, where
-    the rim peak is: measured on two tiny scenes, giving the corners to the end strips moved
-    the removed force further from a uniform window at the end strips' spacing)."""
+    under the window's displacement (:func:`_solve_strip`). An end strip owns its columns; a
+    rim strip its rows outside them (where they cross, the axial end is resolved: measured on
+    four small scenes, the removed force 0.06-1.3 % from a uniform window at the end strips'
+    spacing this way, 0.6-3.2 % with the crossings left to the rim strips, which own the whole
+    footprint across rolling when the defect is narrow)."""
     win = node.window
     out: list[RimStrip] = []
     if not scene.defect.active:
@@ -685,19 +722,19 @@ def _refine_strips(scene: Scene, fid: Fidelity, node: LoadNode, x_d: float, p: n
     m_end = int(math.ceil(win.dy / fid.end_dy_m - 1e-9)) if fid.end_dy_um else 1
     ends = _end_intervals(scene, fid, win) if m_end >= 2 else []
     rims = _rim_intervals(scene, fid, win, x_d) if fid.rim_dx_um else []
-    rows = np.zeros(win.shape[0], bool)
-    for i0, i1 in rims:
-        rows[i0:i1] = True
+    cols = np.zeros(win.shape[1], bool)
+    for j0, j1 in ends:
+        cols[j0:j1] = True
     for i0, i1 in rims:
         own = np.zeros(win.shape, bool)
         own[i0:i1] = True
+        own[:, cols] = False
         out.append(_solve_strip(scene, fid, node, x_d, p, 0, i0, i1,
                                 int(round(fid.local_dx_um / fid.rim_dx_um)), own,
                                 fid.rim_strip_m, stats))
     for j0, j1 in ends:
         own = np.zeros(win.shape, bool)
         own[:, j0:j1] = True
-        own[rows] = False
         out.append(_solve_strip(scene, fid, node, x_d, p, 1, j0, j1, m_end, own,
                                 fid.end_strip_m, stats))
     return [st for st in out if st is not None]
