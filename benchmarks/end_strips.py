@@ -24,6 +24,9 @@ the errors are against the reference study's reference (every knob refined: the 
 the global grid's, the tolerance's ... corrections) with its local_dy correction replaced by
 this ladder's (the study built local_dy 5 um on 500 kN / 50 um only).
 
+With ``--ref-run ldy5`` the errors are against the uniform 5 um window itself (the finest
+level: what the strips should reproduce, without the ladder's extrapolation).
+
 Prints, per run, the CPU per case of the table (``time.process_time``; the synthesis, ~1.3 s
 per 100 revolutions, is the same for every run) and the worst relative error (%) over the
 cases per signal and line group: envelope lines 1-3 x BPFI in the fixed bands (``env``), their
@@ -66,8 +69,11 @@ def converged(df: pd.DataFrame) -> pd.DataFrame:
     return pd.DataFrame(out)
 
 
-def table(df: pd.DataFrame, study_ref: Path | None = None) -> str:
+def table(df: pd.DataFrame, study_ref: Path | None = None, ref_run: str | None = None) -> str:
     r = converged(df)
+    if ref_run is not None:
+        r = df[df.run == ref_run][acc.KEYS + ["value"]].rename(columns={"value": "ref"}).assign(
+            status=f"run {ref_run}")
     if study_ref is not None:
         # the study's reference with its local_dy correction replaced by this ladder's
         s = pd.read_csv(study_ref)[acc.KEYS + ["ref", "local_dy_um_delta"]]
@@ -105,8 +111,10 @@ def main(argv=None):
     ap.add_argument("--study-ref", type=Path, default=None,
                     help="reference.csv of `reference.py report` (every knob refined) instead "
                          "of the local_dy ladder")
+    ap.add_argument("--ref-run", default=None,
+                    help="a run as the reference instead (e.g. ldy5: the uniform 5 um window)")
     a = ap.parse_args(argv)
-    print(table(load(a.out), a.study_ref))
+    print(table(load(a.out), a.study_ref, a.ref_run))
 
 
 if __name__ == "__main__":
