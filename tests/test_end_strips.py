@@ -68,8 +68,8 @@ def test_defect_out_of_contact_removes_nothing(load, depth, q):
                                            (750.0, 20.0, 120e3, 0.0)])
 def test_end_strips_approach_a_uniform_fine_window(load, depth, q, x):
     # 40 um window + 10 um end strips against a uniform 10 um window (everything else equal):
-    # the removed force at most half as far off as the 40 um window alone (measured: 0.5, 0.9
-    # and 1.3 % against 2.0, 2.7 and 3.2 %); the peak no further off
+    # the removed force at most half as far off as the 40 um window alone (measured: 0.5, 1.0
+    # and 1.2 % against 2.0, 2.7 and 3.2 %); the peak no further off
     s = _scene(load, depth)
     out = {name: _solve(s, q, x, **spec)[2] for name, spec in {
         "coarse": {}, "ends": {"end_dy_um": 10.0}, "fine": {"local_dy_um": 10.0}}.items()}
