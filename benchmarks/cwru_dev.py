@@ -23,7 +23,9 @@ signal (Borghesani et al. 2013), and with the kurtogram band replaced by the inf
 the kurtogram's limit (``bearing_envelope.signal.bandselect``). ``--lofo`` re-decides the stored tables with the tuned margins
 (``HIGH_MIN_MARGIN_DB``, ``MEDIUM_MIN_MARGIN_DB``) chosen on six fault sets and judged on the
 seventh (leave one fault set out), and the search window at the measured speed
-(:data:`SPEED_WINDOW_GRID`) likewise. The Monte Carlo draws ``--trials`` records of Gaussian noise
+(:data:`SPEED_WINDOW_GRID`) likewise, each window also with the former band count
+(``faults.DISTINCT_BAND_OVERLAP = inf``: overlapping bands counted each; the third pass
+counts distinct demodulation bands). The Monte Carlo draws ``--trials`` records of Gaussian noise
 whose spectrum has the shape of the normal record's (Welch PSD, 1024-sample segments, after
 decimation to 12 kHz), as long as a development record, and counts any diagnosis (or "cannot
 tell") as a false alarm; 95 % Clopper-Pearson interval. CPU seconds: ``time.process_time``.
@@ -59,7 +61,7 @@ OPTIONS = AnalysisOptions(n_harmonics=3, measure_speed=True)
 NOMINAL_OPTIONS = AnalysisOptions(n_harmonics=3)
 #: Fundamental search half-widths (%) at the measured speed for the leave-one-fault-set-out
 #: choice (``--lofo``).
-SPEED_WINDOW_GRID = (0.3, 0.5, 0.7, 1.0)
+SPEED_WINDOW_GRID = (0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 1.0, 1.5)
 CPW_BAND = {"name": "cpw", "strategy": "fraction", "low": 0.0, "high": 0.5, "clamp": True,
             "prewhiten": True}
 
@@ -141,6 +143,7 @@ def evaluate(records, options) -> tuple[pd.DataFrame, dict]:
                          outcome(c, rec["truth"]) == "right" for c in v.candidates),
                      "outcome": outcome(None if d is None else d.family, rec["truth"]),
                      "bands": 0 if d is None else len(d.bands_agreeing),
+                     "distinct": 0 if d is None else d.n_bands,
                      "margin_db": np.nan if d is None else round(d.margin_db, 1),
                      "second": "/".join(f.family for f in v.detected[1:] if d is not None),
                      "kurtogram_hz": np.nan if kg is None else round(kg.bandwidth),
@@ -221,9 +224,14 @@ def lofo(stored) -> pd.DataFrame:
 def lofo_speed_window(records) -> tuple[pd.DataFrame, dict]:
     """Leave one fault set out for ``measured_speed_search_percent``: on the other six sets the
     value of :data:`SPEED_WINDOW_GRID` with no wrong verdict at high or medium, then the most
-    right verdicts, ties to the wider window; judged on the held-out set."""
-    runs = {p: evaluate(records, dataclasses.replace(OPTIONS, measured_speed_search_percent=p))[0]
-            for p in SPEED_WINDOW_GRID}
+    right verdicts, ties to the wider window; judged on the held-out set. The stored tables
+    are also re-decided with the former band count (``former``: every agreeing band counted)."""
+    runs, former = {}, {}
+    for p in SPEED_WINDOW_GRID:
+        runs[p], stored = evaluate(records, dataclasses.replace(
+            OPTIONS, measured_speed_search_percent=p))
+        former[p] = _former_band_count(stored)
+    lofo_speed_window.former = former
     sets = [s for s in dict.fromkeys(r["set"] for r in records) if s != "normal"]
     out = []
     for held in sets:
@@ -331,10 +339,27 @@ def main(argv=None) -> int:
             f"window {p} %: right {int((g.outcome == 'right').sum())}/{len(g)}, wrong "
             f"{int((g.outcome == 'wrong').sum())}, wrong at high/medium "
             f"{int((g.confidence.isin(['high', 'medium']) & (g.outcome == 'wrong')).sum())}"
-            for p, g in runs.items()))
+            f" (high {int(((g.confidence == 'high') & (g.outcome == 'right')).sum())} right,"
+            f" medium {int(((g.confidence == 'medium') & (g.outcome == 'right')).sum())} right);"
+            f" former band count: right {int((h.outcome == 'right').sum())}, wrong "
+            f"{int((h.outcome == 'wrong').sum())}, wrong at high/medium "
+            f"{int((h.confidence.isin(['high', 'medium']) & (h.outcome == 'wrong')).sum())}"
+            for (p, g), h in zip(runs.items(), lofo_speed_window.former.values())))
     if not args.no_mc:
         _print_mc(records, args.trials)
+    print(f"\ntotal CPU {time.process_time():.0f} s (process)")
     return 0
+
+
+def _former_band_count(stored) -> pd.DataFrame:
+    """The stored tables re-decided with every agreeing band counted (before the third pass:
+    ``faults.DISTINCT_BAND_OVERLAP = inf``)."""
+    keep = faults.DISTINCT_BAND_OVERLAP
+    faults.DISTINCT_BAND_OVERLAP = float("inf")
+    try:
+        return redecide(stored, faults.HIGH_MIN_MARGIN_DB, faults.MEDIUM_MIN_MARGIN_DB)
+    finally:
+        faults.DISTINCT_BAND_OVERLAP = keep
 
 
 def _without_tie_break(records) -> pd.DataFrame:

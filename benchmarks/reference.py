@@ -82,6 +82,14 @@ RUNS: dict[str, dict] = {
     "acc+loads9+x2+ldy20": {**BASE, "n_loads": 9, **X2, "local_dy_um": 20.0},
     "acc+loads9+x2+ldy10": {**BASE, "n_loads": 9, **X2, "local_dy_um": 10.0},
     "acc+ldy10": {**BASE, "local_dy_um": 10.0},
+    # issue 25, third session: the axial end strips (fidelity.end_dy_um, end_strip_um) over the
+    # base; ``benchmarks/end_strips.py`` compares them with the local_dy ladder
+    "end20": {**BASE, "end_dy_um": 20.0},
+    "end10": {**BASE, "end_dy_um": 10.0},
+    "end5": {**BASE, "end_dy_um": 5.0},
+    "end10s20": {**BASE, "end_dy_um": 10.0, "end_strip_um": 20.0},
+    "end10s80": {**BASE, "end_dy_um": 10.0, "end_strip_um": 80.0},
+    "end5s80": {**BASE, "end_dy_um": 5.0, "end_strip_um": 80.0},
 }
 #: runs that are presets, by the preset's name since issue 25 part 6 (the model and the tables)
 PRESET_OF = {"standard": "fast", "accurate": "standard", "gdy20": "accurate", "draft": "draft"}

@@ -50,6 +50,20 @@ def test_envelope_of_pure_tone_is_flat():
     np.testing.assert_allclose(e2[100:-100], 9.0, rtol=2e-3)
 
 
+def test_envelope_at_a_slow_fft_length_with_an_offset():
+    # 2**6 * 1607 samples (a large prime factor: the transform is padded to a fast length) and a
+    # constant offset c: the analytic signal of c + a(t) cos(w t) is c + a(t) exp(i w t) by
+    # construction, so the envelope is |c + a(t) exp(i w t)|; a padded transform of the offset
+    # itself would bend it across the whole record
+    fs, n, fc, fm, c = 20000.0, 64 * 1607, 5000.0, 37.0, 4.0
+    t = np.arange(n) / fs
+    a = 2.0 * (1 + 0.4 * np.cos(2 * np.pi * fm * t))
+    e = envelope(c + a * np.cos(2 * np.pi * fc * t))
+    core = slice(200, -200)
+    np.testing.assert_allclose(e[core], np.abs(c + a * np.exp(2j * np.pi * fc * t))[core],
+                               rtol=1e-3)
+
+
 def test_fault_signal_bpfi_line_and_sidebands(fault):
     x, fs, fr, bpfi, fn = fault["x"], fault["fs"], fault["fr"], fault["bpfi"], fault["fn"]
     kg = fast_kurtogram(x, fs, 8)

@@ -16,6 +16,29 @@ def test_sine_amplitude_exact_on_bin(window):
     assert a[0] == pytest.approx(3.0, rel=1e-9)
 
 
+@pytest.mark.parametrize("window", ["hann", "boxcar"])
+def test_spectrum_up_to_fmax_at_a_slow_length(window):
+    # 2**5 * 1607 samples: the first bins come from the zoom transform, not the FFT; lines on
+    # bins 40 and 150 (of 25,712) read their amplitudes, a constant its value, and the bins
+    # are the full spectrum's
+    fs, n = 8000.0, 32 * 1607
+    t = np.arange(n) / fs
+    x = 0.7 + 2.0 * np.cos(2 * np.pi * 40 * fs / n * t + 0.4) + 0.5 * np.sin(2 * np.pi * 150 * fs / n * t)
+    f, a = amplitude_spectrum(x, fs, window=window, fmax_hz=200 * fs / n)
+    assert f.size == 202 and f[-1] == pytest.approx(201 * fs / n)
+    assert a[0] == pytest.approx(0.7, rel=1e-9)
+    assert a[40] == pytest.approx(2.0, rel=1e-9) and a[150] == pytest.approx(0.5, rel=1e-9)
+    f_all, a_all = amplitude_spectrum(x, fs, window=window)
+    np.testing.assert_allclose(f, f_all[:202])
+    np.testing.assert_allclose(a, a_all[:202], rtol=0, atol=1e-9)
+
+
+@pytest.mark.parametrize("fmax", [0.0, -1.0, float("nan"), "1"])
+def test_bad_fmax(fmax):
+    with pytest.raises(ValueError, match="fmax_hz"):
+        amplitude_spectrum(np.ones(64), 8.0, fmax_hz=fmax)
+
+
 def test_nyquist_and_dc_bins_not_doubled():
     fs, n = 8.0, 64
     x = np.cos(np.pi * np.arange(n))  # exactly at fs/2, amplitude 1

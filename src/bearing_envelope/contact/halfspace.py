@@ -224,7 +224,8 @@ def kernel_spectrum(shape: tuple[int, int], dx: float, dy: float, e_star: float,
             _CACHE.move_to_end(key)
             return _CACHE[key]
     k = _padded_kernel(key[0], key[1], key[2], key[3], element)
-    spec = sfft.rfft2(k, workers=-1).real / (k.shape[0] * k.shape[1])
+    # threads as the solves (OMP_NUM_THREADS: a Snakemake job its declared `threads`)
+    spec = sfft.rfft2(k, workers=_default_workers()).real / (k.shape[0] * k.shape[1])
     spec.setflags(write=False)
     with _CACHE_LOCK:
         _CACHE[key] = spec

@@ -36,8 +36,10 @@ a record without any fault line the probability of any false "detected" in the v
 most ``pfa`` (default 1 %), whatever the dependence between the bands.
 
 **Confidence** (:func:`evidence_level`): what an analyst checks before acting. ``high``: the
-family found at one frequency (one shaft speed) in at least :data:`HIGH_MIN_BANDS` bands,
-every harmonic searched present, the modulation its fault shows (fr sidebands for an inner
+family found at one frequency (one shaft speed) in at least :data:`HIGH_MIN_BANDS` distinct
+bands (:func:`distinct_bands`: bands sharing more than :data:`DISTINCT_BAND_OVERLAP` of the
+narrower one's width demodulate the same resonance and count once), every harmonic searched
+present, the modulation its fault shows (fr sidebands for an inner
 race turning through the load zone, FTF sidebands for a rolling element carried by the cage,
 none needed for a fixed outer-race defect), and a margin of :data:`HIGH_MIN_MARGIN_DB` over the
 threshold; ``medium``: that many bands without the rest, or :data:`MEDIUM_MIN_BANDS` bands with
@@ -76,6 +78,7 @@ __all__ = [
     "FaultFamily",
     "FamilyVerdict",
     "Verdict",
+    "distinct_bands",
     "evidence_level",
     "fault_families",
     "fault_verdict",
@@ -344,12 +347,20 @@ HOLD_ORDERS = 2
 #: two bins) of the best band's: one shaft speed, one line, in every band.
 AGREE_PERCENT = 0.2
 
-#: ``high``: detected, at one frequency, in at least this many bands that can hold the family
-#: (``medium`` with fewer harmonics, no modulation or a lower margin).
+#: Two demodulation bands are one piece of evidence when they share more than this fraction of
+#: the narrower one's width (issue 24, third pass): the kurtogram's band often lies inside a
+#: fixed band (3-4 kHz in 3-4.5 kHz), and the same resonance seen through two overlapping
+#: filters gives the same envelope lines twice. Bands are counted as the largest set of the
+#: agreeing bands no two of which overlap more than this (:func:`distinct_bands`).
+DISTINCT_BAND_OVERLAP = 0.5
+
+#: ``high``: detected, at one frequency, in at least this many distinct bands that can hold the
+#: family (``medium`` with fewer harmonics, no modulation or a lower margin).
 HIGH_MIN_BANDS = 3
 #: ``high``: the fundamental at least this far above its threshold (dB) in the best band.
 HIGH_MIN_MARGIN_DB = 10.0
-#: ``medium`` from fewer bands: detected, at one frequency, in at least this many bands ...
+#: ``medium`` from fewer bands: detected, at one frequency, in at least this many distinct
+#: bands ...
 MEDIUM_MIN_BANDS = 2
 #: ... with the fundamental at least this far above its threshold (dB).
 MEDIUM_MIN_MARGIN_DB = 15.0
@@ -422,6 +433,10 @@ class FamilyVerdict:
     level : str or None
         The family's evidence on its own: ``high``, ``medium``, ``low`` (see
         :func:`evidence_level`), None when not detected.
+    n_distinct : int or None
+        How many of :attr:`bands_agreeing` are distinct demodulation bands
+        (:func:`distinct_bands`, :data:`DISTINCT_BAND_OVERLAP`); None: unknown (then all
+        agreeing bands count).
     role : str or None
         ``"diagnosis"``, ``"candidate"`` (cannot tell between candidates), ``"second finding"``,
         ``"explained"``, ``"weak"`` (detected, below the bar of a second finding), None.
@@ -448,6 +463,13 @@ class FamilyVerdict:
     lines: tuple[tuple[int, int, float], ...] = ()
     level: str | None = None
     role: str | None = None
+    n_distinct: int | None = None
+
+    @property
+    def n_bands(self) -> int:
+        """The agreeing bands counted as evidence: :attr:`n_distinct` (distinct demodulation
+        bands, :func:`distinct_bands`) when known, else ``len(bands_agreeing)``."""
+        return len(self.bands_agreeing) if self.n_distinct is None else int(self.n_distinct)
 
     @property
     def margin_db(self) -> float:
@@ -462,7 +484,9 @@ class FamilyVerdict:
     def evidence(self) -> list[str]:
         """The evidence behind :attr:`level`, one short phrase each."""
         out = [f"detected at one frequency in {len(self.bands_agreeing)} of "
-               f"{self.n_bands_held} bands that can hold it"]
+               f"{self.n_bands_held} bands that can hold it"
+               + (f" ({self.n_bands} distinct)" if self.n_bands != len(self.bands_agreeing)
+                  else "")]
         if self.harmonics:
             out.append(f"harmonics {_ranges(self.harmonics)} of {self.n_orders}")
         if self.modulation is None:
@@ -516,7 +540,8 @@ def _ranges(ks: Sequence[int]) -> str:
 def evidence_level(v: FamilyVerdict) -> str | None:
     """The evidence of one detected family on its own: ``high``, ``medium``, ``low`` or None.
 
-    ``high``: detected at one frequency in >= :data:`HIGH_MIN_BANDS` bands, every harmonic
+    ``high``: detected at one frequency in >= :data:`HIGH_MIN_BANDS` distinct bands
+    (:func:`distinct_bands`: overlapping bands count once), every harmonic
     searched detected in the best band, the expected modulation seen (fr sidebands for an inner
     race, FTF sidebands for a rolling element, none needed for an outer race) and the
     fundamental >= :data:`HIGH_MIN_MARGIN_DB` dB above its threshold. ``medium``: >=
@@ -526,7 +551,7 @@ def evidence_level(v: FamilyVerdict) -> str | None:
     """
     if not v.detected:
         return None
-    nb = len(v.bands_agreeing)
+    nb = v.n_bands
     full = v.n_orders > 0 and len(v.harmonics) >= v.n_orders
     if (nb >= HIGH_MIN_BANDS and full and v.modulation_ok
             and v.margin_db >= HIGH_MIN_MARGIN_DB):
@@ -719,6 +744,36 @@ def _explanation(v: FamilyVerdict, stronger: Sequence[tuple[FamilyVerdict, Fault
     return None, None
 
 
+def distinct_bands(limits: Sequence[tuple[float, float]],
+                   overlap: float | None = None) -> int:
+    """How many of the bands ``[(low, high), ...]`` (Hz) are distinct evidence: the size of the
+    largest subset in which no two bands share more than ``overlap`` (default
+    :data:`DISTINCT_BAND_OVERLAP`) of the narrower one's width. A band inside another (the
+    kurtogram's 3-4 kHz inside 3-4.5 kHz) counts once with it; disjoint bands count each.
+    Exact for up to 12 bands (every subset), greedy (narrowest first) beyond."""
+    frac = DISTINCT_BAND_OVERLAP if overlap is None else float(overlap)
+    bands = [(float(lo), float(hi)) for lo, hi in limits]
+
+    def same(a, b):
+        shared = min(a[1], b[1]) - max(a[0], b[0])
+        narrow = min(a[1] - a[0], b[1] - b[0])
+        return shared > frac * narrow if narrow > 0 else shared >= 0
+
+    n = len(bands)
+    if n <= 12:
+        from itertools import combinations
+        for k in range(n, 0, -1):
+            for sub in combinations(bands, k):
+                if all(not same(a, b) for a, b in combinations(sub, 2)):
+                    return k
+        return 0
+    kept: list[tuple[float, float]] = []
+    for b in sorted(bands, key=lambda x: x[1] - x[0]):
+        if all(not same(b, c) for c in kept):
+            kept.append(b)
+    return len(kept)
+
+
 def _family_verdict(fam: FaultFamily, rows, df_hz: float) -> FamilyVerdict:
     """One family's detection over the bands that can hold it (envelope rows of the table)."""
     width = rows["band_high_hz"].astype(float) - rows["band_low_hz"].astype(float)
@@ -745,6 +800,9 @@ def _family_verdict(fam: FaultFamily, rows, df_hz: float) -> FamilyVerdict:
     band, f1 = best["band"], float(best["frequency_hz"])
     agree = tuple(str(b) for b, f in zip(det_rows["band"], det_rows["frequency_hz"].astype(float))
                   if abs(f - f1) <= _tolerance(f1, df_hz))
+    limits = rows.groupby("band", sort=False)[["band_low_hz", "band_high_hz"]].first()
+    n_distinct = distinct_bands([(float(limits.loc[b, "band_low_hz"]),
+                                  float(limits.loc[b, "band_high_hz"])) for b in agree])
     inb = rows[rows["band"] == band]
     found = inb[inb["detected"].fillna(False).astype(bool)]
     harmonics = tuple(int(k) for k in sorted(set(found.loc[found["sideband"] == 0, "order"])))
@@ -757,7 +815,7 @@ def _family_verdict(fam: FaultFamily, rows, df_hz: float) -> FamilyVerdict:
         float(best["floor_ratio_db"]), float(best["threshold_db"]), harmonics, sb,
         tuple(str(b) for b in ok_bands), bands_agreeing=agree if ok_bands else (),
         n_bands_held=len(held), n_orders=int(inb.loc[inb["sideband"] == 0, "order"].max()),
-        modulation=modulation, lines=lines)
+        modulation=modulation, lines=lines, n_distinct=n_distinct if ok_bands else 0)
     return replace(v, level=evidence_level(v))
 
 
@@ -801,14 +859,14 @@ def _conflicts(v: FamilyVerdict, primary: FamilyVerdict) -> bool:
     if _RANK[v.level] < _RANK[primary.level]:
         return False
     return not (BAND_TIE_BREAK and _RANK[v.level] == _RANK[primary.level]
-                and len(primary.bands_agreeing) > len(v.bands_agreeing))
+                and primary.n_bands > v.n_bands)
 
 
 def _rank(v: FamilyVerdict) -> tuple:
     """Sort key, strongest first: a cage family below the others unless its evidence is high,
     then level, agreeing bands, margin."""
     cage_low = v.family == CAGE_FAMILY and v.level != "high"
-    return (not cage_low, _RANK[v.level], len(v.bands_agreeing), v.margin_db)
+    return (not cage_low, _RANK[v.level], v.n_bands, v.margin_db)
 
 
 def _decide(out: Sequence[FamilyVerdict], by_fam: Mapping[str, FaultFamily], fr: float,

@@ -104,6 +104,18 @@ class Fidelity:
         Half-margin of the rim strips (um): each strip spans the rim zone (the edge radius) plus
         this on each side; results are read only in its inner part (half of the margin away
         from the strip's ends, where the nested grid's boundary error sits).
+    end_dy_um : float or None
+        Axial spacing (um) of the axial end strips (issue 25, third session): the defect's two
+        axial ends (its footprint's edges at ``y_d +- w_y/2``, the edge radius inside them) plus
+        ``end_strip_um`` on each side are re-solved on strips of whole window columns split
+        ``m = ceil(window dy / end_dy_um)`` times along the axis (same cells across rolling),
+        alternately with the window and the rim strips (``bearing_envelope.physics.solves``,
+        ``_strip_schwarz``). None = off (every preset). Must divide ``local_dy_um`` (an integer
+        ratio >= 2); uniform elements only.
+    end_strip_um : float
+        Half-margin of the axial end strips (um), as ``rim_strip_um`` for the rim strips: each
+        strip spans the end's rim zone plus this on each side, read only half of it away from
+        the strip's ends.
     far_field : {"responds", "frozen"}
         The global contact outside the zoom window: ``responds`` (issue 25) takes up the load
         the defect sheds at fixed approach through its linear response (one flat-punch solve
@@ -135,6 +147,8 @@ class Fidelity:
     element: str = "uniform"
     rim_dx_um: float | None = 0.5
     rim_strip_um: float = 20.0
+    end_dy_um: float | None = None
+    end_strip_um: float = 40.0
     far_field: str = "responds"
 
     def __post_init__(self) -> None:
@@ -167,21 +181,28 @@ class Fidelity:
                              f"{self.far_field!r}")
         if self.element not in ("uniform", "linear"):
             raise ValueError(f"fidelity.element must be 'uniform' or 'linear', got {self.element!r}")
-        if not (isinstance(self.rim_strip_um, (int, float)) and not isinstance(self.rim_strip_um, bool)
-                and math.isfinite(self.rim_strip_um) and self.rim_strip_um > 0):
-            raise ValueError(f"fidelity.rim_strip_um must be a finite number > 0, got {self.rim_strip_um!r}")
-        if self.rim_dx_um is not None:
-            v = self.rim_dx_um
-            if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or v <= 0:
-                raise ValueError(f"fidelity.rim_dx_um must be null or a finite number > 0, got {v!r}")
-            ratio = self.local_dx_um / v
-            if ratio < 2 - 1e-9 or abs(ratio - round(ratio)) > 1e-6:
-                raise ValueError(
-                    f"fidelity.rim_dx_um = {v!r} must refine its parent local_dx_um = "
-                    f"{self.local_dx_um!r} by an integer factor >= 2 (a refinement spacing "
-                    f"larger than or not dividing its parent's is not allowed)")
-            if self.element != "uniform":
-                raise ValueError(f"fidelity.rim_dx_um needs element 'uniform', got {self.element!r}")
+        self._check_refinement("rim_strip_um", "rim_dx_um", "local_dx_um")
+        self._check_refinement("end_strip_um", "end_dy_um", "local_dy_um")
+
+    def _check_refinement(self, strip: str, spacing: str, parent: str) -> None:
+        """Check a strip refinement: ``strip`` (half-margin, um) finite > 0; ``spacing`` (um)
+        None or an integer refinement >= 2 of ``parent``, with uniform elements."""
+        b = getattr(self, strip)
+        if isinstance(b, bool) or not isinstance(b, (int, float)) or not math.isfinite(b) or b <= 0:
+            raise ValueError(f"fidelity.{strip} must be a finite number > 0, got {b!r}")
+        v = getattr(self, spacing)
+        if v is None:
+            return
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or v <= 0:
+            raise ValueError(f"fidelity.{spacing} must be null or a finite number > 0, got {v!r}")
+        ratio = getattr(self, parent) / v
+        if ratio < 2 - 1e-9 or abs(ratio - round(ratio)) > 1e-6:
+            raise ValueError(
+                f"fidelity.{spacing} = {v!r} must refine its parent {parent} = "
+                f"{getattr(self, parent)!r} by an integer factor >= 2 (allowed: "
+                f"{parent} / 2, / 3, ...; or null = off)")
+        if self.element != "uniform":
+            raise ValueError(f"fidelity.{spacing} needs element 'uniform', got {self.element!r}")
 
     def to_dict(self) -> dict[str, Any]:
         """Plain dict of all fields (for YAML/JSON/HDF5 attributes)."""
@@ -239,6 +260,14 @@ class Fidelity:
     @property
     def rim_dx_m(self) -> float | None:
         return None if self.rim_dx_um is None else 1e-6 * self.rim_dx_um
+
+    @property
+    def end_strip_m(self) -> float:
+        return 1e-6 * self.end_strip_um
+
+    @property
+    def end_dy_m(self) -> float | None:
+        return None if self.end_dy_um is None else 1e-6 * self.end_dy_um
 
 
 PRESETS: dict[str, Fidelity] = {

@@ -23,10 +23,9 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy import signal as sp_signal
 
 from .bands import NYQUIST_MARGIN
-from .envelope import bandpass
+from .envelope import bandpass, envelope
 from .validation import check_fs, check_positive, check_signal
 
 __all__ = ["infogram_band", "protrugram_band", "tree_cells"]
@@ -97,7 +96,7 @@ def infogram_band(x, fs: float, *, max_level: float = 8.0, min_bandwidth: float 
     for level, low, high in cells:
         lo, hi = _clip(low, high, fs)
         y = x if (lo == 0.0 and hi >= NYQUIST_MARGIN * fs / 2.0) else bandpass(x, fs, (lo, hi))
-        se = np.abs(sp_signal.hilbert(y)) ** 2
+        se = envelope(y, squared=True)
         ses = np.abs(np.fft.rfft(se - se.mean()))[1:] ** 2
         i_t, i_f = _negentropy(se), _negentropy(ses)
         cand = (0.5 * (i_t + i_f), level, lo, hi, i_t, i_f)
@@ -148,7 +147,7 @@ def protrugram_band(x, fs: float, *, bandwidth: float, step: float | None = None
     best = None
     lows = np.arange(0.0, top - bandwidth + 1e-9, step)
     for low in lows:
-        env = np.abs(sp_signal.hilbert(bandpass(x, fs, (low, low + bandwidth))))
+        env = envelope(bandpass(x, fs, (low, low + bandwidth)))
         a = np.abs(np.fft.rfft(env - env.mean()))[sel]
         z = (a - a.mean()) / a.std()
         kurt = float(np.mean(z ** 4))

@@ -481,6 +481,10 @@ def _snr_definition(case, ref) -> str:
 #: is 0.95-1.07 % in every band; diagnosis.threshold_db accounts for the two medians'
 #: randomness (126 bins each).
 MAP_BACKGROUND = (0.8, 1.2)
+#: The map's envelope spectra end here, in multiples of the fundamental: past the background
+#: band and the tolerance (the test reads nothing higher; the zoom transform then saves most
+#: of a Bluestein FFT at the sweep's record length)
+MAP_FMAX = MAP_BACKGROUND[1] + 0.3
 
 
 def diagnosability_bands(case, sensor: TransferModel, analysis: AnalysisSettings, *,
@@ -538,7 +542,8 @@ def _record_tests(case, sensor: TransferModel, analysis: AnalysisSettings, setup
     out = []
     for spec, lo, hi in bands:
         f, a = envelope_spectrum(acc, fs, (lo, hi), order=analysis.filter_order,
-                                 squared=analysis.squared_envelope)
+                                 squared=analysis.squared_envelope,
+                                 fmax_hz=MAP_FMAX * _fundamental(case))
         d = detection_statistic(f, a, _fundamental(case), fr=float(case.fr),
                                 background=MAP_BACKGROUND, level="two_sided")
         out.append((spec, lo, hi, d))

@@ -118,14 +118,16 @@ _OFFSET_FIELDS = ("n_offsets", "offsets_per_width", "max_offsets")
 
 
 def _replace(base: Fidelity, **kw) -> Fidelity:
-    """``base`` with ``kw``; the base's rim strips are dropped where they cannot refine the new
-    setting (linear elements, or a window spacing they do not divide by an integer >= 2): the
-    default has them since issue 25, and a knob of the window must still be measurable."""
-    if "rim_dx_um" not in kw and base.rim_dx_um is not None:
-        dx, el = kw.get("local_dx_um", base.local_dx_um), kw.get("element", base.element)
-        r = dx / base.rim_dx_um
-        if el != "uniform" or r < 2 - 1e-9 or abs(r - round(r)) > 1e-6:
-            kw["rim_dx_um"] = None
+    """``base`` with ``kw``; the base's rim strips (and axial end strips) are dropped where they
+    cannot refine the new setting (linear elements, or a window spacing they do not divide by an
+    integer >= 2): the default has rim strips since issue 25, and a knob of the window must
+    still be measurable."""
+    for spacing, parent in (("rim_dx_um", "local_dx_um"), ("end_dy_um", "local_dy_um")):
+        if spacing not in kw and getattr(base, spacing) is not None:
+            d, el = kw.get(parent, getattr(base, parent)), kw.get("element", base.element)
+            r = d / getattr(base, spacing)
+            if el != "uniform" or r < 2 - 1e-9 or abs(r - round(r)) > 1e-6:
+                kw[spacing] = None
     return dataclasses.replace(base, **kw)
 
 
