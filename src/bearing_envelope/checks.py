@@ -13,8 +13,9 @@ __all__ = ["check_number", "check_positive"]
 
 
 def _float(value, name: str) -> float:
-    """``float(value)``; ``ValueError`` naming ``name`` for a bool or what ``float`` cannot read."""
-    if isinstance(value, bool):
+    """``float(value)``; ``ValueError`` naming ``name`` for a bool, a string (a number spelled as
+    text is a caller's mistake, not a number) or what ``float`` cannot read."""
+    if isinstance(value, (bool, str, bytes)):
         raise ValueError(f"{name} must be a number, got {value!r}")
     try:
         return float(value)
@@ -25,8 +26,8 @@ def _float(value, name: str) -> float:
 def check_number(value, name: str) -> float:
     """Return ``value`` as a finite float.
 
-    Raises ``ValueError`` naming ``name``: ``"{name} must be a number"`` for a bool or what
-    ``float`` cannot read, ``"{name} must be finite"`` for NaN or infinity.
+    Raises ``ValueError`` naming ``name``: ``"{name} must be a number"`` for a bool, a string or
+    what ``float`` cannot read, ``"{name} must be finite"`` for NaN or infinity.
     """
     v = _float(value, name)
     if not math.isfinite(v):
@@ -38,8 +39,8 @@ def check_positive(value, name: str, *, allow_zero: bool = False, allow_none: bo
     """Return ``value`` as a finite float ``> 0`` (``>= 0`` with ``allow_zero``).
 
     ``None`` is returned as is when ``allow_none``. Raises ``ValueError`` naming ``name``:
-    ``"{name} must be a number"`` for a bool or what ``float`` cannot read, ``"{name} must be a
-    finite number > 0"`` (``>= 0``) for NaN, infinity or a value out of range.
+    ``"{name} must be a number"`` for a bool, a string or what ``float`` cannot read,
+    ``"{name} must be a finite number > 0"`` (``>= 0``) for NaN, infinity or a value out of range.
     """
     if value is None and allow_none:
         return None

@@ -10,6 +10,7 @@ from scipy import fft as sp_fft
 from scipy import signal as sp_signal
 from scipy.optimize import minimize_scalar
 
+from ..checks import check_positive
 from .validation import check_fs, check_signal
 
 __all__ = ["TOLERANCE_FRACTION", "TOLERANCE_MAX_SPACING", "TOLERANCE_MIN_BINS",
@@ -112,8 +113,7 @@ def _n_bins(n: int, fs: float, fmax_hz: float | None) -> int:
     full = n // 2 + 1
     if fmax_hz is None:
         return full
-    if not (isinstance(fmax_hz, (int, float)) and math.isfinite(fmax_hz) and fmax_hz > 0):
-        raise ValueError(f"fmax_hz must be a finite number > 0, got {fmax_hz!r}")
+    fmax_hz = check_positive(fmax_hz, "fmax_hz")
     return min(full, int(math.floor(fmax_hz * n / fs)) + 2)
 
 
