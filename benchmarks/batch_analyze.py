@@ -10,7 +10,7 @@ compared byte for byte. ``--repeat 2`` lists every record twice (61-62 analyses 
 
 Usage::
 
-    python benchmarks/batch_analyze.py [--data /work/shared/data/real] [--baseline 5]
+    python benchmarks/batch_analyze.py [--data ../shared/data/real] [--baseline 5]
 """
 
 from __future__ import annotations
@@ -57,7 +57,8 @@ def timed(cmd: list[str]) -> tuple[float, float, int]:
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--data", default="/work/shared/data/real")
+    ap.add_argument("--data", default=os.path.join(os.path.dirname(os.path.dirname(
+        os.path.dirname(os.path.abspath(__file__)))), "shared", "data", "real"))
     ap.add_argument("--baseline", type=int, default=5,
                     help="records analysed one process each for comparison (0: none)")
     ap.add_argument("--repeat", type=int, default=1)

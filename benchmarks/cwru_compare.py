@@ -33,7 +33,7 @@ from bearing_envelope.study.pipeline import case_fault_lines  # noqa: E402
 from bearing_envelope.study.settings import CaseId  # noqa: E402
 
 #: The shared development records (read only; no other CWRU data is used).
-RECORDS = Path("/work/shared/data/real/cwru_de12")
+RECORDS = Path(__file__).resolve().parents[2] / "shared" / "data" / "real" / "cwru_de12"
 #: Location -> CWRU record file of the same fault (0.007 in, 0 hp, 1797 rpm).
 RECORD_OF = {"inner_race": "cwru_105_IR007_0hp_DE12.npz",
              "outer_race": "cwru_130_OR007at6_0hp_DE12.npz",

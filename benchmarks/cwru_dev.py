@@ -2,7 +2,7 @@
 drive-end development set, per fault set and per confidence level, and the false-alarm rate on
 noise shaped like the normal record.
 
-    nice -n 5 python benchmarks/cwru_dev.py [--data /work/shared/data/real] [--trials 500]
+    nice -n 5 python benchmarks/cwru_dev.py [--data ../shared/data/real] [--trials 500]
         [--variants] [--lofo] [--no-mc] [--only-mc]
 
 Records: the 28 of ``cwru_de12/`` (seven fault sets x four loads; truth in its ``index.csv``)
@@ -301,7 +301,8 @@ def _print_evaluation(title, df):
 
 def main(argv=None) -> int:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    p.add_argument("--data", type=Path, default=Path("/work/shared/data/real"))
+    p.add_argument("--data", type=Path,
+                   default=Path(__file__).resolve().parents[2] / "shared" / "data" / "real")
     p.add_argument("--trials", type=int, default=500)
     p.add_argument("--variants", action="store_true")
     p.add_argument("--lofo", action="store_true")
