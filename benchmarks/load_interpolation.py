@@ -1,14 +1,18 @@
 """Load interpolation of the table (issue 25, fourth session), by hand.
 
     nice -n 5 python benchmarks/load_interpolation.py build --out results_bench/load_interp
-    python benchmarks/load_interpolation.py report --out results_bench/load_interp
+    python benchmarks/load_interpolation.py nodes --out results_bench/load_interp
+    nice -n 5 python benchmarks/load_interpolation.py metrics --out results_bench/load_interp
+    python benchmarks/load_interpolation.py report --out results_bench/load_interp [--rules old dF cubic dF+cubic dF+edge]
 
 ``build``: tables of the held-out cases (``benchmarks/reference.py`` HELDOUT) at ``standard``
 with 5, 9 and 17 load nodes (checks and snapshots off; cached by ``benchmarks/accuracy.py``,
-CPU per table stored). ``report``: (a) the ratios of the 5- and 9-node tables read at the
-17-node table's own nodes between theirs (the 17-node rows are direct solves there), per rule;
-(b) the analysis chain's metrics (``accuracy.metrics``) of each table and rule against the
-17-node table. Rules: ``old`` (rows read at the same distance from the edge
+CPU per table stored). ``nodes`` (a): the ratios of the 5- and 9-node tables read at the
+17-node table's own nodes between theirs (the 17-node rows are direct solves there), per rule
+(``node_errors.csv``). ``metrics`` (b): the analysis chain's metrics (``accuracy.metrics``, 10
+revolutions, each table's own acquisition, numpy reading) of every table and rule
+(``metrics.csv``); ``report``: their errors against the 17-node table
+(``load_interpolation.md``). Rules: ``old`` (rows read at the same distance from the edge
 ``kappa a_coef Q^(1/3)``), and the candidates of :data:`RULES`.
 """
 
@@ -291,6 +295,61 @@ def metrics_table(e: pd.DataFrame) -> pd.DataFrame:
     return t
 
 
+SIGNALS_SHOWN = ("p_max", "removed_force", "approach_change")
+GROUPS_SHOWN = ("envelope_line", "envelope_sideband", "kurtogram_line", "kurtogram_sideband",
+                "raw_dc", "raw_fr", "raw_bpfi", "peak", "rms")
+
+
+def _fmt(v: float) -> str:
+    return f"{v:.2g}" if v < 10 else f"{v:.0f}"
+
+
+def report_markdown(df: pd.DataFrame, rules=("old", "dF")) -> str:
+    """The tables of docs/benchmarks.md: error (%) against 17 nodes, median / 95th / max over
+    the held-out cases, per signal and class, 5 and 9 nodes, per rule; then the 17-node
+    table's own sensitivity to the rule and the CPU per table."""
+    t = metrics_table(metric_errors(df))
+    lines = ["| signal | class | " + " | ".join(f"{n} nodes, {r}" for n in (5, 9) for r in rules)
+             + " |", "|---|---|" + "---|" * (2 * len(rules))]
+    for sig in SIGNALS_SHOWN:
+        for grp in GROUPS_SHOWN:
+            cells = []
+            for n in (5, 9):
+                for r in rules:
+                    key = (sig, grp, n, r)
+                    cells.append(" / ".join(_fmt(v) for v in t.loc[key]) if key in t.index else "-")
+            lines.append(f"| {sig} | {grp} | " + " | ".join(cells) + " |")
+    return "\n".join(lines)
+
+
+def rule_sensitivity(df: pd.DataFrame, a="old", b="dF") -> pd.DataFrame:
+    """Median / max relative change (%) of each metric between two rules on the same table."""
+    keys = acc.KEYS + ["n_loads"]
+    x = df[df.rule == a].merge(df[df.rule == b][keys + ["value"]], on=keys, suffixes=("", "_b"))
+    x["change"] = (x["value_b"] - x["value"]).abs() / x["value"].abs()
+    x["group"] = [line_group(q, sb, bs) for q, sb, bs in
+                  zip(x["quantity"], x["sideband"], x["band_strategy"].fillna(""))]
+    x = x[np.isfinite(x["change"]) & x["group"].notna()]
+    g = x.groupby(["n_loads", "signal", "group"])["change"]
+    return pd.DataFrame({"median": g.median(), "max": g.max()}) * 100
+
+
+def cmd_report(args) -> None:
+    df = pd.read_csv(args.out / "metrics.csv")
+    rules = tuple(args.rules)
+    md = ["Error against the 17-node table under the same rule, % (median / 95th pct / max over "
+          "the three held-out cases' metrics of the class):", "", report_markdown(df, rules), ""]
+    sens = rule_sensitivity(df[df.n_loads == 17])
+    md += ["Change of the 17-node table's metrics from rule old to dF, % (median / max):", "",
+           sens.round(3).to_markdown(), ""]
+    cpu = df.groupby(["load_kN", "depth_um", "n_loads"])["table_cpu_s"].first().unstack()
+    md += ["CPU per table, s (process time, checks and snapshots off):", "",
+           cpu.round(1).to_markdown(), ""]
+    text = "\n".join(md)
+    (args.out / "load_interpolation.md").write_text(text)
+    print(text)
+
+
 def main(argv=None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     sub = ap.add_subparsers(dest="cmd", required=True)
@@ -306,6 +365,10 @@ def main(argv=None) -> None:
     m.add_argument("--out", type=Path, required=True)
     m.add_argument("--revolutions", type=float, default=10.0)
     m.set_defaults(func=cmd_metrics)
+    r = sub.add_parser("report")
+    r.add_argument("--out", type=Path, required=True)
+    r.add_argument("--rules", nargs="+", default=["old", "dF"])
+    r.set_defaults(func=cmd_report)
     a = ap.parse_args(argv)
     a.func(a)
 

@@ -91,10 +91,11 @@ class PressureTable:
         ``q_out``).
     ratio_force : ndarray (nq, nx)
         Force the defect removes from the contact at the no-defect approach, divided by the
-        node's roller load ``Q`` (window solves under displacement control).
+        node's roller load ``Q`` (window solves under displacement control). Read between the
+        load nodes as the force ``Q_i ratio_force`` itself (:meth:`evaluate_integrals`).
     ratio_area : ndarray (nq, nx)
         Change of the contact area with the defect (window, same approach), divided by the
-        node's no-defect area ``A0(Q)`` (``<= 0``).
+        node's no-defect area ``A0(Q)`` (``<= 0``); read as the change ``A0(Q_i) ratio_area``.
     approach0, area0 : ndarray (nq,)
         No-defect approach ``delta0(Q)`` (m) and contact area ``A0(Q)`` (m^2) of the global
         solves. Interpolated as ``c(q) q^2`` with ``c`` linear in ``q = Q^(1/3)`` (exact for
@@ -179,15 +180,25 @@ class PressureTable:
             stiffness taken up by the no-defect load-approach curve, first order in
             ``dF / Q``); ``approach_change`` ``delta - delta0(Q)`` (m, >= 0); ``contact_area``
             (m^2): ``A0(Q + dF) + dA`` with ``dA`` the window's area change at fixed approach.
+
+        ``dF`` and ``dA`` themselves (``Q_i ratio_force``, ``A0(Q_i) ratio_area`` per node) are
+        blended linearly in ``q`` between the rows, each row read like ``P_d/W0``: both hardly
+        change with the load at a given distance from the contact edge, while their ratios to
+        ``Q`` and ``A0`` go as ``Q^-1`` and ``Q^-2/3`` (read linearly in ``q`` those were 5-21 %
+        off between the 5 nodes of ``standard``; docs/benchmarks.md, "Load interpolation of the
+        table"). Below the first node the ratios are held (``dF ~ Q``, ``dA ~ A0``).
         """
         Q = np.asarray(Q, dtype=float)
         x = np.asarray(x, dtype=float)
-        rf = _ratio_eval(self, self.ratio_force, Q, x, use_numba)
-        ra = _ratio_eval(self, self.ratio_area, Q, x, use_numba)
-        dF = Q * rf
+        below = Q < self.q_nodes[0]
+        dF = _ratio_eval(self, self.q_nodes[:, None] * self.ratio_force, Q, x, use_numba)
+        dF = np.where(below, dF * Q / self.q_nodes[0], dF)
+        a0 = self.area_no_defect(Q)
+        dA = _ratio_eval(self, self.area0[:, None] * self.ratio_area, Q, x, use_numba)
+        dA = np.where(below, dA * a0 / self.area0[0], dA)
         d0 = self.approach_no_defect(Q)
         d = self.approach_no_defect(Q + dF)
-        area = self.area_no_defect(Q + dF) + ra * self.area_no_defect(Q)
+        area = self.area_no_defect(Q + dF) + dA
         return {"removed_force": dF, "contact_force": Q - dF, "approach": d,
                 "approach_change": d - d0, "contact_area": area}
 
@@ -567,7 +578,10 @@ def build_table(scene: Scene, fidelity: Fidelity | str | None = None, *, q_max: 
                               p_cap=scene.material.hardness_pa)
         table.info = {
             **_interpolation_checks(scene, fid, table, qn, dxw, stats, check_seed),
-            "interp_variables": "W/W0 bilinear in q = Q^(1/3) and x scaled by s(Q); W0, P_out linear in q; P = max(W, P_out); "
+            "interp_variables": "W/W0, P_d/W0, removed force dF = Q_i ratio_force and area change "
+                                "dA = A0(Q_i) ratio_area: each node row read linearly in x at the same "
+                                "distance from its contact edge kappa a_coef Q_i^(1/3), the rows blended "
+                                "linearly in q = Q^(1/3); W0, P_out linear in q; P = max(W, P_out); "
                                 "offset nodes on multiples of the window spacing",
             "zoom_consistency_max": float(max(nd.zoom_consistency for nd in nodes)),
             "approach_force_change_max": float(dr.removed_force_max),
