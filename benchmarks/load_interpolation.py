@@ -59,16 +59,20 @@ def cmd_build(args) -> None:
 #: name -> rule: ``edge`` (``cbrt``: kappa a_coef Q^(1/3); ``measured``: each node's solved
 #: half-width, linear in q between nodes), ``extensive`` (blend ``dF = Q_i ratio_force`` and
 #: ``dA = A0(Q_i) ratio_area`` and divide by ``Q``, ``A0(Q)``: the rule adopted; W/W0 and P_d/W0
-#: stay ratios), ``cubic``
+#: stay ratios), ``approach`` (delta0(Q): ``nodes`` = c(q) q^2 on the load nodes only, as before
+#: 2026-11-26; default = the table's rule, on ``q_out`` when it has ``approach_out``;
+#: ``spline`` = c a natural cubic spline through the nodes), ``cubic``
 #: (monotone cubic Hermite, Fritsch-Carlson, in q through four nodes instead of linear)
 RULES = {
-    "old": {"edge": "cbrt", "extensive": False, "cubic": False},
+    "old": {"edge": "cbrt", "extensive": False, "cubic": False, "approach": "nodes"},
     "edge": {"edge": "measured", "extensive": False, "cubic": False},
     "cubic": {"edge": "cbrt", "extensive": False, "cubic": True},
     "dF": {"edge": "cbrt", "extensive": True, "cubic": False},
     "dF+edge": {"edge": "measured", "extensive": True, "cubic": False},
     "dF+cubic": {"edge": "cbrt", "extensive": True, "cubic": True},
     "dF+edge+cubic": {"edge": "measured", "extensive": True, "cubic": True},
+    "dF+spline": {"edge": "cbrt", "extensive": True, "cubic": False, "approach": "spline"},
+    "dF+nodes": {"edge": "cbrt", "extensive": True, "cubic": False, "approach": "nodes"},
 }
 
 def node_edges(tab, rule) -> np.ndarray:
@@ -142,9 +146,24 @@ def read(tab, T, Q, x, fill, rule, w=None):
 class RuleTable:
     """A table read under a rule (duck-types what ``synthesize_case`` calls, numpy path)."""
 
-    def __init__(self, tab, rule):
+    def __init__(self, tab, rule, dense=None):
         self.t, self.rule = tab, rule
         self.p_cap = tab.p_cap
+        self.dense = dense          # a denser table whose delta0(Q) nodes replace tab's
+
+    def _approach0(self, Q):
+        """delta0(Q): the table's c(q) q^2 rule, or on a denser table's nodes (``dense``), or
+        with c a natural cubic spline in q (``rule["approach"] == "spline"``)."""
+        t = self.dense if self.dense is not None else self.t
+        if self.rule.get("approach") == "nodes":       # the load nodes only (before 2026-11-26)
+            return t._q2_rule(t.approach0, None, Q)
+        if self.rule.get("approach") != "spline":
+            return t.approach_no_defect(Q)
+        from scipy.interpolate import CubicSpline
+        qn = np.cbrt(t.q_nodes)
+        q = np.cbrt(np.clip(Q, 0.0, None))
+        c = CubicSpline(qn, t.approach0 / qn ** 2, bc_type="natural")(np.clip(q, qn[0], qn[-1]))
+        return c * q ** 2
 
     def __getattr__(self, name):
         return getattr(self.t, name)
@@ -172,7 +191,7 @@ class RuleTable:
         a0 = t.area_no_defect(Q)
         dA = read(t, t.ratio_area, Q, x, 0.0, r, wa) * a0 / \
             (t.area_no_defect(qlo) if r["extensive"] else 1.0)
-        d0, d = t.approach_no_defect(Q), t.approach_no_defect(Q + dF)
+        d0, d = self._approach0(Q), self._approach0(Q + dF)
         area = t.area_no_defect(Q + dF) + dA
         return {"removed_force": dF, "contact_force": Q - dF, "approach": d,
                 "approach_change": d - d0, "contact_area": area}
@@ -244,12 +263,15 @@ METRIC_RULES = ("old", "dF", "cubic", "dF+cubic", "dF+edge")
 
 def case_metrics(out, load, depth, n, rule_name, revolutions, analysis) -> list[dict]:
     """(b): the analysis chain's metrics of one table read under one rule (numpy path, the
-    case's own acquisition), with the CPU of the table and of the synthesis."""
+    case's own acquisition), with the CPU of the table and of the synthesis. A rule name ending
+    in ``@dense`` takes delta0(Q) from the 17-node table (a stand-in for a denser grid)."""
     rec = load_rec(out, load, depth, n)
     sc = acc.scene(load, depth, revolutions)
     acq = acquisition_settings(sc, rec["fidelity"])
+    base, _, dense = rule_name.partition("@")
+    dtab = load_rec(out, load, depth, 17)["table"] if dense else None
     c0 = time.process_time()
-    _, sig, _ = synthesize_case(sc, RuleTable(rec["table"], RULES[rule_name]), rec["ld"],
+    _, sig, _ = synthesize_case(sc, RuleTable(rec["table"], RULES[base], dtab), rec["ld"],
                                 rec["fidelity"], use_numba=False, acquisition=acq)
     cpu = time.process_time() - c0
     return [{"load_kN": load, "depth_um": depth, "n_loads": n, "rule": rule_name, **r,
@@ -259,14 +281,17 @@ def case_metrics(out, load, depth, n, rule_name, revolutions, analysis) -> list[
 
 def cmd_metrics(args) -> pd.DataFrame:
     analysis = acc.analysis_config()
+    path = args.out / "metrics.csv"
+    old = pd.read_csv(path) if path.exists() else pd.DataFrame(columns=["rule"])
+    rules = [r for r in (args.rules or METRIC_RULES) if r not in set(old["rule"])]
     rows = []
     for load, depth in HELDOUT:
         for n in LOADS:
-            for rn in METRIC_RULES:
+            for rn in rules:
                 rows += case_metrics(args.out, load, depth, n, rn, args.revolutions, analysis)
                 print(f"F{load:g}kN h{depth:g}um n{n} {rn}", flush=True)
-    df = pd.DataFrame(rows)
-    df.to_csv(args.out / "metrics.csv", index=False)
+    df = pd.concat([old, pd.DataFrame(rows)], ignore_index=True) if rows else old
+    df.to_csv(path, index=False)
     return df
 
 
@@ -364,6 +389,7 @@ def main(argv=None) -> None:
     m = sub.add_parser("metrics")
     m.add_argument("--out", type=Path, required=True)
     m.add_argument("--revolutions", type=float, default=10.0)
+    m.add_argument("--rules", nargs="+", default=None, help="rules to add (default: all)")
     m.set_defaults(func=cmd_metrics)
     r = sub.add_parser("report")
     r.add_argument("--out", type=Path, required=True)

@@ -93,3 +93,34 @@ def test_integrals_numba_matches_numpy():
     b = tb.evaluate_integrals(Q, x, use_numba=False)
     for k in a:
         np.testing.assert_allclose(a[k], b[k], rtol=1e-12, atol=1e-12 * np.abs(b[k]).max())
+
+
+def test_no_defect_approach_read_on_the_dense_load_grid():
+    """delta0 = c(q) q^2 with c bending between the load nodes (the end relief): read on q_out
+    (the P_out solves' approach) it follows the bend; on the nodes alone it does not."""
+    tb = _table()
+    qo = np.cbrt(tb.q_out)
+    qk = 0.8 * qo[-1]
+
+    def law(q):
+        return 1e-5 * q ** 2 * (1.0 + 0.5 * np.clip(q / qk - 1.0, 0.0, None) ** 2)
+
+    tb.approach0 = law(np.cbrt(tb.q_nodes))
+    tb.approach_out = law(qo)
+    np.testing.assert_allclose(tb.approach_no_defect(tb.q_out), law(qo), rtol=1e-12)
+    # the slope the approach change reads: dF = 1 N at the top of the range
+    Q = np.linspace(0.85, 0.99, 8) * tb.q_out[-1]
+    exact = law(np.cbrt(Q + 1.0)) - law(np.cbrt(Q))
+    dense = tb.approach_no_defect(Q + 1.0) - tb.approach_no_defect(Q)
+    tb.approach_out = None                                  # the load nodes only
+    nodes = tb.approach_no_defect(Q + 1.0) - tb.approach_no_defect(Q)
+    err_dense = np.abs(dense / exact - 1).max()
+    err_nodes = np.abs(nodes / exact - 1).max()
+    # the slope of a piecewise-linear c is first order in the spacing: 3x denser, ~1/3 the error
+    assert err_dense < 0.4 * err_nodes and err_dense < 0.02
+
+
+def test_dense_grids_must_match_q_out():
+    tb = _table()
+    with pytest.raises(ValueError, match="approach_out"):
+        PressureTable(**{**tb.__dict__, "approach_out": np.ones(3)})
