@@ -206,15 +206,18 @@ class PressureTable:
         """
         Q = np.asarray(Q, dtype=float)
         x = np.asarray(x, dtype=float)
-        below = Q < self.q_nodes[0]
-        dF = _ratio_eval(self, self.q_nodes[:, None] * self.ratio_force, Q, x, use_numba)
-        dF = np.where(below, dF * Q / self.q_nodes[0], dF)
         a0 = self.area_no_defect(Q)
+        dF = _ratio_eval(self, self.q_nodes[:, None] * self.ratio_force, Q, x, use_numba)
         dA = _ratio_eval(self, self.area0[:, None] * self.ratio_area, Q, x, use_numba)
-        dA = np.where(below, dA * a0 / self.area0[0], dA)
+        below = np.flatnonzero(Q.ravel() < self.q_nodes[0])     # the ratios held there
+        if below.size:
+            dF.ravel()[below] *= Q.ravel()[below] / self.q_nodes[0]
+            dA.ravel()[below] *= a0.ravel()[below] / self.area0[0]
         d0 = self.approach_no_defect(Q)
-        d = self.approach_no_defect(Q + dF)
-        area = self.area_no_defect(Q + dF) + dA
+        Qf = Q + dF
+        area = self.area_no_defect(Qf)
+        area += dA
+        d = self.approach_no_defect(Qf)
         return {"removed_force": dF, "contact_force": Q - dF, "approach": d,
                 "approach_change": d - d0, "contact_area": area}
 
