@@ -3,7 +3,8 @@
     nice -n 5 python benchmarks/load_interpolation.py build --out results_bench/load_interp
     python benchmarks/load_interpolation.py nodes --out results_bench/load_interp
     nice -n 5 python benchmarks/load_interpolation.py metrics --out results_bench/load_interp
-    python benchmarks/load_interpolation.py report --out results_bench/load_interp [--rules old dF cubic dF+cubic dF+edge]
+    python benchmarks/load_interpolation.py report --out results_bench/load_interp \
+        [--rules old dF+nodes dF]
 
 ``build``: tables of the held-out cases (``benchmarks/reference.py`` HELDOUT) at ``standard``
 with 5, 9 and 17 load nodes (checks and snapshots off; cached by ``benchmarks/accuracy.py``,

@@ -202,7 +202,8 @@ class PressureTable:
         change with the load at a given distance from the contact edge, while their ratios to
         ``Q`` and ``A0`` go as ``Q^-1`` and ``Q^-2/3`` (read linearly in ``q`` the removed force
         was 3-22 % off between the 5 nodes of ``standard``, 0.7 % now; docs/benchmarks.md, "Load
-        interpolation of the table"). Below the first node the ratios are held (``dF ~ Q``, ``dA ~ A0``).
+        interpolation of the table"). Below the first node the ratios are held (``dF ~ Q``,
+        ``dA ~ A0``).
         """
         Q = np.asarray(Q, dtype=float)
         x = np.asarray(x, dtype=float)
@@ -604,11 +605,12 @@ def build_table(scene: Scene, fidelity: Fidelity | str | None = None, *, q_max: 
                               area_out=area_out)
         table.info = {
             **_interpolation_checks(scene, fid, table, qn, dxw, stats, check_seed),
-            "interp_variables": "W/W0, P_d/W0, removed force dF = Q_i ratio_force and area change "
-                                "dA = A0(Q_i) ratio_area: each node row read linearly in x at the same "
-                                "distance from its contact edge kappa a_coef Q_i^(1/3), the rows blended "
-                                "linearly in q = Q^(1/3); W0, P_out linear in q; P = max(W, P_out); "
-                                "offset nodes on multiples of the window spacing",
+            "interp_variables": (
+                "W/W0, P_d/W0, removed force dF = Q_i ratio_force and area change dA = A0(Q_i) "
+                "ratio_area: each node row read linearly in x at the same distance from its "
+                "contact edge kappa a_coef Q_i^(1/3), the rows blended linearly in q = Q^(1/3); "
+                "W0, P_out linear in q; P = max(W, P_out); delta0, A0 as c(q) q^2 on q_out; "
+                "offset nodes on multiples of the window spacing"),
             "zoom_consistency_max": float(max(nd.zoom_consistency for nd in nodes)),
             "approach_force_change_max": float(dr.removed_force_max),
             "global_dx": nodes[0].grid.dx, "global_dy": nodes[0].grid.dy,
