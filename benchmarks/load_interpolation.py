@@ -13,8 +13,14 @@ CPU per table stored). ``nodes`` (a): the ratios of the 5- and 9-node tables rea
 (``node_errors.csv``). ``metrics`` (b): the analysis chain's metrics (``accuracy.metrics``, 10
 revolutions, each table's own acquisition, numpy reading) of every table and rule
 (``metrics.csv``); ``report``: their errors against the 17-node table
-(``load_interpolation.md``). Rules: ``old`` (rows read at the same distance from the edge
-``kappa a_coef Q^(1/3)``), and the candidates of :data:`RULES`.
+(``load_interpolation.md``). Rules (:data:`RULES`): ``old`` = the package before 2026-11-26's
+fourth session (ratios dF/Q, dA/A0 blended; delta0, A0 on the load nodes), ``dF`` = the package
+after (dF, dA blended; delta0, A0 on ``q_out`` when the table has them), ``dF+nodes`` = dF with
+delta0 on the nodes, and the candidates not adopted (``cubic``, ``edge``, ``dF+spline``,
+``dF+hold``, ``dF@dense``: delta0 from the 17-node table). docs/benchmarks.md's table (b) is
+``report --rules old dF+nodes dF`` on tables built with ``approach_out``; its "rules tried" rows
+``metrics --rules cubic dF+cubic dF+edge dF+spline dF@dense`` on the same tables read with
+``dF+nodes`` as their base (they were run on tables built before ``approach_out`` existed).
 """
 
 from __future__ import annotations
