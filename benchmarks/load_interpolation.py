@@ -19,8 +19,8 @@ after (dF, dA blended; delta0, A0 on ``q_out`` when the table has them), ``dF+no
 delta0 on the nodes, and the candidates not adopted (``cubic``, ``edge``, ``dF+spline``,
 ``dF+hold``, ``dF@dense``: delta0 from the 17-node table). docs/benchmarks.md's table (b) is
 ``report --rules old dF+nodes dF`` on tables built with ``approach_out``; its "rules tried" rows
-``metrics --rules cubic dF+cubic dF+edge dF+spline dF@dense`` on the same tables read with
-``dF+nodes`` as their base (they were run on tables built before ``approach_out`` existed).
+come from ``metrics --rules cubic dF+cubic dF+edge dF+spline dF@dense`` (delta0 on the nodes:
+they were first run on tables built before ``approach_out`` existed).
 """
 
 from __future__ import annotations
@@ -73,15 +73,16 @@ def cmd_build(args) -> None:
 #: (monotone cubic Hermite, Fritsch-Carlson, in q through four nodes instead of linear)
 RULES = {
     "old": {"edge": "cbrt", "extensive": False, "cubic": False, "approach": "nodes"},
-    "edge": {"edge": "measured", "extensive": False, "cubic": False},
-    "cubic": {"edge": "cbrt", "extensive": False, "cubic": True},
+    "edge": {"edge": "measured", "extensive": False, "cubic": False, "approach": "nodes"},
+    "cubic": {"edge": "cbrt", "extensive": False, "cubic": True, "approach": "nodes"},
     "dF": {"edge": "cbrt", "extensive": True, "cubic": False},
-    "dF+edge": {"edge": "measured", "extensive": True, "cubic": False},
-    "dF+cubic": {"edge": "cbrt", "extensive": True, "cubic": True},
-    "dF+edge+cubic": {"edge": "measured", "extensive": True, "cubic": True},
+    "dF+edge": {"edge": "measured", "extensive": True, "cubic": False, "approach": "nodes"},
+    "dF+cubic": {"edge": "cbrt", "extensive": True, "cubic": True, "approach": "nodes"},
+    "dF+edge+cubic": {"edge": "measured", "extensive": True, "cubic": True, "approach": "nodes"},
     "dF+spline": {"edge": "cbrt", "extensive": True, "cubic": False, "approach": "spline"},
     "dF+nodes": {"edge": "cbrt", "extensive": True, "cubic": False, "approach": "nodes"},
-    "dF+hold": {"edge": "cbrt", "extensive": True, "cubic": False, "below": "hold"},
+    "dF+hold": {"edge": "cbrt", "extensive": True, "cubic": False, "below": "hold",
+                "approach": "nodes"},
 }
 
 def node_edges(tab, rule) -> np.ndarray:
@@ -164,7 +165,7 @@ class RuleTable:
         """delta0(Q): the table's c(q) q^2 rule, or on a denser table's nodes (``dense``), or
         with c a natural cubic spline in q (``rule["approach"] == "spline"``)."""
         t = self.dense if self.dense is not None else self.t
-        if self.rule.get("approach") == "nodes":       # the load nodes only (before 2026-11-26)
+        if self.rule.get("approach") == "nodes" or self.dense is not None:   # nodes only
             return t._q2_rule(t.approach0, None, Q)
         if self.rule.get("approach") != "spline":
             return t.approach_no_defect(Q)
