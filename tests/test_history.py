@@ -329,6 +329,25 @@ def test_healthy_approach_and_area_follow_hertz():
     np.testing.assert_allclose(sig["contact_force"], q)
 
 
+def test_dense_no_defect_approach_from_the_outside_solves():
+    from bearing_envelope.contact import hertz
+
+    s, tb, nodes = _table(15.0, load=750.0)
+    b = s.bearing
+    assert tb.approach_out.shape == tb.area_out.shape == tb.q_out.shape
+    # at the load nodes the dense grid holds the nodes' own global solves
+    at = [int(np.argmin(np.abs(tb.q_out - q))) for q in tb.q_nodes]
+    np.testing.assert_allclose(tb.q_out[at], tb.q_nodes, rtol=1e-12)
+    np.testing.assert_allclose(tb.approach_out[at], tb.approach0, rtol=1e-12)
+    np.testing.assert_allclose(tb.area_out[at], tb.area0, rtol=1e-12)
+    # between them solved values: Hertzian until the contact reaches the roller ends, then more
+    # compliant, never below Hertz by more than the grid's 1 %; increasing with the load
+    hz = np.array([hertz.elliptical(q, b.rx_m, b.ry_m, s.material.e_star_pa).approach
+                   for q in tb.q_out])
+    assert np.all(tb.approach_out >= 0.99 * hz)
+    assert np.all(np.diff(tb.approach_out) > 0)
+
+
 def test_removed_force_area_and_approach_change_of_a_defect():
     from bearing_envelope.contact import hertz
 

@@ -262,6 +262,10 @@ def _write_table(tg, tb, race: str) -> None:
           "contact-area change with the defect at the no-defect approach, dA(Q, x)")
     _dset(tg, "approach0", tb.approach0, "m", "no-defect approach delta0(Q) (global solves)")
     _dset(tg, "area0", tb.area0, "m^2", "no-defect contact area A0(Q) (global solves)")
+    for k, unit, what in (("approach_out", "m", "no-defect approach"),
+                          ("area_out", "m^2", "no-defect contact area")):
+        if getattr(tb, k, None) is not None:
+            _dset(tg, k, getattr(tb, k), unit, f"{what} at q_out (the p_out global solves)")
     tg.attrs["a_coef"] = tb.a_coef
     tg.attrs["kappa"] = tb.kappa
     tg.attrs["s_const"] = tb.s_const
@@ -297,6 +301,8 @@ def _history_arrays(history) -> list:
     table = [a for tb in tables for a in (
         tb.q_nodes, tb.xi_nodes, tb.p0, tb.w0, tb.q_out, tb.p_out, tb.ratio_defect, tb.ratio_force,
         tb.ratio_area, tb.approach0, tb.area0, tb.ratio_defect,
+        *[v for v in (getattr(tb, "approach_out", None), getattr(tb, "area_out", None))
+          if v is not None],
         *[v for v in tb.info.values() if isinstance(v, np.ndarray)])]
     return [history.time, history.roller_load, history.defect_offset,
             *history.signals.values(), *table, *snaps]

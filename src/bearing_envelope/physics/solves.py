@@ -21,7 +21,8 @@ from .nodefect_cache import GlobalSolution, NoDefectCache, global_key
 from .scene import Scene
 
 __all__ = ["SolveStats", "LoadNode", "DefectSolve", "RimStrip", "GlobalGridError", "global_solve",
-           "solve_load", "outside_max", "defect_solve", "neighbourhood_max", "window_spec"]
+           "solve_load", "outside_max", "outside_solve", "defect_solve", "neighbourhood_max",
+           "window_spec"]
 
 @dataclass
 class SolveStats:
@@ -434,13 +435,21 @@ def _on_global_cells(grid: Grid, win: Grid, j_lo: int, m: int, p_w: np.ndarray) 
     return out * (win.dx * win.dy) / (grid.dx * grid.dy)
 
 
-def outside_max(scene: Scene, fid: Fidelity, q_load: float, kappa: float,
-                 stats: SolveStats) -> float:
-    """Maximum no-defect pressure outside the read strip from a global solve only (Pa)."""
+def outside_solve(scene: Scene, fid: Fidelity, q_load: float, kappa: float,
+                  stats: SolveStats) -> tuple[float, float, float]:
+    """From a global no-defect solve only: the maximum pressure outside the read strip (Pa),
+    the approach (m) and the contact area (m^2)."""
     a, s, dxw, dyw, xh, yd, hy_read, hy = window_spec(scene, fid, q_load, kappa)
     grid, sol = global_solve(scene, fid, q_load, global_extent(fid, kappa, a), stats)
     gstrip = np.abs(grid.y - yd) <= hy_read + 1e-12
-    return float(sol.pressure[:, ~gstrip].max()) if np.any(~gstrip) else 0.0
+    p_out = float(sol.pressure[:, ~gstrip].max()) if np.any(~gstrip) else 0.0
+    return p_out, float(sol.approach), float(sol.contact_area)
+
+
+def outside_max(scene: Scene, fid: Fidelity, q_load: float, kappa: float,
+                stats: SolveStats) -> float:
+    """Maximum no-defect pressure outside the read strip from a global solve only (Pa)."""
+    return outside_solve(scene, fid, q_load, kappa, stats)[0]
 
 
 #: Iteration budget of a warm-started window solve before it is retried from the no-defect

@@ -16,7 +16,7 @@ from .fidelity import Fidelity, fidelity_from
 from .geometry import hertz_estimate
 from .kernels import HAVE_NUMBA, ratio_kernel
 from .scene import Scene
-from .solves import (LoadNode, SolveStats, defect_solve, neighbourhood_max, outside_max,
+from .solves import (LoadNode, SolveStats, defect_solve, neighbourhood_max, outside_solve,
                      solve_load, window_spec)
 
 __all__ = ["PressureTable", "build_table", "direct_pressure", "Q_MIN_FRACTION",
@@ -91,14 +91,22 @@ class PressureTable:
         ``q_out``).
     ratio_force : ndarray (nq, nx)
         Force the defect removes from the contact at the no-defect approach, divided by the
-        node's roller load ``Q`` (window solves under displacement control).
+        node's roller load ``Q`` (window solves under displacement control). Read between the
+        load nodes as the force ``Q_i ratio_force`` itself (:meth:`evaluate_integrals`).
     ratio_area : ndarray (nq, nx)
         Change of the contact area with the defect (window, same approach), divided by the
-        node's no-defect area ``A0(Q)`` (``<= 0``).
+        node's no-defect area ``A0(Q)`` (``<= 0``); read as the change ``A0(Q_i) ratio_area``.
     approach0, area0 : ndarray (nq,)
         No-defect approach ``delta0(Q)`` (m) and contact area ``A0(Q)`` (m^2) of the global
         solves. Interpolated as ``c(q) q^2`` with ``c`` linear in ``q = Q^(1/3)`` (exact for
-        Hertz, where both grow as ``Q^(2/3)``), ``c`` held constant outside the nodes.
+        Hertz, where both grow as ``Q^(2/3)``), ``c`` held constant outside the nodes; on the
+        dense grid ``q_out`` when the table has ``approach_out``, ``area_out``.
+    approach_out, area_out : ndarray (nout,) or None
+        The same at ``q_out`` (the ``P_out`` solves' own approach and area, no extra solve):
+        ``c`` bends where the contact reaches the end relief, between the load nodes, and the
+        approach change ``delta0(Q + dF) - delta0(Q)`` reads its slope (5 load nodes against
+        17: its shaft-rate sidebands 11 % off at the 95th percentile read on the nodes, 1.3 %
+        on ``q_out``; docs/benchmarks.md, "Load interpolation of the table").
     info : dict
         Diagnostics (interpolation errors, zoom consistency, grids, ...).
     p_cap : float or None
@@ -127,6 +135,8 @@ class PressureTable:
     area0: np.ndarray | None = None
     info: dict = field(default_factory=dict)
     p_cap: float | None = None
+    approach_out: np.ndarray | None = None
+    area_out: np.ndarray | None = None
 
     def __post_init__(self):
         shape = (self.q_nodes.size, self.xi_nodes.size)
@@ -139,6 +149,10 @@ class PressureTable:
                              f"(n_loads - 1) + 1 = {self.out_density * (self.q_nodes.size - 1) + 1}")
         if self.q_out.size != self.p_out.size or np.any(np.diff(self.q_out) <= 0):
             raise ValueError("q_out must be increasing and match p_out in size")
+        for name in ("approach_out", "area_out"):
+            v = getattr(self, name)
+            if v is not None and np.shape(v) != self.q_out.shape:
+                raise ValueError(f"{name} must match q_out in size")
 
     @property
     def p_out_nodes(self) -> np.ndarray:
@@ -149,22 +163,25 @@ class PressureTable:
         """``P(Q_i, x_j) = max(W0 R, P_out)`` at the nodes (Pa), shape (nq, nx)."""
         return np.maximum(self.w0[:, None] * self.ratio, self.p_out_nodes[:, None])
 
-    def _q2_rule(self, v, Q):
-        qn = np.cbrt(self.q_nodes)
+    def _q2_rule(self, v, v_out, Q):
+        """``c(q) q^2``, ``c`` linear in ``q`` on the dense grid ``q_out`` (``v_out``) when the
+        table has it, else on the load nodes (``v``); ``c`` held outside."""
+        qs, vs = (self.q_out, v_out) if v_out is not None else (self.q_nodes, v)
+        qn = np.cbrt(qs)
         q = np.cbrt(np.clip(Q, 0.0, None))
-        return np.interp(q, qn, v / qn ** 2) * q ** 2
+        return np.interp(q, qn, vs / qn ** 2) * q ** 2
 
     def approach_no_defect(self, Q) -> np.ndarray:
         """No-defect approach ``delta0(Q)`` (m) at roller loads ``Q`` (N)."""
         if self.approach0 is None:
             raise ValueError("this table has no approach0 (no-defect approach per load node)")
-        return self._q2_rule(self.approach0, Q)
+        return self._q2_rule(self.approach0, getattr(self, "approach_out", None), Q)
 
     def area_no_defect(self, Q) -> np.ndarray:
         """No-defect contact area ``A0(Q)`` (m^2) at roller loads ``Q`` (N)."""
         if self.area0 is None:
             raise ValueError("this table has no area0 (no-defect contact area per load node)")
-        return self._q2_rule(self.area0, Q)
+        return self._q2_rule(self.area0, getattr(self, "area_out", None), Q)
 
     def evaluate_integrals(self, Q, x, *, use_numba: bool = True) -> dict[str, np.ndarray]:
         """Integral signals at roller loads ``Q`` (N) and defect offsets ``x`` (m).
@@ -179,15 +196,29 @@ class PressureTable:
             stiffness taken up by the no-defect load-approach curve, first order in
             ``dF / Q``); ``approach_change`` ``delta - delta0(Q)`` (m, >= 0); ``contact_area``
             (m^2): ``A0(Q + dF) + dA`` with ``dA`` the window's area change at fixed approach.
+
+        ``dF`` and ``dA`` themselves (``Q_i ratio_force``, ``A0(Q_i) ratio_area`` per node) are
+        blended linearly in ``q`` between the rows, each row read like ``P_d/W0``: both hardly
+        change with the load at a given distance from the contact edge, while their ratios to
+        ``Q`` and ``A0`` go as ``Q^-1`` and ``Q^-2/3`` (read linearly in ``q`` the removed force
+        was 3-22 % off between the 5 nodes of ``standard``, 0.7 % now; docs/benchmarks.md, "Load
+        interpolation of the table"). Below the first node the ratios are held (``dF ~ Q``,
+        ``dA ~ A0``).
         """
         Q = np.asarray(Q, dtype=float)
         x = np.asarray(x, dtype=float)
-        rf = _ratio_eval(self, self.ratio_force, Q, x, use_numba)
-        ra = _ratio_eval(self, self.ratio_area, Q, x, use_numba)
-        dF = Q * rf
+        a0 = self.area_no_defect(Q)
+        dF = _ratio_eval(self, self.q_nodes[:, None] * self.ratio_force, Q, x, use_numba)
+        dA = _ratio_eval(self, self.area0[:, None] * self.ratio_area, Q, x, use_numba)
+        below = np.flatnonzero(Q.ravel() < self.q_nodes[0])     # the ratios held there
+        if below.size:
+            dF.ravel()[below] *= Q.ravel()[below] / self.q_nodes[0]
+            dA.ravel()[below] *= a0.ravel()[below] / self.area0[0]
         d0 = self.approach_no_defect(Q)
-        d = self.approach_no_defect(Q + dF)
-        area = self.area_no_defect(Q + dF) + ra * self.area_no_defect(Q)
+        Qf = Q + dF
+        area = self.area_no_defect(Qf)
+        area += dA
+        d = self.approach_no_defect(Qf)
         return {"removed_force": dF, "contact_force": Q - dF, "approach": d,
                 "approach_change": d - d0, "contact_area": area}
 
@@ -408,22 +439,24 @@ def _defect_ratios(scene: Scene, fid: Fidelity, nodes: list[LoadNode], q_nodes: 
 
 
 def _outside_maxima(scene: Scene, fid: Fidelity, nodes: list[LoadNode], qn: np.ndarray,
-                    kappa: float, stats: SolveStats) -> tuple[np.ndarray, np.ndarray]:
+                    kappa: float, stats: SolveStats) -> tuple[np.ndarray, ...]:
     """The no-defect maximum outside the read strip (roller ends) on a load grid
     :data:`OUTSIDE_LOAD_DENSITY` times denser than the nodes (global solves only; the nodes'
     own values are reused), refined by bisection where it bends (:func:`_refine_outside`).
-    Returns ``(q_out, p_out)``, ``q_out`` in N."""
+    Returns ``(q_out, p_out, approach_out, area_out)``, ``q_out`` in N: the same global solves'
+    approach and contact area come with them."""
     m_out = OUTSIDE_LOAD_DENSITY
     nout = m_out * (qn.size - 1) + 1
     q_base = np.linspace(qn[0], qn[-1], nout)
-    p_base = np.empty(nout)
+    v_base = np.empty((nout, 3))
     for k, qo in enumerate(q_base):
         if k % m_out == 0:
-            p_base[k] = nodes[k // m_out].outside_max
+            nd = nodes[k // m_out]
+            v_base[k] = (nd.outside_max, nd.approach_global, nd.area_global)
         else:
-            p_base[k] = outside_max(scene, fid, float(qo ** 3), kappa, stats)
-    q_out, p_out = _refine_outside(scene, fid, kappa, stats, q_base, p_base)
-    return q_out ** 3, p_out
+            v_base[k] = outside_solve(scene, fid, float(qo ** 3), kappa, stats)
+    q_out, v_out = _refine_outside(scene, fid, kappa, stats, q_base, v_base)
+    return q_out ** 3, v_out[:, 0], v_out[:, 1], v_out[:, 2]
 
 
 #: Columns of one interpolation check row (:func:`_check_errors`): roller load (N), offset (m),
@@ -493,25 +526,28 @@ def _interpolation_checks(scene: Scene, fid: Fidelity, table: "PressureTable", q
 
 
 def _refine_outside(scene: Scene, fid: Fidelity, kappa: float, stats: SolveStats,
-                    q_base: np.ndarray, p_base: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Bisect the intervals of ``(q_base, p_base)`` (``q = Q^(1/3)``) where the solved midpoint
-    misses the linear reading by more than :data:`OUTSIDE_REFINE_TOL` (relative), at most
+                    q_base: np.ndarray, v_base: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Bisect the intervals of ``(q_base, v_base)`` (``q = Q^(1/3)``; ``v``: rows of
+    :func:`~.solves.outside_solve`) where the solved midpoint's ``P_out`` misses the linear
+    reading by more than :data:`OUTSIDE_REFINE_TOL` (relative), at most
     :data:`OUTSIDE_REFINE_DEPTH` times; every midpoint solved is kept. Global solves only."""
-    qs, ps = [float(q_base[0])], [float(p_base[0])]
+    qs, vs = [float(q_base[0])], [np.asarray(v_base[0], float)]
 
-    def bisect(qa, pa, qb, pb, depth):
+    def bisect(qa, va, qb, vb, depth):
         qm = 0.5 * (qa + qb)
-        pm = outside_max(scene, fid, qm ** 3, kappa, stats)
-        if depth < OUTSIDE_REFINE_DEPTH and abs(pm - 0.5 * (pa + pb)) > OUTSIDE_REFINE_TOL * pm:
-            bisect(qa, pa, qm, pm, depth + 1)
-            bisect(qm, pm, qb, pb, depth + 1)
+        vm = np.array(outside_solve(scene, fid, qm ** 3, kappa, stats))
+        if depth < OUTSIDE_REFINE_DEPTH and \
+                abs(vm[0] - 0.5 * (va[0] + vb[0])) > OUTSIDE_REFINE_TOL * vm[0]:
+            bisect(qa, va, qm, vm, depth + 1)
+            bisect(qm, vm, qb, vb, depth + 1)
         else:
             qs.extend([qm, qb])
-            ps.extend([pm, pb])
+            vs.extend([vm, vb])
 
     for k in range(q_base.size - 1):
-        bisect(float(q_base[k]), float(p_base[k]), float(q_base[k + 1]), float(p_base[k + 1]), 1)
-    return np.array(qs), np.array(ps)
+        bisect(float(q_base[k]), np.asarray(v_base[k], float), float(q_base[k + 1]),
+               np.asarray(v_base[k + 1], float), 1)
+    return np.array(qs), np.array(vs)
 
 
 def build_table(scene: Scene, fidelity: Fidelity | str | None = None, *, q_max: float,
@@ -556,7 +592,8 @@ def build_table(scene: Scene, fidelity: Fidelity | str | None = None, *, q_max: 
         dr = _defect_ratios(scene, fid, nodes, q_nodes, x_nodes,
                             lambda q: kappa * a_coef * q ** (1 / 3) + s_const, stats,
                             bar.update if bar is not None else (lambda: None))
-        q_out, p_out = _outside_maxima(scene, fid, nodes, qn, kappa, stats)
+        q_out, p_out, approach_out, area_out = _outside_maxima(scene, fid, nodes, qn, kappa,
+                                                               stats)
         table = PressureTable(q_nodes, x_nodes / s_max, np.array([nd.p0 for nd in nodes]),
                               np.array([nd.w0 for nd in nodes]), dr.ratio, dr.ratio_defect,
                               a_coef, kappa, s_const, s_max, q_out, p_out,
@@ -564,11 +601,16 @@ def build_table(scene: Scene, fidelity: Fidelity | str | None = None, *, q_max: 
                               ratio_area=dr.ratio_area,
                               approach0=np.array([nd.approach_global for nd in nodes]),
                               area0=np.array([nd.area_global for nd in nodes]),
-                              p_cap=scene.material.hardness_pa)
+                              p_cap=scene.material.hardness_pa, approach_out=approach_out,
+                              area_out=area_out)
         table.info = {
             **_interpolation_checks(scene, fid, table, qn, dxw, stats, check_seed),
-            "interp_variables": "W/W0 bilinear in q = Q^(1/3) and x scaled by s(Q); W0, P_out linear in q; P = max(W, P_out); "
-                                "offset nodes on multiples of the window spacing",
+            "interp_variables": (
+                "W/W0, P_d/W0, removed force dF = Q_i ratio_force and area change dA = A0(Q_i) "
+                "ratio_area: each node row read linearly in x at the same distance from its "
+                "contact edge kappa a_coef Q_i^(1/3), the rows blended linearly in q = Q^(1/3); "
+                "W0, P_out linear in q; P = max(W, P_out); delta0, A0 as c(q) q^2 on q_out; "
+                "offset nodes on multiples of the window spacing"),
             "zoom_consistency_max": float(max(nd.zoom_consistency for nd in nodes)),
             "approach_force_change_max": float(dr.removed_force_max),
             "global_dx": nodes[0].grid.dx, "global_dy": nodes[0].grid.dy,
