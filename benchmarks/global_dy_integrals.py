@@ -4,6 +4,11 @@
         --gdy 80 40 20 10 --ldy 40 --out results_bench/gdy/probe_ldy40.csv
     python benchmarks/global_dy_integrals.py probe --load 500 --depth 50 \\
         --gdy 80 40 30 25 20 15 10 --ldy 5 --out results_bench/gdy/probe_ldy5.csv
+    python benchmarks/global_dy_integrals.py probe --gdy 40 --ldy 40 20 10 5 2.5 \\
+        --out results_bench/gdy/ladder_ldy.csv
+    python benchmarks/global_dy_integrals.py tables --cases '[[500, 50], [750, 20]]' \\
+        --gdy 80 40 20 10 --out results_bench/gdy/tables.csv
+    python benchmarks/global_dy_integrals.py report results_bench/gdy/tables.csv
 
 One load node (the table's highest roller load ``q_max`` of the scene, ``kappa`` 1) per global
 axial spacing ``global_dy_um``; per node the window's axial layout (``j_lo``, ``j_hi``, ``m``,
@@ -15,7 +20,10 @@ change at fixed approach (``dF_window``), the far field's uptake and ``removed_f
 (the defect's depth summed over the window's columns at its centre row, over the full depth).
 Fidelity: ``--preset`` (default ``standard``) with ``global_dy_um`` and ``local_dy_um`` set;
 ``--rim`` keeps the preset's rim strips (off by default: they move the removed force by
-< 0.03 %). CPU seconds (``time.process_time``) per node and per defect solve are recorded.
+< 0.03 %); ``--sy`` raises the gap's least number of axial sub-points per cell (diagnosis).
+The "old" runs of ``docs/benchmarks.md`` ("Global axial grid and the integral signals") ran this
+script against the tree before the fix (``git archive f676a93 src | tar -x -C /tmp/old``,
+``PYTHONPATH=/tmp/old/src``). CPU seconds (``time.process_time``) per node and per defect solve are recorded.
 """
 
 from __future__ import annotations
@@ -30,7 +38,6 @@ import pandas as pd
 
 from bearing_envelope.physics.fidelity import fidelity_from
 from bearing_envelope.physics import geometry
-from bearing_envelope.physics.geometry import defect_depth
 from bearing_envelope.physics.loads import scene_load_distribution
 from bearing_envelope.physics.scene import Scene
 from bearing_envelope.physics.solves import (SolveStats, _far_uptake, defect_solve, solve_load,
@@ -69,15 +76,14 @@ def defect_row(sc, fid, nd, x_d, stats) -> dict:
     ds = defect_solve(sc, fid, nd, x_d, stats)
     cpu = time.process_time() - c0
     up = _far_uptake(nd, ds.pressure)
-    d = sc.defect
-    yd = 1e-3 * d.axial_position_mm
-    depth = d.depth_um * 1e-6
-    # the defect's axial length as the window's cells see it (gap_field samples 2 points a cell)
-    oy = np.array([-0.25, 0.25]) * win.dy
-    prof = np.mean([defect_depth(d, np.zeros(win.shape[1]), win.y + v - yd) for v in oy], axis=0)
+    # the defect's axial length as the window's gap holds it: its depth summed along the row at
+    # the defect's centre, over the full depth
+    i = int(np.argmin(np.abs(win.x - x_d)))
+    dg = geometry.gap_field(sc, win, x_d)[i] - geometry.gap_field(sc, win, None)[i]
+    L_eff = float(np.sum(dg[np.isfinite(dg)])) * win.dy / (1e-6 * sc.defect.depth_um)
     return {"x_d_um": 1e6 * x_d, "removed_force_n": ds.removed_force,
             "dF_window_n": ds.removed_force + up, "uptake_n": up,
-            "L_eff_um": 1e6 * float(np.sum(prof)) * win.dy / depth,
+            "L_eff_um": 1e6 * L_eff,
             "p_max_pa": ds.P, "W_pa": ds.W, "defect_cpu_s": cpu}
 
 
@@ -139,6 +145,43 @@ def tables(cases, gdys, ldy, preset) -> pd.DataFrame:
     return pd.DataFrame(rows)
 
 
+def ladder(df: pd.DataFrame, value: str, floor: float = 0.05) -> pd.DataFrame:
+    """Per case and global axial step (coarse -> fine), the relative change of ``value`` at each
+    (load node, offset) where it is at least ``floor`` of the case's largest: median and max %,
+    and the fraction of entries whose ladder is not monotone (a step against the others' sign,
+    steps below 0.1 % not counted)."""
+    rows = []
+    for (load, depth), g in df.groupby(["load_kn", "depth_um"]):
+        w = g.pivot_table(index=["node", "j"], columns="gdy_um", values=value)
+        w = w[sorted(w.columns, reverse=True)]
+        w = w[(w.abs().max(axis=1) >= floor * w.abs().max().max())]
+        steps = w.T.pct_change().T.iloc[:, 1:] * 100.0
+        for a, b in zip(w.columns[:-1], w.columns[1:]):
+            d = steps[b].abs()
+            rows.append({"case": f"{load:g} kN / {depth:g} um", "step": f"{a:g} -> {b:g}",
+                         "median %": d.median(), "max %": d.max()})
+        sig = np.sign(steps.where(steps.abs() >= 0.1))
+        osc = ((sig > 0).any(axis=1) & (sig < 0).any(axis=1)).mean()
+        rows.append({"case": f"{load:g} kN / {depth:g} um", "step": "not monotone",
+                     "median %": 100.0 * osc, "max %": np.nan})
+    return pd.DataFrame(rows)
+
+
+def report(paths) -> None:
+    """Ladders of the removed force (``rf``) and the table's pressure (``w0 x ratio``) per file
+    written by ``tables``, and the tables' CPU seconds."""
+    for p in paths:
+        df = pd.read_csv(p)
+        df["p_window"] = df["w0_pa"] * df["ratio"]
+        print(f"## {p}")
+        for v in ("rf", "p_window"):
+            print(f"### {v}")
+            print(ladder(df, v).to_markdown(index=False, floatfmt=".3g"))
+        cpu = df.groupby(["load_kn", "depth_um", "gdy_um"])["table_cpu_s"].first().unstack()
+        print("### table CPU s")
+        print(cpu.to_markdown(floatfmt=".1f"))
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     sub = ap.add_subparsers(dest="cmd", required=True)
@@ -158,7 +201,11 @@ def main(argv=None):
     t.add_argument("--ldy", type=float, default=40.0)
     t.add_argument("--preset", default="standard")
     t.add_argument("--out", type=Path, required=True)
+    r = sub.add_parser("report")
+    r.add_argument("files", type=Path, nargs="+")
     a = ap.parse_args(argv)
+    if a.cmd == "report":
+        return report(a.files)
     if a.cmd == "tables":
         df = tables(json.loads(a.cases), a.gdy, a.ldy, a.preset)
     else:

@@ -260,28 +260,43 @@ def _footprint_cells(c: np.ndarray, d: float, centre: float, half: float) -> sli
 
 
 def _defect_cell_average(defect, grid: Grid, x_d: float, supersample) -> np.ndarray:
-    """The defect's depth averaged over each cell (m): over ``sx x sy`` sub-points, at least
-    ``supersample`` and at most :data:`DEFECT_SUBPOINT_M` apart, evaluated only on the cells
-    the footprint overlaps (the depth is 0 elsewhere; a measured profile's rows are all kept).
-    The average changes continuously with ``x_d`` (point sampling makes the rim peak jitter by
-    +-15 % with the defect's sub-cell position)."""
+    """The defect's depth averaged over each cell (m), evaluated only on the cells the footprint
+    overlaps (0 elsewhere; a measured profile's rows are all kept): over ``sx`` sub-points along
+    ``x`` (at least ``supersample[0]``, at most :data:`DEFECT_SUBPOINT_M` apart) and along ``y``
+    ``supersample[1]`` of them, or in the columns within the edge radius of an axial end (where
+    the depth changes along ``y``: the rim and the wall) sub-points at most
+    :data:`DEFECT_SUBPOINT_M` apart. The average changes continuously with ``x_d`` (point
+    sampling makes the rim peak jitter by +-15 % with the defect's sub-cell position)."""
     yd = 1e-3 * defect.axial_position_mm
+    hy, r = 0.5 * defect.extent_y_m, 1e-6 * defect.edge_radius_um
     sx = max(supersample[0], math.ceil(grid.dx / DEFECT_SUBPOINT_M - 1e-9))
-    sy = max(supersample[1], math.ceil(grid.dy / DEFECT_SUBPOINT_M - 1e-9))
     rows = slice(None) if defect.shape == "profile" else \
         _footprint_cells(grid.x, grid.dx, x_d, 0.5 * defect.extent_x_m)
-    cols = _footprint_cells(grid.y, grid.dy, yd, 0.5 * defect.extent_y_m)
-    x, y = grid.x[rows], grid.y[cols]
-    ox = ((np.arange(sx) + 0.5) / sx - 0.5) * grid.dx
-    oy = ((np.arange(sy) + 0.5) / sy - 0.5) * grid.dy
+    cols = _footprint_cells(grid.y, grid.dy, yd, hy)
+    ends = np.zeros(grid.shape[1], bool)
+    for c in (yd - hy + 0.5 * r, yd + hy - 0.5 * r):
+        ends[_footprint_cells(grid.y, grid.dy, c, 0.5 * r + 1e-12)] = True
+    out = np.zeros(grid.shape)
+    x = grid.x[rows]
+    for sel, sy in ((np.flatnonzero(~ends[cols]) + (cols.start or 0), supersample[1]),
+                    (np.flatnonzero(ends), max(supersample[1],
+                                               math.ceil(grid.dy / DEFECT_SUBPOINT_M - 1e-9)))):
+        if sel.size:
+            out[rows, sel] = _sub_point_mean(defect, x, grid.y[sel], grid.dx, grid.dy, x_d, yd,
+                                             sx, sy)
+    return out
+
+
+def _sub_point_mean(defect, x, y, dx, dy, x_d, yd, sx, sy) -> np.ndarray:
+    """Mean depth (m) over ``sx x sy`` sub-points of the cells centred at ``x`` x ``y``."""
+    ox = ((np.arange(sx) + 0.5) / sx - 0.5) * dx
+    oy = ((np.arange(sy) + 0.5) / sy - 0.5) * dy
     v = (y[:, None] + oy[None, :]).ravel() - yd           # every column's sub-points at once
     acc = np.zeros((x.size, y.size))
     for u in ox:
         acc += defect_depth(defect, x[:, None] + u - x_d, v[None, :]).reshape(
             x.size, y.size, sy).sum(axis=2)
-    out = np.zeros(grid.shape)
-    out[rows, cols] = acc / (sx * sy)
-    return out
+    return acc / (sx * sy)
 
 
 def hertz_estimate(scene, force: float):
