@@ -68,13 +68,16 @@ def test_defect_out_of_contact_removes_nothing(load, depth, q):
                                            (750.0, 20.0, 120e3, 0.0)])
 def test_end_strips_approach_a_uniform_fine_window(load, depth, q, x):
     # 40 um window + 10 um end strips against a uniform 10 um window (everything else equal):
-    # the removed force at most half as far off as the 40 um window alone (measured: 0.5, 1.0
-    # and 1.2 % against 2.0, 2.7 and 3.2 %); the peak no further off
+    # the removed force within 0.4 % (measured: 0.01, 0.26 and 0.24 %); the peak no further off
+    # than the 40 um window's. With two gap points per 40 um column (before issue 25's fourth
+    # session) the strips were 0.5, 1.0 and 1.2 % off and the 40 um window 2.0, 2.7 and 3.2 %;
+    # with the defect's wall sampled at 0.5 um the 40 um window alone is 0.14, 0.17 and 0.04 %
+    # off here (defects at or near the contact centre)
     s = _scene(load, depth)
     out = {name: _solve(s, q, x, **spec)[2] for name, spec in {
         "coarse": {}, "ends": {"end_dy_um": 10.0}, "fine": {"local_dy_um": 10.0}}.items()}
     c, e, f = out["coarse"], out["ends"], out["fine"]
-    assert abs(e.removed_force / f.removed_force - 1) < 0.5 * abs(c.removed_force / f.removed_force - 1)
+    assert abs(e.removed_force / f.removed_force - 1) < 0.004
     assert abs(e.Pd / f.Pd - 1) <= abs(c.Pd / f.Pd - 1) + 1e-4
 
 
