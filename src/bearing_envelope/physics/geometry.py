@@ -264,9 +264,11 @@ def _defect_cell_average(defect, grid: Grid, x_d: float, supersample) -> np.ndar
     overlaps (0 elsewhere; a measured profile's rows are all kept): over ``sx`` sub-points along
     ``x`` (at least ``supersample[0]``, at most :data:`DEFECT_SUBPOINT_M` apart) and along ``y``
     ``supersample[1]`` of them, or in the columns within the edge radius of an axial end (where
-    the depth changes along ``y``: the rim and the wall) sub-points at most
-    :data:`DEFECT_SUBPOINT_M` apart. The average changes continuously with ``x_d`` (point
-    sampling makes the rim peak jitter by +-15 % with the defect's sub-cell position)."""
+    a flat or measured-profile defect's depth changes along ``y``: the rim and the wall)
+    sub-points at most :data:`DEFECT_SUBPOINT_M` apart (a dent is smooth; a cylinder's
+    columns keep ``supersample[1]`` as before but for its two end bands). The average changes
+    continuously with ``x_d`` (point sampling makes the rim peak jitter by +-15 % with the
+    defect's sub-cell position)."""
     yd = 1e-3 * defect.axial_position_mm
     hy, r = 0.5 * defect.extent_y_m, 1e-6 * defect.edge_radius_um
     sx = max(supersample[0], math.ceil(grid.dx / DEFECT_SUBPOINT_M - 1e-9))
