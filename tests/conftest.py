@@ -20,6 +20,7 @@ order and the draft sweep is built in the session's temporary directory, as befo
 from __future__ import annotations
 
 import fcntl
+import json
 import os
 import shutil
 import sys
@@ -35,8 +36,10 @@ DRAFT = ROOT / "tests" / "data" / "config_draft.yaml"
 SLOW_FIRST = ("test_slurm.py", "test_reliability.py", "test_report.py", "test_workflow.py")
 
 
-def _xdist_active(config) -> bool:
-    return config.pluginmanager.hasplugin("xdist") and bool(getattr(config.option, "numprocesses", 0))
+def _xdist_worker(config) -> bool:
+    """True in an xdist worker: the workers collect, and the controller schedules the tests in
+    the order of their collection (xdist sets the workers' own ``numprocesses`` to None)."""
+    return hasattr(config, "workerinput")
 
 
 def _module_scoped(item) -> bool:
@@ -47,18 +50,52 @@ def _module_scoped(item) -> bool:
                for defs in info.name2fixturedefs.values() for d in defs)
 
 
+def _groups_file(basetemp: Path) -> Path:
+    return basetemp / "xdist-groups.json"
+
+
+@pytest.hookimpl(tryfirst=True)  # before xdist's own hook, which reads the xdist_group marks
 def pytest_collection_modifyitems(config, items):
-    if not _xdist_active(config):
+    if not _xdist_worker(config):
         return
+    groups = {}
     for item in items:
         if _module_scoped(item):
-            item.add_marker(pytest.mark.xdist_group(item.nodeid.split("::")[0]))
+            groups[item.nodeid] = item.nodeid.split("::")[0]
+            item.add_marker(pytest.mark.xdist_group(groups[item.nodeid]))
+    # xdist 3.8 tells the controller a test's group by appending "@group" to its node id, which
+    # pytest >= 9.2 no longer lets it do (pytest-xdist issue 1386: the groups are silently
+    # ignored); so the groups also go to the controller's scheduler (below) through a file in
+    # the run's temporary directory, written before the worker reports its collection.
+    shared = config._tmp_path_factory.getbasetemp().parent
+    tmp = shared / f"xdist-groups.{os.getpid()}.tmp"
+    tmp.write_text(json.dumps(groups))
+    os.replace(tmp, _groups_file(shared))
 
     def rank(item):
         name = Path(item.nodeid.split("::")[0]).name
         return SLOW_FIRST.index(name) if name in SLOW_FIRST else len(SLOW_FIRST)
 
     items.sort(key=rank)  # stable: file order within each rank
+
+
+@pytest.hookimpl(optionalhook=True)
+def pytest_xdist_make_scheduler(config, log):
+    """``--dist loadgroup`` with the groups of ``pytest_collection_modifyitems`` above."""
+    if config.getvalue("dist") != "loadgroup":
+        return None
+    from xdist.scheduler import LoadGroupScheduling
+
+    class FileGroupScheduling(LoadGroupScheduling):
+        _groups: dict | None = None
+
+        def _split_scope(self, nodeid: str) -> str:
+            if self._groups is None:
+                path = _groups_file(config._tmp_path_factory.getbasetemp())
+                self._groups = json.loads(path.read_text()) if path.exists() else {}
+            return self._groups.get(nodeid) or super()._split_scope(nodeid)
+
+    return FileGroupScheduling(config, log)
 
 
 def _build_draft(wd: Path) -> None:
