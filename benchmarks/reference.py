@@ -439,11 +439,11 @@ def write_model(model: pd.DataFrame, out: Path, cases) -> None:
     header = {"source": "benchmarks/reference.py",
               "date": f"{info.get('date')} to {time.strftime('%H:%M UTC', time.gmtime())}",
               "reference": "the base (fast + rim strips 0.5 um + global_dy 40 um, the preset "
-                           "standard) + each knob's ladder (rim_dx 0.5/0.25 um, global_dy "
-                           "80/40/20/10 um, local_dy 40/20/10/5 um, window margin 400/1600 um, "
-                           "tol 1e-5/1e-6, n_loads 5/9, offsets x1/x2; the finer levels where "
-                           "built): Richardson or finest per knob, corrections added "
-                           "(benchmarks/reference.py)",
+                           "standard) + each knob's ladder (rim_dx 1/0.5/0.25 um, global_dy "
+                           "80/40/20/10 um at a 10 um window, local_dy 40/20/10/5 um, window "
+                           "margin 400/1600 um, tol 1e-5/1e-6, n_loads 5/9/17, offsets x1/x2; "
+                           "the finer levels on the held-out cases): Richardson or finest per "
+                           "knob, corrections added (benchmarks/reference.py)",
               "far_field": "responds", "amplitude": "interpolated",
               "cases": [list(c) for c in cases], "heldout": [list(c) for c in HELDOUT],
               "lookup": "per load: the row of the load; between two model loads the larger "
