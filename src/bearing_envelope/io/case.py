@@ -264,7 +264,7 @@ def _write_table(tg, tb, race: str) -> None:
     _dset(tg, "area0", tb.area0, "m^2", "no-defect contact area A0(Q) (global solves)")
     for k, unit, what in (("approach_out", "m", "no-defect approach"),
                           ("area_out", "m^2", "no-defect contact area")):
-        if getattr(tb, k, None) is not None:
+        if getattr(tb, k) is not None:
             _dset(tg, k, getattr(tb, k), unit, f"{what} at q_out (the p_out global solves)")
     tg.attrs["a_coef"] = tb.a_coef
     tg.attrs["kappa"] = tb.kappa
@@ -301,8 +301,7 @@ def _history_arrays(history) -> list:
     table = [a for tb in tables for a in (
         tb.q_nodes, tb.xi_nodes, tb.p0, tb.w0, tb.q_out, tb.p_out, tb.ratio_defect, tb.ratio_force,
         tb.ratio_area, tb.approach0, tb.area0, tb.ratio_defect,
-        *[v for v in (getattr(tb, "approach_out", None), getattr(tb, "area_out", None))
-          if v is not None],
+        *[v for v in (tb.approach_out, tb.area_out) if v is not None],
         *[v for v in tb.info.values() if isinstance(v, np.ndarray)])]
     return [history.time, history.roller_load, history.defect_offset,
             *history.signals.values(), *table, *snaps]

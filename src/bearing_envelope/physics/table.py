@@ -175,13 +175,13 @@ class PressureTable:
         """No-defect approach ``delta0(Q)`` (m) at roller loads ``Q`` (N)."""
         if self.approach0 is None:
             raise ValueError("this table has no approach0 (no-defect approach per load node)")
-        return self._q2_rule(self.approach0, getattr(self, "approach_out", None), Q)
+        return self._q2_rule(self.approach0, self.approach_out, Q)
 
     def area_no_defect(self, Q) -> np.ndarray:
         """No-defect contact area ``A0(Q)`` (m^2) at roller loads ``Q`` (N)."""
         if self.area0 is None:
             raise ValueError("this table has no area0 (no-defect contact area per load node)")
-        return self._q2_rule(self.area0, getattr(self, "area_out", None), Q)
+        return self._q2_rule(self.area0, self.area_out, Q)
 
     def evaluate_integrals(self, Q, x, *, use_numba: bool = True) -> dict[str, np.ndarray]:
         """Integral signals at roller loads ``Q`` (N) and defect offsets ``x`` (m).
