@@ -51,7 +51,11 @@ from bearing_envelope.study.accuracy import quantity_class  # noqa: E402
 
 #: the model's cases: two depths per load and a healthy race per load
 MODEL = ((500.0, 15.0), (500.0, 100.0), (250.0, 15.0), (250.0, 100.0), (750.0, 15.0),
-         (750.0, 100.0), (250.0, 0.0), (500.0, 0.0), (750.0, 0.0))
+         (750.0, 100.0), (250.0, 0.0), (500.0, 0.0), (750.0, 0.0),
+         # four depths per load since the 2026-11-27 session: with two, a held-out depth between
+         # them erred up to 10x the larger of their errors (the peaks)
+         (500.0, 30.0), (500.0, 60.0), (250.0, 30.0), (250.0, 60.0), (750.0, 30.0),
+         (750.0, 60.0))
 #: cases kept out of the model: their errors test its estimates
 HELDOUT = ((500.0, 50.0), (250.0, 40.0), (750.0, 20.0))
 #: the base: rim strips 0.5 um + a 40 um axial global grid over the former default (the 2026-11-24
@@ -97,6 +101,12 @@ RUNS: dict[str, dict] = {
     "end10s20": {**BASE, "end_dy_um": 10.0, "end_strip_um": 20.0},
     "end10s80": {**BASE, "end_dy_um": 10.0, "end_strip_um": 80.0},
     "end5s80": {**BASE, "end_dy_um": 5.0, "end_strip_um": 80.0},
+    # 2026-11-27: candidates for a preset within 2 % on the integral signals (end strips over a
+    # finer window; the global grid at 20 um for p_max's raw terms)
+    "ldy10e5s80": {**BASE, "local_dy_um": 10.0, "end_dy_um": 5.0, "end_strip_um": 80.0},
+    "ldy20e5s80": {**BASE, "local_dy_um": 20.0, "end_dy_um": 5.0, "end_strip_um": 80.0},
+    "gdy20l10e5s80": {**BASE, "global_dy_um": 20.0, "local_dy_um": 10.0, "end_dy_um": 5.0,
+                      "end_strip_um": 80.0},
 }
 #: a knob whose ladder is not built around the base: its correction is taken from this run
 #: (the global ladder at the 10 um window: converged value minus its own 40 um level)
