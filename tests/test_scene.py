@@ -101,13 +101,17 @@ def test_fidelity_presets():
     assert set(PRESETS) == {"draft", "fast", "standard", "accurate", "paper"}
     assert fidelity_from(None).name == "standard"
     # issue 25 part 6: standard (the converged default) = fast (the former default) + rim strips
-    # + a 40 um axial global grid; accurate = standard with a 20 um axial global grid
+    # + a 40 um axial global grid; 2026-11-27: accurate = standard with a 10 um axial window
+    # spacing and 5 um end strips 80 um wide
     fast, std, acc = (fidelity_from(n) for n in ("fast", "standard", "accurate"))
     assert fast.rim_dx_um is None and fast.global_dy_um == 80.0
     assert std.rim_dx_um == acc.rim_dx_um == 0.5
-    assert std.global_dy_um == 40.0 and acc.global_dy_um == 20.0
+    assert std.global_dy_um == acc.global_dy_um == 40.0
+    assert (acc.local_dy_um, acc.end_dy_um, acc.end_strip_um) == (10.0, 5.0, 80.0)
+    assert std.end_dy_um is None
     for f in dataclasses.fields(Fidelity):
-        if f.name not in ("name", "rim_dx_um", "global_dy_um"):
+        if f.name not in ("name", "rim_dx_um", "global_dy_um", "local_dy_um", "end_dy_um",
+                          "end_strip_um"):
             assert getattr(fast, f.name) == getattr(std, f.name) == getattr(acc, f.name), f.name
     assert PRESETS["draft"].rim_dx_um is None and PRESETS["paper"].rim_dx_um is None
     d = fidelity_from("draft")
