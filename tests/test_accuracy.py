@@ -144,7 +144,7 @@ def test_case_file_carries_the_error_table(tmp_path, pair):
                       error_model=case_error_model(pair["fast"]))
     attrs, table = read_error_model(path)
     assert attrs["point"] == "fast" and attrs["kind"] == "defect"
-    assert "500 kN rows" in attrs["basis"]
+    assert "worst over the model's loads" in attrs["basis"]
     ref = error_model(pair["fast"].fidelity, 30, load_kN=500).table
     assert len(table) == len(ref)
     np.testing.assert_allclose(table["rel_error"].to_numpy(), ref["rel_error"].to_numpy())
@@ -194,21 +194,29 @@ def _csv_rows():
 
 
 def test_error_model_reads_the_csv_rows_of_the_case_load():
-    # the package's model, read back through error_model at each model load, between two loads
-    # (the larger of the two rows) and outside them (the nearest load)
+    # the package's model, read back through error_model: by default the worst over the model's
+    # loads at any load; per_load at each model load, between two loads (the larger of the two
+    # rows) and outside them (the nearest load)
     raw = _csv_rows()
     row = raw[(raw.point == "standard") & (raw.kind == "defect") & (raw.signal == "p_max")
-              & (raw.quantity_class == "envelope_bpfi")].set_index("load_kN")["rel_error"]
+              & (raw.quantity_class == "raw_dc")].set_index("load_kN")["rel_error"]
     assert set(row.index) == {250.0, 500.0, 750.0}
+    assert row.nunique() == 3                    # the rules below are told apart
 
-    def est(load):
-        t = error_model("standard", 50, load_kN=load).table
-        return float(t[(t.signal == "p_max") & (t.quantity_class == "envelope_bpfi")]
+    def est(load, rule="worst"):
+        t = error_model("standard", 50, load_kN=load, load_rule=rule).table
+        return float(t[(t.signal == "p_max") & (t.quantity_class == "raw_dc")]
                      ["rel_error"].iloc[0])
 
+    for load in (250.0, 500.0, 750.0, 600.0, 100.0, None):
+        assert est(load) == row.max()
     for load in (250.0, 500.0, 750.0):
-        assert est(load) == row[load]
-    assert est(600.0) == max(row[500.0], row[750.0])
-    assert est(100.0) == row[250.0] and est(1000.0) == row[750.0]
+        assert est(load, "per_load") == row[load]
+    assert est(600.0, "per_load") == max(row[500.0], row[750.0])
+    assert est(100.0, "per_load") == row[250.0] and est(1000.0, "per_load") == row[750.0]
     sc = Scene.from_mapping({}, load_kN=750, depth_um=50).to_mapping()
-    assert "750 kN rows" in error_model("standard", 50, sc).basis
+    assert "worst over the model's loads (250, 500, 750 kN)" in error_model("standard", 50, sc).basis
+    assert "750 kN rows" in error_model("standard", 50, sc, load_rule="per_load").basis
+    assert "1000 kN lies outside" in error_model("standard", 50, load_kN=1000).basis
+    with pytest.raises(ValueError, match="load_rule"):
+        error_model("standard", 50, load_rule="nearest")
