@@ -114,8 +114,8 @@ class Fidelity:
         ``end_strip_um`` on each side are re-solved on strips of whole window columns split
         ``m = ceil(window dy / end_dy_um)`` times along the axis (same cells across rolling),
         alternately with the window and the rim strips (``bearing_envelope.physics.solves``,
-        ``_strip_schwarz``). None = off (every preset but ``accurate``). Must divide ``local_dy_um`` (an integer
-        ratio >= 2); uniform elements only.
+        ``_strip_schwarz``). None = off (every preset but ``accurate``). Must divide
+        ``local_dy_um`` (an integer ratio >= 2); uniform elements only.
     end_strip_um : float
         Half-margin of the axial end strips (um), as ``rim_strip_um`` for the rim strips: each
         strip spans the end's rim zone plus this on each side, read only half of it away from

@@ -15,11 +15,11 @@ sidebands, the band-passed peak), the worst relative error over the model's case
 **Which load's rows** (:func:`error_model`, ``load_rule``): by default every case reads the
 worst over the model's loads (250, 500, 750 kN) of its point, kind, signal and class; with
 ``per_load`` (:func:`rows_at_load`) a case at a model load reads that load's rows, between two
-model loads the larger of the two, outside them the nearest. On three held-out cases (500 kN / 50 um,
-250 kN / 40 um, 750 kN / 20 um) the bars read as the worst over the loads covered every amplitude class at ``fast``,
-``standard`` and ``accurate`` (100 %; read at the case's own load, 67-78 % of the raw DC, BPFI
-and rms terms at ``standard``) (``docs/benchmarks.md``, "A preset within
-2 % on every signal").
+model loads the larger of the two, outside them the nearest. On three held-out cases
+(500 kN / 50 um, 250 kN / 40 um, 750 kN / 20 um) the bars read as the worst over the loads
+covered every amplitude class at ``fast``, ``standard`` and ``accurate`` (100 %); read at the
+case's own load, 67-78 % of the raw DC, BPFI and rms terms at ``standard``
+(``docs/benchmarks.md``, "A preset within 2 % on every signal").
 
 :func:`error_model` picks the rows that apply to a case: the fidelity must equal a measured
 point in every numerical field (``name``, ``n_checks`` and ``n_snapshot_offsets`` do not change
