@@ -27,7 +27,8 @@ of |Richardson - finest| (a converged ladder) or of the last step |finest - next
 
 **Error model** (``--write-model``): per point, load, case kind (defect / healthy), signal and
 quantity class, the worst relative error over the model's cases at that load (three depths), the
-analysis bands and the orders; ``study/accuracy.py`` reads it per load. **Coverage**: on the
+analysis bands and the orders; ``study/accuracy.py`` reads the worst over the loads (its
+``load_rule="per_load"``, each case's own load). **Coverage**: on the
 held-out cases (:data:`HELDOUT`, not used by the model) the fraction of amplitudes whose error
 is within the estimate, per quantity class.
 """
@@ -474,8 +475,9 @@ def write_model(model: pd.DataFrame, out: Path, cases) -> None:
                            "added (benchmarks/reference.py)",
               "far_field": "responds", "amplitude": "interpolated",
               "cases": [list(c) for c in cases], "heldout": [list(c) for c in HELDOUT],
-              "lookup": "per load: the row of the load; between two model loads the larger "
-                        "of the two; outside, the nearest",
+              "lookup": "the worst over the model's loads (study/accuracy.py error_model; "
+                        "load_rule per_load: the row of the load, between two model loads the "
+                        "larger of the two, outside the nearest)",
               "fidelities": fids}
     path = Path(__file__).resolve().parents[1] / "src" / "bearing_envelope" / "data" / \
         "discretisation_error.csv"
