@@ -124,8 +124,6 @@ def label(run: str) -> str:
                                       else "")
 
 
-PHASE1 = ("standard", "accurate", "rim1", "rim0.25", "gdy80", "gdy20", "ldy20", "ldy10",
-          "margin1600", "tol1e-6", "loads9", "x2")
 #: the runs of a model case (2026-11-27: the finest three levels of every ladder of
 #: :data:`KNOBS` the held-out cases have, but 17 load nodes; the presets): a reference with
 #: fewer knobs than the held-out cases' understates the model's errors (with two levels of the
@@ -327,14 +325,12 @@ def coverage(e: pd.DataFrame, model: pd.DataFrame) -> pd.DataFrame:
     h["cov_pooled"] = h.error <= h.pooled
     with np.errstate(divide="ignore"):
         h["ratio"] = h.error / h.per_load
-    g = h.groupby(["point", "quantity_class"])
-    with np.errstate(divide="ignore"):
         h["ratio_pooled"] = h.error / h.pooled
+    g = h.groupby(["point", "quantity_class"])
     return pd.DataFrame({"n": g.size(),
                          "covered: worst over loads (the package)": g["cov_pooled"].mean(),
                          "covered: per load": g["cov_load"].mean(),
-                         "worst error / estimate (worst over loads)":
-                             h.groupby(["point", "quantity_class"])["ratio_pooled"].max(),
+                         "worst error / estimate (worst over loads)": g["ratio_pooled"].max(),
                          "worst error / estimate (per load)": g["ratio"].max()})
 
 

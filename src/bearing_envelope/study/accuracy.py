@@ -110,7 +110,8 @@ def rows_at_load(rows: pd.DataFrame, load_kN: float | None) -> tuple[pd.DataFram
     if loads.size == 0:
         use, rule = rows["load_kN"].unique(), "pooled over the model's loads"
     elif load_kN is None:
-        use, rule = loads, "no load given: the worst over the model's loads"
+        use = loads
+        rule = f"the worst over the model's loads ({', '.join(f'{x:g}' for x in loads)} kN)"
     elif np.isclose(loads, load_kN, rtol=1e-9).any():
         use = loads[np.isclose(loads, load_kN, rtol=1e-9)]
         rule = f"the model's {use[0]:g} kN rows"
@@ -273,13 +274,11 @@ def error_model(fidelity: Fidelity | str | None, depth_um: float,
     if load_kN is None and scene is not None:
         load_kN = _flat(scene).get("load.value_kN")
     load_kN = None if load_kN is None else float(load_kN)
-    rows, rule = rows_at_load(table[(table["point"] == match) & (table["kind"] == kind)],
-                              load_kN if load_rule == "per_load" else None)
-    if load_rule == "worst":
-        loads = sorted({float(c[0]) for c in header["cases"]})
-        rule = f"the worst over the model's loads ({', '.join(f'{x:g}' for x in loads)} kN)"
-        if load_kN is not None and not loads[0] <= load_kN <= loads[-1]:
-            rule += f"; {load_kN:g} kN lies outside them"
+    sub = table[(table["point"] == match) & (table["kind"] == kind)]
+    rows, rule = rows_at_load(sub, load_kN if load_rule == "per_load" else None)
+    if load_rule == "worst" and load_kN is not None and \
+            not sub["load_kN"].min() <= load_kN <= sub["load_kN"].max():
+        rule += f"; {load_kN:g} kN lies outside them"
     withheld = FAR_FIELD_SIGNALS if fid.far_field != measured_far_field() else ()
     rows = rows[~rows["signal"].isin(withheld)].reset_index(drop=True)
     cases = ", ".join(f"{c[0]:g} kN/{c[1]:g} um" for c in header["cases"]
