@@ -49,7 +49,7 @@ from ..physics.locations import LOCATION_FAMILIES, scene_event_frequencies
 from ..physics.scene import DEFECT_LOCATIONS, Scene
 from ..physics.transfer import TransferModel
 from ..signal.bands import DEFAULT_BANDS, resolve_band
-from .schema import SCHEMA_PATH, scene_frequencies
+from .schema import SCHEMA_PATH
 
 __all__ = [
     "ConfigError", "CaseId", "format_number", "CASE_NAME_REGEX", "LOCATION_CODES",
@@ -788,7 +788,7 @@ def _build(cfg: dict, source: str, partial: bool) -> Settings:
     else:
         scene0 = Scene.from_mapping(scene_map, load_kN=PARTIAL_SCENE_LOAD_KN, depth_um=0.0)
     fs = float(scene0.operation.fs_hz)
-    freqs = scene_frequencies(scene0)
+    freqs = scene_event_frequencies(scene0)
     sensor = None
     if cfg.get("sensor"):
         sensor = TransferModel.from_mapping(cfg["sensor"], fs=fs)

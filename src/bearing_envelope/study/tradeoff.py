@@ -65,9 +65,9 @@ import pandas as pd
 from ..contact import halfspace as _hs
 from ..physics.fidelity import PRESETS, Fidelity, fidelity_from
 from ..physics.history import simulate
+from ..physics.locations import scene_event_frequencies
 from ..physics.scene import DEFAULT_SCENE, Scene
 from .pipeline import case_bands, case_harmonics, history_case
-from .schema import scene_frequencies
 from .settings import AnalysisSettings, CaseId
 
 __all__ = ["DEFAULT_CASES", "DEFAULT_KNOBS", "DEFAULT_BANDS", "COLUMNS", "tradeoff_study",
@@ -204,7 +204,7 @@ def run_variant(scene, fidelity: Fidelity, analysis) -> dict[str, Any]:
     case = history_case(hist)
     if not isinstance(analysis, AnalysisSettings):
         analysis = AnalysisSettings.from_mapping(analysis, fs=float(scene.operation.fs_hz),
-                                                 freqs=scene_frequencies(scene), has_sensor=False)
+                                                 freqs=scene_event_frequencies(scene), has_sensor=False)
     sig = analysis.signal
     x = np.asarray(case.signals[sig], float)
     metrics: dict[tuple[str, str], float] = {("peak_pressure", ""): float(x.max()),
@@ -238,16 +238,25 @@ def _error(metric: str, est: float, ref: float, x=None, xref=None, depth: float 
 # the study
 
 
+#: Defaults of the ``tradeoff:`` config section, written here only (the schema holds none;
+#: :func:`study_from_config` and the pre-run check read them). ``knobs`` None: :data:`DEFAULT_KNOBS`.
+TRADEOFF_DEFAULTS: dict[str, Any] = {
+    "cases": DEFAULT_CASES, "revolutions": 4.0, "base": "standard", "reference": "finest",
+    "reference_element": "uniform", "element_series": ("local_dx_um",),
+    "presets": ("draft", "standard", "paper"), "knobs": None,
+}
+
+
 def tradeoff_study(
     cases: Sequence[Sequence[float]] = DEFAULT_CASES,
     *,
     knobs: Mapping[str, Sequence] | None = None,
-    base: str | Mapping | Fidelity = "standard",
-    reference: str | Mapping | Fidelity = "finest",
-    reference_element: str = "uniform",
-    element_series: Sequence[str] = ("local_dx_um",),
+    base: str | Mapping | Fidelity = TRADEOFF_DEFAULTS["base"],
+    reference: str | Mapping | Fidelity = TRADEOFF_DEFAULTS["reference"],
+    reference_element: str = TRADEOFF_DEFAULTS["reference_element"],
+    element_series: Sequence[str] = TRADEOFF_DEFAULTS["element_series"],
     presets: Mapping[str, Any] | None = None,
-    revolutions: float = 4.0,
+    revolutions: float = TRADEOFF_DEFAULTS["revolutions"],
     scene: Mapping[str, Any] | None = None,
     analysis: Mapping[str, Any] | None = None,
     progress=None,
@@ -658,15 +667,6 @@ def pareto_points(df: pd.DataFrame, *, error: str = "error", time: str = "cpu_s"
         pt.insert(0, "metric", metric)
         parts.append(pt)
     return pd.concat(parts, ignore_index=True)
-
-
-#: Defaults of the ``tradeoff:`` config section, written here only (the schema holds none;
-#: :func:`study_from_config` and the pre-run check read them). ``knobs`` None: :data:`DEFAULT_KNOBS`.
-TRADEOFF_DEFAULTS: dict[str, Any] = {
-    "cases": DEFAULT_CASES, "revolutions": 4.0, "base": "standard", "reference": "finest",
-    "reference_element": "uniform", "element_series": ("local_dx_um",),
-    "presets": ("draft", "standard", "paper"), "knobs": None,
-}
 
 
 def study_from_config(section: Mapping[str, Any] | None, *, scene: Mapping[str, Any] | None = None,
