@@ -272,12 +272,15 @@ def test_invalid_config_fails_before_any_job(tmp_path, mutate, expected):
     assert re.search(expected, text, re.S), text[-2000:]
 
 
-def test_config_yaml_scene_matches_library_defaults():
-    """config.yaml states the default scene explicitly; it must equal the library's defaults."""
-    from bearing_envelope.physics.scene import DEFAULT_SCENE
+def test_config_yaml_scene_is_the_library_default():
+    """config.yaml leaves the scene at its defaults (physics/scene.py, the one home): the
+    sweep's scenes are the library's default scene (tests/test_defaults.py: nothing restated)."""
+    from bearing_envelope.physics.scene import Scene
+    from bearing_envelope.study.settings import CaseId, load_settings
 
-    cfg = yaml.safe_load((ROOT / "config.yaml").read_text())
-    assert cfg["scene"] == DEFAULT_SCENE
+    assert yaml.safe_load((ROOT / "config.yaml").read_text())["scene"] == {}
+    st = load_settings(ROOT / "config.yaml")
+    assert st.scene(CaseId(500, 50)) == Scene.default(load_kN=500, depth_um=50)
 
 
 def test_analysis_of_the_synthetic_acceleration(draft_run, tmp_path):
