@@ -21,9 +21,10 @@ the option) and what is allowed, instead of guessing:
 
 Complex, boolean and object data are refused (an imaginary part is never dropped silently).
 
-Bearings named by designation (:func:`bearing_geometry`) come from the bearing catalogue
+Bearings named by designation (:func:`bearing_geometry`, defined in
+:mod:`bearing_envelope.diagnosis.records` and re-exported here) come from the bearing catalogue
 (:mod:`bearing_envelope.physics.catalogue`, ``data/bearings.yaml``): ``6205`` is ``SKF
-6205-2RS``, ``6203`` is ``SKF 6203``.
+6205-2RS``, ``6203`` is ``SKF 6203``. Analysing what is read: :mod:`bearing_envelope.io.analysis`.
 """
 
 # pandas (CSV) and scipy.io (.mat, .wav) are imported by the reader that needs them: reading an
