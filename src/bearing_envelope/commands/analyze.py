@@ -447,13 +447,11 @@ def library_arguments(args) -> dict:
 
 
 def analyze_record(task: dict, args, library: dict):
-    """One record through the library (:func:`bearing_envelope.diagnosis.records.
-    analyze_record`): the task's own fs, shaft rate and bearing win over the options."""
-    from bearing_envelope.diagnosis.records import analyze_record as analyze
+    """One record through the library (:func:`bearing_envelope.diagnosis.batch.analyze_item`:
+    the task's own fs, shaft rate and bearing win over the options)."""
+    from bearing_envelope.diagnosis.batch import analyze_item
 
-    per = {k: task[k] for k in ("fs", "shaft_hz", "bearing") if task.get(k) is not None}
-    kw = {**library, "fs": args.fs, **per}
-    return analyze(library["reader"](task), file=task["file"], name=task.get("name"), **kw)
+    return analyze_item(task, fs=args.fs, **library)
 
 
 def run(args) -> int:
