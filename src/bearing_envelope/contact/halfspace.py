@@ -24,15 +24,17 @@ __all__ = [
     "kernel_spectrum",
     "ElasticHalfSpace",
     "get_halfspace",
+    "clear_kernel_cache",
+    "HAVE_PYFFTW",
 ]
 
 try:  # optional, faster FFTs; never required
     import pyfftw  # type: ignore
 
-    _HAVE_PYFFTW = True
+    HAVE_PYFFTW = True
 except Exception:  # pragma: no cover - depends on the environment
     pyfftw = None
-    _HAVE_PYFFTW = False
+    HAVE_PYFFTW = False
 
 
 def composite_modulus(E1: float, nu1: float, E2: float, nu2: float) -> float:
@@ -235,6 +237,17 @@ def kernel_spectrum(shape: tuple[int, int], dx: float, dy: float, e_star: float,
     return spec
 
 
+def clear_kernel_cache() -> None:
+    """Empty the cache of :func:`kernel_spectrum` (a benchmark times a solve from cold).
+
+    Returns
+    -------
+    None
+    """
+    with _CACHE_LOCK:
+        _CACHE.clear()
+
+
 def _default_workers() -> int:
     env = os.environ.get("OMP_NUM_THREADS")
     if env and env.isdigit() and int(env) > 0:
@@ -290,10 +303,10 @@ class ElasticHalfSpace:
         self.workers = int(workers) if workers else _default_workers()
         if backend not in ("auto", "scipy", "pyfftw"):
             raise ValueError(f"backend must be 'auto', 'scipy' or 'pyfftw', got {backend!r}")
-        if backend == "pyfftw" and not _HAVE_PYFFTW:
+        if backend == "pyfftw" and not HAVE_PYFFTW:
             raise ValueError("backend='pyfftw' but pyfftw is not importable")
         if backend == "auto":
-            backend = "pyfftw" if _HAVE_PYFFTW else "scipy"
+            backend = "pyfftw" if HAVE_PYFFTW else "scipy"
         self.backend = backend
         self.element = element
         self.spectrum = kernel_spectrum(self.shape, self.dx, self.dy, self.e_star, element)

@@ -1,9 +1,12 @@
-"""Diagnosis of real records (issue 24): the verdict and its confidence on the CWRU 12 kHz
-drive-end development set, per fault set and per confidence level, and the false-alarm rate on
-noise shaped like the normal record.
+"""Diagnosis of real records: the verdict and its confidence on the CWRU 12 kHz drive-end
+development set, per fault set and per confidence level, and the false-alarm rate on noise
+shaped like the normal record.
 
-    nice -n 5 python benchmarks/cwru_dev.py [--data ../shared/data/real] [--trials 500]
+    nice -n 10 python -m benchmarks real_records --data DATA [--trials 500]
         [--variants] [--lofo] [--no-mc] [--only-mc]
+
+``DATA`` is a folder laid out like the project's real-data folder: ``cwru_de12/index.csv`` with
+its records, and ``cwru_097_normal_0hp.npz``.
 
 Records: the 28 of ``cwru_de12/`` (seven fault sets x four loads; truth in its ``index.csv``)
 and the normal record ``cwru_097_normal_0hp.npz`` (48 kHz). Each goes through
@@ -301,8 +304,8 @@ def _print_evaluation(title, df):
 
 def main(argv=None) -> int:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    p.add_argument("--data", type=Path,
-                   default=Path(__file__).resolve().parents[2] / "shared" / "data" / "real")
+    p.add_argument("--data", type=Path, required=True,
+                   help="folder with cwru_de12/index.csv and cwru_097_normal_0hp.npz")
     p.add_argument("--trials", type=int, default=500)
     p.add_argument("--variants", action="store_true")
     p.add_argument("--lofo", action="store_true")
@@ -350,6 +353,36 @@ def main(argv=None) -> int:
         _print_mc(records, args.trials)
     print(f"\ntotal CPU {time.process_time():.0f} s (process)")
     return 0
+
+
+def smoke() -> None:
+    """A synthetic data folder: one inner-race record (2 s at 12 kHz, impulses at BPFI ringing
+    at 3 kHz) and a 1 s normal record of noise; the evaluation and a 2-trial Monte Carlo."""
+    import tempfile
+
+    geometry = {"n_balls": 9, "ball_diameter_in": 0.3126, "pitch_diameter_in": 1.537,
+                "contact_angle_deg": 0.0}
+    fr = 29.95
+    bpfi = fault_frequencies(fr, 9, 0.3126 * INCH, 1.537 * INCH, 0.0).bpfi
+    rng = np.random.default_rng(0)
+    t = np.arange(24000) / 12000.0
+    x = 0.2 * rng.standard_normal(t.size)
+    for t0 in np.arange(0.01, 2.0, 1.0 / bpfi):
+        ring = t >= t0
+        x[ring] += np.exp(-800.0 * (t[ring] - t0)) * np.sin(2 * np.pi * 3000.0 * (t[ring] - t0))
+    with tempfile.TemporaryDirectory() as d:
+        folder = Path(d, "cwru_de12")
+        folder.mkdir()
+        for path, xs, fs, rec in ((folder / "cwru_105_IR007_0hp_DE12.npz", x, 12000.0, 105),
+                                  (Path(d, "cwru_097_normal_0hp.npz"),
+                                   rng.standard_normal(48000), 48000.0, 97)):
+            np.savez(path, x=xs, fs=fs, meta_json=json.dumps(
+                {"shaft_hz": fr, "geometry": geometry, "cwru_record": rec}))
+        pd.DataFrame([{"file": "cwru_105_IR007_0hp_DE12.npz", "cwru_record": 105,
+                       "fault": "inner_race", "fault_diameter_mils": 7,
+                       "outer_race_position": np.nan, "load_hp": 0, "rpm_nominal": 1797}]
+                     ).to_csv(folder / "index.csv", index=False)
+        main(["--data", d, "--trials", "2"])
 
 
 def _former_band_count(stored) -> pd.DataFrame:

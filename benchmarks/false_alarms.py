@@ -1,6 +1,6 @@
-"""False-alarm rate of the detection test by construction: pure Gaussian noise (issue 16).
+"""False-alarm rate of the detection test by construction: pure Gaussian noise.
 
-    nice -n 5 python benchmarks/false_alarm_mc.py [--trials 1000] [--revolutions 100]
+    nice -n 5 python -m benchmarks false_alarms [--trials 1000] [--revolutions 100]
         [--bands kurtogram fixed ...] [--save out.npz]
 
 White Gaussian noise at fs = 65 kHz (the sweep's record: 100 revolutions of fr = 15.8 Hz,
@@ -17,7 +17,7 @@ alarms, rate and its 95 % Clopper-Pearson interval, and the 99 % quantile of the
 against the threshold. ``--save`` keeps the envelope-spectrum amplitudes below 1.6 x BPFI of
 every trial and band (to evaluate other backgrounds or thresholds without re-running the chain).
 
-    nice -n 5 python benchmarks/false_alarm_mc.py --model SAVED.npz [--model-trials 50000]
+    nice -n 5 python -m benchmarks false_alarms --model SAVED.npz [--model-trials 50000]
 
 evaluates, from a saved run, a model of the same spectra with many more trials: complex Gaussian
 bins with the measured mean spectral shape (E[a^2] per bin, averaged over the saved records and
@@ -64,7 +64,8 @@ def main(argv=None):
     ap.add_argument("--model-trials", type=int, default=50_000)
     args = ap.parse_args(argv)
     if args.model:
-        return model(args.model, args.model_trials, args.seed)
+        model(args.model, args.model_trials, args.seed)
+        return 0
     n = int(round(args.revolutions / FR * FS))
     n = 411392 if args.revolutions == 100.0 else n  # the sweep's record length
     keep = None
@@ -98,6 +99,19 @@ def main(argv=None):
               f"{thr[b]:.2f} | {np.quantile(stat[b], 0.99):.2f} |")
     if args.save:
         np.savez_compressed(args.save, f=f_keep, **{b: np.array(slices[b]) for b in args.bands})
+    return 0
+
+
+def smoke() -> None:
+    """Two trials of ten revolutions in two bands, saved, then the model from the saved run."""
+    import tempfile
+    from pathlib import Path
+
+    with tempfile.TemporaryDirectory() as d:
+        saved = str(Path(d, "saved.npz"))
+        main(["--trials", "2", "--revolutions", "10", "--bands", "fixed", "bpfi_3_6",
+              "--save", saved])
+        main(["--model", saved, "--model-trials", "20"])
 
 
 def _background(f, lo, hi, half):
@@ -139,8 +153,9 @@ def model(path, trials, seed):
         sigma = np.sqrt(uniform_filter1d(a2, 101, mode="nearest"))
         ref = sigma[tol].mean()
         k = dict.fromkeys(thr, 0)
-        for _ in range(trials // 5000):
-            z = rng.standard_normal((5000, f.size + 2)) + 1j * rng.standard_normal((5000, f.size + 2))
+        batch = min(5000, trials)
+        for _ in range(trials // batch):
+            z = rng.standard_normal((batch, f.size + 2)) + 1j * rng.standard_normal((batch, f.size + 2))
             a = np.abs((0.5 * z[:, 1:-1] - 0.25 * z[:, :-2] - 0.25 * z[:, 2:]) * sigma)
             peak = a[:, tol].max(axis=1)
             s_wide = 20 * np.log10(peak / np.median(a[:, wide], axis=1))
@@ -149,7 +164,7 @@ def model(path, trials, seed):
             k["before"] += int((s_wide > thr["before"]).sum())
             k["exact"] += int((s_wide > thr["exact"]).sum())
             k["after"] += int((s_near > thr["after"]).sum())
-        m = 5000 * (trials // 5000)
+        m = batch * (trials // batch)
         cells = []
         for key in ("before", "exact", "after"):
             lo, hi = clopper_pearson(k[key], m)
