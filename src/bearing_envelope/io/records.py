@@ -635,7 +635,18 @@ def _is_manifest(path: str) -> bool:
 def collect_records(paths) -> list[str]:
     """Files of ``paths``: files as given, folders expanded (sorted, non-recursive) to the
     files of :data:`SUFFIXES`, leaving out a folder's CSV manifests (a header with a ``file``
-    column)."""
+    column).
+
+    Parameters
+    ----------
+    paths : iterable of str or os.PathLike
+        Files and folders.
+
+    Returns
+    -------
+    list of str
+        The record files, in the order given (a folder's sorted).
+    """
     out: list[str] = []
     for p in paths:
         if os.path.isdir(p):
@@ -666,6 +677,11 @@ def read_manifest(path: str) -> list[dict]:
     -------
     list of dict
         ``{"file", "fs", "fr", "bearing", "column", "channel"}`` (None where not given).
+
+    Parameters
+    ----------
+    path : str
+        The manifest (CSV with a ``file`` column).
     """
     if not os.path.isfile(path):
         raise ValueError(f"--manifest: no such file: {path}")
@@ -739,7 +755,13 @@ def _key(name: str) -> str:
 
 def known_bearings() -> dict[str, str]:
     """``alias -> catalogue designation`` of every entry of the bearing catalogue
-    (:mod:`bearing_envelope.physics.catalogue`, ``data/bearings.yaml``)."""
+    (:mod:`bearing_envelope.physics.catalogue`, ``data/bearings.yaml``).
+
+    Returns
+    -------
+    dict of str to str
+        Every alias (the designation, its number, common spellings) -> the designation.
+    """
     out: dict[str, str] = {}
     for d in designations():
         for a in _aliases(d):
@@ -757,6 +779,11 @@ def bearing_geometry(designation: str) -> dict:
     dict
         ``designation`` (the catalogue's), ``n_rollers``, ``roller_diameter_mm``,
         ``pitch_diameter_mm``, ``contact_angle_deg``, ``source`` (of each value).
+
+    Parameters
+    ----------
+    designation : str
+        A catalogue designation or one of its aliases (:func:`known_bearings`).
 
     Raises
     ------

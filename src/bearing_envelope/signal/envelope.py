@@ -122,6 +122,12 @@ def envelope(x, *, squared: bool = False):
         Real, normally band-passed, signal (unit ``U``).
     squared : bool, default False
         Return :math:`|x_a|^2` (unit ``U^2``) instead of :math:`|x_a|` (unit ``U``).
+
+    Returns
+    -------
+    numpy.ndarray
+        The envelope (or its square with ``squared``), same length and unit as ``x`` (squared:
+        unit squared).
     """
     x = check_signal(x, "x", min_length=2)
     mean = x.mean()
@@ -209,7 +215,20 @@ def envelope_spectrum(
 def peak_value(x, *, skip: int = 0):
     """Largest absolute value of a (band-passed) signal, in its unit, ignoring ``skip``
     samples at each end (the filter's edge transients, :func:`settling_samples`); at most a
-    quarter of the record is skipped at each end."""
+    quarter of the record is skipped at each end.
+
+    Parameters
+    ----------
+    x : array_like
+        A real signal.
+    skip : int
+        Samples ignored at each end (at most a quarter of the record).
+
+    Returns
+    -------
+    float
+        ``max |x|`` over the samples kept.
+    """
     x = check_signal(x, "x", min_length=1)
     k = min(int(skip), (x.size - 1) // 4)
     return float(np.max(np.abs(x[k: x.size - k])))
