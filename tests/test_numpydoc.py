@@ -19,8 +19,8 @@ SRC = Path(__file__).resolve().parents[1] / "src" / "bearing_envelope"
 PENDING = {
     "commands", "study", "diagnosis", "physics/scene.py", "physics/loads.py",
     "physics/locations.py", "physics/pit.py", "physics/table.py", "physics/history.py",
-    "physics/transfer.py", "physics/solves.py", "physics/geometry.py", "physics/fidelity.py",
-    "physics/acquisition.py", "physics/nodefect_cache.py", "cli.py",
+    "physics/transfer.py", "physics/solves.py", "physics/fidelity.py",
+    "cli.py",
 }
 
 
