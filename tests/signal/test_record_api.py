@@ -1,6 +1,7 @@
 """The analysis of recordings as a library call (docs/analysis.md): ``analyze_record`` on an
 array, a record read and a path; ``analyze_records`` in parallel; the command line as a thin
-layer over it; one default of the analysis options; the documentation's example runs.
+layer over it; one default of the analysis options; the documentation's example runs
+(``analyze_record``'s docstring example runs in tests/test_doctests.py).
 
 Truths: synthetic records with a known fault (impacts at the 6205's BPFI from the data
 center's published factor 5.4152 x fr, or noise), the data center's label of a real record.
@@ -17,9 +18,8 @@ import yaml
 
 from bearing_envelope.cli import main
 from bearing_envelope.diagnosis import (RECORD_OPTIONS, AnalysisOptions, RecordAnalysis,
-                                        RecordFailure, analyze_record, analyze_records,
+                                        RecordFailure, analyze_record,
                                         verdict_table)
-from bearing_envelope.diagnosis import records as records_mod
 from bearing_envelope.io import analysis as io_analysis
 from conftest import fault_signal
 
@@ -157,11 +157,6 @@ def test_one_default_of_the_analysis_options():
                 "filter_order", "window", "level0", "speed"):
         assert getattr(args, opt) is None, opt  # the library's default
     assert RECORD_OPTIONS.measure_speed and not AnalysisOptions().measure_speed
-
-
-def test_docstring_example_runs():
-    result = doctest.testmod(records_mod, optionflags=doctest.ELLIPSIS)
-    assert result.attempted >= 3 and result.failed == 0
 
 
 @pytest.mark.skipif(not REAL.exists(), reason="tests/data/real not present")
