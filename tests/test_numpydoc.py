@@ -19,7 +19,7 @@ SRC = Path(__file__).resolve().parents[1] / "src" / "bearing_envelope"
 PENDING = {
     "cli.py", "commands", "diagnosis/analysis.py", "diagnosis/faults.py", "diagnosis/plots.py",
     "physics/fidelity.py", "physics/history.py", "physics/loads.py", "physics/locations.py",
-    "physics/scene.py", "physics/table.py", "physics/transfer.py", "study",
+    "physics/scene.py", "physics/table.py", "study",
 }
 
 
