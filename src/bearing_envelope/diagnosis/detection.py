@@ -28,7 +28,7 @@ Detection statistic (:func:`detection_statistic`, :func:`detect`)
     averages that probability over the distribution of the sample median (order statistics:
     a Beta law) and solves it for ``pfa``; the default ``pfa = 0.01`` gives about 10-11 dB for
     5-30 bins against several hundred background bins. ``docs/sensor.md``,
-    ``benchmarks/false_alarm_mc.py`` and ``tests/test_diagnosis.py`` check it by Monte Carlo.
+    ``python -m benchmarks false_alarms`` and ``tests/test_diagnosis.py`` check it by Monte Carlo.
 """
 
 from __future__ import annotations
