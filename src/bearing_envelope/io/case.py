@@ -19,6 +19,7 @@ from typing import Any
 import numpy as np
 
 from .. import __version__
+from ..physics.locations import scene_event_frequencies
 from .atomic import clean_stale_temps, public_mode, temp_path_for
 from .integrity import (CHECKSUM_OPTIONS, estimate_h5_bytes,
                         require_free_space, seal, verify_file, DIGEST_ATTR,
@@ -209,11 +210,18 @@ def _write_root_attrs(f, history, extra_attrs: dict | None) -> None:
     a["load_mode"] = sc.load.mode
     a["fs"] = sc.operation.fs_hz
     a["fr"] = sc.operation.shaft_rate_hz
-    a["bpfi"] = sc.bpfi_hz
+    # the rates the history's events run at (from the cage rate used: a BPFI override acts
+    # through it), so that a file's fault frequencies are those of its own events; the
+    # geometric ones beside them
+    ev = scene_event_frequencies(sc)
+    a["bpfi"] = ev["bpfi"]
+    a["bpfo"] = ev["bpfo"]
+    a["ftf"] = ev["ftf"]
+    a["bsf"] = ev["bsf"]
     a["bpfi_geometry"] = ff.bpfi
-    a["bpfo"] = ff.bpfo
-    a["ftf"] = ff.ftf
-    a["bsf"] = ff.bsf
+    a["bpfo_geometry"] = ff.bpfo
+    a["ftf_geometry"] = ff.ftf
+    a["bsf_geometry"] = ff.bsf
     a["cage_rate_used"] = sc.cage_rate_hz
     a["scene_json"] = _json(sc.to_mapping())
     a["fidelity_json"] = _json(history.fidelity.to_dict())
