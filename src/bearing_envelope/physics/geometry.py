@@ -24,11 +24,13 @@ from __future__ import annotations
 
 import math
 import os
+import warnings
 from dataclasses import dataclass
 from functools import lru_cache
 
 import numpy as np
 
+from ..checks import check_input_file
 from ..contact import hertz
 
 __all__ = ["Grid", "make_grid", "read_profile", "read_defect_profile", "axial_separation", "defect_depth", "gap_field",
@@ -95,11 +97,21 @@ def make_grid(x_lo: float, x_hi: float, y_lo: float, y_hi: float, dx: float, dy:
     return Grid(x, y, float(dx), float(dy))
 
 
+#: Largest measured-profile file read (bytes): a profile of 10^5 rows is about 3 MB.
+MAX_PROFILE_BYTES = 16 << 20
+
+
 def _two_columns(path: str, names: str) -> tuple[np.ndarray, np.ndarray]:
     """The two columns of a text or CSV file (``#`` comments), at least 3 rows, finite, the
     first strictly increasing; ``names`` (e.g. ``"y_mm, deviation_um"``) names them in errors."""
-    data = np.loadtxt(path, delimiter=None if not path.endswith(".csv") else ",", comments="#",
-                      ndmin=2)
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")   # "input contained no data": the shape says it
+            data = np.loadtxt(path, delimiter=None if not path.endswith(".csv") else ",",
+                              comments="#", ndmin=2)
+    except (ValueError, UnicodeDecodeError) as exc:
+        raise ValueError(f"not a two-column numeric file ({names}): "
+                         f"{' '.join(str(exc).split())[:160]}") from None
     if data.shape[1] != 2 or data.shape[0] < 3:
         raise ValueError(f"expected two columns ({names}) and >= 3 rows, got shape {data.shape}")
     if not np.all(np.isfinite(data)):
@@ -121,7 +133,8 @@ def read_profile(path: str) -> tuple[np.ndarray, np.ndarray]:
     Returns ``(y, deviation)`` in m. ``deviation`` is the drop of the roller surface from its
     generatrix at the centre (positive = material removed). ``#`` starts a comment.
     """
-    return _read_profile_cached(os.fspath(path), os.path.getmtime(path))
+    path = check_input_file(path, "profile file", max_bytes=MAX_PROFILE_BYTES)
+    return _read_profile_cached(path, os.path.getmtime(path))
 
 
 @lru_cache(maxsize=8)
@@ -140,7 +153,8 @@ def read_defect_profile(path: str) -> tuple[np.ndarray, np.ndarray]:
     point equals the case's depth and extruded over the defect's axial length
     (:func:`defect_depth`, ``shape: profile``). Returns ``(x, depth)`` in m.
     """
-    return _read_defect_profile_cached(os.fspath(path), os.path.getmtime(path))
+    path = check_input_file(path, "defect profile file", max_bytes=MAX_PROFILE_BYTES)
+    return _read_defect_profile_cached(path, os.path.getmtime(path))
 
 
 def axial_separation(bearing, y) -> np.ndarray:

@@ -772,9 +772,13 @@ def _build_bearing(m: Mapping[str, Any]) -> Bearing:
             raise _bad(p + "profile_file", pf, "null or a path to a two-column file (y_mm, deviation_um)")
         pf = os.fspath(pf)
         try:
-            read_profile(pf)
+            _yp, dev = read_profile(pf)
         except (OSError, ValueError) as exc:
             raise _bad(p + "profile_file", pf, f"a readable two-column file (y_mm, deviation_um): {exc}")
+        worst = max(abs(float(v)) for v in dev)
+        if worst >= 0.5e-3 * d:
+            raise _bad(p + "profile_file", pf, f"deviations smaller than the roller radius "
+                       f"({500 * d:g} um; this file has {1e6 * worst:.4g} um)")
     return Bearing(bore, od, d, z, rows, pd, alpha, cr, ci, length, relief, clearance, pf, **extra)
 
 

@@ -39,7 +39,8 @@ from typing import Any
 
 import numpy as np
 
-from ..io.yamlsafe import YamlLimitError, check_document_size, load_bounded
+from ..checks import check_input_file
+from ..io.yamlsafe import MAX_DOCUMENT_BYTES, YamlLimitError, load_bounded
 from ..physics.fidelity import Fidelity, fidelity_from
 from ..physics.geometry import hertz_estimate
 from ..physics.loads import scene_load_distribution
@@ -529,8 +530,49 @@ def _unique_key_loader():
             seen[key] = line
         return yaml.SafeLoader.construct_mapping(loader, node, deep=deep)
 
+    def construct_number(loader, node):
+        text = str(node.value)
+        if not _PLAIN_NUMBER.match(text):
+            value = _YAML11_NUMBER[node.tag](loader, node)
+            raise ConfigError(f"{node.start_mark.name}, line {node.start_mark.line + 1}: "
+                              f"{text!r} is a YAML 1.1 {_number_form(text)} number (read as "
+                              f"{value!r}); allowed: a plain decimal number (1.5, 90, 1e-3), "
+                              f"or quote it if it is text")
+        return _YAML11_NUMBER[node.tag](loader, node)
+
     UniqueKeyLoader.add_constructor(yaml.resolver.BaseResolver.DEFAULT_MAPPING_TAG, construct_mapping)
+    for tag in _YAML11_NUMBER:
+        UniqueKeyLoader.add_constructor(tag, construct_number)
     return UniqueKeyLoader
+
+
+def _yaml11_number_constructors() -> dict:
+    import yaml
+
+    return {"tag:yaml.org,2002:int": yaml.SafeLoader.construct_yaml_int,
+            "tag:yaml.org,2002:float": yaml.SafeLoader.construct_yaml_float}
+
+
+#: The constructors of YAML 1.1 numbers (PyYAML's SafeLoader), by tag.
+_YAML11_NUMBER = _yaml11_number_constructors()
+
+#: Numbers written as a reader expects: decimal digits with an optional sign, fraction and
+#: exponent (``_`` between digits allowed), ``.inf``/``.nan`` (refused later by the finite
+#: check). YAML 1.1 also reads ``1:30`` as 90 (base 60), ``010`` as 8 (octal), ``0x1f``, ``0b11``.
+_PLAIN_NUMBER = re.compile(r"^[-+]?(?:(?:0|[1-9][0-9_]*)(?:\.[0-9_]*)?|\.[0-9_]+)"
+                           r"(?:[eE][-+]?[0-9]+)?$|^[-+]?\.(?:inf|Inf|INF)$|^\.(?:nan|NaN|NAN)$")
+
+
+def _number_form(text: str) -> str:
+    """The YAML 1.1 number form of a non-plain numeric scalar (for the error message)."""
+    t = text.lstrip("+-")
+    if ":" in t:
+        return "base-60 (sexagesimal)"
+    if t.startswith(("0x", "0X")):
+        return "hexadecimal"
+    if t.startswith(("0b", "0B")):
+        return "binary"
+    return "octal" if t.startswith("0") else "non-decimal"
 
 
 def read_yaml(path: str | os.PathLike) -> dict[str, Any]:
@@ -551,7 +593,10 @@ def read_yaml(path: str | os.PathLike) -> dict[str, Any]:
     if not os.path.exists(p):
         raise ConfigError(f"{p}: config file not found")
     try:
-        check_document_size(p)
+        check_input_file(p, "config file", max_bytes=MAX_DOCUMENT_BYTES, allow_empty=True)
+    except ValueError as exc:
+        raise ConfigError(str(exc)) from None
+    try:
         with open(p, encoding="utf-8") as fh:
             doc = load_bounded(fh, _unique_key_loader())  # aliases bounded (io.yamlsafe)
     except ConfigError:
