@@ -27,7 +27,7 @@ from ..physics.acquisition import auto_oversample
 from ..physics.loads import scene_load_distribution
 from ..physics.solves import window_spec
 from ..signal.kurtogram import max_kurtogram_level
-from .settings import ConfigError, format_number, read_yaml
+from .settings import ConfigError, format_number, read_yaml, section_defaults
 from ..physics.fidelity import fidelity_from
 from .tradeoff import _apply_knob
 
@@ -35,10 +35,11 @@ __all__ = ["DEFAULT_LIMITS", "MIN_HARDNESS_GPA", "MAX_CASE_NAME_CHARS", "Resourc
            "estimate_case", "check_case", "min_revolutions", "refuse_config_code", "available_memory_bytes", "precheck",
            "profile_files"]
 
-#: Stated limits per case when the config has no ``limits:`` section: CPU seconds of one
-#: simulation job (the default sweep needs 7-10 s per case) and memory (None: the machine's
-#: available memory).
-DEFAULT_LIMITS = {"max_case_cpu_s": 3600.0, "max_case_memory_GB": None}
+#: Stated limits when the config has no ``limits:`` section (the schema's defaults): CPU
+#: seconds of one simulation job (the default sweep needs 7-10 s per case), memory (None: the
+#: machine's available memory) and the number of cases (checked by the loader,
+#: :mod:`bearing_envelope.study.settings`).
+DEFAULT_LIMITS = section_defaults("limits")
 
 #: Lowest hardness accepted, GPa: below it the hardness bound flattens every contact (pure
 #: lead is 0.04 GPa; bearing steel about 7.4 GPa).
@@ -211,8 +212,10 @@ def _limits(config: Mapping) -> dict:
     return out
 
 
-def _check_case(case, scene, analysis, limits: dict, memory_cap: float, fidelity) -> None:
-    """The per-case checks of :func:`precheck` (name, lower bounds, resource estimate)."""
+def _check_case(case, scene, analysis, limits: dict, memory_cap: float,
+                fidelity) -> ResourceEstimate:
+    """The per-case checks of :func:`precheck` (name, lower bounds, resource estimate);
+    returns the estimate."""
     if len(case.name) > MAX_CASE_NAME_CHARS:
         raise ConfigError(f"sweep: case name {case.name[:40]}... has {len(case.name)} "
                           f"characters; allowed: at most {MAX_CASE_NAME_CHARS}")
@@ -227,12 +230,18 @@ def _check_case(case, scene, analysis, limits: dict, memory_cap: float, fidelity
                           f"({n} samples); allowed: >= {min_revolutions(scene):.3g} (the "
                           f"kurtogram needs {MIN_KURTOGRAM_SAMPLES} samples)")
     est = estimate_case(case.name, scene, fidelity)
+    _check_estimate(est, limits, memory_cap)
+    return est
+
+
+def _check_estimate(est: ResourceEstimate, limits: dict, memory_cap: float) -> None:
+    """Refuse an estimate over the available memory or ``limits.max_case_cpu_s``."""
     if est.memory_bytes > memory_cap:
         raise ConfigError(f"{est.culprit('memory')}: case {case.name} would need about "
                           f"{est.memory_bytes / _GB:.3g} GB ({est.describe()}); allowed: "
                           f"<= {memory_cap / _GB:.3g} GB (the available memory or "
                           f"limits.max_case_memory_GB)")
-    if est.cpu_seconds > limits["max_case_cpu_s"]:
+    if limits["max_case_cpu_s"] is not None and est.cpu_seconds > limits["max_case_cpu_s"]:
         raise ConfigError(f"{est.culprit('cpu')}: case {case.name} would need about "
                           f"{est.cpu_seconds:.3g} CPU s ({est.describe()}); allowed: "
                           f"<= {limits['max_case_cpu_s']:g} CPU s (limits.max_case_cpu_s)")
@@ -310,8 +319,7 @@ def precheck(settings, files: Sequence[str | os.PathLike] = ()) -> list[Resource
     setup = settings.simulation
     for case in settings.sweep.cases():
         scene = setup.scene(case)
-        _check_case(case, scene, settings.analysis, limits, cap, setup.fidelity)
-        out.append(estimate_case(case.name, scene, setup.fidelity))
+        out.append(_check_case(case, scene, settings.analysis, limits, cap, setup.fidelity))
     return out
 
 
@@ -337,5 +345,4 @@ def check_case(case, scene, fidelity, config: Mapping | None = None, analysis=No
     cap = available_memory_bytes()
     if limits["max_case_memory_GB"] is not None:
         cap = min(cap, limits["max_case_memory_GB"] * _GB)
-    _check_case(case, scene, analysis, limits, cap, fidelity)
-    return estimate_case(case.name, scene, fidelity)
+    return _check_case(case, scene, analysis, limits, cap, fidelity)

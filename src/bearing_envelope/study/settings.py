@@ -278,6 +278,13 @@ class SweepSettings:
         return cls(values("loads_kN", 0.0, True), values("depths_um", 0.0, False), widths,
                    locations)
 
+    @property
+    def n_cases(self) -> int:
+        """How many cases :meth:`cases` makes, counted without making them."""
+        healthy = sum(1 for h in self.depths_um if h == 0)
+        per_load = healthy + (len(self.depths_um) - healthy) * len(self.widths_um or (None,))
+        return len(self.locations or (None,)) * len(self.loads_kN) * per_load
+
     def cases(self) -> list[CaseId]:
         """Every case: locations outermost (when set), then loads, depths, widths innermost."""
         out = []
@@ -767,6 +774,7 @@ def _build(cfg: dict, source: str, partial: bool) -> Settings:
                    "null while scene.defect.width_um is set (give the width in one place)")
     if sweep is not None:
         sweep = _location_axis(sweep, scene_map)
+        _check_case_count(sweep, cfg)
         scenes = {}
         for case in sweep.cases():
             where = f"case {case.name}: "
@@ -809,6 +817,19 @@ def _build(cfg: dict, source: str, partial: bool) -> Settings:
     return Settings(source=source, config=cfg, sweep=sweep, fidelity=fidelity,
                     scene_mapping=scene_map, analysis=analysis, sensor=sensor,
                     diagnosability=diag, tradeoff=dict(cfg.get("tradeoff") or {}))
+
+
+def _check_case_count(sweep: SweepSettings, cfg: Mapping[str, Any]) -> None:
+    """Refuse a sweep of more than ``limits.max_cases`` cases before any case is built (the
+    checks cost about 3 ms per case, Snakemake's DAG more)."""
+    limit = (cfg.get("limits") or {}).get("max_cases") or section_defaults("limits")["max_cases"]
+    n = sweep.n_cases
+    if n > limit:
+        axes = " x ".join(f"{len(v)} {k}" for k, v in (
+            ("locations", sweep.locations), ("loads_kN", sweep.loads_kN),
+            ("depths_um", sweep.depths_um), ("widths_um", sweep.widths_um)) if v)
+        raise ConfigError(f"sweep: {n:,} cases ({axes}); allowed: at most {limit:,} "
+                          f"(limits.max_cases; raise it for a larger sweep)")
 
 
 def _location_axis(sweep: SweepSettings, scene_map: Mapping[str, Any]) -> SweepSettings:
