@@ -17,7 +17,8 @@ from bearing_envelope.physics.locations import LOCATION_FAMILIES, event_frequenc
 from bearing_envelope.physics.scene import Scene
 from bearing_envelope.study.pipeline import case_bands, case_fault_lines, case_harmonics
 from bearing_envelope.study.settings import (AnalysisSettings, CaseId, ConfigError,
-                                             SweepSettings, read_yaml, settings_from_mapping)
+                                             SweepSettings, read_configs,
+                                             settings_from_mapping)
 from bearing_envelope.study.figures import fig_diagnosability_maps, fig_harmonics_vs_depth
 from bearing_envelope.study.tables import add_location, concat_tidy, pivot_tables
 
@@ -63,7 +64,7 @@ def test_sweep_locations_repeat_every_case_and_bad_values_name_the_field():
 
 
 def _cwru_config(**defect):
-    cfg = read_yaml("config_cwru.yaml")
+    cfg = read_configs(["config.yaml", "config_cwru.yaml"])
     cfg.pop("tradeoff", None)
     cfg["scene"]["defect"].update(defect)
     return cfg
@@ -124,7 +125,7 @@ def _synthetic_case(location: str, lines_hz, modulation_hz: float | None):
     if modulation_hz is not None:
         env = env * (1.0 + 0.5 * np.cos(2 * np.pi * modulation_hz * t))
     x = env * np.cos(2 * np.pi * CARRIER_HZ * t)
-    m = read_yaml("config_cwru.yaml")["scene"]
+    m = read_configs(["config.yaml", "config_cwru.yaml"])["scene"]
     m["defect"]["location"] = location
     sc = Scene.from_mapping(m, load_kN=1.0, depth_um=0.0)
     ff = sc.frequencies()

@@ -11,22 +11,24 @@ from bearing_envelope.study.provenance import code_dependencies
 from bearing_envelope.study.settings import CASE_NAME_REGEX, CaseId, workflow_settings
 
 
-def check_limits(settings, files):
-    """bearing_envelope.study.limits.precheck (config-as-code, case names, lower bounds,
-    tradeoff section, resource estimate per case): one line naming the field, no job runs."""
+def check_limits(settings):
+    """bearing_envelope.study.limits.precheck (case names, lower bounds, tradeoff section,
+    resource estimate per case): one line naming the field, no job runs."""
     try:
-        return precheck(settings, files)
+        return precheck(settings)
     except ValueError as exc:
         print(f"bearing_envelope: invalid configuration: {exc}", file=sys.stderr)
         raise SystemExit(1)
 
 
 def load_workflow_settings():
-    """The one validating loader (bearing_envelope.study.settings.workflow_settings) on the files
-    Snakemake read: on error one line naming the field, and no job runs. The schema defaults are
-    filled into `config` as snakemake.utils.validate would."""
+    """The one validating loader (bearing_envelope.study.settings.workflow_settings): reads
+    ./config.yaml and the --configfile files once each, merges them with --config (a designation
+    is a complete bearing), validates and types once; on error one line naming the field, and
+    no job runs. `config` becomes the validated mapping (schema defaults filled)."""
     try:
-        settings = workflow_settings(config, workflow.configfiles)
+        settings = workflow_settings(workflow.overwrite_configfiles,
+                                     dict(workflow.config_settings.config))
     except ValueError as exc:  # ConfigError, one line naming the field
         print(f"bearing_envelope: invalid configuration: {exc}", file=sys.stderr)
         raise SystemExit(1)
@@ -36,7 +38,7 @@ def load_workflow_settings():
 
 
 SETTINGS = load_workflow_settings()
-ESTIMATES = check_limits(SETTINGS, workflow.configfiles)  # bearing_envelope.study.limits
+ESTIMATES = check_limits(SETTINGS)  # bearing_envelope.study.limits
 
 # Library code is an input of the rules that use it: editing a module reruns the stages whose
 # script imports it (directly or through other package modules), derived from the imports.

@@ -58,7 +58,7 @@ import os
 from dataclasses import dataclass
 from typing import Any, Mapping
 
-from .catalogue import bearing_values, designations
+from .catalogue import bearing_values, designations, operation_values
 from .geometry import read_defect_profile, read_profile
 from .kinematics import FaultFrequencies, fault_frequencies
 
@@ -66,34 +66,34 @@ __all__ = [
     "EndRelief", "Bearing", "MaterialProps", "Material", "Acquisition", "Operation", "Load",
     "Defect", "Scene", "ACQUISITION_MODES", "ROLLER_LOAD_MODELS", "BEARING_STEEL_HARDNESS_GPA",
     "DEFAULT_SCENE", "default_scene_mapping", "MAX_BAND_ORDER", "DEFECT_LOCATIONS", "DEFECT_SHAPES",
-    "BEARING_KINDS", "DEFAULT_GROOVE_CONFORMITY",
+    "BEARING_KINDS", "DEFAULT_GROOVE_CONFORMITY", "STUDY_DESIGNATION",
 ]
 
 #: The analysis needs bands up to 13 x BPFI (the study's 10-13 x BPFI band); fs must exceed
 #: twice that so the band lies below Nyquist.
 MAX_BAND_ORDER = 13
 
+#: The bearing of the source study (Brusa et al. 2021): its catalogue entry
+#: (``data/bearings.yaml``) is the default scene's bearing and carries the study's stated BPFI
+#: (``operation.bpfi_override_hz``, 231.9 Hz; geometry alone gives 194.2 Hz).
+STUDY_DESIGNATION = "FAG 534176"
+
+#: ``scene.bearing`` keys a catalogue entry need not give (their default when it does not).
+_BEARING_EXTRA = {
+    "pitch_diameter_mm": None,
+    "profile_file": None,
+    "designation": None,
+    "kind": "roller",
+    "outer_raceway_profile_radius_mm": None,
+    "inner_groove_conformity": None,
+    "outer_groove_conformity": None,
+}
+
+#: The default scene: the study's bearing from its catalogue entry (``designation`` null means
+#: this bearing) and the defaults of every other section, written here only (the config schema
+#: holds no scene default; ``tests/test_defaults.py``).
 DEFAULT_SCENE: dict[str, Any] = {
-    "bearing": {
-        "bore_mm": 110.0,
-        "outside_diameter_mm": 180.0,
-        "roller_diameter_mm": 17.45,
-        "rollers_per_row": 22,
-        "rows": 2,
-        "pitch_diameter_mm": None,
-        "contact_angle_deg": 12.82,
-        "roller_crown_radius_mm": 81.5,
-        "raceway_profile_radius_mm": 83.1,
-        "roller_length_mm": 34.0,
-        "end_relief": {"kind": "radius", "radius_mm": 1.0},
-        "radial_clearance_um": 40.0,
-        "profile_file": None,
-        "designation": None,
-        "kind": "roller",
-        "outer_raceway_profile_radius_mm": None,
-        "inner_groove_conformity": None,
-        "outer_groove_conformity": None,
-    },
+    "bearing": {**_BEARING_EXTRA, **bearing_values(STUDY_DESIGNATION), "designation": None},
     "material": {
         "roller": {"E_GPa": 210.0, "nu": 0.3},
         "race": {"E_GPa": 210.0, "nu": 0.3},
@@ -101,7 +101,7 @@ DEFAULT_SCENE: dict[str, Any] = {
     },
     "operation": {
         "shaft_rate_hz": 15.8,
-        "bpfi_override_hz": 231.9,
+        **operation_values(STUDY_DESIGNATION),
         "fs_hz": 65000.0,
         "revolutions": 100.0,
         "cage_slip_percent": 0.0,
@@ -687,11 +687,6 @@ class Scene:
         return cls.from_mapping(None, load_kN=load_kN, depth_um=depth_um)
 
 
-#: The bearing of the source study, the one whose stated BPFI ``operation.bpfi_override_hz``
-#: reproduces (231.9 Hz; geometry alone gives 194.2 Hz).
-STUDY_DESIGNATION = "FAG 534176"
-
-
 def _check_override_bearing(operation: Operation, bearing: Bearing) -> None:
     """The BPFI override is the study's: refused on a scene naming another catalogue bearing
     (its fault frequencies then come from its geometry; ``designation: null`` is the study's)."""
@@ -705,8 +700,9 @@ def _check_override_bearing(operation: Operation, bearing: Bearing) -> None:
 
 def _base_mapping(given: Mapping[str, Any] | None) -> dict[str, Any]:
     """The defaults a mapping is merged over: :data:`DEFAULT_SCENE`, with the bearing of the
-    catalogue entry ``bearing.designation`` names (:mod:`bearing_envelope.physics.catalogue`);
-    for another bearing than the study's the default BPFI override is null (geometric)."""
+    catalogue entry ``bearing.designation`` names (:mod:`bearing_envelope.physics.catalogue`)
+    and the operation values travelling with it (the BPFI override: the study's 231.9 Hz for
+    its entry, null, i.e. geometric, for an entry that states none)."""
     b = (given or {}).get("bearing") if isinstance(given, Mapping) else None
     des = b.get("designation") if isinstance(b, Mapping) else None
     if des is None:
@@ -714,10 +710,9 @@ def _base_mapping(given: Mapping[str, Any] | None) -> dict[str, Any]:
     if not isinstance(des, str):
         raise _bad("bearing.designation", des, f"null or one of {list(designations())}")
     base = copy.deepcopy(DEFAULT_SCENE)
-    base["bearing"].update(bearing_values(des))
+    base["bearing"].update(bearing_values(des))   # keys the entry lacks: the study's
     base["bearing"]["designation"] = des
-    if des != STUDY_DESIGNATION:
-        base["operation"]["bpfi_override_hz"] = None
+    base["operation"].update(operation_values(des))
     return base
 
 

@@ -5,7 +5,6 @@ after :func:`bearing_envelope.study.settings.workflow_settings`; ``bearing-envel
 check-config`` too). It refuses, with one line naming the field, the value and what is
 allowed:
 
-- a config file asking Snakemake for YTE templating (``__use_yte__``): templating runs Python;
 - a case whose name would be too long for a file name, or does not read back exactly;
 - a hardness below :data:`MIN_HARDNESS_GPA`, a record shorter than the analysis' longest
   kurtogram window (:func:`min_revolutions`);
@@ -27,19 +26,20 @@ from ..physics.acquisition import auto_oversample
 from ..physics.loads import scene_load_distribution
 from ..physics.solves import window_spec
 from ..signal.kurtogram import max_kurtogram_level
-from .settings import ConfigError, format_number, read_yaml, section_defaults
+from .settings import DEFAULT_MAX_CASES, ConfigError, format_number
 from ..physics.fidelity import fidelity_from
-from .tradeoff import _apply_knob
+from .tradeoff import TRADEOFF_DEFAULTS, _apply_knob
 
 __all__ = ["DEFAULT_LIMITS", "MIN_HARDNESS_GPA", "MAX_CASE_NAME_CHARS", "ResourceEstimate",
-           "estimate_case", "check_case", "min_revolutions", "refuse_config_code", "available_memory_bytes", "precheck",
+           "estimate_case", "check_case", "min_revolutions", "available_memory_bytes", "precheck",
            "profile_files"]
 
-#: Stated limits when the config has no ``limits:`` section (the schema's defaults): CPU
-#: seconds of one simulation job (the default sweep needs 7-10 s per case), memory (None: the
-#: machine's available memory) and the number of cases (checked by the loader,
-#: :mod:`bearing_envelope.study.settings`).
-DEFAULT_LIMITS = section_defaults("limits")
+#: Stated limits when the config has no ``limits:`` section: CPU seconds of one simulation
+#: job (the default sweep needs 7-10 s per case), memory (None: the machine's available
+#: memory) and the number of cases (checked by the loader before any case is built, so its
+#: default lives there: :data:`bearing_envelope.study.settings.DEFAULT_MAX_CASES`).
+DEFAULT_LIMITS = {"max_case_cpu_s": 3600.0, "max_case_memory_GB": None,
+                  "max_cases": DEFAULT_MAX_CASES}
 
 #: Lowest hardness accepted, GPa: below it the hardness bound flattens every contact (pure
 #: lead is 0.04 GPa; bearing steel about 7.4 GPa).
@@ -185,17 +185,6 @@ def min_revolutions(scene) -> float:
     return MIN_KURTOGRAM_SAMPLES / scene.operation.fs_hz * scene.operation.shaft_rate_hz
 
 
-def refuse_config_code(files: Sequence[str | os.PathLike]) -> None:
-    """Read each config file strictly (:func:`~bearing_envelope.study.settings.read_yaml`) and
-    refuse ``__use_yte__`` (Snakemake's YTE templating evaluates Python in the file)."""
-    for f in files:
-        doc = read_yaml(f)
-        if "__use_yte__" in doc:
-            raise ConfigError(
-                f"{os.fspath(f)}: __use_yte__: {doc['__use_yte__']!r}; allowed: the key absent "
-                f"(YTE templating runs Python from the config file; a config here is data)")
-
-
 def _limits(config: Mapping) -> dict:
     out = dict(DEFAULT_LIMITS)
     given = config.get("limits") or {}
@@ -258,22 +247,18 @@ def _check_sweep_values(sweep) -> None:
                                   f"{MAX_VALUE_CHARS} characters (e.g. 0.5, 12.25)")
 
 
-#: Keys of the ``tradeoff:`` section (:func:`bearing_envelope.study.tradeoff.study_from_config`).
-_TRADEOFF_KEYS = ("cases", "revolutions", "base", "reference", "reference_element",
-                  "element_series", "knobs", "presets")
-
-
 def _check_tradeoff(section: Mapping) -> None:
     """The ``tradeoff:`` section as the trade study will read it (without running it)."""
     for key in section:
-        if key not in _TRADEOFF_KEYS:
-            raise ConfigError(f"tradeoff.{key}: unknown key; allowed: {', '.join(_TRADEOFF_KEYS)}")
+        if key not in TRADEOFF_DEFAULTS:
+            raise ConfigError(f"tradeoff.{key}: unknown key; allowed: {', '.join(TRADEOFF_DEFAULTS)}")
+    section = {**TRADEOFF_DEFAULTS, **section}
     try:
-        base = fidelity_from(section.get("base", "standard"))
-        for c in section.get("cases", []):
+        base = fidelity_from(section["base"])
+        for c in section["cases"]:
             if len(c) != 2 or not all(isinstance(v, (int, float)) and v >= 0 for v in c):
                 raise ValueError(f"tradeoff.cases: got {c!r}; allowed: [load_kN, depth_um]")
-        rev = section.get("revolutions", 4.0)
+        rev = section["revolutions"]
         if isinstance(rev, bool) or not isinstance(rev, (int, float)) or not rev > 0:
             raise ValueError(f"tradeoff.revolutions: got {rev!r}; allowed: a number > 0")
         for knob, values in (section.get("knobs") or {}).items():
@@ -282,17 +267,17 @@ def _check_tradeoff(section: Mapping) -> None:
                                  f"values, coarse to fine")
             for v in values:
                 _apply_knob(base, str(knob), v)
-        presets = section.get("presets", [])
+        presets = section["presets"]
         for p in (presets.values() if isinstance(presets, Mapping) else presets):
             fidelity_from(p)
-        if section.get("reference", "finest") not in ("finest", "per_knob"):
+        if section["reference"] not in ("finest", "per_knob"):
             fidelity_from(section["reference"])
     except (ValueError, TypeError, KeyError) as exc:
         msg = str(exc)
         raise ConfigError(msg if msg.startswith("tradeoff") else f"tradeoff: {msg}") from None
 
 
-def precheck(settings, files: Sequence[str | os.PathLike] = ()) -> list[ResourceEstimate]:
+def precheck(settings) -> list[ResourceEstimate]:
     """The checks of this module on validated settings; returns each case's estimate.
 
     Raises
@@ -300,7 +285,6 @@ def precheck(settings, files: Sequence[str | os.PathLike] = ()) -> list[Resource
     ConfigError
         One line naming the field, the value and what is allowed.
     """
-    refuse_config_code(files)
     cfg = settings.config
     if settings.tradeoff:
         _check_tradeoff(settings.tradeoff)

@@ -28,6 +28,7 @@ from __future__ import annotations
 import copy
 import dataclasses
 import difflib
+import functools
 import json
 import math
 import os
@@ -40,14 +41,15 @@ from typing import Any
 import numpy as np
 
 from ..checks import check_input_file
+from ..diagnosis.analysis import AnalysisOptions
 from ..io.yamlsafe import MAX_DOCUMENT_BYTES, YamlLimitError, load_bounded
-from ..physics.fidelity import Fidelity, fidelity_from
+from ..physics.fidelity import DEFAULT_PRESET, Fidelity, fidelity_from
 from ..physics.geometry import hertz_estimate
 from ..physics.loads import scene_load_distribution
 from ..physics.locations import LOCATION_FAMILIES, scene_event_frequencies
 from ..physics.scene import DEFECT_LOCATIONS, Scene
 from ..physics.transfer import TransferModel
-from ..signal.bands import resolve_band
+from ..signal.bands import DEFAULT_BANDS, resolve_band
 from .schema import SCHEMA_PATH, scene_frequencies
 
 __all__ = [
@@ -55,12 +57,17 @@ __all__ = [
     "BandSpec", "AnalysisSettings", "SweepSettings", "DiagnosabilitySettings", "Settings",
     "SimulationSetup", "section_defaults",
     "read_yaml", "settings_from_mapping", "load_settings", "workflow_settings",
-    "default_config_path",
-    "DEFAULT_CONFIG_NAME",
+    "default_config_path", "merge_configs", "read_configs", "config_files", "analysis_defaults",
+    "DEFAULT_CONFIG_NAME", "DEFAULT_MAX_CASES",
 ]
 
 #: The config file ``simulate --config`` and the workflow read when none is named.
 DEFAULT_CONFIG_NAME = "config.yaml"
+
+#: Cases a sweep may have when ``limits.max_cases`` is not given: the pre-run checks cost
+#: about 3 CPU ms per case (``check-config`` on 1000 cases: 4.4 CPU s with imports) and
+#: Snakemake's dry run about 20 ms per case; a larger sweep says so with ``limits.max_cases``.
+DEFAULT_MAX_CASES = 1000
 
 #: Longest message taken from a schema error (the instance repr can be long).
 _MAX_MESSAGE = 240
@@ -624,6 +631,10 @@ def read_yaml(path: str | os.PathLike) -> dict[str, Any]:
     if not isinstance(doc, dict):
         raise ConfigError(f"{p}: the config must be a mapping of sections (sweep:, scene:, ...), "
                           f"got a {type(doc).__name__}")
+    if "__use_yte__" in doc:
+        raise ConfigError(
+            f"{p}: __use_yte__: {doc['__use_yte__']!r}; allowed: the key absent (YTE templating "
+            f"runs Python from the config file; a config here is data)")
     return doc
 
 
@@ -646,13 +657,54 @@ def _check_finite(obj: Any, path: tuple = ()) -> None:
             _check_finite(v, path + (i,))
 
 
-def _schema(partial: bool) -> dict:
+#: ``analysis:`` keys whose default is a field of
+#: :class:`~bearing_envelope.diagnosis.analysis.AnalysisOptions`, the one home of the analysis
+#: defaults (the sweep and ``analyze`` share it): config key -> option field.
+ANALYSIS_OPTION_FIELDS = {
+    "nlevel": "nlevel", "max_level": "max_level", "min_bandwidth_hz": "min_bandwidth",
+    "filter_order": "filter_order", "squared_envelope": "squared", "harmonics": "n_harmonics",
+    "sidebands": "n_sidebands", "raw_orders_fr": "n_raw_harmonics",
+}
+
+
+def analysis_defaults() -> dict[str, Any]:
+    """The ``analysis:`` defaults the schema is filled with, read from
+    :class:`~bearing_envelope.diagnosis.analysis.AnalysisOptions` (``amplitude``:
+    ``interpolated`` when its ``interpolate`` is true, else ``peak_bin``; ``bands``: its bands,
+    :data:`~bearing_envelope.signal.bands.DEFAULT_BANDS` when None).
+
+    Returns
+    -------
+    dict
+        Config key -> default value.
+    """
+    opt = AnalysisOptions()
+    out = {key: getattr(opt, name) for key, name in ANALYSIS_OPTION_FIELDS.items()}
+    out["amplitude"] = "interpolated" if opt.interpolate else "peak_bin"
+    out["bands"] = [dict(b) for b in (opt.bands or DEFAULT_BANDS)]
+    return out
+
+
+@functools.lru_cache(maxsize=1)
+def _full_schema() -> dict:
+    """The schema file with the defaults whose home is code filled in: ``fidelity`` from
+    :data:`~bearing_envelope.physics.fidelity.DEFAULT_PRESET`, the analysis keys from
+    :func:`analysis_defaults`. The file itself holds no scene, fidelity, analysis-option,
+    limits or tradeoff default (``tests/test_defaults.py``)."""
     import yaml
 
     with open(SCHEMA_PATH, encoding="utf-8") as fh:
         schema = yaml.safe_load(fh)
+    props = schema["properties"]
+    props["fidelity"]["default"] = DEFAULT_PRESET
+    for key, value in analysis_defaults().items():
+        props["analysis"]["properties"][key]["default"] = value
+    return schema
+
+
+def _schema(partial: bool) -> dict:
+    schema = copy.deepcopy(_full_schema())
     if partial:
-        schema = dict(schema)
         schema["required"] = []
     return schema
 
@@ -726,6 +778,9 @@ def validate_mapping(config: Mapping[str, Any], *, source: str = "<mapping>",
     if not isinstance(config, Mapping):
         raise ConfigError(f"{source}: the config must be a mapping, got {type(config).__name__}")
     config = copy.deepcopy(dict(config))
+    if not partial:   # every key of these sections has a default
+        for section in ("scene", "analysis"):
+            config.setdefault(section, {})
     try:
         _check_finite(config)
     except ConfigError as exc:
@@ -822,7 +877,7 @@ def _build(cfg: dict, source: str, partial: bool) -> Settings:
 def _check_case_count(sweep: SweepSettings, cfg: Mapping[str, Any]) -> None:
     """Refuse a sweep of more than ``limits.max_cases`` cases before any case is built (the
     checks cost about 3 ms per case, Snakemake's DAG more)."""
-    limit = (cfg.get("limits") or {}).get("max_cases") or section_defaults("limits")["max_cases"]
+    limit = (cfg.get("limits") or {}).get("max_cases") or DEFAULT_MAX_CASES
     n = sweep.n_cases
     if n > limit:
         axes = " x ".join(f"{len(v)} {k}" for k, v in (
@@ -903,30 +958,138 @@ def _check_widths(sweep: SweepSettings, scenes, load_distribution, hertz_estimat
                    f"{'' if loc is None else ', ' + loc}){also}")
 
 
-def load_settings(path: str | os.PathLike | None = None, *, partial: bool = False) -> Settings:
-    """Read, validate and type a config file (``./config.yaml`` when ``path`` is None).
+def merge_configs(base: Mapping[str, Any], overlay: Mapping[str, Any]) -> dict[str, Any]:
+    """``overlay`` merged over ``base``: the one merge of config files (the workflow's
+    ``config.yaml`` + ``--configfile`` files + ``--config``, and ``check-config``).
 
-    The one loader of the project: ``simulate --config`` calls it with ``partial=True`` (only the
-    sections it needs), the workflow's ``common.smk`` through :func:`settings_from_mapping`
-    after checking its config files with :func:`read_yaml`.
+    Mappings merge key by key, recursively; any other value (lists included) replaces the base's,
+    as Snakemake merges config files. One rule more: **a designation is a complete bearing**. An
+    overlay whose ``scene.bearing`` names ``designation`` replaces the base's whole
+    ``scene.bearing`` and drops the base's ``scene.operation.bpfi_override_hz`` (the override
+    travels with the catalogue entry), so that a file naming a bearing is never merged with
+    another bearing's keys.
+
+    Parameters
+    ----------
+    base, overlay : mapping
+        Parsed config files (:func:`read_yaml`).
+
+    Returns
+    -------
+    dict
+        A new mapping; neither argument is changed.
+    """
+    out = copy.deepcopy(dict(base))
+    scene = overlay.get("scene")
+    bearing = scene.get("bearing") if isinstance(scene, Mapping) else None
+    if isinstance(bearing, Mapping) and "designation" in bearing \
+            and isinstance(out.get("scene"), Mapping):
+        out["scene"] = {k: v for k, v in out["scene"].items() if k != "bearing"}
+        op = out["scene"].get("operation")
+        if isinstance(op, Mapping):
+            out["scene"]["operation"] = {k: v for k, v in op.items() if k != "bpfi_override_hz"}
+    _update(out, overlay)
+    return out
+
+
+def _update(out: dict, overlay: Mapping[str, Any]) -> None:
+    for key, value in overlay.items():
+        if isinstance(value, Mapping) and isinstance(out.get(key), Mapping):
+            out[key] = dict(out[key])
+            _update(out[key], value)
+        else:
+            out[key] = copy.deepcopy(value)
+
+
+def config_files(given: Sequence[str | os.PathLike] = ()) -> list[str]:
+    """The files a run reads, in merge order: ``./config.yaml`` when it exists (the workflow's
+    base), then ``given`` (``--configfile`` files) except ``./config.yaml`` itself.
+
+    Parameters
+    ----------
+    given : sequence of path
+        Further config files, later ones win.
+
+    Returns
+    -------
+    list of str
+    """
+    files = [DEFAULT_CONFIG_NAME] if default_config_path() is not None else []
+    base = Path(DEFAULT_CONFIG_NAME).resolve()
+    return files + [os.fspath(f) for f in given if not (files and Path(f).resolve() == base)]
+
+
+def read_configs(files: Sequence[str | os.PathLike],
+                 overrides: Mapping[str, Any] | None = None) -> dict[str, Any]:
+    """Read each file once (:func:`read_yaml`) and merge them in order (:func:`merge_configs`),
+    then ``overrides`` (Snakemake's ``--config key=value``).
+
+    Parameters
+    ----------
+    files : sequence of path
+    overrides : mapping, optional
+
+    Returns
+    -------
+    dict
+        The merged, not yet validated mapping.
+    """
+    merged: dict[str, Any] = {}
+    for f in files:
+        merged = merge_configs(merged, read_yaml(f))
+    return merge_configs(merged, overrides or {})
+
+
+def load_settings(path: str | os.PathLike | Sequence[str | os.PathLike] | None = None, *,
+                  partial: bool = False, overrides: Mapping[str, Any] | None = None) -> Settings:
+    """Read, merge, validate and type config files: the one loader of the project.
+
+    Parameters
+    ----------
+    path : path, sequence of paths or None
+        One file, or files merged in order (:func:`merge_configs`); None: ``./config.yaml``.
+    partial : bool
+        Accept a config without the top-level required sections (``simulate --config`` needs
+        only ``scene:``).
+    overrides : mapping, optional
+        Merged last (Snakemake's ``--config``).
+
+    Returns
+    -------
+    Settings
+
+    Raises
+    ------
+    ConfigError
+        One line naming the file(s), the field, the value and what is allowed.
     """
     if path is None:
         path = default_config_path()
         if path is None:
             raise ConfigError(f"no config given and no ./{DEFAULT_CONFIG_NAME} in {os.getcwd()}")
-    src = os.fspath(path)
-    return settings_from_mapping(read_yaml(src), source=src, partial=partial)
+    files = [os.fspath(path)] if isinstance(path, (str, os.PathLike)) else \
+        [os.fspath(p) for p in path]
+    if not files:
+        raise ConfigError(f"no config file given and no ./{DEFAULT_CONFIG_NAME} in {os.getcwd()}")
+    source = " + ".join(files)
+    return settings_from_mapping(read_configs(files, overrides), source=source, partial=partial)
 
 
-def workflow_settings(config: Mapping[str, Any], files: Sequence[str | os.PathLike] = ()) -> Settings:
-    """The workflow's pre-run check (``workflow/rules/common.smk`` calls exactly this).
+def workflow_settings(files: Sequence[str | os.PathLike] = (),
+                      overrides: Mapping[str, Any] | None = None) -> Settings:
+    """The workflow's loader (``workflow/rules/common.smk`` calls exactly this): ``./config.yaml``
+    and the ``--configfile`` files (:func:`config_files`), each parsed once, merged by
+    :func:`merge_configs`, ``--config`` values last; validated and typed once.
 
-    Snakemake has already parsed ``files`` into ``config`` with a loader that keeps the last of
-    two equal keys; each file is re-read with :func:`read_yaml` (duplicate keys, YAML errors with
-    line numbers), then the merged ``config`` is validated and typed by
-    :func:`settings_from_mapping`.
+    Parameters
+    ----------
+    files : sequence of path
+        ``workflow.overwrite_configfiles`` (the ``--configfile`` files).
+    overrides : mapping, optional
+        ``workflow.config_settings.config`` (the ``--config`` values).
+
+    Returns
+    -------
+    Settings
     """
-    files = [os.fspath(f) for f in files]
-    for f in files:
-        read_yaml(f)
-    return settings_from_mapping(config, source=" + ".join(files) or "config")
+    return load_settings(config_files(files), overrides=overrides)

@@ -71,7 +71,7 @@ from .schema import scene_frequencies
 from .settings import AnalysisSettings, CaseId
 
 __all__ = ["DEFAULT_CASES", "DEFAULT_KNOBS", "DEFAULT_BANDS", "COLUMNS", "tradeoff_study",
-           "study_from_config", "pareto_front", "pareto_table", "pareto_points", "plot_tradeoff",
+           "study_from_config", "TRADEOFF_DEFAULTS", "pareto_front", "pareto_table", "pareto_points", "plot_tradeoff",
            "metric_labels", "run_variant"]
 
 #: (load_kN, depth_um) of the representative cases.
@@ -660,6 +660,15 @@ def pareto_points(df: pd.DataFrame, *, error: str = "error", time: str = "cpu_s"
     return pd.concat(parts, ignore_index=True)
 
 
+#: Defaults of the ``tradeoff:`` config section, written here only (the schema holds none;
+#: :func:`study_from_config` and the pre-run check read them). ``knobs`` None: :data:`DEFAULT_KNOBS`.
+TRADEOFF_DEFAULTS: dict[str, Any] = {
+    "cases": DEFAULT_CASES, "revolutions": 4.0, "base": "standard", "reference": "finest",
+    "reference_element": "uniform", "element_series": ("local_dx_um",),
+    "presets": ("draft", "standard", "paper"), "knobs": None,
+}
+
+
 def study_from_config(section: Mapping[str, Any] | None, *, scene: Mapping[str, Any] | None = None,
                       analysis: Mapping[str, Any] | None = None, progress=None) -> pd.DataFrame:
     """:func:`tradeoff_study` configured by the workflow's ``tradeoff:`` section.
@@ -669,22 +678,20 @@ def study_from_config(section: Mapping[str, Any] | None, *, scene: Mapping[str, 
     to fine; replaces the default set), ``presets`` (list of preset names or mapping name ->
     fidelity mapping). See ``src/bearing_envelope/data/config.schema.yaml``.
     """
-    s = dict(section or {})
-    allowed = {"cases", "revolutions", "base", "reference", "reference_element", "element_series",
-               "knobs", "presets"}
-    unknown = sorted(set(s) - allowed)
+    unknown = sorted(set(section or {}) - set(TRADEOFF_DEFAULTS))
     if unknown:
-        raise ValueError(f"tradeoff: unknown key(s) {unknown}; allowed: {sorted(allowed)}")
-    cases = s.get("cases", DEFAULT_CASES)
-    for c in cases:
+        raise ValueError(f"tradeoff: unknown key(s) {unknown}; allowed: "
+                         f"{sorted(TRADEOFF_DEFAULTS)}")
+    s = {**TRADEOFF_DEFAULTS, **dict(section or {})}
+    for c in s["cases"]:
         if len(c) != 2:
             raise ValueError(f"tradeoff.cases: each case is [load_kN, depth_um], got {c!r}")
-    presets = s.get("presets", ["draft", "standard", "paper"])
+    presets = s["presets"]
     if isinstance(presets, Sequence) and not isinstance(presets, str):
         presets = {str(p): p for p in presets}
     return tradeoff_study(
-        [tuple(c) for c in cases], knobs=s.get("knobs"), base=s.get("base", "standard"),
-        reference=s.get("reference", "finest"), reference_element=s.get("reference_element", "uniform"),
-        element_series=s.get("element_series", ("local_dx_um",)), presets=presets,
-        revolutions=float(s.get("revolutions", 4.0)), scene=scene, analysis=analysis,
+        [tuple(c) for c in s["cases"]], knobs=s["knobs"], base=s["base"],
+        reference=s["reference"], reference_element=s["reference_element"],
+        element_series=s["element_series"], presets=presets,
+        revolutions=float(s["revolutions"]), scene=scene, analysis=analysis,
         progress=progress)
