@@ -756,6 +756,28 @@ def _fill_defaults(instance: Any, schema: Mapping[str, Any], root: Mapping[str, 
             _fill_defaults(item, schema["items"], root)
 
 
+def _coerce_integers(instance: Any, schema: Mapping[str, Any], root: Mapping[str, Any]) -> Any:
+    """Integral floats where the schema asks for an integer become ``int``, recursively, in
+    place (JSON Schema counts ``3.0`` as an integer; ``range(3.0)`` in a job does not): the
+    value every job receives is the one the check passed. Returns the (coerced) instance."""
+    ref = schema.get("$ref")
+    if isinstance(ref, str) and ref.startswith("#/$defs/"):
+        schema = root.get("$defs", {}).get(ref.split("/")[-1], schema)
+    types = schema.get("type")
+    types = [types] if isinstance(types, str) else list(types or [])
+    if isinstance(instance, float) and "integer" in types and "number" not in types \
+            and instance.is_integer():
+        return int(instance)
+    if isinstance(instance, dict):
+        for name, sub in (schema.get("properties") or {}).items():
+            if name in instance:
+                instance[name] = _coerce_integers(instance[name], sub, root)
+    elif isinstance(instance, list) and isinstance(schema.get("items"), Mapping):
+        for i, item in enumerate(instance):
+            instance[i] = _coerce_integers(item, schema["items"], root)
+    return instance
+
+
 def section_defaults(section: str) -> dict[str, Any]:
     """The schema's defaults of one top-level section (``analysis``, ``diagnosability``, ...):
     the one place defaults live, read by the typed settings for keys a mapping leaves out."""
@@ -792,6 +814,7 @@ def validate_mapping(config: Mapping[str, Any], *, source: str = "<mapping>",
         err = jsonschema.exceptions.best_match(errors)
         raise ConfigError(f"{source}: {_schema_message(err)}")
     _fill_defaults(config, schema, schema)
+    _coerce_integers(config, schema, schema)
     return config
 
 
