@@ -319,8 +319,7 @@ def test_full_disk_while_writing_a_case_file(small_fs, monkeypatch):
     with pytest.raises(DiskFullError) as err:
         write_case(target, hist)
     assert "\n" not in str(err.value) and str(target) in str(err.value)
-    for module in ("bearing_envelope.io.case", "bearing_envelope.io.integrity"):
-        monkeypatch.setattr(f"{module}.require_free_space", lambda p, n: None)
+    monkeypatch.setattr("bearing_envelope.io.integrity.require_free_space", lambda p, n: None)
     with pytest.raises(DiskFullError) as err:
         write_case(target, hist)
     assert err.value.errno == errno.ENOSPC and "\n" not in str(err.value)

@@ -40,8 +40,9 @@ from typing import Any
 
 import numpy as np
 
+from ..checks import check_input_file
 from ..diagnosis.analysis import AnalysisOptions
-from ..io.yamlsafe import YamlLimitError, check_document_size, load_bounded
+from ..io.yamlsafe import MAX_DOCUMENT_BYTES, YamlLimitError, load_bounded
 from ..physics.fidelity import DEFAULT_PRESET, Fidelity, fidelity_from
 from ..physics.geometry import hertz_estimate
 from ..physics.loads import scene_load_distribution
@@ -57,11 +58,16 @@ __all__ = [
     "SimulationSetup", "section_defaults",
     "read_yaml", "settings_from_mapping", "load_settings", "workflow_settings",
     "default_config_path", "merge_configs", "read_configs", "config_files", "analysis_defaults",
-    "DEFAULT_CONFIG_NAME",
+    "DEFAULT_CONFIG_NAME", "DEFAULT_MAX_CASES",
 ]
 
 #: The config file ``simulate --config`` and the workflow read when none is named.
 DEFAULT_CONFIG_NAME = "config.yaml"
+
+#: Cases a sweep may have when ``limits.max_cases`` is not given: the pre-run checks cost
+#: about 3 CPU ms per case (``check-config`` on 1000 cases: 4.4 CPU s with imports) and
+#: Snakemake's dry run about 20 ms per case; a larger sweep says so with ``limits.max_cases``.
+DEFAULT_MAX_CASES = 1000
 
 #: Longest message taken from a schema error (the instance repr can be long).
 _MAX_MESSAGE = 240
@@ -282,6 +288,13 @@ class SweepSettings:
         locations = _locations(m.get("locations"))
         return cls(values("loads_kN", 0.0, True), values("depths_um", 0.0, False), widths,
                    locations)
+
+    @property
+    def n_cases(self) -> int:
+        """How many cases :meth:`cases` makes, counted without making them."""
+        healthy = sum(1 for h in self.depths_um if h == 0)
+        per_load = healthy + (len(self.depths_um) - healthy) * len(self.widths_um or (None,))
+        return len(self.locations or (None,)) * len(self.loads_kN) * per_load
 
     def cases(self) -> list[CaseId]:
         """Every case: locations outermost (when set), then loads, depths, widths innermost."""
@@ -535,8 +548,49 @@ def _unique_key_loader():
             seen[key] = line
         return yaml.SafeLoader.construct_mapping(loader, node, deep=deep)
 
+    def construct_number(loader, node):
+        text = str(node.value)
+        if not _PLAIN_NUMBER.match(text):
+            value = _YAML11_NUMBER[node.tag](loader, node)
+            raise ConfigError(f"{node.start_mark.name}, line {node.start_mark.line + 1}: "
+                              f"{text!r} is a YAML 1.1 {_number_form(text)} number (read as "
+                              f"{value!r}); allowed: a plain decimal number (1.5, 90, 1e-3), "
+                              f"or quote it if it is text")
+        return _YAML11_NUMBER[node.tag](loader, node)
+
     UniqueKeyLoader.add_constructor(yaml.resolver.BaseResolver.DEFAULT_MAPPING_TAG, construct_mapping)
+    for tag in _YAML11_NUMBER:
+        UniqueKeyLoader.add_constructor(tag, construct_number)
     return UniqueKeyLoader
+
+
+def _yaml11_number_constructors() -> dict:
+    import yaml
+
+    return {"tag:yaml.org,2002:int": yaml.SafeLoader.construct_yaml_int,
+            "tag:yaml.org,2002:float": yaml.SafeLoader.construct_yaml_float}
+
+
+#: The constructors of YAML 1.1 numbers (PyYAML's SafeLoader), by tag.
+_YAML11_NUMBER = _yaml11_number_constructors()
+
+#: Numbers written as a reader expects: decimal digits with an optional sign, fraction and
+#: exponent (``_`` between digits allowed), ``.inf``/``.nan`` (refused later by the finite
+#: check). YAML 1.1 also reads ``1:30`` as 90 (base 60), ``010`` as 8 (octal), ``0x1f``, ``0b11``.
+_PLAIN_NUMBER = re.compile(r"^[-+]?(?:(?:0|[1-9][0-9_]*)(?:\.[0-9_]*)?|\.[0-9_]+)"
+                           r"(?:[eE][-+]?[0-9]+)?$|^[-+]?\.(?:inf|Inf|INF)$|^\.(?:nan|NaN|NAN)$")
+
+
+def _number_form(text: str) -> str:
+    """The YAML 1.1 number form of a non-plain numeric scalar (for the error message)."""
+    t = text.lstrip("+-")
+    if ":" in t:
+        return "base-60 (sexagesimal)"
+    if t.startswith(("0x", "0X")):
+        return "hexadecimal"
+    if t.startswith(("0b", "0B")):
+        return "binary"
+    return "octal" if t.startswith("0") else "non-decimal"
 
 
 def read_yaml(path: str | os.PathLike) -> dict[str, Any]:
@@ -557,7 +611,10 @@ def read_yaml(path: str | os.PathLike) -> dict[str, Any]:
     if not os.path.exists(p):
         raise ConfigError(f"{p}: config file not found")
     try:
-        check_document_size(p)
+        check_input_file(p, "config file", max_bytes=MAX_DOCUMENT_BYTES, allow_empty=True)
+    except ValueError as exc:
+        raise ConfigError(str(exc)) from None
+    try:
         with open(p, encoding="utf-8") as fh:
             doc = load_bounded(fh, _unique_key_loader())  # aliases bounded (io.yamlsafe)
     except ConfigError:
@@ -703,6 +760,28 @@ def _fill_defaults(instance: Any, schema: Mapping[str, Any], root: Mapping[str, 
             _fill_defaults(item, schema["items"], root)
 
 
+def _coerce_integers(instance: Any, schema: Mapping[str, Any], root: Mapping[str, Any]) -> Any:
+    """Integral floats where the schema asks for an integer become ``int``, recursively, in
+    place (JSON Schema counts ``3.0`` as an integer; ``range(3.0)`` in a job does not): the
+    value every job receives is the one the check passed. Returns the (coerced) instance."""
+    ref = schema.get("$ref")
+    if isinstance(ref, str) and ref.startswith("#/$defs/"):
+        schema = root.get("$defs", {}).get(ref.split("/")[-1], schema)
+    types = schema.get("type")
+    types = [types] if isinstance(types, str) else list(types or [])
+    if isinstance(instance, float) and "integer" in types and "number" not in types \
+            and instance.is_integer():
+        return int(instance)
+    if isinstance(instance, dict):
+        for name, sub in (schema.get("properties") or {}).items():
+            if name in instance:
+                instance[name] = _coerce_integers(instance[name], sub, root)
+    elif isinstance(instance, list) and isinstance(schema.get("items"), Mapping):
+        for i, item in enumerate(instance):
+            instance[i] = _coerce_integers(item, schema["items"], root)
+    return instance
+
+
 def section_defaults(section: str) -> dict[str, Any]:
     """The schema's defaults of one top-level section (``analysis``, ``diagnosability``, ...):
     the one place defaults live, read by the typed settings for keys a mapping leaves out."""
@@ -739,6 +818,7 @@ def validate_mapping(config: Mapping[str, Any], *, source: str = "<mapping>",
         err = jsonschema.exceptions.best_match(errors)
         raise ConfigError(f"{source}: {_schema_message(err)}")
     _fill_defaults(config, schema, schema)
+    _coerce_integers(config, schema, schema)
     return config
 
 
@@ -776,6 +856,7 @@ def _build(cfg: dict, source: str, partial: bool) -> Settings:
                    "null while scene.defect.width_um is set (give the width in one place)")
     if sweep is not None:
         sweep = _location_axis(sweep, scene_map)
+        _check_case_count(sweep, cfg)
         scenes = {}
         for case in sweep.cases():
             where = f"case {case.name}: "
@@ -818,6 +899,19 @@ def _build(cfg: dict, source: str, partial: bool) -> Settings:
     return Settings(source=source, config=cfg, sweep=sweep, fidelity=fidelity,
                     scene_mapping=scene_map, analysis=analysis, sensor=sensor,
                     diagnosability=diag, tradeoff=dict(cfg.get("tradeoff") or {}))
+
+
+def _check_case_count(sweep: SweepSettings, cfg: Mapping[str, Any]) -> None:
+    """Refuse a sweep of more than ``limits.max_cases`` cases before any case is built (the
+    checks cost about 3 ms per case, Snakemake's DAG more)."""
+    limit = (cfg.get("limits") or {}).get("max_cases") or DEFAULT_MAX_CASES
+    n = sweep.n_cases
+    if n > limit:
+        axes = " x ".join(f"{len(v)} {k}" for k, v in (
+            ("locations", sweep.locations), ("loads_kN", sweep.loads_kN),
+            ("depths_um", sweep.depths_um), ("widths_um", sweep.widths_um)) if v)
+        raise ConfigError(f"sweep: {n:,} cases ({axes}); allowed: at most {limit:,} "
+                          f"(limits.max_cases; raise it for a larger sweep)")
 
 
 def _location_axis(sweep: SweepSettings, scene_map: Mapping[str, Any]) -> SweepSettings:
