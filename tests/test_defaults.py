@@ -103,7 +103,8 @@ def test_study_bearing_is_its_catalogue_entry_with_its_override():
 
 def test_config_yaml_restates_no_default():
     """config.yaml states what the default sweep chooses: no scene value (every one is the
-    study's default), no limits, tradeoff, sensor or diagnosability value equal to its home's
+    study's default), no analysis, limits, tradeoff, sensor or diagnosability value equal to its
+    home's
     (``fidelity: standard`` is stated as the sweep's choice of preset)."""
     cfg = yaml.safe_load((ROOT / "config.yaml").read_text())
     assert cfg["scene"] == {}
@@ -111,6 +112,9 @@ def test_config_yaml_restates_no_default():
     for key, value in cfg.get("tradeoff", {}).items():
         default = TRADEOFF_DEFAULTS[key]
         assert value != (list(default) if isinstance(default, tuple) else default), key
+    loaded = _full_schema()["properties"]["analysis"]["properties"]
+    for key, value in cfg["analysis"].items():
+        assert "default" not in loaded[key] or loaded[key]["default"] != value, key
     schema_defaults = _defaults(RAW_SCHEMA["properties"])
     for path, value in _leaves({k: cfg[k] for k in ("sensor", "diagnosability")}):
         dotted = ".properties.".join(path)
