@@ -673,9 +673,10 @@ ANALYSIS_OPTION_FIELDS = {
 
 def analysis_defaults() -> dict[str, Any]:
     """The ``analysis:`` defaults the schema is filled with, read from
-    :class:`~bearing_envelope.diagnosis.analysis.AnalysisOptions` (``amplitude``:
-    ``interpolated`` when its ``interpolate`` is true, else ``peak_bin``; ``bands``: its bands,
-    :data:`~bearing_envelope.signal.bands.DEFAULT_BANDS` when None).
+    :class:`~bearing_envelope.diagnosis.analysis.AnalysisOptions` (``bands``: its bands,
+    :data:`~bearing_envelope.signal.bands.DEFAULT_BANDS` when None). ``amplitude`` is not one:
+    the sweep's estimator (``interpolated``, the schema's default) differs from
+    ``AnalysisOptions.interpolate`` (False, the largest bin) until the two are made one.
 
     Returns
     -------
@@ -684,7 +685,6 @@ def analysis_defaults() -> dict[str, Any]:
     """
     opt = AnalysisOptions()
     out = {key: getattr(opt, name) for key, name in ANALYSIS_OPTION_FIELDS.items()}
-    out["amplitude"] = "interpolated" if opt.interpolate else "peak_bin"
     out["bands"] = [dict(b) for b in (opt.bands or DEFAULT_BANDS)]
     return out
 
