@@ -209,7 +209,10 @@ def test_tables_keep_every_width():
                      "band": "fixed", "band_strategy": "fixed", "band_low_hz": 1.0,
                      "band_high_hz": 2.0, "quantity": "envelope_bpfi", "order": 1.0,
                      "sideband": 0.0, "frequency_hz": 231.9, "amplitude": amp})
-    tidy = concat_tidy([pd.DataFrame([r]) for r in rows])
+    from bearing_envelope.study.settings import SweepSettings
+
+    cases = SweepSettings((500.0,), (0.0, 50.0), (100.0, 300.0)).cases()
+    tidy = concat_tidy([pd.DataFrame([r]) for r in rows], cases)
     assert sorted(tidy["amplitude"]) == [0.5, 1.0, 3.0]
     assert tidy.set_index("case")["width_um"].to_dict() == pytest.approx(
         {"F500kN_h50um_w100um": 100.0, "F500kN_h50um_w300um": 300.0, "F500kN_h0um": np.nan},

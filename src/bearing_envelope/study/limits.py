@@ -307,7 +307,7 @@ def precheck(settings) -> list[ResourceEstimate]:
     _check_sweep_values(settings.sweep)
     setup = settings.simulation
     for case in settings.sweep.cases():
-        scene = setup.scene(case)
+        scene = settings.scene(case)   # built once, by the loader
         out.append(_check_case(case, scene, settings.analysis, limits, cap, setup.fidelity))
     _check_physics(settings)   # after the estimates: they bound the record length first
     return out
@@ -325,11 +325,11 @@ _MAP_SIDEBANDS = 3
 def _location_scenes(settings) -> dict:
     """One case per swept location at its highest load and deepest defect (first in sweep
     order), with its scene: the cases whose record, lines and contact the checks below read."""
-    setup, out = settings.simulation, {}
+    out = {}
     top = max(settings.sweep.loads_kN)
     for case in settings.sweep.cases():
         if case.load_kN == top and case.location not in out:
-            out[case.location] = (case, setup.scene(case))
+            out[case.location] = (case, settings.scene(case))
     return out
 
 

@@ -490,6 +490,9 @@ class Settings:
     diagnosability : DiagnosabilitySettings
     tradeoff : dict
         The ``tradeoff:`` section as given (read by :func:`bearing_envelope.study.tradeoff.study_from_config`).
+    scenes : dict
+        ``CaseId -> Scene`` of every sweep case, built (and validated) once by the loader;
+        :meth:`scene` reads them.
     """
 
     source: str
@@ -501,6 +504,7 @@ class Settings:
     sensor: Any
     diagnosability: DiagnosabilitySettings
     tradeoff: dict = field(default_factory=dict)
+    scenes: dict = field(default_factory=dict, repr=False, compare=False)
 
     @property
     def cases(self) -> list[CaseId]:
@@ -512,8 +516,10 @@ class Settings:
         return SimulationSetup(self.scene_mapping, self.fidelity)
 
     def scene(self, case: CaseId):
-        """The validated scene of one case."""
-        return case.scene(self.scene_mapping)
+        """The validated scene of one case: built once, when the settings were (a sweep case),
+        else now."""
+        sc = self.scenes.get(case)
+        return sc if sc is not None else case.scene(self.scene_mapping)
 
 
 # --------------------------------------------------------------------------------------------
@@ -898,7 +904,8 @@ def _build(cfg: dict, source: str, partial: bool) -> Settings:
     diag = DiagnosabilitySettings.from_mapping(cfg.get("diagnosability"))
     return Settings(source=source, config=cfg, sweep=sweep, fidelity=fidelity,
                     scene_mapping=scene_map, analysis=analysis, sensor=sensor,
-                    diagnosability=diag, tradeoff=dict(cfg.get("tradeoff") or {}))
+                    diagnosability=diag, tradeoff=dict(cfg.get("tradeoff") or {}),
+                    scenes=scenes if sweep is not None else {})
 
 
 def _check_case_count(sweep: SweepSettings, cfg: Mapping[str, Any]) -> None:
