@@ -284,6 +284,26 @@ def test_issue22_configs_are_refused_before_any_job(tmp_path, monkeypatch, name,
     assert "\n" not in msg and field in msg, msg
 
 
+@pytest.mark.parametrize("enabled", [True, False])
+def test_map_background_is_checked_only_when_the_map_is_built(tmp_path, enabled):
+    """One revolution leaves the fault line no background bins: refused (naming the field) when
+    the run builds the detection map (sensor + diagnosability.enabled), accepted when it does
+    not (the tiny sweep above). One revolution resolves bins of exactly fr: every bin is a shaft
+    harmonic, which the map's background excludes."""
+    from bearing_envelope.study.limits import precheck
+    from bearing_envelope.study.settings import ConfigError, load_settings
+
+    cfg = _mutated("scene.operation.revolutions", 1)
+    cfg["diagnosability"]["enabled"] = enabled
+    path = tmp_path / "config.yaml"
+    path.write_text(yaml.safe_dump(cfg))
+    if enabled:
+        with pytest.raises(ConfigError, match=r"scene\.operation\.revolutions: got 1;"):
+            precheck(load_settings(path))
+    else:
+        assert precheck(load_settings(path))
+
+
 def test_alias_bomb_is_refused_fast(tmp_path):
     from bearing_envelope.study.settings import ConfigError, read_yaml
 

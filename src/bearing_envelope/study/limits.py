@@ -28,7 +28,7 @@ from ..physics.acquisition import auto_oversample
 from ..physics.loads import scene_load_distribution
 from ..physics.solves import window_spec
 from ..signal.kurtogram import max_kurtogram_level
-from .settings import DEFAULT_MAX_CASES, ConfigError, format_number
+from .settings import DEFAULT_MAX_CASES, ConfigError
 from ..physics.fidelity import fidelity_from
 from .tradeoff import TRADEOFF_DEFAULTS, _apply_knob
 
@@ -49,9 +49,6 @@ MIN_HARDNESS_GPA = 0.1
 
 #: Samples the fast kurtogram needs for its first level (``max_kurtogram_level(n) >= 1``).
 MIN_KURTOGRAM_SAMPLES = 2 ** 8
-
-#: Longest exact text of one sweep value in a case name (``format_number``), characters.
-MAX_VALUE_CHARS = 24
 
 #: Longest case name accepted (characters, without ``.h5``): file systems allow 255 bytes per
 #: name, and the workflow adds suffixes such as ``_kurtogram.npz`` and ``.unreadable-{time}``.
@@ -241,17 +238,6 @@ def _check_estimate(est: ResourceEstimate, limits: dict, memory_cap: float) -> N
                           f"<= {limits['max_case_cpu_s']:g} CPU s (limits.max_case_cpu_s)")
 
 
-def _check_sweep_values(sweep) -> None:
-    """Sweep values whose exact text fits a case name (``1e-300`` is 302 digits long)."""
-    for key in ("loads_kN", "depths_um", "widths_um"):
-        for i, v in enumerate(getattr(sweep, key) or ()):
-            text = format_number(v)
-            if len(text) > MAX_VALUE_CHARS:
-                raise ConfigError(f"sweep.{key}[{i}]: got {v!r} ({len(text)} digits in a case "
-                                  f"name); allowed: a value written with at most "
-                                  f"{MAX_VALUE_CHARS} characters (e.g. 0.5, 12.25)")
-
-
 def _check_tradeoff(section: Mapping) -> None:
     """The ``tradeoff:`` section as the trade study will read it (without running it)."""
     for key in section:
@@ -304,7 +290,6 @@ def precheck(settings) -> list[ResourceEstimate]:
     out = []
     if settings.sweep is None:
         return out
-    _check_sweep_values(settings.sweep)
     setup = settings.simulation
     for case in settings.sweep.cases():
         scene = settings.scene(case)   # built once, by the loader
@@ -336,13 +321,15 @@ def _location_scenes(settings) -> dict:
 def _check_physics(settings) -> None:
     """Checks a job would otherwise make on its inputs, once per swept location: the contact
     not plastic everywhere at the highest load (:func:`_check_contact`), every band wider than
-    the record's resolution (:func:`_check_band_widths`), and with a ``sensor:`` section a
-    background around the fault line for the detection map (:func:`_check_map_background`)."""
+    the record's resolution (:func:`_check_band_widths`), and, when the run builds the
+    detection map (a ``sensor:`` section and ``diagnosability.enabled``, the condition of the
+    default target in ``workflow/rules/common.smk``), a background around the fault line for
+    it (:func:`_check_map_background`)."""
     for case, scene in _location_scenes(settings).values():
         _check_contact(settings, case, scene)
         if settings.analysis is not None:
             _check_band_widths(settings.analysis, scene)
-        if settings.sensor is not None:
+        if settings.sensor is not None and settings.diagnosability.enabled:
             _check_map_background(scene, case)
 
 

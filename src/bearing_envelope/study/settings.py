@@ -245,6 +245,11 @@ def _err(where: str, value: Any, allowed: str) -> ConfigError:
     return ConfigError(f"{where}: got {value!r}; allowed: {allowed}")
 
 
+#: Longest exact text of one sweep value in a case name (:func:`format_number`), characters:
+#: ``1e-300`` is 302 digits long. Checked as the sweep is read, before any case is built.
+MAX_VALUE_CHARS = 24
+
+
 @dataclass(frozen=True)
 class SweepSettings:
     """The ``sweep:`` section: loads (kN), depths (um), optional widths (um) and locations.
@@ -277,6 +282,11 @@ class SweepSettings:
                     raise _err(f"sweep.{key}[{i}]", v,
                                f"a finite number {'>' if lo_open else '>='} {lo:g}")
                 f = float(v) + 0.0
+                text = format_number(f)
+                if len(text) > MAX_VALUE_CHARS:
+                    raise ConfigError(f"sweep.{key}[{i}]: got {v!r} ({len(text)} digits in a "
+                                      f"case name); allowed: a value written with at most "
+                                      f"{MAX_VALUE_CHARS} characters (e.g. 0.5, 12.25)")
                 if f in out:
                     j = out.index(f)
                     raise ConfigError(f"sweep.{key}[{i}]: {v!r} repeats sweep.{key}[{j}] "
