@@ -162,6 +162,35 @@ def test_case_file_carries_the_error_table(tmp_path, pair):
     assert row["error_est"] == pytest.approx(e / (1 - e) * abs(row["amplitude"]))
 
 
+def test_analysis_reads_the_error_model_stored_with_the_case(tmp_path, pair):
+    """The envelope analysis takes the error model the case file stores (made once, when the
+    case was simulated), not a recomputed one: a file storing a made-up model (rel. error 0.125
+    for p_max's BPFI lines, removed_force withheld) gives those bars, and the withheld signal
+    keeps its reason through the file."""
+    from bearing_envelope.io import ErrorModel
+
+    made_up = ErrorModel("made_up", "defect", "made up for the test",
+                         pd.DataFrame({"signal": ["p_max"], "quantity_class": ["envelope_bpfi"],
+                                       "rel_error": [0.125], "n_values": [1]}),
+                         ("removed_force",))
+    case = read_case(write_case(tmp_path / "F500kN_h30um.h5", pair["draft"], error_model=made_up))
+    assert case.error_model.point == "made_up" and case.error_model.withheld == ("removed_force",)
+    an = load_settings().analysis
+    doc, _ = case_bands(case, an)
+    t = case_harmonics(case, an, doc)
+    line = t[(t.quantity == "envelope_bpfi") & (t.sideband == 0)]
+    assert (line["rel_error_est"] == 0.125).all() and (line["error_basis"] == "made up for the test").all()
+    rf = dataclasses.replace(an, signal="removed_force")
+    t = case_harmonics(case, rf, case_bands(case, rf)[0])
+    assert t["rel_error_est"].isna().all()
+    assert t["error_basis"].str.contains("far field, not the case's").any()
+    # a file that stores none: no estimate, with the reason
+    bare = read_case(write_case(tmp_path / "F500kN_h30um_bare.h5", pair["draft"]))
+    t = case_harmonics(bare, an, doc)
+    assert bare.error_model is None and t["rel_error_est"].isna().all()
+    assert (t["error_basis"] == "not estimated: the case file stores no error model").all()
+
+
 def _per_load_table():
     rows = []
     for load, e in ((250.0, 0.01), (500.0, 0.03), (750.0, 0.02)):

@@ -25,7 +25,7 @@ from .integrity import (CHECKSUM_OPTIONS, seal, verify_file, DIGEST_ATTR, conten
                         file_sha256, write_image)
 
 __all__ = ["FORMAT_VERSION", "READABLE_VERSIONS", "Case", "CaseFormatError", "write_case", "read_case", "git_commit",
-           "case_file_problem", "set_aside_unreadable", "read_error_model", "jsonable"]
+           "case_file_problem", "set_aside_unreadable", "read_error_model", "jsonable", "ErrorModel"]
 
 #: Version of the layout written by :func:`write_case`.
 #: 2: integral signals (removed_force, contact_force, approach, approach_change, contact_area),
@@ -56,6 +56,34 @@ _SIGNAL_DESCRIPTIONS = {
 
 class CaseFormatError(ValueError):
     """The file is not a case file of the supported format version."""
+
+
+@dataclass(frozen=True)
+class ErrorModel:
+    """The error estimates that apply to one case: made once, from the case's fidelity, depth and
+    scene, by :func:`bearing_envelope.study.accuracy.error_model` when the case is simulated;
+    stored in its file (group ``discretisation_error``) and read back with it
+    (:attr:`Case.error_model`). Defined here, below the study layer, so that a case read from
+    its file carries it; ``bearing_envelope.study.accuracy.ErrorModel`` is the same class.
+
+    Attributes
+    ----------
+    point : str or None
+        The measured fidelity point the case's fidelity equals (None: no estimate).
+    kind : {"defect", "healthy"}
+    basis : str
+        One sentence: the source of the estimate, or why there is none.
+    table : pandas.DataFrame
+        Columns ``signal, quantity_class, rel_error, n_values`` (empty when ``point`` is None).
+    withheld : tuple of str
+        Signals whose bars are withheld: the case's far field is not the model's.
+    """
+
+    point: str | None
+    kind: str
+    basis: str
+    table: "pd.DataFrame"
+    withheld: tuple[str, ...] = ()
 
 
 @dataclass
@@ -96,6 +124,8 @@ class Case:
         The ``P(Q, x)`` table and its diagnostics (attribute ``race``: the contact it belongs to).
     other_tables : dict
         Race -> table of a second contact (``outer`` for a rolling-element defect, issue 23).
+    error_model : ErrorModel or None
+        The discretisation errors stored with the case (None: its file stores none).
     """
 
     fs: float
@@ -118,6 +148,7 @@ class Case:
     snapshots: dict = field(default_factory=dict)
     table: dict = field(default_factory=dict)
     other_tables: dict = field(default_factory=dict)
+    error_model: ErrorModel | None = None
 
 
 def git_commit(path: str | None = None) -> str:
@@ -384,6 +415,7 @@ def _write_error_model(f, em) -> None:
     g.attrs["point"] = em.point or ""
     g.attrs["kind"] = em.kind
     g.attrs["basis"] = em.basis
+    g.attrs["withheld"] = ",".join(em.withheld)
     for col in em.table.columns:
         v = em.table[col].to_numpy()
         if v.dtype == object or v.dtype.kind in "OUT":
@@ -396,7 +428,7 @@ def _write_error_model(f, em) -> None:
 
 def read_error_model(path: str | os.PathLike) -> tuple[dict[str, str], "pd.DataFrame"]:
     """The ``discretisation_error`` group of a case file: its attributes (``point``, ``kind``,
-    ``basis``) and the table (empty when the fidelity has no estimate).
+    ``basis``, ``withheld``) and the table (empty when the fidelity has no estimate).
 
     Parameters
     ----------
@@ -415,11 +447,24 @@ def read_error_model(path: str | os.PathLike) -> tuple[dict[str, str], "pd.DataF
         if "discretisation_error" not in f:
             return {"point": "", "kind": "", "basis": "not estimated: the case file predates "
                     "error estimates"}, pd.DataFrame()
-        g = f["discretisation_error"]
-        attrs = {k: _attr(v) for k, v in g.attrs.items()}
-        cols = {k: [_attr(x) for x in g[k][()]] if g[k].dtype.kind == "O" else g[k][()]
-                for k in g}
+        return _read_error_group(f["discretisation_error"])
+
+
+def _read_error_group(g) -> tuple[dict[str, str], "pd.DataFrame"]:
+    import pandas as pd
+
+    attrs = {k: _attr(v) for k, v in g.attrs.items()}
+    cols = {k: [_attr(x) for x in g[k][()]] if g[k].dtype.kind == "O" else g[k][()] for k in g}
     return attrs, pd.DataFrame(cols)
+
+
+def _error_model_of(f) -> ErrorModel | None:
+    """The stored :class:`ErrorModel` of an open case file (None when it stores none)."""
+    if "discretisation_error" not in f:
+        return None
+    attrs, table = _read_error_group(f["discretisation_error"])
+    withheld = tuple(w for w in str(attrs.get("withheld", "")).split(",") if w)
+    return ErrorModel(attrs["point"] or None, attrs["kind"], attrs["basis"], table, withheld)
 
 
 def case_file_problem(path: str | os.PathLike) -> str | None:
@@ -598,6 +643,7 @@ def _read_case(path: str | os.PathLike) -> Case:
         more = {k[len("table_"):]: _read_group(f[k]) for k in f if k.startswith("table_")}
         snaps = _read_group(f["snapshots"]) if "snapshots" in f else {}
         time = f["time"][()]
+        error_model = _error_model_of(f)
     for k in ("scene_json", "fidelity_json", "solver_json", "stats_json", "load_distribution_json",
               "acquisition_json"):
         if k in attrs:
@@ -610,5 +656,5 @@ def _read_case(path: str | os.PathLike) -> Case:
         roller_load=signals["roller_load"], defect_offset=signals["defect_offset"],
         load_kN=float(attrs["load_kN"]), depth_um=float(attrs["depth_um"]),
         scene=attrs.get("scene", {}), attrs=attrs, signals=signals, snapshots=snaps, table=table,
-        other_tables=more,
+        other_tables=more, error_model=error_model,
     )

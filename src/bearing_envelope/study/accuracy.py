@@ -46,7 +46,6 @@ from __future__ import annotations
 
 import json
 import math
-from dataclasses import dataclass
 from functools import lru_cache
 from importlib import resources
 from io import StringIO
@@ -57,6 +56,7 @@ import pandas as pd
 
 from ..physics.fidelity import Fidelity, fidelity_from
 from ..physics.scene import Scene
+from ..io.case import ErrorModel   # the type a case file stores; re-exported here
 
 __all__ = ["ErrorModel", "error_model", "case_error_model", "attach_errors", "absolute_error", "measured_points",
            "measured_far_field", "quantity_class", "rows_at_load", "lookup_rel_error",
@@ -163,30 +163,6 @@ def _same(a: Fidelity, b: Fidelity) -> bool:
         elif x != y:
             return False
     return True
-
-
-@dataclass(frozen=True)
-class ErrorModel:
-    """The error estimates that apply to one case.
-
-    Attributes
-    ----------
-    point : str or None
-        The measured fidelity point the case's fidelity equals (None: no estimate).
-    kind : {"defect", "healthy"}
-    basis : str
-        One sentence: the source of the estimate, or why there is none.
-    table : pandas.DataFrame
-        Columns ``signal, quantity_class, rel_error, n_values`` (empty when ``point`` is None).
-    withheld : tuple of str
-        Signals whose bars are withheld: the case's far field is not the model's.
-    """
-
-    point: str | None
-    kind: str
-    basis: str
-    table: pd.DataFrame
-    withheld: tuple[str, ...] = ()
 
 
 #: Scene keys that may differ from the default scene without voiding the estimate: the sweep

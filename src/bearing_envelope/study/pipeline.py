@@ -35,14 +35,14 @@ import pandas as pd
 from ..diagnosis import AnalysisOptions, analyze_signal
 from ..diagnosis.detection import detection_statistic
 from ..io import BandLimits, CaseBands, CaseSpectra
-from ..physics.fidelity import Fidelity
 from ..physics.locations import LOCATION_FAMILIES, scene_event_frequencies
 from ..physics.scene import DEFECT_LOCATIONS
 from ..physics.transfer import (TransferModel, excitation_from_history, select_excitation,
                                 synthesize_acceleration)
 from ..signal import envelope_spectrum, fast_kurtogram, max_kurtogram_level, resolve_band
 from ..signal.bands import clamp_band
-from .accuracy import ErrorModel, attach_errors, error_model
+from .accuracy import ErrorModel, attach_errors
+from .accuracy import case_error_model as accuracy_case_error_model
 from .provenance import log_to
 from .settings import AnalysisSettings, CaseId
 from .tables import TIDY_COLUMNS, TIDY_EXTRA_COLUMNS, tidy_from_analysis
@@ -89,7 +89,8 @@ def history_case(history):
         signals=dict(history.signals), fs=sc.operation.fs_hz, fr=sc.operation.shaft_rate_hz,
         bpfi=ev["bpfi"], bpfo=ev["bpfo"], ftf=ev["ftf"], bsf=ev["bsf"], load_kN=sc.load.load_kN,
         depth_um=sc.defect.depth_um, scene=sc.to_mapping(),
-        attrs={"fidelity_json": json.dumps(history.fidelity.to_dict())})
+        attrs={"fidelity_json": json.dumps(history.fidelity.to_dict())},
+        error_model=accuracy_case_error_model(history))
 
 
 def case_signal(case, name: str = "p_max") -> np.ndarray:
@@ -290,16 +291,25 @@ def case_harmonics(case, analysis: AnalysisSettings, bands, *, full_output: bool
     return (df, extra) if full_output else df
 
 
-def case_error_model(case):
-    """The estimated discretisation errors of a case's amplitudes at the fidelity it was
-    simulated with (:func:`bearing_envelope.study.accuracy.error_model`); no estimate, with the reason,
-    when the case records no fidelity."""
+def case_error_model(case) -> ErrorModel:
+    """The estimated discretisation errors of a case's amplitudes: the model made once when it
+    was simulated (:func:`bearing_envelope.study.accuracy.case_error_model`), as its file stores
+    it (:attr:`bearing_envelope.io.Case.error_model`) or :func:`history_case` carries it; no
+    estimate, with the reason, when the case carries none.
 
-    spec = (getattr(case, "attrs", None) or {}).get("fidelity_json")
-    if not spec:
-        return ErrorModel(None, "defect" if float(case.depth_um) > 0 else "healthy",
-                          "not estimated: the case records no fidelity", pd.DataFrame())
-    return error_model(Fidelity.from_json(spec), float(case.depth_um), getattr(case, "scene", None))
+    Parameters
+    ----------
+    case : bearing_envelope.io.Case or the namespace of :func:`history_case`
+
+    Returns
+    -------
+    ErrorModel
+    """
+    stored = getattr(case, "error_model", None)
+    if stored is not None:
+        return stored
+    return ErrorModel(None, "defect" if float(case.depth_um) > 0 else "healthy",
+                      "not estimated: the case file stores no error model", pd.DataFrame())
 
 
 #: Envelope spectra are kept up to (harmonics + SPECTRA_MARGIN_ORDERS) x BPFI for the figures.
