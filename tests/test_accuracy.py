@@ -24,8 +24,8 @@ def test_presets_are_measured_points_and_errors_are_finite():
     for name in PRESETS:
         if name == "paper":
             continue      # not in the measured set (minutes per case)
-        assert error_model(name, 50).point is not None, name
-    assert error_model("paper", 50).point is None
+        assert error_model(PRESETS[name], 50).point is not None, name
+    assert error_model(PRESETS["paper"], 50).point is None
     for name in pts:
         for kind, depth in (("defect", 50), ("healthy", 0)):
             m = error_model(pts[name], depth)
@@ -55,12 +55,12 @@ def test_unmeasured_fidelity_has_no_estimate_and_says_why():
 def test_another_scene_has_no_estimate_and_names_the_difference():
     base = Scene.from_mapping({"operation": {"revolutions": 3.0, "noise_snr_db": 10.0}},
                               load_kN=250, depth_um=30)
-    assert error_model("standard", 30, base.to_mapping()).point == "standard"   # noise, length
+    assert error_model(PRESETS["standard"], 30, base.to_mapping()).point == "standard"   # noise, length
     other = Scene.from_mapping({"defect": {"edge_radius_um": 10.0}}, load_kN=250, depth_um=30)
-    m = error_model("standard", 30, other.to_mapping())
+    m = error_model(PRESETS["standard"], 30, other.to_mapping())
     assert m.point is None and "defect.edge_radius_um: 10.0 vs 20.0" in m.basis
     wide = Scene.from_mapping({"defect": {"width_um": 200.0}}, load_kN=250, depth_um=30)
-    assert "defect.width_um" in error_model("standard", 30, wide.to_mapping()).basis
+    assert "defect.width_um" in error_model(PRESETS["standard"], 30, wide.to_mapping()).basis
 
 
 def _row(quantity="envelope_bpfi", order=1, sideband=0, amplitude=2.0):
@@ -71,7 +71,7 @@ def _row(quantity="envelope_bpfi", order=1, sideband=0, amplitude=2.0):
 
 
 def test_attach_errors_by_signal_and_quantity_class():
-    m = error_model("standard", 50)
+    m = error_model(PRESETS["standard"], 50)
     t = m.table.set_index(["signal", "quantity_class"])["rel_error"]
     df = pd.DataFrame([_row(), _row(order=3), _row(sideband=-1), _row("made_up_line")])
     out = attach_errors(df, m, "p_max")
@@ -84,7 +84,7 @@ def test_attach_errors_by_signal_and_quantity_class():
     assert out["error_basis"].map(len).min() > 0          # never an empty basis
     # issue 25 part 6: the default (standard) has p_max's envelope lines within 2 %, the former
     # default (fast) does not
-    fast = error_model("fast", 50).table.set_index(["signal", "quantity_class"])["rel_error"]
+    fast = error_model(PRESETS["fast"], 50).table.set_index(["signal", "quantity_class"])["rel_error"]
     assert line <= 0.02 < fast[("p_max", "envelope_bpfi")]
 
 
@@ -101,7 +101,7 @@ def test_integral_signal_bars_follow_the_far_field_they_were_measured_with():
     # issue 25 part 5: the model is measured with the coupled far field (responds, the
     # default), so the integral signals keep their bars; a frozen far field (which doubles the
     # removed force) gets none for them, with the reason; p_max keeps its bars either way
-    responds = error_model("standard", 50)
+    responds = error_model(PRESETS["standard"], 50)
     frozen = error_model(fidelity_from({"preset": "standard", "far_field": "frozen"}), 50)
     assert set(responds.table["signal"]) >= {"p_max", "removed_force", "approach_change"}
     assert set(frozen.table["signal"]) == set(responds.table["signal"]) - set(FAR_FIELD_SIGNALS)
@@ -233,7 +233,7 @@ def test_error_model_reads_the_csv_rows_of_the_case_load():
     assert row.nunique() == 3                    # the rules below are told apart
 
     def est(load, rule="worst"):
-        t = error_model("standard", 50, load_kN=load, load_rule=rule).table
+        t = error_model(PRESETS["standard"], 50, load_kN=load, load_rule=rule).table
         return float(t[(t.signal == "p_max") & (t.quantity_class == "raw_dc")]
                      ["rel_error"].iloc[0])
 
@@ -244,8 +244,8 @@ def test_error_model_reads_the_csv_rows_of_the_case_load():
     assert est(600.0, "per_load") == max(row[500.0], row[750.0])
     assert est(100.0, "per_load") == row[250.0] and est(1000.0, "per_load") == row[750.0]
     sc = Scene.from_mapping({}, load_kN=750, depth_um=50).to_mapping()
-    assert "worst over the model's loads (250, 500, 750 kN)" in error_model("standard", 50, sc).basis
-    assert "750 kN rows" in error_model("standard", 50, sc, load_rule="per_load").basis
-    assert "1000 kN lies outside" in error_model("standard", 50, load_kN=1000).basis
+    assert "worst over the model's loads (250, 500, 750 kN)" in error_model(PRESETS["standard"], 50, sc).basis
+    assert "750 kN rows" in error_model(PRESETS["standard"], 50, sc, load_rule="per_load").basis
+    assert "1000 kN lies outside" in error_model(PRESETS["standard"], 50, load_kN=1000).basis
     with pytest.raises(ValueError, match="load_rule"):
-        error_model("standard", 50, load_rule="nearest")
+        error_model(PRESETS["standard"], 50, load_rule="nearest")

@@ -289,7 +289,7 @@ def test_auto_oversample_bounds_defect_travel():
     # the defect moves at most one table offset-node spacing per internal sample: 50 um deep,
     # w = 100 um: standard min(100/4, 12) = 12 um, paper min(100/8, 4) = 4 um
     for fid, dx, n_expected in (("standard", 12e-6, 6), ("paper", 4e-6, 17)):
-        n = auto_oversample(s, fid)
+        n = auto_oversample(s, fidelity_from(fid))
         assert v / (FS * n) <= dx * (1 + 1e-9) < v / (FS * (n - 1))
         assert n == n_expected
 
@@ -305,7 +305,7 @@ def _table(depth, edge_radius_um=2.0, load=250.0):
     s = Scene.from_mapping({"operation": {"revolutions": 0.1},
                             "defect": {"edge_radius_um": edge_radius_um}},
                            load_kN=load, depth_um=depth)
-    fid = {"preset": "draft", "n_checks": 0, "n_snapshot_offsets": 0}
+    fid = fidelity_from({"preset": "draft", "n_checks": 0, "n_snapshot_offsets": 0})
     tb, nodes, _ = build_table(s, fid, q_max=scene_load_distribution(s).q_max, progress=None)
     return s, tb, nodes
 
@@ -414,11 +414,11 @@ def test_hardness_bounds_global_and_window_solves():
     # the rim peak of a 50 um defect at an 80 kN roller load exceeds 8 GPa elastically (draft);
     # with H below it every solve (global, window, defect) stays <= H and the peak is H
     q, x = 80e3, 0.0
-    P_el, _ = direct_pressure(_scene(50.0, revolutions=0.1), "draft", q, x)
+    P_el, _ = direct_pressure(_scene(50.0, revolutions=0.1), fidelity_from("draft"), q, x)
     H_GPa = 0.9 * P_el / 1e9
     s = Scene.from_mapping({"operation": {"revolutions": 0.1}, "material": {"hardness_GPa": H_GPa}},
                            load_kN=500.0, depth_um=50.0)
-    P, Pd = direct_pressure(s, "draft", q, x)
+    P, Pd = direct_pressure(s, fidelity_from("draft"), q, x)
     assert P_el > s.material.hardness_pa
     assert P == pytest.approx(s.material.hardness_pa, rel=1e-12) and Pd <= P
 

@@ -14,10 +14,11 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from bearing_envelope.physics.fidelity import fidelity_from
 from bearing_envelope.physics.history import simulate
 from bearing_envelope.physics.pit import depth_threshold, pit_scene, slot_estimate
 
-FID = {"preset": "draft", "n_checks": 0, "n_snapshot_offsets": 0}
+FID = fidelity_from({"preset": "draft", "n_checks": 0, "n_snapshot_offsets": 0})
 LOAD = 500.0
 WIDTH = 200.0   # um: 20 cells of the draft window across the pit
 

@@ -8,7 +8,7 @@ from typing import Any, Callable
 
 import numpy as np
 
-from .fidelity import Fidelity, fidelity_from
+from .fidelity import Fidelity
 from .scene import Scene
 from .solves import window_spec
 
@@ -64,7 +64,7 @@ def antialias_filter(oversample: int) -> np.ndarray:
     return h / h.sum()
 
 
-def auto_oversample(scene: Scene, fidelity: Fidelity | str | None = None) -> int:
+def auto_oversample(scene: Scene, fidelity: Fidelity) -> int:
     """``oversample: auto``: the smallest ``N`` with the defect moving no more than the table's
     offset-node spacing per internal sample, ``N = ceil(v / (fs dx))`` with
     ``v = 2 pi (f_r - f_c) R_i`` the defect's speed relative to the cage (4.24 m/s in the default
@@ -79,7 +79,8 @@ def auto_oversample(scene: Scene, fidelity: Fidelity | str | None = None) -> int
     ----------
     scene : Scene
         The case's scene (defect width, speeds, fs).
-    fidelity : Fidelity, preset name or None
+    fidelity : Fidelity
+        The case's fidelity (converted once, at the edge: the loader, the CLI or ``simulate``).
         The fidelity whose table spacing bounds the travel per sample (None: ``standard``).
 
     Returns
@@ -87,7 +88,7 @@ def auto_oversample(scene: Scene, fidelity: Fidelity | str | None = None) -> int
     int
         ``N >= 1``.
     """
-    fid = fidelity_from(fidelity)
+    fid = fidelity
     v = scene.defect_speed_m_s
     step = fid.offset_step_m
     if scene.defect.active:
@@ -208,7 +209,7 @@ def add_noise(x: np.ndarray, snr_db: float, seed: int) -> np.ndarray:
     return x + sigma * rng.standard_normal(x.size)
 
 
-def acquisition_settings(scene: Scene, fidelity: Fidelity | str | None = None) -> dict[str, Any]:
+def acquisition_settings(scene: Scene, fidelity: Fidelity) -> dict[str, Any]:
     """The acquisition a case uses: ``mode``, resolved ``oversample`` (1 for ``point``), the
     filter's pass/stop edges (fractions of fs), its stop-band attenuation target (dB) and length.
 
@@ -216,7 +217,8 @@ def acquisition_settings(scene: Scene, fidelity: Fidelity | str | None = None) -
     ----------
     scene : Scene
         The case's scene (its ``operation.acquisition``).
-    fidelity : Fidelity, preset name or None
+    fidelity : Fidelity
+        The case's fidelity (converted once, at the edge: the loader, the CLI or ``simulate``).
         The fidelity (resolves ``oversample: auto``; None: ``standard``).
 
     Returns

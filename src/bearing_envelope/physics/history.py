@@ -214,7 +214,7 @@ class History:
 
 
 def synthesize_case(scene: Scene, table: PressureTable, ld: LoadDistribution,
-                    fidelity: Fidelity | str | None = None, *, use_numba: bool = True,
+                    fidelity: Fidelity, *, use_numba: bool = True,
                     acquisition: dict | None = None) -> tuple[np.ndarray, dict, dict]:
     """All signals of a case at ``fs`` with the scene's acquisition (or ``acquisition``, a dict
     like :func:`acquisition_settings`). Returns ``(time, signals, acquisition)``."""

@@ -32,7 +32,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .fidelity import Fidelity, fidelity_from
+from .fidelity import Fidelity
 from .geometry import gap_field
 from .solves import SolveStats, defect_solve, solve_load
 from .loads import scene_load_distribution
@@ -115,7 +115,7 @@ def pit_scene(mapping: dict | None, load_kN: float, depth_um: float,
     return Scene.from_mapping(m, load_kN=load_kN, depth_um=depth_um)
 
 
-def bottom_loaded(scene: Scene, fidelity: Fidelity | str | dict | None, q_load: float,
+def bottom_loaded(scene: Scene, fidelity: Fidelity, q_load: float,
                   x_d: float = 0.0, *, node=None, stats: SolveStats | None = None
                   ) -> BottomContact:
     """Solve the window at roller load ``q_load`` (N) with the defect at offset ``x_d`` (m).
@@ -124,7 +124,7 @@ def bottom_loaded(scene: Scene, fidelity: Fidelity | str | dict | None, q_load: 
     ----------
     scene : Scene
         The scene with the pit.
-    fidelity : Fidelity, preset name, mapping or None
+    fidelity : Fidelity
         The fidelity of the solve.
     q_load : float
         Roller load (N).
@@ -141,7 +141,7 @@ def bottom_loaded(scene: Scene, fidelity: Fidelity | str | dict | None, q_load: 
         Whether the pit's bottom carries load, the bottom's share of the window force, the
         deepest cells' depth and the no-defect pressures at this load.
     """
-    fid = fidelity_from(fidelity)
+    fid = fidelity
     stats = stats or SolveStats()
     if node is None:
         node = solve_load(scene, fid, q_load, 1.0, stats)
@@ -160,7 +160,7 @@ def bottom_loaded(scene: Scene, fidelity: Fidelity | str | dict | None, q_load: 
                          1e6 * dmax, node.p0, node.w0, node.a_hertz)
 
 
-def depth_threshold(load_kN: float, width_um: float | None, fidelity="standard", *,
+def depth_threshold(load_kN: float, width_um: float | None, fidelity: Fidelity, *,
                     mapping: dict | None = None, x_d: float = 0.0, q_load: float | None = None,
                     h_lo: float = 0.01, h_hi: float = 200.0, rel_tol: float = 0.01
                     ) -> tuple[float, list[BottomContact]]:
@@ -178,7 +178,7 @@ def depth_threshold(load_kN: float, width_um: float | None, fidelity="standard",
         Bearing load (kN).
     width_um : float or None
         Pit width (um), or None for ``w = 2 h``.
-    fidelity : Fidelity, preset name or mapping
+    fidelity : Fidelity
         The fidelity of the solves.
     mapping : dict, optional
         Scene overrides.
@@ -196,7 +196,7 @@ def depth_threshold(load_kN: float, width_um: float | None, fidelity="standard",
     tuple of (float, list of BottomContact)
         ``h*`` (um) and every solve made.
     """
-    fid = fidelity_from(fidelity)
+    fid = fidelity
     stats = SolveStats()
     if q_load is None:
         q_load = scene_load_distribution(pit_scene(mapping, load_kN, h_hi, width_um)).q_max

@@ -12,7 +12,7 @@ from typing import Any, Callable
 import numpy as np
 
 from ..contact import ContactConvergenceError
-from .fidelity import Fidelity, fidelity_from
+from .fidelity import Fidelity
 from .geometry import hertz_estimate
 from .kernels import HAVE_NUMBA, ratio_kernel
 from .scene import Scene
@@ -550,7 +550,7 @@ def _refine_outside(scene: Scene, fid: Fidelity, kappa: float, stats: SolveStats
     return np.array(qs), np.array(vs)
 
 
-def build_table(scene: Scene, fidelity: Fidelity | str | None = None, *, q_max: float,
+def build_table(scene: Scene, fidelity: Fidelity, *, q_max: float,
                 stats: SolveStats | None = None, progress: bool = False,
                 check_seed: int = 20261122) -> tuple[PressureTable, list[LoadNode], dict]:
     """Solve the contacts and build the ``P(Q, x)`` table for roller loads up to ``q_max``.
@@ -569,7 +569,7 @@ def build_table(scene: Scene, fidelity: Fidelity | str | None = None, *, q_max: 
     snapshots : dict
         Pressure fields at a few offsets per load (for maps like the study's Fig. 4).
     """
-    fid = fidelity_from(fidelity)
+    fid = fidelity
     stats = stats or SolveStats()
     d = scene.defect
     nq = fid.n_loads
@@ -626,10 +626,10 @@ def build_table(scene: Scene, fidelity: Fidelity | str | None = None, *, q_max: 
     return table, nodes, dr.snapshots
 
 
-def direct_pressure(scene: Scene, fidelity: Fidelity | str | None, q_load: float, x_d: float,
+def direct_pressure(scene: Scene, fidelity: Fidelity, q_load: float, x_d: float,
                     *, kappa: float = 1.0, stats: SolveStats | None = None) -> tuple[float, float]:
     """``(P, P_d)`` (Pa) from a direct zoom solve at roller load ``q_load`` and offset ``x_d``."""
-    fid = fidelity_from(fidelity)
+    fid = fidelity
     stats = stats or SolveStats()
     node = solve_load(scene, fid, q_load, kappa, stats)
     if not scene.defect.active:

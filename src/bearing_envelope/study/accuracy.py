@@ -209,14 +209,14 @@ def scene_differences(scene: Any, depth_um: float) -> list[str]:
 LOAD_RULES = ("worst", "per_load")
 
 
-def error_model(fidelity: Fidelity | str | None, depth_um: float,
+def error_model(fidelity: Fidelity, depth_um: float,
                 scene: Any = None, load_kN: float | None = None,
                 load_rule: str = "worst") -> ErrorModel:
     """The measured discretisation errors that apply to a case at ``fidelity``.
 
     Parameters
     ----------
-    fidelity : Fidelity, preset name or None
+    fidelity : Fidelity
     depth_um : float
         The case's defect depth (0 = healthy race: the healthy case's errors apply).
     scene : mapping, optional
@@ -232,7 +232,7 @@ def error_model(fidelity: Fidelity | str | None, depth_um: float,
     """
     if load_rule not in LOAD_RULES:
         raise ValueError(f"load_rule must be one of {LOAD_RULES}, got {load_rule!r}")
-    fid = fidelity_from(fidelity)
+    fid = fidelity
     header, table = _load()
     kind = "healthy" if float(depth_um) <= 0 else "defect"
     if scene is not None:
