@@ -33,6 +33,8 @@ from bearing_envelope.signal.envelope import envelope_spectrum
 from bearing_envelope.signal.spectrum import amplitude_at
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+#: The 0.007 in EDM pit (diameter; the sweep's widths_um in config_cwru.yaml).
+PIT_UM = 177.8
 RPM = {0: 1797.0, 1: 1772.0, 2: 1750.0, 3: 1730.0}
 MECHANISMS = {"radial": {}, "centrifugal": {"centrifugal": True},
               "preload": {"centrifugal": True, "clearance_um": -5.0}}
@@ -41,7 +43,7 @@ MECHANISMS = {"radial": {}, "centrifugal": {"centrifugal": True},
 def scene_for(base: dict, hp: int, position: float, mech: dict) -> Scene:
     m = copy.deepcopy(base)
     m["operation"]["shaft_rate_hz"] = RPM[hp] / 60.0
-    m["defect"].update(location="outer_race", position_deg=position)
+    m["defect"].update(location="outer_race", position_deg=position, width_um=PIT_UM)
     m["load"]["centrifugal"] = bool(mech.get("centrifugal", False))
     if "clearance_um" in mech:
         m["bearing"]["radial_clearance_um"] = mech["clearance_um"]
