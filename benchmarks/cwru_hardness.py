@@ -1,7 +1,7 @@
 """What the hardness bound changes in the CWRU scenes (docs/scene.md, "The hardness bound in the
 CWRU scenes").
 
-    nice -n 10 python benchmarks/cwru_hardness.py --fidelity standard --revolutions 20
+    nice -n 10 python -m benchmarks cwru_hardness --fidelity standard --revolutions 20
 
 config_cwru.yaml (SKF 6205, assumed 1 kN, 0.011 in deep EDM pits) per location (inner race,
 outer race at 6:00, ball) and pit (0.007 / 0.021 in), elastic (``hardness_GPa: null``) and
@@ -28,23 +28,25 @@ from bearing_envelope.signal.spectrum import amplitude_at
 HERE = os.path.dirname(os.path.abspath(__file__))
 
 
-def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+def main(argv=None) -> int:
+    """Run the measurement (module docstring); ``argv`` as on the command line."""
+    ap = argparse.ArgumentParser(prog="python -m benchmarks cwru_hardness",
+                                 description=__doc__.splitlines()[0])
     ap.add_argument("--fidelity", default="standard")
     ap.add_argument("--revolutions", type=float, default=20)
     ap.add_argument("--locations", nargs="*", default=["inner_race", "outer_race", "rolling_element"])
     ap.add_argument("--pits-um", type=float, nargs="*", default=[177.8, 533.4])
-    args = ap.parse_args()
+    args = ap.parse_args(argv)
     with open(os.path.join(HERE, "..", "config_cwru.yaml")) as fh:
         base = yaml.safe_load(fh)["scene"]
-    base["operation"]["revolutions"] = args.revolutions
+    base.setdefault("operation", {})["revolutions"] = args.revolutions
     for loc in args.locations:
         for pit in args.pits_um:
             out = {}
             for h in (None, BEARING_STEEL_HARDNESS_GPA):
                 m = copy.deepcopy(base)
-                m["defect"].update(location=loc, width_um=pit)
-                m["material"]["hardness_GPa"] = h
+                m.setdefault("defect", {}).update(location=loc, width_um=pit)
+                m.setdefault("material", {})["hardness_GPa"] = h
                 sc = Scene.from_mapping(m, load_kN=1.0, depth_um=279.4)
                 hist = simulate(sc, args.fidelity)
                 p, fs = hist.signals["p_max"], sc.operation.fs_hz
@@ -56,7 +58,14 @@ def main() -> None:
             print(f"{loc:15s} {pit:6.1f} um: p_max {p0:.2f} -> {p1:.2f} GPa, removed force "
                   f"{f0:.3g} -> {f1:.3g} N ({100 * (f1 / f0 - 1):+.1f} %), envelope line "
                   f"{e0:.3g} -> {e1:.3g} MPa ({20 * np.log10(e1 / e0):+.2f} dB)", flush=True)
+    return 0
+
+
+def smoke() -> None:
+    """The same path on a tiny case: draft, a tenth of a revolution, the inner race."""
+    main(["--fidelity", "draft", "--revolutions", "0.1", "--locations", "inner_race",
+          "--pits-um", "177.8"])
 
 
 if __name__ == "__main__":
-    main()
+    raise SystemExit(main())
