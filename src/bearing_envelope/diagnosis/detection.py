@@ -52,6 +52,8 @@ __all__ = [
     "fault_band_metrics",
     "threshold_db",
     "detection_statistic",
+    "background_mask",
+    "background_problem",
     "detect",
     "clopper_pearson",
     "false_alarm_rates",
@@ -399,28 +401,16 @@ def detection_statistic(
     j = idx[int(np.argmax(a[idx]))]
     peak = float(a[j])
 
-    bg = (f >= lo * line) & (f <= hi * line) & (f > 0)
-    excl = []
-    kmax = int(math.ceil(hi)) + 1
-    for k in range(1, kmax + 1):
-        for m in range(-sidebands if fr else 0, (sidebands if fr else 0) + 1):
-            excl.append(k * line + m * (fr or 0.0))
-    if fr is not None:
-        excl.extend(fr * np.arange(1, int(hi * line / fr) + 2))
-    excl.extend(float(x) for x in exclude_hz)
-    for c in excl:
-        bg &= np.abs(f - c) > half
-    if bg.sum() < 5:
-        raise ValueError(f"too few background bins ({int(bg.sum())}) around {line:g} Hz: widen "
-                         f"background={background!r} or use a finer spectrum")
+    bg = background_mask(f, line, half, (lo, hi), fr=fr, sidebands=sidebands,
+                         exclude_hz=exclude_hz)
+    problem = background_problem(f, bg, line, level)
+    if problem is not None:
+        raise ValueError(f"{problem}: widen background={background!r} or use a finer spectrum")
     if level == "median":
         value = float(np.median(a[bg]))
         counts = int(bg.sum())
     elif level == "two_sided":
         below, above = bg & (f < line), bg & (f > line)
-        if below.sum() < 3 or above.sum() < 3:
-            raise ValueError(f"level='two_sided' needs >= 3 background bins on each side of "
-                             f"{line:g} Hz, got {int(below.sum())} and {int(above.sum())}")
         value = 0.5 * float(np.median(a[below]) + np.median(a[above]))
         counts = (int(below.sum()), int(above.sum()))
     else:
@@ -435,6 +425,73 @@ def detection_statistic(
         (j == idx[-1] and j + 1 < a.size and a[j + 1] > peak)
     return Detection(stat, peak, float(f[j]), value, int(tol_sel.sum()), int(bg.sum()), thr,
                      bool(stat > thr and not skirt))
+
+
+def background_mask(f, line: float, half: float, background: tuple[float, float], *,
+                    fr: float | None, sidebands: int, exclude_hz: Iterable[float] = ()):
+    """The background bins of :func:`detection_statistic`: ``f`` within ``background x line``,
+    at least ``half`` (Hz) away from every harmonic of the line and its ``fr`` sidebands,
+    every ``fr`` harmonic and ``exclude_hz``.
+
+    Parameters
+    ----------
+    f : numpy.ndarray
+        Frequencies of the spectrum (Hz).
+    line, half : float
+        The line and the search half-width (Hz).
+    background : (lo, hi)
+        Background band in multiples of ``line``.
+    fr : float or None
+        Shaft rate (Hz); None: no ``fr`` lines excluded.
+    sidebands : int
+        Sidebands ``k line +- m fr`` excluded (m <= ``sidebands``).
+    exclude_hz : iterable of float
+        Further lines excluded.
+
+    Returns
+    -------
+    numpy.ndarray of bool
+    """
+    lo, hi = background
+    bg = (f >= lo * line) & (f <= hi * line) & (f > 0)
+    excl = []
+    kmax = int(math.ceil(hi)) + 1
+    for k in range(1, kmax + 1):
+        for m in range(-sidebands if fr else 0, (sidebands if fr else 0) + 1):
+            excl.append(k * line + m * (fr or 0.0))
+    if fr is not None:
+        excl.extend(fr * np.arange(1, int(hi * line / fr) + 2))
+    excl.extend(float(x) for x in exclude_hz)
+    for c in excl:
+        bg &= np.abs(f - c) > half
+    return bg
+
+
+def background_problem(f, bg, line: float, level: str) -> str | None:
+    """Why the background ``bg`` (:func:`background_mask`) is too small for ``level`` (None
+    when it is enough): fewer than 5 bins, or for ``two_sided`` fewer than 3 on a side.
+
+    Parameters
+    ----------
+    f : numpy.ndarray
+        Frequencies (Hz).
+    bg : numpy.ndarray of bool
+        The background bins.
+    line : float
+        The line (Hz).
+    level : {"median", "two_sided"}
+
+    Returns
+    -------
+    str or None
+    """
+    if bg.sum() < 5:
+        return f"too few background bins ({int(bg.sum())}) around {line:g} Hz"
+    below, above = int((bg & (f < line)).sum()), int((bg & (f > line)).sum())
+    if level == "two_sided" and (below < 3 or above < 3):
+        return (f"level='two_sided' needs >= 3 background bins on each side of {line:g} Hz, "
+                f"got {below} and {above}")
+    return None
 
 
 def detect(f, amplitude, line_hz: float, **kwargs) -> tuple[float, bool]:
