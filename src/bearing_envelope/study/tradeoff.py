@@ -62,7 +62,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from ..contact import halfspace as _hs
+from ..contact.halfspace import clear_kernel_cache
 from ..diagnosis import AnalysisOptions
 from ..physics.fidelity import PRESETS, Fidelity, fidelity_from
 from ..physics.history import simulate
@@ -206,11 +206,7 @@ def _merge(a: Mapping, b: Mapping) -> dict:
 
 
 def _clear_kernel_cache() -> None:
-    try:
-        with _hs._CACHE_LOCK:
-            _hs._CACHE.clear()
-    except AttributeError:  # pragma: no cover - cache layout changed
-        pass
+    clear_kernel_cache()
 
 
 def run_variant(scene, fidelity: Fidelity, analysis) -> dict[str, Any]:
