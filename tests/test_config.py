@@ -60,10 +60,9 @@ def test_case_name_parse_refuses_non_canonical_and_garbage():
 
 
 def test_case_names_round_trip_exactly():
-    from bearing_envelope.study.tables import parse_case_name
-
     assert CaseId(333.3333, 50.0000001).name == "F333.3333kN_h50.0000001um"
-    assert parse_case_name("F333.3333kN_h50.0000001um.csv") == (333.3333, 50.0000001)
+    c = CaseId.parse("F333.3333kN_h50.0000001um.csv")
+    assert (c.load_kN, c.depth_um) == (333.3333, 50.0000001)
 
 
 def test_sweep_cases_without_and_with_widths():

@@ -8,7 +8,7 @@ from bearing_envelope.study.figures import example_pairs
 from bearing_envelope.study.limits import precheck, profile_files
 from bearing_envelope.study.recovery import is_dry_run, marker_if_present, recover_case_files
 from bearing_envelope.study.provenance import code_dependencies
-from bearing_envelope.study.settings import CASE_NAME_REGEX, CaseId, workflow_settings
+from bearing_envelope.study.settings import CASE_NAME_REGEX, workflow_settings
 
 
 def check_limits(settings):
@@ -60,10 +60,17 @@ LOADS = list(SETTINGS.sweep.loads_kN)
 DEPTHS = list(SETTINGS.sweep.depths_um)
 CASE_IDS = SETTINGS.cases
 CASES = [c.name for c in CASE_IDS]
+#: The typed case each name stands for: a case's identity names its files, never the reverse.
+CASE_BY_NAME = {c.name: c for c in CASE_IDS}
 BAND_NAMES = [b.name for b in SETTINGS.analysis.bands]
 
 wildcard_constraints:
     case=CASE_NAME_REGEX,
+
+
+def case_id(wildcards):
+    """The typed case (CaseId) of a job: looked up by the name it gave its files."""
+    return CASE_BY_NAME[wildcards.case]
 
 
 def scene_params(wildcards):
@@ -103,7 +110,7 @@ def reference_case(wildcards):
     """The healthy case of the same load for a defect case (defines the defect part); for a
     healthy case, the shallowest defect case of its load (its noise defines the healthy cells'
     noise: bearing_envelope.study.pipeline.case_diagnosability). None where the sweep lacks it."""
-    case = CaseId.parse(wildcards.case)
+    case = case_id(wildcards)
     if case.depth_um > 0:
         return f"results/cases/{case.healthy.name}.h5" if 0.0 in DEPTHS else []
     peers = [c for c in CASE_IDS if c.load_kN == case.load_kN and c.location == case.location

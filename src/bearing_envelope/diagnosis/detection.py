@@ -28,7 +28,7 @@ Detection statistic (:func:`detection_statistic`, :func:`detect`)
     averages that probability over the distribution of the sample median (order statistics:
     a Beta law) and solves it for ``pfa``; the default ``pfa = 0.01`` gives about 10-11 dB for
     5-30 bins against several hundred background bins. ``docs/sensor.md``,
-    ``benchmarks/false_alarm_mc.py`` and ``tests/test_diagnosis.py`` check it by Monte Carlo.
+    ``python -m benchmarks false_alarms`` and ``tests/test_diagnosis.py`` check it by Monte Carlo.
 """
 
 from __future__ import annotations
@@ -219,6 +219,21 @@ def threshold_db(pfa: float = DEFAULT_PFA, n_bins: int = 1,
     ``N_low`` bins below the line and the ``N_high`` above it): with ``r_k = m_hat_k / m =
     sqrt(-log2(1 - U_k))`` and ``r = (r_low + r_high) / 2``, ``P(a > t m r) = 2^(-t^2 r^2)``,
     averaged over the two independent medians.
+
+    Parameters
+    ----------
+    pfa : float
+        False-alarm probability of the test, in (0, 1).
+    n_bins : int
+        Independent bins searched for the line.
+    n_background : int or tuple of (int, int), optional
+        Bins of the background median (a pair: the medians below and above the line, averaged);
+        None: the median known exactly.
+
+    Returns
+    -------
+    float
+        The threshold (dB) on the line-to-background ratio.
 
     Examples
     --------
@@ -480,7 +495,22 @@ def background_problem(f, bg, line: float, level: str) -> str | None:
 
 
 def detect(f, amplitude, line_hz: float, **kwargs) -> tuple[float, bool]:
-    """``(statistic_db, detected)`` of :func:`detection_statistic` (same keyword arguments)."""
+    """``(statistic_db, detected)`` of :func:`detection_statistic` (same keyword arguments).
+
+    Parameters
+    ----------
+    f, amplitude : array_like
+        The spectrum (Hz, amplitude).
+    line_hz : float
+        The line searched (Hz).
+    **kwargs
+        Passed to :func:`detection_statistic`.
+
+    Returns
+    -------
+    tuple of (float, bool)
+        ``(statistic_db, detected)``.
+    """
     d = detection_statistic(f, amplitude, line_hz, **kwargs)
     return d.statistic_db, d.detected
 
@@ -491,6 +521,20 @@ def clopper_pearson(k: int, n: int, confidence: float = 0.95) -> tuple[float, fl
     ``low = B^-1(a/2; k, n - k + 1)`` and ``high = B^-1(1 - a/2; k + 1, n - k)`` with
     ``a = 1 - confidence`` and ``B^-1`` the inverse regularised incomplete beta function
     (``low = 0`` for ``k = 0``, ``high = 1`` for ``k = n``).
+
+    Parameters
+    ----------
+    k : int
+        Events (false alarms), ``0 <= k <= n``.
+    n : int
+        Trials (>= 1).
+    confidence : float
+        Two-sided confidence level.
+
+    Returns
+    -------
+    tuple of (float, float)
+        ``(low, high)``.
 
     Examples
     --------
@@ -519,6 +563,16 @@ def false_alarm_rates(trials: pd.DataFrame, by=("band", "snr_db"),
         One row per group of ``by`` (all rows when ``by`` is empty): ``n_trials``,
         ``n_false_alarms``, ``rate``, ``ci_low``, ``ci_high`` (Clopper-Pearson at
         ``confidence``), ``statistic_db_mean``, ``statistic_db_max``, ``threshold_db``.
+
+    Parameters
+    ----------
+    trials : pandas.DataFrame
+        One row per test of a healthy record (``detected``, ``statistic_db``, ``threshold_db`` and
+        the ``by`` columns).
+    by : sequence of str
+        Columns to group by.
+    confidence : float
+        Confidence level of the intervals.
     """
     by = list(by)
     groups = trials.groupby(by, sort=True) if by else [((), trials)]

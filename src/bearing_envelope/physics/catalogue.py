@@ -49,12 +49,28 @@ def _load() -> dict[str, dict[str, Any]]:
 
 
 def designations() -> tuple[str, ...]:
-    """The designations in the catalogue, in file order."""
+    """The designations in the catalogue, in file order.
+
+    Returns
+    -------
+    tuple of str
+        Every designation of ``data/bearings.yaml``.
+    """
     return tuple(_load())
 
 
 def entry(designation: str) -> dict[str, Any]:
     """The raw catalogue entry (``{field: {value, source}}`` plus ``description``).
+
+    Parameters
+    ----------
+    designation : str
+        A catalogue designation (its full name, e.g. ``"SKF 6205-2RS"``).
+
+    Returns
+    -------
+    dict
+        The entry as stored: ``{field: {"value": ..., "source": ...}, "description": ...}``.
 
     Raises
     ------
@@ -103,6 +119,17 @@ def operation_values(designation: str) -> dict[str, Any]:
 
 
 def bearing_sources(designation: str) -> dict[str, str]:
-    """The source of every value of a catalogue entry (field -> text)."""
+    """The source of every value of a catalogue entry (field -> text).
+
+    Parameters
+    ----------
+    designation : str
+        A catalogue designation (:func:`designations`).
+
+    Returns
+    -------
+    dict of str to str
+        ``scene.bearing`` field -> where its value comes from (or "assumed").
+    """
     return {k: v["source"] for k, v in entry(designation).items()
             if k not in _META_KEYS and k not in OPERATION_KEYS}

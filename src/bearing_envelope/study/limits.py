@@ -377,13 +377,13 @@ def _record(scene) -> tuple[int, float]:
 
 def _check_band_widths(analysis, scene) -> None:
     """Every fixed, fraction or order band at least :data:`MIN_BAND_BINS` resolution bins wide."""
+    from ..physics.locations import scene_event_frequencies
     from ..signal.bands import resolve_band
-    from .schema import scene_frequencies
 
     _n, df = _record(scene)
     fs = scene.operation.fs_hz
     for b in analysis.bands:
-        lo, hi = resolve_band(b.to_mapping(), fs, frequencies=scene_frequencies(scene),
+        lo, hi = resolve_band(b.to_mapping(), fs, frequencies=scene_event_frequencies(scene),
                               static=True)[0]
         if lo is not None and 0 < lo < df:
             raise ConfigError(f"analysis.bands[{b.name}]: low edge {lo:.3g} Hz; allowed: 0 or "

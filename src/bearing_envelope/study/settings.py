@@ -50,7 +50,7 @@ from ..physics.locations import LOCATION_FAMILIES, scene_event_frequencies
 from ..physics.scene import DEFECT_LOCATIONS, Scene
 from ..physics.transfer import TransferModel
 from ..signal.bands import DEFAULT_BANDS, resolve_band
-from .schema import SCHEMA_PATH, scene_frequencies
+from .schema import SCHEMA_PATH
 
 __all__ = [
     "ConfigError", "CaseId", "format_number", "CASE_NAME_REGEX", "LOCATION_CODES",
@@ -187,19 +187,23 @@ class CaseId:
                              f"case is {case.name!r}")
         return case
 
+    def attrs(self) -> dict[str, str]:
+        """The case-file attributes that record this case: ``case`` (its name, for people) and
+        ``case_json`` (the typed fields, what :meth:`from_case` reads back)."""
+        return {"case": self.name, "case_json": json.dumps(dataclasses.asdict(self),
+                                                           sort_keys=True)}
+
     @classmethod
     def from_case(cls, case) -> "CaseId":
         """The id of a read case file (:class:`bearing_envelope.io.Case`).
 
-        Uses the ``case`` attribute the writers store; for older files, load and depth (and the
-        width when it is not the default 2 x depth, the location when it is not the inner race).
+        Uses the typed ``case_json`` attribute the writers store (:meth:`attrs`; never the name);
+        for older files, load and depth (and the width when it is not the default 2 x depth, the
+        location when it is not the inner race).
         """
         attrs = getattr(case, "attrs", {}) or {}
-        if attrs.get("case"):
-            try:
-                return cls.parse(str(attrs["case"]))
-            except ValueError:
-                pass
+        if attrs.get("case_json"):
+            return cls(**json.loads(str(attrs["case_json"])))
         defect = (getattr(case, "scene", None) or {}).get("defect") or {}
         width = defect.get("width_um")
         depth = float(case.depth_um)
@@ -869,7 +873,7 @@ def _build(cfg: dict, source: str, partial: bool) -> Settings:
     else:
         scene0 = Scene.from_mapping(scene_map, load_kN=PARTIAL_SCENE_LOAD_KN, depth_um=0.0)
     fs = float(scene0.operation.fs_hz)
-    freqs = scene_frequencies(scene0)
+    freqs = scene_event_frequencies(scene0)
     sensor = None
     if cfg.get("sensor"):
         sensor = TransferModel.from_mapping(cfg["sensor"], fs=fs)
