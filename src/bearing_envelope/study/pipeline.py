@@ -63,7 +63,7 @@ AMPLITUDE_ESTIMATORS = {
 
 
 def amplitude_estimator(analysis: AnalysisSettings) -> str:
-    """``analysis.amplitude`` (the schema's default: ``interpolated``), checked."""
+    """``analysis.amplitude`` (default: AnalysisOptions'; the default sweep chooses ``interpolated``), checked."""
     name = analysis.amplitude
     if name not in AMPLITUDE_ESTIMATORS:
         raise ValueError(f"analysis.amplitude: got {name!r}; allowed: "
