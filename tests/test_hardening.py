@@ -173,11 +173,11 @@ def test_a_load_beyond_the_hardness_everywhere_is_refused(tmp_path, base):
 
 def test_edge_radius_bound_matches_the_rim_geometry(tmp_path, base):
     """A 50 um deep, 100 um wide flat defect: the rim arc r - sqrt(r^2 - 50^2) (um) at the
-    centre keeps 5 um (10 %) at r = (50^2 + 5^2) / 10 = 252.5 um (independent algebra)."""
-    ok = _with(base, ("scene", "defect", "edge_radius_um"), 250.0)
+    centre keeps 0.5 um (1 %) at r = (50^2 + 0.5^2) / 1 = 2500.25 um (independent algebra)."""
+    ok = _with(base, ("scene", "defect", "edge_radius_um"), 2450.0)
     precheck(load_settings(_write(tmp_path, ok)))
-    bad = _with(base, ("scene", "defect", "edge_radius_um"), 255.0)
-    assert "<= 252.5 um" in _refusal(_write(tmp_path, bad))
+    bad = _with(base, ("scene", "defect", "edge_radius_um"), 2550.0)
+    assert "<= 2500 um" in _refusal(_write(tmp_path, bad))
 
 
 def test_integral_floats_become_integers(tmp_path, base):
