@@ -132,16 +132,22 @@ def rolling_element_kinematics(scene: Scene, theta_c: np.ndarray) -> dict[str, n
             "offset_inner": 0.5 * d * _wrap(beta - math.pi, TWO_PI), "psi": theta_c}
 
 
-def location_tables(scene: Scene, fid: Fidelity, q_max: float, stats: SolveStats,
+def location_tables(scene: Scene, fid: Fidelity, exposure: dict, stats: SolveStats,
                     progress: bool = False) -> tuple[dict[str, PressureTable], list, dict]:
     """The contact tables a location needs: ``{"outer": ...}`` for an outer-race defect (the
     scene's contact is already the outer one), ``{"inner": ..., "outer": ...}`` for a rolling
-    element. Returns ``(tables, nodes, snapshots)`` (nodes and snapshots of the first table)."""
+    element, each over the loads its defect meets (``exposure``,
+    :func:`~.exposure.exposure`): up to the largest; from the smallest when every passage is
+    loaded (a fixed outer-race defect, or the outer race with the centrifugal force), else from
+    the default first node. Returns ``(tables, nodes, snapshots)`` (nodes and snapshots of the
+    first table)."""
     races = ("outer",) if scene.defect.location == "outer_race" else ("inner", "outer")
     tables, nodes, snaps = {}, None, None
     for race in races:
-        tab, nd, sn = build_table(scene.for_race(race), fid, q_max=q_max, stats=stats,
-                                  progress=progress)
+        r = exposure["races"][race]
+        q_min = r["q_min_N"] if r["loaded_fraction"] == 1.0 else None
+        tab, nd, sn = build_table(scene.for_race(race), fid, q_max=r["q_max_N"], stats=stats,
+                                  progress=progress, q_min=q_min)
         tables[race] = tab
         if nodes is None:
             nodes, snaps = nd, sn
@@ -161,13 +167,15 @@ def location_signals(scene: Scene, tables: dict[str, PressureTable], ld: LoadDis
     outer-race or rolling-element defect (module docstring)."""
     if scene.defect.location == "outer_race":
         kin = outer_race_kinematics(scene, theta_c)
-        Q = ld.load_at(kin["psi"])
+        Q = ld.load_at(kin["psi"], "outer")
         out = _contact(tables["outer"], Q, kin["offset"], use_numba)
         out.update(roller_load=Q, defect_offset=kin["offset"])
         return out
     kin = rolling_element_kinematics(scene, theta_c)
-    Q = ld.load_at(kin["psi"])
-    ci = _contact(tables["inner"], Q, kin["offset_inner"], use_numba)
+    Qi = ld.load_at(kin["psi"], "inner")
+    # the outer contact carries the centrifugal force too (equal to Qi without it)
+    Q = ld.load_at(kin["psi"], "outer") if ld.centrifugal > 0 else Qi
+    ci = _contact(tables["inner"], Qi, kin["offset_inner"], use_numba)
     co = _contact(tables["outer"], Q, kin["offset_outer"], use_numba)
     removed = ci["removed_force"] + co["removed_force"]
     xo, xi = kin["offset_outer"], kin["offset_inner"]

@@ -15,7 +15,7 @@ key, with units, in ``docs/scene.md``)::
       raceway_profile_radius_mm: 83.1  # c_i, concave inner-raceway profile radius
       roller_length_mm: 34.0         # effective (contacting) roller length
       end_relief: {kind: radius, radius_mm: 1.0}   # or {kind: log, drop_um: 20, length_mm: 3}
-      radial_clearance_um: 40.0      # radial internal (operating) clearance
+      radial_clearance_um: 40.0      # radial internal (operating) clearance; < 0 = preload
       profile_file: null             # two-column file (y_mm, deviation_um) replacing the crown
     material:
       roller: {E_GPa: 210.0, nu: 0.3}
@@ -34,6 +34,7 @@ key, with units, in ``docs/scene.md``)::
     load:
       mode: bearing                  # bearing | contact
       roller_load: smooth            # smooth | discrete
+      centrifugal: false             # true: each element pressed on the outer race by m w_c^2 D/2
     defect:
       length_um: 500.0
       width_um: null                 # null -> 2 x depth
@@ -110,7 +111,7 @@ DEFAULT_SCENE: dict[str, Any] = {
         "noise_seed": 0,
         "acquisition": {"mode": "antialiased", "oversample": "auto"},
     },
-    "load": {"mode": "bearing", "roller_load": "smooth"},
+    "load": {"mode": "bearing", "roller_load": "smooth", "centrifugal": False},
     "defect": {
         "length_um": 500.0,
         "width_um": None,
@@ -513,11 +514,16 @@ class Load:
     (default) the load-zone law at the defect's angle (continuous; no step at BPFI in a healthy
     race), ``discrete`` the load of the roller actually over the defect, at that roller's angle
     (steps as the defect passes from one roller to the next, half-way between them).
+
+    ``centrifugal`` (default False): each element also presses on the outer race with its
+    centrifugal force ``m omega_c^2 D/2`` (:func:`bearing_envelope.physics.loads.centrifugal_force`),
+    so elements outside the radial load zone still load the outer race.
     """
 
     value_N: float
     mode: str = "bearing"
     roller_load: str = "smooth"
+    centrifugal: bool = False
 
     @property
     def load_kN(self) -> float:
@@ -637,7 +643,9 @@ class Scene:
             "material": dataclasses.asdict(self.material),
             "operation": dataclasses.asdict(self.operation),
             "load": {"mode": self.load.mode, "roller_load": self.load.roller_load,
-                     "value_kN": self.load.load_kN},
+                     "value_kN": self.load.load_kN,
+                     # only when on: the stored scene of every case without it is unchanged
+                     **({"centrifugal": True} if self.load.centrifugal else {})},
             "defect": d,
         }
 
@@ -764,7 +772,9 @@ def _build_bearing(m: Mapping[str, Any]) -> Bearing:
               allowed=f"a number > roller_crown_radius_mm ({cr:g}) (profiles must not cross)")
     length = _num(p + "roller_length_mm", m["roller_length_mm"], lo=0, lo_open=True)
     relief = _build_relief(m["end_relief"], length)
-    clearance = _num(p + "radial_clearance_um", m["radial_clearance_um"], lo=0)
+    clearance = _num(p + "radial_clearance_um", m["radial_clearance_um"], lo=-0.5 * 1e3 * d,
+                     lo_open=True, allowed="a finite number of um (operating clearance; negative ="
+                     " preload) > -d/2")
     extra = _build_kind_fields(m, d, cr, length)
     pf = m["profile_file"]
     if pf is not None:
@@ -853,7 +863,10 @@ def _build_load(m: Mapping[str, Any], load_kN: float) -> Load:
     mode = _choice("load.mode", m["mode"], ("bearing", "contact"))
     v = _num("load.value_kN", load_kN, lo=0, lo_open=True)
     rl = _choice("load.roller_load", m["roller_load"], ROLLER_LOAD_MODELS)
-    return Load(v * 1e3, mode, rl)
+    cf = m["centrifugal"]
+    if not isinstance(cf, bool):
+        raise _bad("load.centrifugal", cf, "true | false")
+    return Load(v * 1e3, mode, rl, cf)
 
 
 #: ``defect.location`` values.

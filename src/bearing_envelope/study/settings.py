@@ -40,6 +40,7 @@ from typing import Any
 import numpy as np
 
 from ..io.yamlsafe import YamlLimitError, check_document_size, load_bounded
+from ..physics.exposure import BRIDGE_MAX_FRACTION  # the pit-bridging limit (fraction of 2b)
 from ..physics.fidelity import Fidelity, fidelity_from
 from ..physics.geometry import hertz_estimate
 from ..physics.loads import scene_load_distribution
@@ -792,12 +793,6 @@ def _check_family_harmonics(analysis: AnalysisSettings, scenes, fs: float) -> No
                        f"below Nyquist ({fs / 2:g} Hz)")
 
 
-#: A ball bridges a pit wider than its contact (2a across rolling) when the pit is short
-#: axially against the contact ellipse (2b): the contact keeps both axial lobes and the pit
-#: bottom is never reached. Allowed up to this fraction of 2b, the largest measured
-#: (``benchmarks/wide_pit.py``: the CWRU 0.021 in pit at 1 kN, 0.25 of 2b on the inner race,
-#: 0.26 on the outer; window solve vs whole-ellipse solve, docs/benchmarks.md, issue 23 parts 5-6).
-BRIDGE_MAX_FRACTION = 0.26
 
 
 def _check_widths(sweep: SweepSettings, scenes, load_distribution, hertz_estimate,
