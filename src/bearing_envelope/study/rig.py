@@ -521,6 +521,9 @@ def run_scorecard(conditions, contact: dict, out_dir, gain_reference: str, *, lo
     with open(out_dir / "summary.json", "w", encoding="utf-8") as fh:
         json.dump({"gain": gain, "pass_rates": pass_rates(card)}, fh, indent=1)
     (out_dir / "scorecard.md").write_text(scorecard_markdown(card, ratios), encoding="utf-8")
+    with open(out_dir / "paths.json", encoding="utf-8") as fh:
+        pd.DataFrame(size_ranking(card, conditions, contact, json.load(fh))).to_csv(
+            out_dir / "size.csv", index=False)
     zero = [c for c in conditions if c.load_hp == 0 and c.fs_hz == 12000.0]
     if zero:
         plot_side_by_side(card, zero, out_dir / "sim", out_dir / "side_by_side.png")
@@ -622,3 +625,65 @@ def scorecard_markdown(card, ratios) -> str:
         lines += [f"| {r.record_3} | {r.record_6} | {r.meas_db:.1f} | {r.sim_db:.1f} | {r.rule} |"
                   for _, r in ratios.iterrows()]
     return "\n".join(lines) + "\n"
+
+
+# ------------------------------------------------------------------ size
+#: Size pairs compared record by record: (location, small in, large in).
+SIZE_PAIRS = (("outer_race", 0.007, 0.014), ("rolling_element", 0.007, 0.014),
+              ("inner_race", 0.007, 0.028))
+
+
+def _pulse_features(contact_path: str, fs: float) -> dict:
+    """Removed-force pulses of a simulated record: median peak (N) and width above half the
+    peak (s)."""
+    with np.load(contact_path) as z:
+        rf = np.asarray(z["removed_force"], dtype=float)
+    top = float(np.max(rf))
+    if top <= 0:
+        return {"model_removed_N": 0.0, "model_width_s": 0.0}
+    k = np.flatnonzero((rf[1:-1] > rf[:-2]) & (rf[1:-1] >= rf[2:]) & (rf[1:-1] > 0.5 * top)) + 1
+    peaks = rf[k]
+    return {"model_removed_N": float(np.median(peaks)),
+            "model_width_s": float(np.count_nonzero(rf > 0.5 * top) / max(k.size, 1) / fs)}
+
+
+def size_ranking(card, conditions, contact: dict, paths_json: dict) -> list:
+    """Does a feature rank the pit sizes right, record by record (same location, load, fs)?
+
+    Features of the measured record (identified event amplitude, line height, 2x/1x, 3x/1x)
+    and of the model (median removed force per event, pulse width). A pair is ranked right
+    when the larger pit has the larger value.
+
+    Returns
+    -------
+    list of dict
+        One row per pair and feature: values of the small and the large pit, ``right``.
+    """
+    by = {c.name: c for c in conditions}
+    rows = []
+    for loc, small, large in SIZE_PAIRS:
+        for c in [c for c in conditions if c.location == loc and c.diameter_in == small
+                  and c.position_deg == 0.0]:
+            big = [d for d in conditions if d.location == loc and d.diameter_in == large
+                   and d.load_hp == c.load_hp and d.fs_hz == c.fs_hz and d.position_deg == 0.0]
+            if not big:
+                continue
+            d = big[0]
+            feats = {}
+            for name in (c.name, d.name):
+                r = card[card.record == name].iloc[0]
+                p = paths_json.get(name, {})
+                f = {"meas_amplitude": p.get("amplitude") if p.get("status") == "identified"
+                     else None, "meas_height_db": r.meas_height_db, "meas_h2_db": r.meas_h2_db,
+                     "meas_h3_db": r.meas_h3_db, "sim_height_db": r.sim_height_db}
+                if name in contact:
+                    f.update(_pulse_features(contact[name], by[name].fs_hz))
+                feats[name] = f
+            for key in feats[c.name]:
+                a, b = feats[c.name].get(key), feats[d.name].get(key)
+                ok = None if a is None or b is None or not (np.isfinite(a) and np.isfinite(b)) \
+                    else bool(b > a)
+                rows.append({"location": loc, "load_hp": c.load_hp, "fs_hz": c.fs_hz,
+                             "small": c.name, "large": d.name, "feature": key, "small_value": a,
+                             "large_value": b, "right": ok})
+    return rows
