@@ -122,3 +122,5 @@ def test_outer_race_ratio_in_db():
     assert out[0]["meas_db"] == pytest.approx(-20.0)
     assert out[0]["sim_db"] == pytest.approx(20 * math.log10(0.5))
     assert out[0]["rule"] == "FAIL"
+    rows[1]["sim_h1"] = None  # no simulated line at 3:00
+    assert rig.outer_race_ratios(pd.DataFrame(rows))[0]["rule"] == "FAIL: no simulated line"

@@ -444,6 +444,16 @@ def scorecard(conditions, measured_table, measured_lines, sim_table, sim_lines):
     return pd.DataFrame(rows)
 
 
+def _ratio_db(a, b):
+    """20 log10(a / b), None where either is missing (no line detected)."""
+    try:
+        a, b = float(a), float(b)
+    except (TypeError, ValueError):
+        return None
+    return 20 * math.log10(a / b) if np.isfinite(a) and np.isfinite(b) and a > 0 and b > 0 \
+        else None
+
+
 def outer_race_ratios(card) -> list:
     """BPFO fundamental at 3:00 over 6:00 (same size, load, fs), measured and simulated, dB."""
     out = []
@@ -451,15 +461,15 @@ def outer_race_ratios(card) -> list:
     for _, r3 in or_[or_.position_deg == 90.0].iterrows():
         r6 = or_[(or_.position_deg == 0.0) & (or_.load_hp == r3.load_hp) &
                  (or_.diameter_in == r3.diameter_in) & (or_.fs_hz == r3.fs_hz)]
-        if r6.empty or r3.meas_h1 is None or r3.sim_h1 is None:
+        if r6.empty:
             continue
         r6 = r6.iloc[0]
-        if r6.meas_h1 is None or r6.sim_h1 is None:
-            continue
-        meas = 20 * math.log10(r3.meas_h1 / r6.meas_h1)
-        sim = 20 * math.log10(r3.sim_h1 / r6.sim_h1)
+        meas, sim = _ratio_db(r3.meas_h1, r6.meas_h1), _ratio_db(r3.sim_h1, r6.sim_h1)
+        rule = "n/a" if meas is None else (
+            "FAIL: no simulated line" if sim is None else
+            "PASS" if abs(meas - sim) <= TOL_DB else "FAIL")
         out.append({"record_3": r3.record, "record_6": r6.record, "meas_db": meas,
-                    "sim_db": sim, "rule": "PASS" if abs(meas - sim) <= TOL_DB else "FAIL"})
+                    "sim_db": sim, "rule": rule})
     return out
 
 
@@ -622,8 +632,8 @@ def scorecard_markdown(card, ratios) -> str:
     if len(ratios):
         lines += ["", "| 3:00 record | 6:00 record | measured dB | simulated dB | rule |",
                   "|---|---|---|---|---|"]
-        lines += [f"| {r.record_3} | {r.record_6} | {r.meas_db:.1f} | {r.sim_db:.1f} | {r.rule} |"
-                  for _, r in ratios.iterrows()]
+        lines += [f"| {r.record_3} | {r.record_6} | {num(r.meas_db, '%.1f')} | "
+                  f"{num(r.sim_db, '%.1f')} | {r.rule} |" for _, r in ratios.iterrows()]
     return "\n".join(lines) + "\n"
 
 
