@@ -124,3 +124,18 @@ def test_outer_race_ratio_in_db():
     assert out[0]["rule"] == "FAIL"
     rows[1]["sim_h1"] = None  # no simulated line at 3:00
     assert rig.outer_race_ratios(pd.DataFrame(rows))[0]["rule"] == "FAIL: no simulated line"
+
+
+def test_removed_force_exponent_of_a_power_law(tmp_path):
+    for name, q in (("a", 0.5), ("b", 500.0)):
+        np.savez(tmp_path / f"{name}.npz", roller_load=np.array([0.0, q]),
+                 removed_force=np.array([0.0, 2.0 * q ** 0.4]))
+    b = rig.removed_force_exponent(str(tmp_path / "a.npz"), str(tmp_path / "b.npz"))
+    assert b == pytest.approx(0.4, rel=1e-9)
+
+
+def test_clearance_for_an_impossible_ratio_is_refused(tmp_path):
+    a = _write_record(tmp_path / "a.npz", np.zeros(12_000))
+    cond = rig.record_conditions([a], _settings())[0]
+    with pytest.raises(ValueError, match="ratio_db: 20 dB is outside"):
+        rig.clearance_for_ratio(cond, _settings(), 20.0, 0.4)

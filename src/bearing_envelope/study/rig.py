@@ -744,7 +744,7 @@ def clearance_for_ratio(cond: RigCondition, settings: RigSettings, ratio_db: flo
         m.scene.setdefault("bearing", {})["radial_clearance_um"] = c_um
         ld = scene_load_distribution(condition_scene(cond, m))
         q0, q90 = float(ld.load_at(0.0, "outer")), float(ld.load_at(math.pi / 2, "outer"))
-        return 20 * exponent * math.log10(q90 / q0)
+        return 20 * exponent * math.log10(max(q90 / q0, 1e-12))  # unloaded at 3:00: -240 b
 
     lo, hi = bounds_um
     f_lo, f_hi = model_db(lo) - ratio_db, model_db(hi) - ratio_db
