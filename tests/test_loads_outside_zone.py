@@ -143,3 +143,38 @@ def test_unloaded_table_reads_zero_at_zero_load():
     P, Pd = tab.evaluate(q, x)
     assert not np.any(P) and not np.any(Pd)
     assert all(not np.any(v) for v in tab.evaluate_integrals(q, x).values())
+
+
+def test_wandering_spin_axis_strikes_with_the_geometric_probability():
+    # independent answer: a point uniform on the sphere lies within b of a great circle of a
+    # sphere of radius r with probability b / r (Archimedes' hat-box theorem)
+    from bearing_envelope.physics.locations import _on_track, rolling_element_kinematics
+    sc = cwru(location="rolling_element")
+    m = {k: dict(v) for k, v in CWRU.items()}
+    m["defect"].update(location="rolling_element", spin_axis="wandering", spin_seed=3)
+    sw = Scene.from_mapping(m, load_kN=1.0, depth_um=279.4)
+    turns = 4000
+    theta = 2 * math.pi * np.arange(turns)          # one sample per cage turn
+    kin = rolling_element_kinematics(sw, theta)
+    q = 500.0
+    b = hertz.elliptical(q, sw.bearing.rx_for("outer"), sw.bearing.ry_for("outer"),
+                         sw.material.e_star_pa).b
+    p = b / (0.5e-3 * sw.bearing.roller_diameter_mm)
+    hits = _on_track(sw, "outer", np.full(turns, q), kin["track_offset"])
+    assert hits.mean() == pytest.approx(p, abs=4 * math.sqrt(p * (1 - p) / turns))
+    # deterministic, and a block of the record sees the same orientations as the whole
+    half = rolling_element_kinematics(sw, theta[turns // 2:])
+    np.testing.assert_array_equal(half["track_offset"], kin["track_offset"][turns // 2:])
+    # fixed (the default): on the track, the offsets of before
+    kf = rolling_element_kinematics(sc, theta[:10] + 0.3)
+    assert not np.any(kf["track_offset"])
+    beta = (theta[:10] + 0.3) * (39.04 + 7.94) / 7.94
+    np.testing.assert_allclose(kf["offset_outer"], 0.5 * 7.94e-3 * (
+        (beta + math.pi) % (2 * math.pi) - math.pi), atol=1e-12)
+
+
+def test_wandering_spin_axis_is_a_rolling_element_option():
+    m = {k: dict(v) for k, v in CWRU.items()}
+    m["defect"]["spin_axis"] = "wandering"
+    with pytest.raises(ValueError, match=r"scene.defect.spin_axis: got 'wandering'"):
+        Scene.from_mapping(m, load_kN=1.0, depth_um=279.4)

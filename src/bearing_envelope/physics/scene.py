@@ -122,6 +122,8 @@ DEFAULT_SCENE: dict[str, Any] = {
         "location": "inner_race",
         "position_deg": 0.0,
         "profile_file": None,
+        "spin_axis": "fixed",
+        "spin_seed": 0,
     },
 }
 
@@ -561,6 +563,15 @@ class Defect:
     profile_file : str or None
         Measured defect profile, two columns ``x_um, depth_um`` (depth across the defect along
         rolling, extruded over the length): replaces the analytic shape (``shape: profile``).
+    spin_axis : {"fixed", "wandering"}
+        ``rolling_element`` only. ``fixed``: the defect lies on the element's rolling track and
+        meets a race every half spin turn. ``wandering``: the element's orientation about its
+        centre is redrawn (uniform on the sphere, seeded) once per cage turn in the unloaded
+        zone (at 180 deg from the load direction); the defect meets a contact only while its
+        axial distance from the track, ``(d/2) sin(latitude)``, is within the contact's axial
+        semi-axis ``b(Q)`` (:func:`bearing_envelope.physics.locations.rolling_element_kinematics`).
+    spin_seed : int
+        Seed of the ``wandering`` orientations (>= 0).
     """
 
     depth_um: float
@@ -573,6 +584,8 @@ class Defect:
     location: str = "inner_race"
     position_deg: float = 0.0
     profile_file: str | None = None
+    spin_axis: str = "fixed"
+    spin_seed: int = 0
 
     @property
     def extent_x_m(self) -> float:
@@ -638,6 +651,9 @@ class Scene:
         b.pop("contact_race")
         b["end_relief"] = {k: v for k, v in b["end_relief"].items() if v is not None}
         d = dataclasses.asdict(self.defect)
+        if d["spin_axis"] == "fixed":
+            # only when wandering: the stored scene of every case without it is unchanged
+            del d["spin_axis"], d["spin_seed"]
         return {
             "bearing": b,
             "material": dataclasses.asdict(self.material),
@@ -871,6 +887,8 @@ def _build_load(m: Mapping[str, Any], load_kN: float) -> Load:
 
 #: ``defect.location`` values.
 DEFECT_LOCATIONS = ("inner_race", "outer_race", "rolling_element")
+#: ``defect.spin_axis`` values (see :class:`Defect`).
+SPIN_AXES = ("fixed", "wandering")
 
 #: ``defect.shape`` values: ``flat`` (rectangular footprint, flat bottom, rounded rims),
 #: ``dent`` (smooth cos^2 bump), ``cylinder`` (circular footprint of diameter ``width_um``, flat
@@ -897,7 +915,12 @@ def _build_defect(m: Mapping[str, Any], depth_um: float, bearing: Bearing) -> De
     pf = _defect_profile(m["profile_file"], shape)
     if depth > 0 and width <= 0:
         raise _bad(p + "width_um", width, "> 0 when depth_um > 0")
-    d = Defect(depth, length, width, shape, edge, ypos, orient, loc, pos, pf)
+    spin = _choice(p + "spin_axis", m["spin_axis"], SPIN_AXES)
+    if spin != "fixed" and loc != "rolling_element":
+        raise _bad(p + "spin_axis", spin, f"'fixed' unless defect.location is 'rolling_element' "
+                   f"(got location {loc!r})")
+    d = Defect(depth, length, width, shape, edge, ypos, orient, loc, pos, pf, spin,
+               _int(p + "spin_seed", m["spin_seed"], lo=0))
     if depth > 0:
         _check_defect_fits(d, bearing)
     return d
