@@ -114,12 +114,15 @@ class RigSettings:
         Fidelity preset of the contact tables.
     depth_um : dict
         Pit depth per diameter (mils as a string key), um.
+    ball_spin_axis : str
+        ``defect.spin_axis`` of the ball records (``fixed`` | ``wandering``).
     """
 
     scene: dict
     load_kN: float
     fidelity: str
     depth_um: dict
+    ball_spin_axis: str = "fixed"
 
 
 def read_rig_config(path: str | os.PathLike) -> RigSettings:
@@ -145,7 +148,8 @@ def read_rig_config(path: str | os.PathLike) -> RigSettings:
     depth = {str(k): float(v) for k, v in (rig.get("depth_um") or {}).items()}
     if not depth:
         raise ValueError(f"{path}: rig.depth_um: missing; allowed: a mapping mils -> um")
-    return RigSettings(raw["scene"], load, str(rig.get("fidelity", "standard")), depth)
+    return RigSettings(raw["scene"], load, str(rig.get("fidelity", "standard")), depth,
+                       str(rig.get("ball_spin_axis", "fixed")))
 
 
 def _meta(path: str) -> dict:
@@ -194,6 +198,8 @@ def condition_scene(cond: RigCondition, settings: RigSettings) -> Scene:
     d = m.setdefault("defect", {})
     d.update(location=cond.location, position_deg=cond.position_deg,
              length_um=cond.diameter_in * INCH_UM, width_um=cond.diameter_in * INCH_UM)
+    if cond.location == "rolling_element":
+        d["spin_axis"] = settings.ball_spin_axis
     op = m.setdefault("operation", {})
     op.update(shaft_rate_hz=cond.shaft_hz, fs_hz=cond.fs_hz,
               revolutions=(cond.n_samples + 0.5) / cond.fs_hz * cond.shaft_hz)
@@ -532,8 +538,9 @@ def run_scorecard(conditions, contact: dict, out_dir, gain_reference: str, *, lo
         json.dump({"gain": gain, "pass_rates": pass_rates(card)}, fh, indent=1)
     (out_dir / "scorecard.md").write_text(scorecard_markdown(card, ratios), encoding="utf-8")
     with open(out_dir / "paths.json", encoding="utf-8") as fh:
-        pd.DataFrame(size_ranking(card, conditions, contact, json.load(fh))).to_csv(
-            out_dir / "size.csv", index=False)
+        sizes = size_ranking(card, conditions, contact, json.load(fh))
+    pd.DataFrame(sizes).to_csv(out_dir / "size.csv", index=False)
+    (out_dir / "size.md").write_text(size_summary(sizes), encoding="utf-8")
     zero = [c for c in conditions if c.load_hp == 0 and c.fs_hz == 12000.0]
     if zero:
         plot_side_by_side(card, zero, out_dir / "sim", out_dir / "side_by_side.png")
@@ -752,3 +759,18 @@ def clearance_for_ratio(cond: RigCondition, settings: RigSettings, ratio_db: flo
         raise ValueError(f"ratio_db: {ratio_db:g} dB is outside what clearances {lo:g}..{hi:g} "
                          f"um give ({model_db(hi):.1f}..{model_db(lo):.1f} dB)")
     return float(optimize.brentq(lambda c: model_db(c) - ratio_db, lo, hi, xtol=0.01))
+
+
+def size_summary(rows) -> str:
+    """Markdown: per pit pair and feature, pairs ranked right / pairs compared."""
+    agg: dict = {}
+    for r in rows:
+        if r["right"] is None:
+            continue
+        key = (r["location"], int(r["fs_hz"]), r["feature"])
+        n_ok, n = agg.get(key, (0, 0))
+        agg[key] = (n_ok + int(r["right"]), n + 1)
+    out = ["| location | fs Hz | feature | larger pit ranked larger |", "|---|---|---|---|"]
+    out += [f"| {loc} | {fs} | {feat} | {ok}/{n} |" for (loc, fs, feat), (ok, n) in
+            sorted(agg.items())]
+    return "\n".join(out) + "\n"
