@@ -290,9 +290,12 @@ def record_paths(conditions, *, log=print) -> dict:
     for c in conditions:
         x, _ = _read_x(c.path)
         try:
-            out[c.name] = (identify_path(x, c.fs_hz, _rates(c.shaft_hz)), "identified")
+            p = identify_path(x, c.fs_hz, _rates(c.shaft_hz))
         except ValueError as exc:
             out[c.name] = (None, str(exc))
+            continue
+        unresolved = [f for f in p.flags if "not resolved" in f]
+        out[c.name] = (None, unresolved[0]) if unresolved else (p, "identified")
     for c in conditions:
         if out[c.name][0] is not None:
             continue
