@@ -101,7 +101,7 @@ def run(args) -> int:
     if hist.stats.get("exposure_note"):
         # one line, also when quiet: the case's model is outside its validated range
         print(f"simulate: warning: {case.name}: {hist.stats['exposure_note']}", file=sys.stderr)
-    write_case(args.output, hist, extra_attrs={"config_file": str(path or ""), "case": case.name},
+    write_case(args.output, hist, extra_attrs={"config_file": str(path or ""), **case.attrs()},
                error_model=case_error_model(hist))
     if not args.quiet:
         s = hist.stats

@@ -25,7 +25,7 @@ import numpy as np
 
 __all__ = ["DIGEST_ATTR", "CHECKSUM_OPTIONS", "DiskFullError", "content_digest", "seal",
            "verify_file", "require_free_space", "free_bytes", "estimate_h5_bytes", "is_disk_full",
-           "file_sha256", "write_image"]
+           "file_sha256", "write_image", "TEXT_DIGEST_PREFIX", "seal_text", "unseal_text"]
 
 #: Root attribute holding the SHA-256 digest (hex) of :func:`content_digest`.
 DIGEST_ATTR = "content_sha256"
@@ -84,6 +84,16 @@ def content_digest(f: h5py.File) -> str:
     names and shapes of all datasets, and the values of datasets without a checksum (scalar,
     empty, strings). Objects are visited in sorted order, so the digest does not depend on the
     order of writing.
+
+    Parameters
+    ----------
+    f : h5py.File
+        An open HDF5 file.
+
+    Returns
+    -------
+    str
+        The SHA-256 digest (hex).
     """
     h = hashlib.sha256()
     names: list[str] = []
@@ -104,7 +114,18 @@ def content_digest(f: h5py.File) -> str:
 
 def seal(f: h5py.File) -> str:
     """Store :func:`content_digest` of the open, writable file ``f`` as :data:`DIGEST_ATTR`
-    (the last write before closing); returns it."""
+    (the last write before closing); returns it.
+
+    Parameters
+    ----------
+    f : h5py.File
+        An open, writable HDF5 file.
+
+    Returns
+    -------
+    str
+        The digest stored.
+    """
     f.flush()
     digest = content_digest(f)
     f.attrs[DIGEST_ATTR] = digest
@@ -129,6 +150,18 @@ def verify_file(path: str | os.PathLike, *, require_digest: bool = True) -> str 
     recomputes :func:`content_digest` (a changed attribute, name, shape or unchecksummed value
     fails the comparison). Without a stored digest the file is reported unless
     ``require_digest`` is false (files written before checksums existed).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        An HDF5 file.
+    require_digest : bool
+        Report a file without a stored digest.
+
+    Returns
+    -------
+    str or None
+        One line saying what is wrong, or None.
     """
     path = os.fspath(path)
     try:
@@ -159,7 +192,18 @@ def verify_file(path: str | os.PathLike, *, require_digest: bool = True) -> str 
 
 def estimate_h5_bytes(arrays) -> int:
     """Upper estimate of the bytes of an HDF5 file holding ``arrays`` uncompressed, plus
-    per-dataset overhead (compression only makes the file smaller)."""
+    per-dataset overhead (compression only makes the file smaller).
+
+    Parameters
+    ----------
+    arrays : iterable of numpy.ndarray
+        The datasets the file will hold.
+
+    Returns
+    -------
+    int
+        Bytes.
+    """
     arrays = list(arrays)
     return int(sum(np.asarray(a).nbytes for a in arrays)
                + _OVERHEAD_BYTES_PER_DATASET * (len(arrays) + 1))
@@ -167,7 +211,15 @@ def estimate_h5_bytes(arrays) -> int:
 
 def require_free_space(path: str | os.PathLike, needed: int) -> None:
     """Raise :class:`DiskFullError` when the file system of ``path``'s folder has less than
-    ``needed`` bytes (plus a 1 MiB margin) free."""
+    ``needed`` bytes (plus a 1 MiB margin) free.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file about to be written.
+    needed : int
+        Bytes it needs.
+    """
     path = os.fspath(path)
     free = free_bytes(path)
     if free < needed + _FREE_SPACE_MARGIN_BYTES:
@@ -176,7 +228,20 @@ def require_free_space(path: str | os.PathLike, needed: int) -> None:
 
 def is_disk_full(exc: BaseException, path: str | os.PathLike) -> bool:
     """Whether ``exc`` (raised while writing next to ``path``) means the disk is full: errno
-    ENOSPC/EDQUOT, or an HDF5 write error while the file system has < 1 MiB left."""
+    ENOSPC/EDQUOT, or an HDF5 write error while the file system has < 1 MiB left.
+
+    Parameters
+    ----------
+    exc : BaseException
+        The exception raised while writing.
+    path : str or os.PathLike
+        The file being written.
+
+    Returns
+    -------
+    bool
+        True when the disk (or the quota) is full.
+    """
     if isinstance(exc, OSError) and exc.errno in (errno.ENOSPC, errno.EDQUOT):
         return True
     if not isinstance(exc, (OSError, RuntimeError)):
@@ -186,7 +251,18 @@ def is_disk_full(exc: BaseException, path: str | os.PathLike) -> bool:
 
 def free_bytes(path: str | os.PathLike) -> int:
     """Free bytes on the file system that will hold ``path`` (its nearest existing folder);
-    0 when that cannot be told."""
+    0 when that cannot be told.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        A path that may not exist yet.
+
+    Returns
+    -------
+    int
+        Free bytes available to this (unprivileged) writer, 0 when unknown.
+    """
     folder = os.path.dirname(os.path.abspath(os.fspath(path)))
     while folder and not os.path.isdir(folder):
         parent = os.path.dirname(folder)
@@ -200,7 +276,18 @@ def free_bytes(path: str | os.PathLike) -> int:
 
 
 def file_sha256(path: str | os.PathLike) -> str:
-    """SHA-256 (hex) of a file's bytes (e.g. a measured profile a case depends on)."""
+    """SHA-256 (hex) of a file's bytes (e.g. a measured profile a case depends on).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        Any file.
+
+    Returns
+    -------
+    str
+        The SHA-256 digest (hex).
+    """
     h = hashlib.sha256()
     with open(path, "rb") as fh:
         for block in iter(lambda: fh.read(1 << 20), b""):
@@ -213,6 +300,15 @@ def write_image(tmp: str | os.PathLike, path: str | os.PathLike, data: bytes) ->
 
     Free space is checked against ``len(data)`` first; ENOSPC while writing raises
     :class:`DiskFullError` as well. ``tmp`` is removed on any failure.
+
+    Parameters
+    ----------
+    tmp : str or os.PathLike
+        The temporary file to write (next to ``path``).
+    path : str or os.PathLike
+        The final file.
+    data : bytes
+        The file's whole content.
     """
     tmp, path = os.fspath(tmp), os.fspath(path)
     try:
@@ -232,3 +328,57 @@ def write_image(tmp: str | os.PathLike, path: str | os.PathLike, data: bytes) ->
         if is_disk_full(exc, path):
             raise DiskFullError(path, len(data), free_bytes(path)) from None
         raise
+
+
+#: First line of a sealed text file (a per-case table): the SHA-256 of every line after it.
+TEXT_DIGEST_PREFIX = "# content_sha256="
+
+
+def seal_text(body: str) -> str:
+    """``body`` preceded by the line ``# content_sha256=<hex>`` (SHA-256 of ``body``'s UTF-8
+    bytes), so that an edit of the file after writing is found (:func:`unseal_text`).
+
+    Parameters
+    ----------
+    body : str
+        The text to seal (e.g. a CSV table).
+
+    Returns
+    -------
+    str
+        The sealed text.
+    """
+    return f"{TEXT_DIGEST_PREFIX}{hashlib.sha256(body.encode('utf-8')).hexdigest()}\n{body}"
+
+
+def unseal_text(text: str, path: str | os.PathLike) -> str:
+    """The body of a text sealed by :func:`seal_text`, after checking its digest.
+
+    Parameters
+    ----------
+    text : str
+        The file's content.
+    path : str or os.PathLike
+        The file (named in the error).
+
+    Returns
+    -------
+    str
+        The text after the digest line.
+
+    Raises
+    ------
+    ValueError
+        One line naming the file: no digest line, or the content no longer matches it (the
+        file was edited after it was written).
+    """
+    first, _, body = text.partition("\n")
+    if not first.startswith(TEXT_DIGEST_PREFIX):
+        raise ValueError(f"{os.fspath(path)}: no '{TEXT_DIGEST_PREFIX}' first line (not written "
+                         f"by this package, or edited); delete it so the workflow remakes it")
+    stored = first[len(TEXT_DIGEST_PREFIX):].strip()
+    actual = hashlib.sha256(body.encode("utf-8")).hexdigest()
+    if actual != stored:
+        raise ValueError(f"{os.fspath(path)}: edited after it was written (digest {stored[:12]}... "
+                         f"stored, {actual[:12]}... now); delete it so the workflow remakes it")
+    return body

@@ -21,13 +21,18 @@ from typing import Any
 
 import yaml
 
-__all__ = ["CATALOGUE_PATH", "designations", "bearing_values", "bearing_sources", "entry"]
+__all__ = ["CATALOGUE_PATH", "designations", "bearing_values", "bearing_sources", "entry",
+           "operation_values", "OPERATION_KEYS"]
 
 #: The catalogue file (package data).
 CATALOGUE_PATH = Path(__file__).resolve().parent.parent / "data" / "bearings.yaml"
 
 #: Entry keys that are not ``scene.bearing`` fields.
 _META_KEYS = ("description",)
+
+#: Entry keys that are ``scene.operation`` fields of the bearing (a stated BPFI): they travel
+#: with the entry; an entry without one gives null (the fault frequencies from geometry).
+OPERATION_KEYS = ("bpfi_override_hz",)
 
 
 @lru_cache(maxsize=1)
@@ -44,12 +49,28 @@ def _load() -> dict[str, dict[str, Any]]:
 
 
 def designations() -> tuple[str, ...]:
-    """The designations in the catalogue, in file order."""
+    """The designations in the catalogue, in file order.
+
+    Returns
+    -------
+    tuple of str
+        Every designation of ``data/bearings.yaml``.
+    """
     return tuple(_load())
 
 
 def entry(designation: str) -> dict[str, Any]:
     """The raw catalogue entry (``{field: {value, source}}`` plus ``description``).
+
+    Parameters
+    ----------
+    designation : str
+        A catalogue designation (its full name, e.g. ``"SKF 6205-2RS"``).
+
+    Returns
+    -------
+    dict
+        The entry as stored: ``{field: {"value": ..., "source": ...}, "description": ...}``.
 
     Raises
     ------
@@ -64,10 +85,51 @@ def entry(designation: str) -> dict[str, Any]:
 
 
 def bearing_values(designation: str) -> dict[str, Any]:
-    """``scene.bearing`` values of a catalogue entry (field -> value, scene units)."""
-    return {k: v["value"] for k, v in entry(designation).items() if k not in _META_KEYS}
+    """``scene.bearing`` values of a catalogue entry (field -> value, scene units).
+
+    Parameters
+    ----------
+    designation : str
+        A catalogue designation (:func:`designations`).
+
+    Returns
+    -------
+    dict
+        Field -> value, without the entry's operation keys (:func:`operation_values`).
+    """
+    return {k: v["value"] for k, v in entry(designation).items()
+            if k not in _META_KEYS and k not in OPERATION_KEYS}
+
+
+def operation_values(designation: str) -> dict[str, Any]:
+    """``scene.operation`` values that travel with a catalogue entry.
+
+    Parameters
+    ----------
+    designation : str
+        A catalogue designation (:func:`designations`).
+
+    Returns
+    -------
+    dict
+        Every key of :data:`OPERATION_KEYS`: the entry's value, or None when it gives none.
+    """
+    ent = entry(designation)
+    return {k: (ent[k]["value"] if k in ent else None) for k in OPERATION_KEYS}
 
 
 def bearing_sources(designation: str) -> dict[str, str]:
-    """The source of every value of a catalogue entry (field -> text)."""
-    return {k: v["source"] for k, v in entry(designation).items() if k not in _META_KEYS}
+    """The source of every value of a catalogue entry (field -> text).
+
+    Parameters
+    ----------
+    designation : str
+        A catalogue designation (:func:`designations`).
+
+    Returns
+    -------
+    dict of str to str
+        ``scene.bearing`` field -> where its value comes from (or "assumed").
+    """
+    return {k: v["source"] for k, v in entry(designation).items()
+            if k not in _META_KEYS and k not in OPERATION_KEYS}

@@ -11,6 +11,7 @@ from .spectrum import amplitude_spectrum
 from .validation import check_fs, check_signal
 
 __all__ = [
+    "DEFAULT_FILTER_ORDER",
     "bandpass",
     "envelope",
     "envelope_spectrum",
@@ -19,7 +20,12 @@ __all__ = [
 ]
 
 
-def bandpass(x, fs: float, band, *, order: int = 4):
+#: Butterworth order of the zero-phase band-pass (applied forward and backward: twice the
+#: attenuation), the one default of every band-pass of the package.
+DEFAULT_FILTER_ORDER = 4
+
+
+def bandpass(x, fs: float, band, *, order: int = DEFAULT_FILTER_ORDER):
     r"""Zero-phase Butterworth band-pass (second-order sections, forward-backward).
 
     Parameters
@@ -67,7 +73,7 @@ def _bandpass_sos(fs: float, band, order) -> np.ndarray:
 SETTLING_TOLERANCE = 1e-3
 
 
-def settling_samples(fs: float, band, *, order: int = 4, tol: float = SETTLING_TOLERANCE) -> int:
+def settling_samples(fs: float, band, *, order: int = DEFAULT_FILTER_ORDER, tol: float = SETTLING_TOLERANCE) -> int:
     """Samples after which the impulse response of :func:`bandpass`'s filter stays below
     ``tol`` times its maximum: the length of the edge transients of the forward-backward
     filter at each end of a record (even padding mirrors the record about its end sample, which
@@ -122,6 +128,12 @@ def envelope(x, *, squared: bool = False):
         Real, normally band-passed, signal (unit ``U``).
     squared : bool, default False
         Return :math:`|x_a|^2` (unit ``U^2``) instead of :math:`|x_a|` (unit ``U``).
+
+    Returns
+    -------
+    numpy.ndarray
+        The envelope (or its square with ``squared``), same length and unit as ``x`` (squared:
+        unit squared).
     """
     x = check_signal(x, "x", min_length=2)
     mean = x.mean()
@@ -137,7 +149,7 @@ def envelope_spectrum(
     *,
     squared: bool = False,
     window="hann",
-    order: int = 4,
+    order: int = DEFAULT_FILTER_ORDER,
     return_signal: bool = False,
     clamp: bool = False,
     margin: float = NYQUIST_MARGIN,
@@ -189,6 +201,20 @@ def envelope_spectrum(
     :math:`(1 + m\cos 2\pi f_m t)\cos 2\pi f_c t` inside the band gives a line of amplitude
     ``m`` at :math:`f_m`; with ``squared`` the line is ``2 m`` (plus :math:`m^2/2` at
     :math:`2 f_m`).
+
+    Examples
+    --------
+    A 3 kHz carrier modulated 50 % at 50 Hz: the envelope spectrum of the 2-4 kHz band holds
+    one line, at 50 Hz, of amplitude 0.5.
+
+    >>> import numpy as np
+    >>> from bearing_envelope.signal import envelope_spectrum
+    >>> fs = 20000.0
+    >>> t = np.arange(20000) / fs
+    >>> x = (1 + 0.5 * np.cos(2 * np.pi * 50.0 * t)) * np.cos(2 * np.pi * 3000.0 * t)
+    >>> f, a = envelope_spectrum(x, fs, (2000.0, 4000.0))
+    >>> float(f[np.argmax(a)]), round(float(a.max()), 3)
+    (50.0, 0.5)
     """
     fs = check_fs(fs)
     x = check_signal(x, "x", min_length=2)
@@ -209,7 +235,20 @@ def envelope_spectrum(
 def peak_value(x, *, skip: int = 0):
     """Largest absolute value of a (band-passed) signal, in its unit, ignoring ``skip``
     samples at each end (the filter's edge transients, :func:`settling_samples`); at most a
-    quarter of the record is skipped at each end."""
+    quarter of the record is skipped at each end.
+
+    Parameters
+    ----------
+    x : array_like
+        A real signal.
+    skip : int
+        Samples ignored at each end (at most a quarter of the record).
+
+    Returns
+    -------
+    float
+        ``max |x|`` over the samples kept.
+    """
     x = check_signal(x, "x", min_length=1)
     k = min(int(skip), (x.size - 1) // 4)
     return float(np.max(np.abs(x[k: x.size - k])))

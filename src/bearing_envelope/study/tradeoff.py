@@ -63,16 +63,17 @@ import numpy as np
 import pandas as pd
 
 from ..contact import halfspace as _hs
+from ..diagnosis import AnalysisOptions
 from ..physics.fidelity import PRESETS, Fidelity, fidelity_from
 from ..physics.history import simulate
+from ..physics.locations import scene_event_frequencies
 from ..physics.scene import DEFAULT_SCENE, Scene
 from .pipeline import case_bands, case_harmonics, history_case
-from .schema import scene_frequencies
 from .settings import AnalysisSettings, CaseId
 
 __all__ = ["DEFAULT_CASES", "DEFAULT_KNOBS", "DEFAULT_BANDS", "COLUMNS", "tradeoff_study",
-           "study_from_config", "pareto_front", "pareto_table", "pareto_points", "plot_tradeoff",
-           "metric_labels", "run_variant"]
+           "study_from_config", "TRADEOFF_DEFAULTS", "pareto_front", "pareto_table",
+           "pareto_points", "plot_tradeoff", "metric_labels", "run_variant", "apply_knob"]
 
 #: (load_kN, depth_um) of the representative cases.
 DEFAULT_CASES: tuple[tuple[float, float], ...] = (
@@ -131,8 +132,25 @@ def _replace(base: Fidelity, **kw) -> Fidelity:
     return dataclasses.replace(base, **kw)
 
 
-def _apply_knob(base: Fidelity, knob: str, value) -> tuple[Fidelity, dict]:
-    """The fidelity of one knob value and the scene overrides it implies."""
+def apply_knob(base: Fidelity, knob: str, value) -> tuple[Fidelity, dict]:
+    """The fidelity of one knob value and the scene overrides it implies.
+
+    Parameters
+    ----------
+    base : Fidelity
+        The fidelity the knob is varied around.
+    knob : str
+        A fidelity field, ``offset_density`` (a factor on the table's offset nodes), a scene
+        knob (``edge_radius_um``), or any of these with ``[linear]`` (linear elements).
+    value : float or int
+        The knob's value (the factor for ``offset_density``).
+
+    Returns
+    -------
+    tuple of (Fidelity, dict)
+        The fidelity with the knob set, and the scene overrides (``{"defect": {...}}`` for a
+        scene knob, else empty).
+    """
     if knob in _SCENE_KNOBS:
         return base, {"defect": {knob: float(value)}}
     if knob == "offset_density":
@@ -145,7 +163,7 @@ def _apply_knob(base: Fidelity, knob: str, value) -> tuple[Fidelity, dict]:
             max_offsets=max(3, int(round(base.max_offsets * f))),
             offset_step_um=base.offset_step_um / f), {}
     if knob.endswith("[linear]"):
-        fid, sc = _apply_knob(base, knob[:-len("[linear]")], value)
+        fid, sc = apply_knob(base, knob[:-len("[linear]")], value)
         return _replace(fid, element="linear"), sc
     names = {f.name for f in dataclasses.fields(Fidelity)}
     if knob not in names or knob in ("name",):
@@ -158,6 +176,9 @@ def _apply_knob(base: Fidelity, knob: str, value) -> tuple[Fidelity, dict]:
     elif ftype is float and isinstance(v, int):
         v = float(v)
     return _replace(base, **{knob: v}), {}
+
+
+_apply_knob = apply_knob  # the former name (study.limits reads it)
 
 
 def _base_value(base: Fidelity, scene_map: Mapping, knob: str):
@@ -204,7 +225,7 @@ def run_variant(scene, fidelity: Fidelity, analysis) -> dict[str, Any]:
     case = history_case(hist)
     if not isinstance(analysis, AnalysisSettings):
         analysis = AnalysisSettings.from_mapping(analysis, fs=float(scene.operation.fs_hz),
-                                                 freqs=scene_frequencies(scene), has_sensor=False)
+                                                 freqs=scene_event_frequencies(scene), has_sensor=False)
     sig = analysis.signal
     x = np.asarray(case.signals[sig], float)
     metrics: dict[tuple[str, str], float] = {("peak_pressure", ""): float(x.max()),
@@ -238,16 +259,25 @@ def _error(metric: str, est: float, ref: float, x=None, xref=None, depth: float 
 # the study
 
 
+#: Defaults of the ``tradeoff:`` config section, written here only (the schema holds none;
+#: :func:`study_from_config` and the pre-run check read them). ``knobs`` None: :data:`DEFAULT_KNOBS`.
+TRADEOFF_DEFAULTS: dict[str, Any] = {
+    "cases": DEFAULT_CASES, "revolutions": 4.0, "base": "standard", "reference": "finest",
+    "reference_element": "uniform", "element_series": ("local_dx_um",),
+    "presets": ("draft", "standard", "paper"), "knobs": None,
+}
+
+
 def tradeoff_study(
     cases: Sequence[Sequence[float]] = DEFAULT_CASES,
     *,
     knobs: Mapping[str, Sequence] | None = None,
-    base: str | Mapping | Fidelity = "standard",
-    reference: str | Mapping | Fidelity = "finest",
-    reference_element: str = "uniform",
-    element_series: Sequence[str] = ("local_dx_um",),
+    base: str | Mapping | Fidelity = TRADEOFF_DEFAULTS["base"],
+    reference: str | Mapping | Fidelity = TRADEOFF_DEFAULTS["reference"],
+    reference_element: str = TRADEOFF_DEFAULTS["reference_element"],
+    element_series: Sequence[str] = TRADEOFF_DEFAULTS["element_series"],
     presets: Mapping[str, Any] | None = None,
-    revolutions: float = 4.0,
+    revolutions: float = TRADEOFF_DEFAULTS["revolutions"],
     scene: Mapping[str, Any] | None = None,
     analysis: Mapping[str, Any] | None = None,
     progress=None,
@@ -281,10 +311,11 @@ def tradeoff_study(
     analysis : mapping, optional
         The ``analysis:`` mapping; only the keys of :data:`ANALYSIS_KEYS_USED` are read
         (``signal``, ``nlevel``, ``max_level``, ``min_bandwidth_hz``, ``bands``,
-        ``filter_order``, ``squared_envelope``); default: :data:`DEFAULT_BANDS`, nlevel 8, p_max,
-        envelope (not squared). ``harmonics``, ``sidebands`` and ``raw_orders_fr`` are not
-        read: the study's metrics are fixed (module docstring: envelope 1 x and 2 x BPFI, raw
-        1 x BPFI), so the analysis always runs with 2 harmonics, no sidebands, 1 raw order.
+        ``filter_order``, ``squared_envelope``); default: :data:`DEFAULT_BANDS`, p_max, and
+        the analysis defaults of :class:`~bearing_envelope.diagnosis.AnalysisOptions`.
+        ``harmonics``, ``sidebands`` and ``raw_orders_fr`` are not read: the study's metrics
+        are fixed (module docstring: envelope 1 x and 2 x BPFI, raw 1 x BPFI) and do not
+        depend on them, so the analysis runs with AnalysisOptions' (the sweep's).
     progress : callable, optional
         Called with a one-line message after every run (e.g. ``print``).
     cache : dict, optional
@@ -339,10 +370,14 @@ def tradeoff_study(
 
 
 def _analysis_used(analysis: Mapping[str, Any] | None) -> dict[str, Any]:
-    """The analysis settings of the study: its fixed metrics' harmonics, and the keys of
+    """The analysis settings of the study: the analysis defaults of
+    :class:`~bearing_envelope.diagnosis.AnalysisOptions` (the sweep's), and the keys of
     :data:`ANALYSIS_KEYS_USED` from ``analysis``."""
-    an = {"signal": "p_max", "nlevel": 8, "filter_order": 4, "squared_envelope": False,
-          "harmonics": 2, "sidebands": 0, "raw_orders_fr": 1, "bands": DEFAULT_BANDS}
+    d = AnalysisOptions()
+    an = {"signal": "p_max", "nlevel": d.nlevel, "filter_order": d.filter_order,
+          "squared_envelope": d.squared, "harmonics": d.n_harmonics,
+          "sidebands": d.n_sidebands, "raw_orders_fr": d.n_raw_harmonics,
+          "bands": DEFAULT_BANDS}
     if analysis:
         an.update({k: v for k, v in analysis.items()
                    if k in ANALYSIS_KEYS_USED})
@@ -669,22 +704,20 @@ def study_from_config(section: Mapping[str, Any] | None, *, scene: Mapping[str, 
     to fine; replaces the default set), ``presets`` (list of preset names or mapping name ->
     fidelity mapping). See ``src/bearing_envelope/data/config.schema.yaml``.
     """
-    s = dict(section or {})
-    allowed = {"cases", "revolutions", "base", "reference", "reference_element", "element_series",
-               "knobs", "presets"}
-    unknown = sorted(set(s) - allowed)
+    unknown = sorted(set(section or {}) - set(TRADEOFF_DEFAULTS))
     if unknown:
-        raise ValueError(f"tradeoff: unknown key(s) {unknown}; allowed: {sorted(allowed)}")
-    cases = s.get("cases", DEFAULT_CASES)
-    for c in cases:
+        raise ValueError(f"tradeoff: unknown key(s) {unknown}; allowed: "
+                         f"{sorted(TRADEOFF_DEFAULTS)}")
+    s = {**TRADEOFF_DEFAULTS, **dict(section or {})}
+    for c in s["cases"]:
         if len(c) != 2:
             raise ValueError(f"tradeoff.cases: each case is [load_kN, depth_um], got {c!r}")
-    presets = s.get("presets", ["draft", "standard", "paper"])
+    presets = s["presets"]
     if isinstance(presets, Sequence) and not isinstance(presets, str):
         presets = {str(p): p for p in presets}
     return tradeoff_study(
-        [tuple(c) for c in cases], knobs=s.get("knobs"), base=s.get("base", "standard"),
-        reference=s.get("reference", "finest"), reference_element=s.get("reference_element", "uniform"),
-        element_series=s.get("element_series", ("local_dx_um",)), presets=presets,
-        revolutions=float(s.get("revolutions", 4.0)), scene=scene, analysis=analysis,
+        [tuple(c) for c in s["cases"]], knobs=s["knobs"], base=s["base"],
+        reference=s["reference"], reference_element=s["reference_element"],
+        element_series=s["element_series"], presets=presets,
+        revolutions=float(s["revolutions"]), scene=scene, analysis=analysis,
         progress=progress)
