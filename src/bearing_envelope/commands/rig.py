@@ -34,6 +34,8 @@ def register(subparsers) -> None:
                    help="records (name contains) the rig's gain is identified on")
     p.add_argument("--simulate-only", action="store_true",
                    help="stop after the contact histories")
+    p.add_argument("--score-only", action="store_true",
+                   help="simulate nothing: score the records whose contact history exists")
     p.set_defaults(func=run)
 
 
@@ -59,7 +61,11 @@ def run(args) -> int:
     if not conds:
         raise ValueError("records: no fault record (meta_json fault inner_race / outer_race / "
                          "ball) among the files given")
-    contact = rig.simulate_excitations(conds, settings, out / "contact")
+    if args.score_only:
+        contact = {c.name: str(out / "contact" / f"{c.name}_contact.npz") for c in conds
+                   if (out / "contact" / f"{c.name}_contact.npz").exists()}
+    else:
+        contact = rig.simulate_excitations(conds, settings, out / "contact")
     if args.simulate_only:
         return 0
     rig.run_scorecard(conds, contact, out, args.gain_reference)
