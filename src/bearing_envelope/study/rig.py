@@ -404,7 +404,7 @@ def record_features(table, lines, name: str, family: str) -> dict:
                h3_db=20 * math.log10(max(r.h3_amplitude, 1e-300) / r.h1_amplitude))
     ln = lines[(lines.file.str.contains(name)) & (lines.band == r.band) &
                (lines.base == family) & (lines.order == 1)]
-    sb = ln[ln.sideband != 0].amplitude
+    sb = ln[ln.sideband.abs() == 1].amplitude  # the +-1 sidebands (the written rule)
     if family != "bpfo" and len(sb):
         out["sideband_db"] = 20 * math.log10(max(sb.mean(), 1e-300) / r.h1_amplitude)
     return out
