@@ -139,3 +139,18 @@ def test_clearance_for_an_impossible_ratio_is_refused(tmp_path):
     cond = rig.record_conditions([a], _settings())[0]
     with pytest.raises(ValueError, match="ratio_db: 20 dB is outside"):
         rig.clearance_for_ratio(cond, _settings(), 20.0, 0.4)
+
+
+def test_load_trend_rule():
+    rows = []
+    for hp in range(4):
+        rows.append({"family": "bpfo", "position_deg": 0.0, "diameter_in": 0.007, "fs_hz": FS,
+                     "load_hp": hp, "meas_height_db": 50.0 - 2.0 * hp,
+                     "sim_height_db": 40.0 + 0.5 * hp})
+    out = rig.load_trends(pd.DataFrame(rows))
+    assert out[0]["meas_db_per_hp"] == pytest.approx(-2.0)
+    assert out[0]["sim_db_per_hp"] == pytest.approx(0.5)
+    assert out[0]["rule"] == "FAIL"  # opposite signs, not both flat
+    for r in rows:
+        r["meas_height_db"] = 50.0 - 0.8 * r["load_hp"]
+    assert rig.load_trends(pd.DataFrame(rows))[0]["rule"] == "PASS"  # both within 1 dB/hp

@@ -463,6 +463,26 @@ def _ratio_db(a, b):
         else None
 
 
+def load_trends(card, *, flat_db_per_hp: float = 1.0) -> list:
+    """Slope of the outer race's line height over the motor load (dB/hp, least squares over the
+    records of one position, size and fs with a line on both sides) and the written rule:
+    same sign, or both within +-``flat_db_per_hp``."""
+    out = []
+    or_ = card[card.family == "bpfo"]
+    for (pos, dia, fs), g in or_.groupby(["position_deg", "diameter_in", "fs_hz"]):
+        g = g[g.meas_height_db.notna() & g.sim_height_db.notna()]
+        if g.load_hp.nunique() < 2:
+            continue
+        hp = g.load_hp.to_numpy(float)
+        m, s = (float(np.polyfit(hp, g[k].to_numpy(float), 1)[0])
+                for k in ("meas_height_db", "sim_height_db"))
+        flat = abs(m) <= flat_db_per_hp and abs(s) <= flat_db_per_hp
+        out.append({"position_deg": pos, "diameter_in": dia, "fs_hz": fs, "n": len(g),
+                    "meas_db_per_hp": m, "sim_db_per_hp": s,
+                    "rule": "PASS" if flat or m * s > 0 else "FAIL"})
+    return out
+
+
 def outer_race_ratios(card) -> list:
     """BPFO fundamental at 3:00 over 6:00 (same size, load, fs), measured and simulated, dB."""
     out = []
@@ -536,10 +556,13 @@ def run_scorecard(conditions, contact: dict, out_dir, gain_reference: str, *, lo
     card = scorecard(conditions, mt, ml, st, sl)
     ratios = pd.DataFrame(outer_race_ratios(card))
     card.to_csv(out_dir / "scorecard.csv", index=False)
+    trends = pd.DataFrame(load_trends(card))
+    trends.to_csv(out_dir / "outer_race_trend.csv", index=False)
     ratios.to_csv(out_dir / "outer_race.csv", index=False)
     with open(out_dir / "summary.json", "w", encoding="utf-8") as fh:
         json.dump({"gain": gain, "pass_rates": pass_rates(card)}, fh, indent=1)
-    (out_dir / "scorecard.md").write_text(scorecard_markdown(card, ratios), encoding="utf-8")
+    (out_dir / "scorecard.md").write_text(scorecard_markdown(card, ratios, trends),
+                                          encoding="utf-8")
     with open(out_dir / "paths.json", encoding="utf-8") as fh:
         sizes = size_ranking(card, conditions, contact, json.load(fh))
     pd.DataFrame(sizes).to_csv(out_dir / "size.csv", index=False)
@@ -616,7 +639,7 @@ def plot_side_by_side(card, conditions, sim_dir, out_png, *, max_order: float = 
     return str(out_png)
 
 
-def scorecard_markdown(card, ratios) -> str:
+def scorecard_markdown(card, ratios, trends=()) -> str:
     """The scorecard as a markdown table (docs/virtual_rig.md), pass rates and OR ratios."""
     def num(v, fmt):
         return "-" if v is None or (isinstance(v, float) and not np.isfinite(v)) else fmt % v
@@ -644,6 +667,12 @@ def scorecard_markdown(card, ratios) -> str:
                   "|---|---|---|---|---|"]
         lines += [f"| {r.record_3} | {r.record_6} | {num(r.meas_db, '%.1f')} | "
                   f"{num(r.sim_db, '%.1f')} | {r.rule} |" for _, r in ratios.iterrows()]
+    if len(trends):
+        lines += ["", "| OR position deg | size in | fs Hz | records | measured dB/hp | "
+                  "simulated dB/hp | rule |", "|---|---|---|---|---|---|---|"]
+        lines += [f"| {r.position_deg:g} | {r.diameter_in:g} | {r.fs_hz:g} | {r.n} | "
+                  f"{r.meas_db_per_hp:.2f} | {r.sim_db_per_hp:.2f} | {r.rule} |"
+                  for _, r in trends.iterrows()]
     return "\n".join(lines) + "\n"
 
 
