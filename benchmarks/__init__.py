@@ -32,6 +32,10 @@ REGISTRY: dict[str, str] = {
                  "cases, the cost of the presets",
     "sweep_cost": "CPU per rule of a finished sweep, from Snakemake's benchmark files",
     "result_digests": "sha256 of every array and table of a sweep's results/ (bit-identity)",
+    "outside_zone": "outer-race pits at 3:00 / 12:00 against 6:00 per loading mechanism "
+                    "(centrifugal force, preload): loads, events, BPFO level",
+    "cwru_hardness": "what the hardness bound changes in the CWRU scenes (p_max, removed force, "
+                     "envelope line)",
 }
 
 #: Benchmarks of work in flight, registered as soon as their module is in this folder (each

@@ -148,7 +148,7 @@ def test_unloaded_table_reads_zero_at_zero_load():
 def test_wandering_spin_axis_strikes_with_the_geometric_probability():
     # independent answer: a point uniform on the sphere lies within b of a great circle of a
     # sphere of radius r with probability b / r (Archimedes' hat-box theorem)
-    from bearing_envelope.physics.locations import _on_track, rolling_element_kinematics
+    from bearing_envelope.physics.locations import on_track, rolling_element_kinematics
     sc = cwru(location="rolling_element")
     m = {k: dict(v) for k, v in CWRU.items()}
     m["defect"].update(location="rolling_element", spin_axis="wandering", spin_seed=3)
@@ -160,7 +160,7 @@ def test_wandering_spin_axis_strikes_with_the_geometric_probability():
     b = hertz.elliptical(q, sw.bearing.rx_for("outer"), sw.bearing.ry_for("outer"),
                          sw.material.e_star_pa).b
     p = b / (0.5e-3 * sw.bearing.roller_diameter_mm)
-    hits = _on_track(sw, "outer", np.full(turns, q), kin["track_offset"])
+    hits = on_track(sw, "outer", np.full(turns, q), kin["track_offset"])
     assert hits.mean() == pytest.approx(p, abs=4 * math.sqrt(p * (1 - p) / turns))
     # deterministic, and a block of the record sees the same orientations as the whole
     half = rolling_element_kinematics(sw, theta[turns // 2:])

@@ -85,6 +85,13 @@ def exposure(scene, ld: LoadDistribution) -> dict:
     """Before any solve: does the defect meet a loaded contact, over which loads, and is the pit
     bridged at each passage.
 
+    Parameters
+    ----------
+    scene : Scene
+        The case's scene (defect location, extent, position).
+    ld : LoadDistribution
+        Its load distribution (:func:`~.loads.scene_load_distribution`).
+
     Returns
     -------
     dict
@@ -113,7 +120,20 @@ def exposure(scene, ld: LoadDistribution) -> dict:
 
 def exposure_line(scene, exp: dict) -> str | None:
     """One line for the user when the case needs one: the defect never meets a loaded contact,
-    or some of its passages are beyond the pit-bridging limit. None otherwise."""
+    or some of its passages are beyond the pit-bridging limit.
+
+    Parameters
+    ----------
+    scene : Scene
+        The case's scene.
+    exp : dict
+        Its :func:`exposure`.
+
+    Returns
+    -------
+    str or None
+        The line, None when the case needs none.
+    """
     loc = scene.defect.location
     if not scene.defect.active:
         return None

@@ -27,7 +27,8 @@ race's curvature): ``x_o = (d/2) wrap(beta)``, ``x_i = (d/2) wrap(beta - pi)`` (
 the integral signals add the two contacts' (the element's approach is the sum of its two
 approaches; the defect is in at most one contact at a time); ``defect_offset`` the offset in
 the contact the defect is nearer to. With the centrifugal force (``load.centrifugal``) the
-outer contact carries ``Q_o = Q_i + F_c``: the defect strikes the outer race all round.
+outer contact carries ``Q_o = Q_i + F_c``: the defect strikes the outer race all round
+(``roller_load`` and ``contact_force`` then read the outer contact's ``Q_o``).
 
 **Intermittent strikes** (``defect.spin_axis: wandering``). A ball rolls about an axis fixed in
 the ball only while it is loaded; in the unloaded zone the cage and drag turn it freely. The
@@ -56,6 +57,7 @@ from .solves import SolveStats
 from .table import PressureTable, build_table
 
 __all__ = ["location_tables", "location_signals", "outer_race_kinematics", "OFF_TRACK_OFFSET_M",
+           "on_track",
            "rolling_element_kinematics", "TWO_PI", "LOCATION_FAMILIES", "event_frequencies",
            "scene_event_frequencies"]
 
@@ -172,9 +174,26 @@ def _orientations(seed: int, theta_c: np.ndarray) -> tuple[np.ndarray, np.ndarra
 OFF_TRACK_OFFSET_M = 1.0
 
 
-def _on_track(scene: Scene, race: str, q: np.ndarray, track_offset: np.ndarray) -> np.ndarray:
-    """The defect (its centre) lies within the ``race`` contact's axial semi-axis ``b(Q)``
-    (Hertz, ``b ~ Q^(1/3)``) of the rolling track."""
+def on_track(scene: Scene, race: str, q: np.ndarray, track_offset: np.ndarray) -> np.ndarray:
+    """Whether a rolling-element defect (its centre) lies within the ``race`` contact's axial
+    semi-axis ``b(Q)`` (Hertz, ``b ~ Q^(1/3)``) of the rolling track.
+
+    Parameters
+    ----------
+    scene : Scene
+        The scene (the contact's curvatures and materials).
+    race : {"inner", "outer"}
+        The contact.
+    q : ndarray
+        Its load (N) at each instant.
+    track_offset : ndarray
+        The defect's axial distance from the track (m), :func:`rolling_element_kinematics`.
+
+    Returns
+    -------
+    ndarray of bool
+        True where the defect can strike that contact.
+    """
     b1 = hertz_estimate(scene.for_race(race), 1.0).b
     return np.abs(track_offset) <= b1 * np.cbrt(np.clip(q, 0.0, None))
 
@@ -224,8 +243,8 @@ def location_signals(scene: Scene, tables: dict[str, PressureTable], ld: LoadDis
     Q = ld.load_at(kin["psi"], "outer") if ld.centrifugal > 0 else Qi
     xi_, xo_ = kin["offset_inner"], kin["offset_outer"]
     if scene.defect.spin_axis == "wandering":
-        xi_ = np.where(_on_track(scene, "inner", Qi, kin["track_offset"]), xi_, OFF_TRACK_OFFSET_M)
-        xo_ = np.where(_on_track(scene, "outer", Q, kin["track_offset"]), xo_, OFF_TRACK_OFFSET_M)
+        xi_ = np.where(on_track(scene, "inner", Qi, kin["track_offset"]), xi_, OFF_TRACK_OFFSET_M)
+        xo_ = np.where(on_track(scene, "outer", Q, kin["track_offset"]), xo_, OFF_TRACK_OFFSET_M)
     ci = _contact(tables["inner"], Qi, xi_, use_numba)
     co = _contact(tables["outer"], Q, xo_, use_numba)
     removed = ci["removed_force"] + co["removed_force"]

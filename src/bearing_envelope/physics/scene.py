@@ -784,11 +784,12 @@ def _build_bearing(m: Mapping[str, Any]) -> Bearing:
     length = _num(p + "roller_length_mm", m["roller_length_mm"], lo=0, lo_open=True, hi=od,
                   allowed=f"a length > 0 and <= outside_diameter_mm ({od:g} mm)")
     relief = _build_relief(m["end_relief"], length)
-    clearance = _num(p + "radial_clearance_um", m["radial_clearance_um"], lo=-0.5 * 1e3 * d,
-                     lo_open=True, hi=MAX_CLEARANCE_FRACTION * 1e3 * d, hi_open=True,
-                     allowed=f"a finite number of um > -d/2 (operating clearance; negative = "
-                             f"preload) and below {MAX_CLEARANCE_FRACTION:.0%} of the "
-                             f"rolling-element diameter ({MAX_CLEARANCE_FRACTION * 1e3 * d:g} um)")
+    clearance = _num(p + "radial_clearance_um", m["radial_clearance_um"],
+                     lo=-MAX_CLEARANCE_FRACTION * 1e3 * d, lo_open=True,
+                     hi=MAX_CLEARANCE_FRACTION * 1e3 * d, hi_open=True,
+                     allowed=f"an operating clearance within +-{MAX_CLEARANCE_FRACTION:.0%} of the "
+                             f"rolling-element diameter (+-{MAX_CLEARANCE_FRACTION * 1e3 * d:g} um;"
+                             f" negative = preload)")
     extra = _build_kind_fields(m, d, cr, length)
     pf = m["profile_file"]
     if pf is not None:
