@@ -59,7 +59,7 @@ __all__ = [
     "SimulationSetup", "section_defaults",
     "read_yaml", "settings_from_mapping", "load_settings", "workflow_settings",
     "default_config_path", "merge_configs", "read_configs", "config_files", "analysis_defaults",
-    "DEFAULT_CONFIG_NAME", "DEFAULT_MAX_CASES",
+    "DEFAULT_CONFIG_NAME", "DEFAULT_MAX_CASES", "full_schema",
 ]
 
 #: The config file ``simulate --config`` and the workflow read when none is named.
@@ -691,11 +691,17 @@ def analysis_defaults() -> dict[str, Any]:
 
 
 @functools.lru_cache(maxsize=1)
-def _full_schema() -> dict:
+def full_schema() -> dict:
     """The schema file with the defaults whose home is code filled in: ``fidelity`` from
     :data:`~bearing_envelope.physics.fidelity.DEFAULT_PRESET`, the analysis keys from
     :func:`analysis_defaults`. The file itself holds no scene, fidelity, analysis-option,
-    limits or tradeoff default (``tests/test_defaults.py``)."""
+    limits or tradeoff default (``tests/test_defaults.py``).
+
+    Returns
+    -------
+    dict
+        The JSON schema of a config file, with every default.
+    """
     import yaml
 
     with open(SCHEMA_PATH, encoding="utf-8") as fh:
@@ -708,7 +714,7 @@ def _full_schema() -> dict:
 
 
 def _schema(partial: bool) -> dict:
-    schema = copy.deepcopy(_full_schema())
+    schema = copy.deepcopy(full_schema())
     if partial:
         schema["required"] = []
     return schema
