@@ -156,18 +156,38 @@ class TransferPath:
         return Mode(self.f_n_hz, self.zeta, self.amplitude / (impulse_area * 2 * self.zeta * wn))
 
     def to_dict(self) -> dict:
-        """Plain types only (JSON)."""
+        """The path as plain types (JSON).
+
+        Returns
+        -------
+        dict
+        """
         d = asdict(self)
         d["band_hz"], d["zeta_range"] = list(self.band_hz), list(self.zeta_range)
         return d
 
     def to_json(self) -> str:
-        """JSON text of :meth:`to_dict`."""
+        """JSON text of :meth:`to_dict`.
+
+        Returns
+        -------
+        str
+        """
         return json.dumps(self.to_dict(), indent=1)
 
     @classmethod
     def from_dict(cls, d: dict) -> TransferPath:
-        """Inverse of :meth:`to_dict`."""
+        """Inverse of :meth:`to_dict`.
+
+        Parameters
+        ----------
+        d : dict
+            As written by :meth:`to_dict`.
+
+        Returns
+        -------
+        TransferPath
+        """
         d = dict(d)
         d["band_hz"], d["zeta_range"] = tuple(d["band_hz"]), tuple(d["zeta_range"])
         return cls(**d)
