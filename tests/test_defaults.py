@@ -23,7 +23,7 @@ from bearing_envelope.physics.fidelity import DEFAULT_PRESET, fidelity_from
 from bearing_envelope.physics.scene import DEFAULT_SCENE, STUDY_DESIGNATION, Scene
 from bearing_envelope.signal.envelope import DEFAULT_FILTER_ORDER, bandpass, envelope_spectrum
 from bearing_envelope.study.limits import DEFAULT_LIMITS
-from bearing_envelope.study.settings import _full_schema, settings_from_mapping
+from bearing_envelope.study.settings import full_schema, settings_from_mapping
 from bearing_envelope.study.schema import SCHEMA_PATH
 from bearing_envelope.study.tradeoff import TRADEOFF_DEFAULTS, tradeoff_study
 
@@ -64,21 +64,21 @@ def test_schema_file_writes_no_default_whose_home_is_code(section):
 
 
 def test_schema_file_writes_no_analysis_option_default():
-    """Only ``signal`` (which simulated signal: no analysis option) and ``amplitude`` (the sweep's
-    estimator, not yet AnalysisOptions'; docs/architecture.md) have their default in the file."""
+    """Only ``signal`` (which simulated signal: no analysis option) has its default in the file."""
     raw = _defaults(RAW_SCHEMA["properties"]["analysis"])
-    assert set(raw) == {"properties.signal", "properties.amplitude"}
+    assert set(raw) == {"properties.signal"}
 
 
 def test_loaded_schema_takes_analysis_and_fidelity_defaults_from_their_homes():
     opt = AnalysisOptions()
-    props = _full_schema()["properties"]
+    props = full_schema()["properties"]
     an = {k: v["default"] for k, v in props["analysis"]["properties"].items() if "default" in v}
     assert an["harmonics"] == opt.n_harmonics and an["sidebands"] == opt.n_sidebands
     assert an["raw_orders_fr"] == opt.n_raw_harmonics and an["nlevel"] == opt.nlevel
     assert an["filter_order"] == opt.filter_order == DEFAULT_FILTER_ORDER
     assert an["squared_envelope"] is opt.squared
     assert an["max_level"] == opt.max_level and an["min_bandwidth_hz"] == opt.min_bandwidth
+    assert an["amplitude"] == ("interpolated" if opt.interpolate else "peak_bin")
     assert props["fidelity"]["default"] == DEFAULT_PRESET
     assert fidelity_from(None) == fidelity_from(DEFAULT_PRESET)
 
@@ -112,7 +112,7 @@ def test_config_yaml_restates_no_default():
     for key, value in cfg.get("tradeoff", {}).items():
         default = TRADEOFF_DEFAULTS[key]
         assert value != (list(default) if isinstance(default, tuple) else default), key
-    loaded = _full_schema()["properties"]["analysis"]["properties"]
+    loaded = full_schema()["properties"]["analysis"]["properties"]
     for key, value in cfg["analysis"].items():
         assert "default" not in loaded[key] or loaded[key]["default"] != value, key
     schema_defaults = _defaults(RAW_SCHEMA["properties"])
