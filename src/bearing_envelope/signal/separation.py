@@ -8,14 +8,14 @@ coherent with itself after a delay ``D``, a random component whose correlation i
 segment and its delayed twin share no sample, else the random part is coherent with itself
 through the shared samples),
 
-    ``G(f) = |S_{x x_D}(f)| / S_{xx}(f)``
+    ``G(f) = |S_{x x_D}(f)| / sqrt(S_{xx}(f) S_{x_D x_D}(f))``
 
 (``x_D`` the signal delayed by ``D``) is the fraction of the power at ``f`` that is discrete:
-1 on a line, ~0 between the lines. This module applies ``G`` as a zero-phase gain to the whole
-record's spectrum (``G`` interpolated linearly from the segment grid to the record's bins; between the lines ``G``
-is the estimator's bias, about ``sqrt(pi / (4 K))`` for ``K`` segments, 0.12 for a 10 s record
-at 12 kHz):
-``discrete = IFFT(G X)``, ``random = x - discrete``. The paper builds a filter from the complex
+1 on a line, ~0 between the lines. This module applies ``G`` as a zero-phase gain to the
+whole record's spectrum (``G`` interpolated linearly from the segment grid to the record's
+bins; between the lines ``G`` is the estimator's bias, about ``sqrt(pi / (4 K))`` for ``K``
+segments, 0.12 for a 10 s record at 12 kHz): ``discrete = IFFT(G X)``,
+``random = x - discrete``. The paper builds a filter from the complex
 cross-spectrum and applies it to the delayed signal; the magnitude form used here is that
 filter's gain without its delay, so the separated parts stay aligned with ``x``.
 
@@ -44,7 +44,7 @@ DRS_NPERSEG = 4096
 
 
 def drs_gain(x, fs: float, *, delay_s: float | None = None, nperseg: int = DRS_NPERSEG):
-    """The DRS gain ``G(f) = |S_{x x_D}| / S_{xx}`` on the Welch grid.
+    """The DRS gain ``G(f) = |S_{x x_D}| / sqrt(S_{xx} S_{x_D x_D})`` on the Welch grid.
 
     Parameters
     ----------
