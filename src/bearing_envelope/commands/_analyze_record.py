@@ -204,14 +204,17 @@ def analyze_record(task: dict, args) -> dict:
 def run_chain(x, fs, fr, faults, bands, nlevel, args):
     """``analyze_signal`` with the command's options (the one call of the library)."""
     from bearing_envelope.diagnosis import AnalysisOptions, analyze_signal
+    from bearing_envelope.diagnosis.routes import DEFAULT_ROUTES
 
+    routes = getattr(args, "routes", None)
     options = AnalysisOptions(
         bands=bands, n_harmonics=args.harmonics, n_sidebands=args.sidebands,
         n_raw_harmonics=args.raw_harmonics, nlevel=nlevel, max_level=args.max_level,
         min_bandwidth=args.min_bandwidth, filter_order=args.filter_order, squared=args.squared,
         window=args.window, interpolate=args.interpolate, level0=args.level0,
         search_percent=args.search_percent, pfa=args.pfa,
-        measure_speed=getattr(args, "speed", "measured") == "measured")
+        measure_speed=getattr(args, "speed", "measured") == "measured",
+        routes=DEFAULT_ROUTES if routes is None else routes)
     return analyze_signal(x, fs, fr=fr, fault_frequencies=faults, options=options,
                           full_output=True)
 
