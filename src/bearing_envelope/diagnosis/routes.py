@@ -107,6 +107,8 @@ class RouteResult:
         Families the route finds (:func:`route_found`); None: those of :attr:`verdict`. The
         envelope route adds the rolling element searched in its bands within
         :data:`BALL_SEARCH_PERCENT` (:func:`run_routes`).
+    found_margins : tuple of (str, float)
+        The margins (dB) of the families added to :attr:`found` that way.
     """
 
     route: str
@@ -114,6 +116,7 @@ class RouteResult:
     named: tuple[str, ...]
     band: tuple[float, float]
     found: tuple[str, ...] | None = None
+    found_margins: tuple[tuple[str, float], ...] = ()
 
     @property
     def finds(self) -> tuple[str, ...]:
@@ -122,6 +125,9 @@ class RouteResult:
 
     def margin(self, family: str) -> float:
         """The fundamental's margin over its threshold (dB) of ``family`` in this route."""
+        extra = dict(self.found_margins)
+        if family in extra:
+            return extra[family]
         for v in self.verdict.families:
             if v.family == family:
                 return v.margin_db
@@ -245,9 +251,11 @@ def _envelope_result(details: Mapping, search: Mapping) -> RouteResult:
     spectra = {name: (b["band"], b["f"], b["amplitude"]) for name, b in details["bands"].items()}
     ball = _verdict(spectra, details["families"], fr=details["fr"], search=search,
                     n_harmonics=opt.n_harmonics, n_sidebands=opt.n_sidebands, pfa=opt.pfa)
-    extra = tuple(f for f in route_found(ball) if f in _FAULT)
-    found = tuple(dict.fromkeys(route_found(v) + extra))
-    return RouteResult("envelope", v, route_name(v), (0.0, details["fs"] / 2.0), found)
+    own = route_found(v)
+    extra = tuple(f for f in route_found(ball) if f in _FAULT and f not in own)
+    margins = tuple((w.family, w.margin_db) for w in ball.families if w.family in extra)
+    return RouteResult("envelope", v, route_name(v), (0.0, details["fs"] / 2.0),
+                       own + extra, margins)
 
 
 def run_routes(x, fs: float, details: Mapping, routes: Sequence[str] = DEFAULT_ROUTES
