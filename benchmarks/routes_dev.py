@@ -7,7 +7,8 @@ out, and the false-alarm rate on shaped noise with every route.
 
 Records: the 32 of ``cwru_de12/`` (truth and Smith & Randall's grade in its ``index.csv``) and
 the normal record, through ``analyze_signal`` with the ``analyze`` command's defaults
-(:data:`cwru_dev.OPTIONS`) and then every route of ``diagnosis.routes.run_routes``.
+(``diagnosis.records.RECORD_OPTIONS`` without its routes, :data:`OPTIONS`) and then every
+route of ``diagnosis.routes.run_routes``, one at a time (CPU of each).
 Variants of the combination (:data:`VARIANTS`: which faults the routes may raise, how many
 routes) are scored on all records and in leave-one-fault-set-out: the variant with no wrong
 verdict at medium or high on the other sets and the most right ones there (ties: the first
@@ -20,6 +21,7 @@ of the combined verdict as a false alarm (95 % Clopper-Pearson interval). CPU se
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import sys
 import time
 from pathlib import Path
@@ -28,10 +30,11 @@ import numpy as np
 import pandas as pd
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from cwru_dev import INCH, OPTIONS, load_records, outcome, shaped_noise  # noqa: E402
+from cwru_dev import INCH, load_records, outcome, shaped_noise  # noqa: E402
 
 from bearing_envelope.diagnosis import analyze_signal  # noqa: E402
 from bearing_envelope.diagnosis.detection import clopper_pearson  # noqa: E402
+from bearing_envelope.diagnosis.records import RECORD_OPTIONS  # noqa: E402
 from bearing_envelope.diagnosis.routes import (ROUTES, combine_routes,  # noqa: E402
                                                run_routes)
 from bearing_envelope.physics.kinematics import fault_frequencies  # noqa: E402
@@ -42,6 +45,9 @@ VARIANTS = (("envelope only", (), 99), ("ball, 2 routes", ("ball",), 2),
             ("ball, 3 routes", ("ball",), 3), ("any, 3 routes", ("ball", "bpfo", "bpfi"), 3),
             ("any, 2 routes", ("ball", "bpfo", "bpfi"), 2))
 FAMS = ("bpfo", "bpfi", "bsf", "bsf2", "ftf")
+#: The options of ``bearing-envelope analyze`` on a recording, the routes run one by one here
+#: (to time each).
+OPTIONS = dataclasses.replace(RECORD_OPTIONS, routes=())
 
 
 def run(records):
@@ -130,7 +136,7 @@ def noise_mc(normal, trials, n, raises, min_routes, seed=24) -> dict:
     alarms = any_named = 0
     per_route: dict[str, int] = {}
     t0 = time.process_time()
-    for y in shaped_noise(normal, trials, n, seed):
+    for t, y in enumerate(shaped_noise(normal, trials, n, seed)):
         _, det = analyze_signal(y, 12000.0, fr=29.95, fault_frequencies=ff, options=OPTIONS,
                                 full_output=True)
         res = run_routes(y, 12000.0, det)
@@ -139,6 +145,9 @@ def noise_mc(normal, trials, n, raises, min_routes, seed=24) -> dict:
         any_named += any(r.named for r in res.values())
         for r, rr in res.items():
             per_route[r] = per_route.get(r, 0) + bool(rr.named)
+        if (t + 1) % 25 == 0:  # progress: a partial count survives an interrupted run
+            print(f"# {t + 1} trials: {alarms} alarms, per route {per_route}, CPU "
+                  f"{time.process_time() - t0:.0f} s", flush=True)
     lo, hi = clopper_pearson(alarms, trials)
     return {"trials": trials, "alarms": alarms, "ci": (lo, hi), "any_named": any_named,
             "per_route": per_route, "cpu_s": time.process_time() - t0}

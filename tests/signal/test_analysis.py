@@ -20,7 +20,7 @@ def test_columns_and_whole_chain(fault):
         fr=fr,
         bpfi=bpfi,
         full_output=True,
-        options=AnalysisOptions(bands=bands, n_harmonics=3, n_sidebands=2),
+        options=AnalysisOptions(bands=bands, n_harmonics=3, n_sidebands=2, n_raw_harmonics=1),
     )
     assert isinstance(df, pd.DataFrame)
     assert list(df.columns) == COLUMNS

@@ -162,7 +162,7 @@ def test_custom_family_and_user_spacing():
         fr=31.0,
         fault_frequencies={"gear": 87.0},
         full_output=True,
-        options=AnalysisOptions(bands=bands, sideband_spacing={"gear": "fr"}),
+        options=AnalysisOptions(bands=bands, sideband_spacing={"gear": "fr"}, n_sidebands=1),
     )
     env1 = t1[(t1.quantity == "envelope_spectrum") & (t1.order == 1)]
     assert set(env1.sideband) == {-1, 0, 1} and env1.detected.all()

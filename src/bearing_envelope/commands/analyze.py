@@ -34,9 +34,8 @@ import os
 import re
 import sys
 
-from ._analyze_batch import run_batch, single_threaded, write_batch_outputs
-from ._analyze_record import (analyze_record, figure_dir, finish_record, is_batch, result_json,
-                              write_text)
+from ._analyze_batch import (figure_dir, figure_options, is_batch, record_json, run_batch,
+                             single_threaded, tidy_lines, write_batch_outputs, write_text)
 
 _MM_PER_INCH = 25.4
 
@@ -131,43 +130,51 @@ def _add_analysis_args(p) -> None:
     p.add_argument("--clamp", action="store_true",
                    help="clamp a fixed band's upper edge above Nyquist to 0.98 fs/2 instead of "
                         "refusing it")
-    p.add_argument("--speed", choices=("measured", "nominal"), default="measured",
-                   help="measured (default): the shaft rate is read from the record's shaft "
+    p.add_argument("--speed", choices=("measured", "nominal"), default=None,
+                   help="measured (default for a recording, RECORD_OPTIONS): the shaft rate is read from the record's shaft "
                         "harmonics (diagnosis.speed) and every fault frequency is scaled to it, "
                         "fundamentals then searched within 0.5 %%; nominal: the given --fr / rpm "
                         "as is, fundamentals searched within --search-percent (the rates of "
                         "README 'What the confidence means' are with measured)")
-    p.add_argument("--search-percent", type=float, default=1.0,
+    p.add_argument("--search-percent", type=float, default=None,
                    help="half-width of the search for each fault fundamental, percent of its "
-                        "nominal frequency (default 1; real lines sit 0.2-0.7 %% off when the "
-                        "nominal speed is not the actual one); harmonics are searched around "
-                        "k x the frequency found")
+                        "nominal frequency (default: the library's, AnalysisOptions; real lines "
+                        "sit 0.2-0.7 %% off when the nominal speed is not the actual one); "
+                        "harmonics are searched around k x the frequency found")
     p.add_argument("--routes", default=None, metavar="ROUTE[,ROUTE...]",
                    help="evidence routes of the verdict besides the envelope bands "
                         "(diagnosis.routes): cpw (cepstrum pre-whitened squared envelope "
                         "spectrum), drs_sk (discrete/random separation, kurtogram band, squared "
                         "envelope spectrum), ees (enhanced envelope spectrum); 'envelope' for "
-                        "the envelope bands alone; default: every route")
-    p.add_argument("--pfa", type=float, default=0.01,
-                   help="record-wise false-alarm probability of the verdict (default 0.01); each "
-                        "family x band test runs at pfa / number of tests")
-    p.add_argument("--harmonics", type=int, default=3,
-                   help="harmonics K per family (default 3; refused when K x the highest fault "
-                        "frequency does not fit below fs/2)")
-    p.add_argument("--sidebands", type=int, default=1,
-                   help="sidebands M per side of each harmonic (default 1)")
-    p.add_argument("--raw-harmonics", type=int, default=1,
-                   help="orders of fr and of each fault frequency in the raw spectrum (default 1)")
+                        "the envelope bands alone; default: the library's for a recording "
+                        "(RECORD_OPTIONS: every route)")
+    p.add_argument("--pfa", type=float, default=None,
+                   help="record-wise false-alarm probability of the verdict (default: the "
+                        "library's, AnalysisOptions); each family x band test runs at pfa / "
+                        "number of tests")
+    p.add_argument("--harmonics", type=int, default=None,
+                   help="harmonics K per family (default: the library's, AnalysisOptions, as "
+                        "the sweep; refused when K x the highest fault frequency does not fit "
+                        "below fs/2)")
+    p.add_argument("--sidebands", type=int, default=None,
+                   help="sidebands M per side of each harmonic (default: the library's, as the "
+                        "sweep)")
+    p.add_argument("--raw-harmonics", type=int, default=None,
+                   help="orders of fr and of each fault frequency in the raw spectrum "
+                        "(default: the library's, as the sweep)")
     p.add_argument("--nlevel", type=int, default=None,
-                   help="kurtogram levels (default 8, or as deep as a short signal allows)")
+                   help="kurtogram levels (default: the library's, or as deep as a short "
+                        "signal allows)")
     p.add_argument("--max-level", type=float, default=None, help="kurtogram guard: max level")
     p.add_argument("--min-bandwidth", type=float, default=None,
                    help="kurtogram guard: minimum bandwidth, Hz")
-    p.add_argument("--level0", choices=("analytic", "real"), default="analytic",
+    p.add_argument("--level0", choices=("analytic", "real"), default=None,
                    help="kurtosis of the kurtogram's level 0 (whole band): analytic signal "
-                        "(default) or the real signal as in Antoni's code (E x^4/(E x^2)^2 - 3)")
-    p.add_argument("--filter-order", type=int, default=4, help="Butterworth order (default 4)")
-    p.add_argument("--window", default="hann", help="spectrum window (default hann)")
+                        "or the real signal as in Antoni's code (E x^4/(E x^2)^2 - 3); "
+                        "default: the library's")
+    p.add_argument("--filter-order", type=int, default=None,
+                   help="Butterworth order (default: the library's)")
+    p.add_argument("--window", default=None, help="spectrum window (default: the library's)")
     p.add_argument("--squared", action="store_true", help="squared envelope")
     p.add_argument("--interpolate", action="store_true",
                    help="interpolated, scalloping-corrected peak amplitudes")
@@ -225,10 +232,10 @@ def check_args(args) -> None:
                 "--roller-diameter-in", "--pitch-diameter-in", "--min-bandwidth", "--fmax"):
         _positive(opt, getattr(args, opt[2:].replace("-", "_")))
     _positive("--max-level", args.max_level, allow_zero=True)
-    if not (math.isfinite(args.search_percent) and 0 < args.search_percent < 50):
-        raise ValueError(f"--search-percent: got {args.search_percent!r}; allowed: 0 < percent "
-                         f"< 50")
-    if not (math.isfinite(args.pfa) and 0 < args.pfa < 1):
+    sp = args.search_percent
+    if sp is not None and not (math.isfinite(sp) and 0 < sp < 50):
+        raise ValueError(f"--search-percent: got {sp!r}; allowed: 0 < percent < 50")
+    if args.pfa is not None and not (math.isfinite(args.pfa) and 0 < args.pfa < 1):
         raise ValueError(f"--pfa: got {args.pfa!r}; allowed: 0 < pfa < 1")
     args.routes = parse_routes(args.routes)
     args.faults = parse_faults(args.fault)
@@ -276,7 +283,7 @@ def _check_counts(args) -> None:
                            ("--raw-harmonics", args.raw_harmonics, 1, 1000),
                            ("--filter-order", args.filter_order, 1, 20),
                            ("--jobs", args.jobs, 0, 1024)):
-        if not lo <= v <= hi:
+        if v is not None and not lo <= v <= hi:
             allowed = f"an integer >= {lo}" if opt in ("--nlevel", "--harmonics",
                                                          "--sidebands") and v < lo \
                 else f"an integer {lo} .. {hi}"
@@ -304,9 +311,9 @@ def geometry_args(args) -> dict | None:
         if any(v is not None for v in given) or args.contact_angle_deg is not None:
             raise ValueError("--bearing: give the bearing by designation or by its geometry "
                              "(--n-rollers, --roller-diameter-*, --pitch-diameter-*), not both")
-        from bearing_envelope.io.records import bearing_geometry  # numpy: start-up time
+        from bearing_envelope.diagnosis.records import bearing_geometry  # start-up time
 
-        return bearing_geometry(args.bearing)
+        return bearing_geometry(args.bearing, name="--bearing")
     if all(v is None for v in given):
         return None
     if any(v is None for v in given):
@@ -401,8 +408,10 @@ def record_tasks(args) -> list[dict]:
     from bearing_envelope.io.records import collect_records, read_manifest  # numpy: start-up
 
     tasks = read_manifest(args.manifest) if args.manifest is not None else []
+    for t in tasks:  # the library's name of the shaft rate
+        t["shaft_hz"] = t.pop("fr")
     for f in collect_records(args.files):
-        tasks.append({"file": f, "fs": None, "fr": None, "bearing": None, "column": None,
+        tasks.append({"file": f, "fs": None, "shaft_hz": None, "bearing": None, "column": None,
                       "channel": None})
     seen: dict[str, int] = {}
     for t in tasks:  # figure names: the file's stem, numbered when two records share it
@@ -412,52 +421,114 @@ def record_tasks(args) -> list[dict]:
     return tasks
 
 
+#: The library's parameters as this command names them (its messages name the options).
+OPTION_NAMES = {"fs": "--fs", "shaft_hz": "--fr", "bpfi": "--bpfi", "faults": "--fault",
+                "bearing": "--bearing", "n_harmonics": "--harmonics",
+                "n_raw_harmonics": "--raw-harmonics", "n_sidebands": "--sidebands",
+                "nlevel": "--nlevel", "fixed_band": "--fixed-band", "clamp": "--clamp",
+                "bands": "--bands", "record": "the case file"}
+
+#: ``AnalysisOptions`` field -> the option that sets it (None: not given, the library's).
+_OPTION_FIELDS = {"n_harmonics": "harmonics", "n_sidebands": "sidebands",
+                  "n_raw_harmonics": "raw_harmonics", "nlevel": "nlevel",
+                  "max_level": "max_level", "min_bandwidth": "min_bandwidth",
+                  "filter_order": "filter_order", "window": "window", "level0": "level0",
+                  "search_percent": "search_percent", "pfa": "pfa"}
+
+
+def build_options(args):
+    """The library's options of a recording (``RECORD_OPTIONS``) with the options given."""
+    from dataclasses import replace
+
+    from bearing_envelope.diagnosis.records import RECORD_OPTIONS
+
+    given = {f: getattr(args, a) for f, a in _OPTION_FIELDS.items()
+             if getattr(args, a) is not None}
+    if args.band_specs is not None:
+        given["bands"] = args.band_specs
+    if args.squared:
+        given["squared"] = True
+    if args.interpolate:
+        given["interpolate"] = True
+    if args.speed is not None:
+        given["measure_speed"] = args.speed == "measured"
+    if args.routes is not None:
+        given["routes"] = args.routes
+    return replace(RECORD_OPTIONS, **given)
+
+
+def library_arguments(args) -> dict:
+    """The keyword arguments of the library call, the same for every record."""
+    from functools import partial
+
+    from bearing_envelope.io.analysis import read_task
+
+    delim = {"tab": "\t"}.get(args.delimiter, args.delimiter)
+    return {"shaft_hz": args.fr, "bearing": args.geometry, "bpfi": args.bpfi,
+            "faults": args.faults, "options": build_options(args),
+            "fixed_band": args.fixed_band, "clamp": args.clamp, "names": OPTION_NAMES,
+            "reader": partial(read_task, column=args.column, channel=args.channel,
+                              signal=args.signal, delimiter=delim, decimal=args.decimal)}
+
+
+def analyze_record(task: dict, args, library: dict):
+    """One record through the library (:func:`bearing_envelope.diagnosis.records.
+    analyze_record`): the task's own fs, shaft rate and bearing win over the options."""
+    from bearing_envelope.diagnosis.records import analyze_record as analyze
+
+    per = {k: task[k] for k in ("fs", "shaft_hz", "bearing") if task.get(k) is not None}
+    kw = {**library, "fs": args.fs, **per}
+    return analyze(library["reader"](task), file=task["file"], name=task.get("name"), **kw)
+
+
 def run(args) -> int:
     """Execute ``bearing-envelope analyze``."""
     if (args.files or args.manifest) and is_batch(args) and args.jobs != 1:
         single_threaded()  # before numpy is imported: every worker one thread
     check_args(args)
+    library = library_arguments(args)
     if is_batch(args):
-        return run_batch(record_tasks(args), args)
+        return run_batch(record_tasks(args), args, library)
     if os.path.isdir(args.files[0]):
         raise ValueError(f"file: {args.files[0]!r} is a directory; allowed: a signal file")
-    res = analyze_record(record_tasks(args)[0], args)
+    res = analyze_record(record_tasks(args)[0], args, library)
     print_record(args, res)
     write_record_outputs(args, res)
     return 0
 
 
-def print_record(args, res: dict) -> None:
+def print_record(args, res) -> None:
     """The header, the full line table and the verdict of one record (stdout; stderr when
     ``--json -`` takes stdout)."""
     import pandas as pd
 
-    det, table, loaded, fs, fr = res["det"], res["table"], res["loaded"], res["fs"], res["fr"]
+    opt = res.options
     json_only = args.json == "-"
     if json_only:
-        print(json.dumps(result_json(args, res), indent=1, allow_nan=False))
+        print(json.dumps(record_json(res), indent=1, allow_nan=False))
     out = sys.stderr if json_only else sys.stdout
-    print(f"# {res['file']} ({loaded['source']}): {loaded['x'].size} samples, fs = {fs:g} Hz, "
-          f"fr = {fr:g} Hz, " + ", ".join(f"{k} = {v:g} Hz" for k, v in
-                                          det["frequencies"].items() if k != "fr"), file=out)
-    kg = det["kurtogram"]
+    print(f"# {res.file} ({res.source}): {res.n_samples} samples, fs = {res.fs:g} Hz, "
+          f"fr = {res.shaft_hz:g} Hz, " + ", ".join(f"{k} = {v:g} Hz" for k, v in
+                                                   res.frequencies.items() if k != "fr"),
+          file=out)
+    kg = res.kurtogram
     if kg is not None:
         print(f"# kurtogram: level {kg.level:.3f}, fc = {kg.fc:g} Hz, bandwidth = "
-              f"{kg.bandwidth:g} Hz, kurtosis = {kg.kurtosis:.3f} (level 0: {args.level0} "
+              f"{kg.bandwidth:g} Hz, kurtosis = {kg.kurtosis:.3f} (level 0: {opt.level0} "
               f"signal)", file=out)
-    for name, b in det["bands"].items():
+    for name, b in res.bands.items():
         lo, hi = b["band"]
         print(f"# band {name}: {lo:g} - {hi:g} Hz ({b['provenance']['strategy']}"
               f"{', clamped' if b['provenance'].get('clamped') else ''})", file=out)
     if not json_only:
-        show = table[["band", "quantity", "base", "order", "sideband", "target_hz",
-                      "frequency_hz", "amplitude", "floor_ratio_db", "threshold_db",
-                      "detected"]]
+        show = tidy_lines(res)[["band", "quantity", "base", "order", "sideband", "target_hz",
+                                "frequency_hz", "amplitude", "floor_ratio_db", "threshold_db",
+                                "detected"]]
         with pd.option_context("display.max_rows", None, "display.width", 200,
                                "display.float_format", "{:.6g}".format):
             print(show.to_string(index=False), file=out)
-    verdict = det["verdict"]
-    print(f"# search: fundamentals within +-{args.search_percent:g} % of nominal, harmonics "
+    verdict = res.verdict
+    print(f"# search: fundamentals within +-{opt.search_percent:g} % of nominal, harmonics "
           f"around k x the line found; verdict at a record-wise false-alarm probability of "
           f"{verdict.pfa:g} ({verdict.n_tests} family x band tests at {verdict.pfa_test:.2g} "
           f"each; a family needs its fundamental and 2nd harmonic)", file=out)
@@ -467,25 +538,30 @@ def print_record(args, res: dict) -> None:
         print(f"{'verdict: ' if i == 0 else '         '}{line}", file=out)
 
 
-def write_record_outputs(args, res: dict) -> None:
+def write_record_outputs(args, res) -> None:
     """``--csv``, ``--json OUT``, ``--table``, ``--plot`` and ``--html`` of one record."""
     out = sys.stderr if args.json == "-" else sys.stdout
     if args.csv:
         os.makedirs(os.path.dirname(os.path.abspath(args.csv)), exist_ok=True)
-        res["table"].to_csv(args.csv, index=False)
+        tidy_lines(res).to_csv(args.csv, index=False)
         print(f"# table written to {args.csv}", file=out)
     if args.json is not None and args.json != "-":
-        write_text(args.json, json.dumps(result_json(args, res), indent=1, allow_nan=False)
-                   + "\n")
+        write_text(args.json, json.dumps(record_json(res), indent=1, allow_nan=False) + "\n")
         print(f"# JSON written to {args.json}", file=out)
     if args.plot:
         from bearing_envelope.diagnosis.plots import save_analysis_figures
 
-        stem = os.path.splitext(os.path.basename(res["file"]))[0]
-        paths = save_analysis_figures(res["det"], args.plot, prefix=f"{stem}_",
-                                      n_harmonics=max(args.harmonics, 3),
-                                      n_sidebands=args.sidebands)
+        stem = os.path.splitext(os.path.basename(res.file))[0]
+        paths = save_analysis_figures(res.details, args.plot, prefix=f"{stem}_",
+                                      n_harmonics=max(res.options.n_harmonics, 3),
+                                      n_sidebands=res.options.n_sidebands)
         print(f"# figures: {', '.join(paths)}", file=out)
     if args.table or args.html:
-        write_batch_outputs([finish_record(res, args, figure_dir(args))], args, out=out,
-                            lines_and_json=False)
+        from dataclasses import replace
+
+        from bearing_envelope.diagnosis.batch import record_figure
+
+        fig_dir = figure_dir(args)
+        if fig_dir is not None:
+            res = replace(res, figure=record_figure(res, fig_dir, figure_options(args)))
+        write_batch_outputs([res], args, res.options, out=out, lines_and_json=False)

@@ -115,12 +115,15 @@ class AnalysisOptions:
         ``fixed``: Hz), ``clamp``, ``prewhiten`` (the band of the cepstrum-pre-whitened
         signal), and for ``kurtogram`` the guards ``max_level``/``min_bandwidth``. See
         :mod:`bearing_envelope.signal.bands`.
-    n_harmonics : int, default 2
+    n_harmonics : int, default 3
         Envelope harmonics k = 1..K.
-    n_sidebands : int, default 1
+    n_sidebands : int, default 2
         Sidebands m = 1..M on each side of each harmonic (0: none), for families with a spacing.
-    n_raw_harmonics : int, default 1
+    n_raw_harmonics : int, default 3
         Orders of fr and of each fault frequency read in the raw spectrum.
+
+    These defaults are the sweep's and ``bearing-envelope analyze``'s (one home: the config
+    schema's ``analysis`` section, the command line and the trade-off study read them here).
     nlevel : int or None, default 8
         Kurtogram depth; reduced to ``floor(log2(n)) - 7`` for short signals; None: the
         default of :func:`~bearing_envelope.signal.kurtogram.fast_kurtogram`.
@@ -173,9 +176,9 @@ class AnalysisOptions:
     """
 
     bands: tuple[Mapping, ...] | None = None
-    n_harmonics: int = 2
-    n_sidebands: int = 1
-    n_raw_harmonics: int = 1
+    n_harmonics: int = 3
+    n_sidebands: int = 2
+    n_raw_harmonics: int = 3
     nlevel: int | None = 8
     max_level: float | None = None
     min_bandwidth: float | None = None

@@ -42,7 +42,8 @@ import numpy as np
 from numpy.lib import format as npf
 
 from .. import io as _io  # read_case looked up at call time (callers may substitute it)
-from ..physics.catalogue import bearing_sources, bearing_values, designations
+# bearings by designation: one home, diagnosis.records (re-exported here for older callers)
+from ..diagnosis.records import bearing_geometry, known_bearings
 
 __all__ = ["SUFFIXES", "MEMORY_FACTOR", "read_record", "sniff_csv", "read_manifest",
            "collect_records", "bearing_geometry", "known_bearings", "check_memory"]
@@ -715,73 +716,5 @@ def _manifest_row(row: dict, line: int, path: str, base: str) -> dict:
             bearing_geometry(out["bearing"])
         except ValueError as exc:
             raise ValueError(f"--manifest: {path} line {line}: "
-                             f"{str(exc).replace('--bearing: ', '')}") from None
+                             f"{str(exc).replace('bearing: ', '', 1)}") from None
     return out
-
-
-# ------------------------------------------------------------------------------ bearings
-def _aliases(designation: str) -> set[str]:
-    """Names a catalogue entry answers to: ``"SKF 6205-2RS"`` -> itself, ``"6205-2RS"``,
-    ``"6205"``."""
-    out = {_key(designation)}
-    words = designation.split()
-    if len(words) > 1:
-        out.add(_key(" ".join(words[1:])))
-    m = re.search(r"\d{3,}", designation)
-    if m:
-        out.add(m.group(0))
-    return out
-
-
-def _key(name: str) -> str:
-    return re.sub(r"[\s_]+", "-", str(name).strip().upper())
-
-
-def known_bearings() -> dict[str, str]:
-    """``alias -> catalogue designation`` of every entry of the bearing catalogue
-    (:mod:`bearing_envelope.physics.catalogue`, ``data/bearings.yaml``)."""
-    out: dict[str, str] = {}
-    for d in designations():
-        for a in _aliases(d):
-            out.setdefault(a, d)
-    return out
-
-
-def bearing_geometry(designation: str) -> dict:
-    """Geometry of a catalogue bearing named by designation (``"6205"``, ``"SKF 6205-2RS"``,
-    ``"6205-2RS JEM SKF"``): the catalogue's rolling elements, their diameter, the pitch
-    diameter (``(bore + OD) / 2`` where the catalogue gives none) and contact angle.
-
-    Returns
-    -------
-    dict
-        ``designation`` (the catalogue's), ``n_rollers``, ``roller_diameter_mm``,
-        ``pitch_diameter_mm``, ``contact_angle_deg``, ``source`` (of each value).
-
-    Raises
-    ------
-    ValueError
-        ``--bearing: ... allowed: ...`` for an unknown designation.
-    """
-    table = known_bearings()
-    key = _key(designation)
-    name = table.get(key)
-    if name is None:  # "6205-2RS JEM SKF": its first designation number
-        m = re.search(r"\d{3,}", key)
-        name = table.get(m.group(0)) if m else None
-    if name is None:
-        raise ValueError(f"--bearing: unknown bearing {designation!r}; allowed: "
-                         f"{', '.join(designations())} (or 6205, 6203, ...; or give the "
-                         f"geometry: --n-rollers, --roller-diameter-mm/-in, "
-                         f"--pitch-diameter-mm/-in)")
-    v, src = bearing_values(name), bearing_sources(name)
-    pitch = v["pitch_diameter_mm"]
-    if pitch is None:
-        pitch = 0.5 * (v["bore_mm"] + v["outside_diameter_mm"])
-    return {"designation": name, "n_rollers": int(v["rollers_per_row"]),
-            "roller_diameter_mm": float(v["roller_diameter_mm"]),
-            "pitch_diameter_mm": float(pitch),
-            "contact_angle_deg": float(v.get("contact_angle_deg") or 0.0),
-            "source": {k: src[k] for k in ("rollers_per_row", "roller_diameter_mm",
-                                           "pitch_diameter_mm", "contact_angle_deg")
-                       if k in src}}

@@ -63,6 +63,7 @@ import numpy as np
 import pandas as pd
 
 from ..contact import halfspace as _hs
+from ..diagnosis import AnalysisOptions
 from ..physics.fidelity import PRESETS, Fidelity, fidelity_from
 from ..physics.history import simulate
 from ..physics.scene import DEFAULT_SCENE, Scene
@@ -281,10 +282,11 @@ def tradeoff_study(
     analysis : mapping, optional
         The ``analysis:`` mapping; only the keys of :data:`ANALYSIS_KEYS_USED` are read
         (``signal``, ``nlevel``, ``max_level``, ``min_bandwidth_hz``, ``bands``,
-        ``filter_order``, ``squared_envelope``); default: :data:`DEFAULT_BANDS`, nlevel 8, p_max,
-        envelope (not squared). ``harmonics``, ``sidebands`` and ``raw_orders_fr`` are not
-        read: the study's metrics are fixed (module docstring: envelope 1 x and 2 x BPFI, raw
-        1 x BPFI), so the analysis always runs with 2 harmonics, no sidebands, 1 raw order.
+        ``filter_order``, ``squared_envelope``); default: :data:`DEFAULT_BANDS`, p_max, and
+        the analysis defaults of :class:`~bearing_envelope.diagnosis.AnalysisOptions`.
+        ``harmonics``, ``sidebands`` and ``raw_orders_fr`` are not read: the study's metrics
+        are fixed (module docstring: envelope 1 x and 2 x BPFI, raw 1 x BPFI) and do not
+        depend on them, so the analysis runs with AnalysisOptions' (the sweep's).
     progress : callable, optional
         Called with a one-line message after every run (e.g. ``print``).
     cache : dict, optional
@@ -339,10 +341,14 @@ def tradeoff_study(
 
 
 def _analysis_used(analysis: Mapping[str, Any] | None) -> dict[str, Any]:
-    """The analysis settings of the study: its fixed metrics' harmonics, and the keys of
+    """The analysis settings of the study: the analysis defaults of
+    :class:`~bearing_envelope.diagnosis.AnalysisOptions` (the sweep's), and the keys of
     :data:`ANALYSIS_KEYS_USED` from ``analysis``."""
-    an = {"signal": "p_max", "nlevel": 8, "filter_order": 4, "squared_envelope": False,
-          "harmonics": 2, "sidebands": 0, "raw_orders_fr": 1, "bands": DEFAULT_BANDS}
+    d = AnalysisOptions()
+    an = {"signal": "p_max", "nlevel": d.nlevel, "filter_order": d.filter_order,
+          "squared_envelope": d.squared, "harmonics": d.n_harmonics,
+          "sidebands": d.n_sidebands, "raw_orders_fr": d.n_raw_harmonics,
+          "bands": DEFAULT_BANDS}
     if analysis:
         an.update({k: v for k, v in analysis.items()
                    if k in ANALYSIS_KEYS_USED})
