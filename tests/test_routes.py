@@ -94,3 +94,19 @@ def test_every_route_names_the_outer_race_of_a_synthetic_record():
     assert v.diagnosis == "bpfo" and v.confidence in ("high", "medium")
     with pytest.raises(ValueError, match="routes"):
         run_routes(x, fs, det, ("nope",))
+
+
+def test_ball_named_by_2xbsf_or_bsf_with_cage_sidebands_never_by_the_cage():
+    bsf, ftf = FREQS["bsf"], FREQS["ftf"]
+    cage = _result("cpw", _train(ftf, 40.0, k=4), 10)
+    assert cage.named == ()                      # the cage rate alone names nothing
+    plain = _result("cpw", _train(bsf, 40.0), 11)
+    assert "bsf" not in plain.named              # BSF without its FTF sidebands: not a name
+    lines = {**_train(bsf, 40.0),
+             **{k * bsf + m * ftf: 25.0 for k in (1, 2, 3) for m in (-1, 1)}}
+    assert "bsf" in _result("cpw", lines, 12).named
+    # cage lines in every route do not raise anything
+    env = _result("envelope", _train(ftf, 30.0, k=4), 13)
+    ees = _result("ees", _train(ftf, 30.0, k=4), 14)
+    v = combine_routes({"envelope": env, "cpw": cage, "ees": ees})
+    assert v.decided_by == "envelope" and v.diagnosis is None

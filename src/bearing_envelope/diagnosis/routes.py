@@ -220,14 +220,22 @@ def route_verdict(route: str, f, amplitude, band, families, *, fr: float, search
                     n_harmonics=n_harmonics, n_sidebands=n_sidebands, pfa=pfa)
 
 
-def _verdict(spectra: Mapping, families, *, fr, search, n_harmonics, n_sidebands, pfa):
+def _verdict(spectra: Mapping, families, *, fr, search, n_harmonics, n_sidebands, pfa,
+             known: Mapping | None = None):
     """``fault_verdict`` over the spectra ``{band name: (band, f, amplitude)}``, each line
     tested at ``pfa / (families x bands)``, a rolling element searched within at least
-    :data:`BALL_SEARCH_PERCENT`."""
+    :data:`BALL_SEARCH_PERCENT`; ``known``: ``{band name: {family: rows}}`` already searched
+    so (not searched again)."""
     n_tests = max(1, len(families) * len(spectra))
     rows = []
     for name, (band, f, amplitude) in spectra.items():
         for fam in families:
+            done = (known or {}).get(name, {}).get(fam.name)
+            if done is not None:
+                rows.extend({"band": name, "band_low_hz": band[0], "band_high_hz": band[1],
+                             "quantity": "envelope_spectrum", "base": fam.name, **r}
+                            for r in done)
+                continue
             kw = dict(search)
             if fam.name in _FAULT and kw.get("tolerance_hz") is None:
                 kw["search_percent"] = max(kw["search_percent"], BALL_SEARCH_PERCENT)
@@ -249,8 +257,12 @@ def _envelope_result(details: Mapping, search: Mapping) -> RouteResult:
     v = details["verdict"]
     opt = details["options"]
     spectra = {name: (b["band"], b["f"], b["amplitude"]) for name, b in details["bands"].items()}
+    # the other families' lines as analyze_signal found them (same search, same pfa per test)
+    known = {name: {k: rows for k, rows in b["lines"].items() if k not in _FAULT}
+             for name, b in details["bands"].items()}
     ball = _verdict(spectra, details["families"], fr=details["fr"], search=search,
-                    n_harmonics=opt.n_harmonics, n_sidebands=opt.n_sidebands, pfa=opt.pfa)
+                    n_harmonics=opt.n_harmonics, n_sidebands=opt.n_sidebands, pfa=opt.pfa,
+                    known=known)
     own = route_found(v)
     extra = tuple(f for f in route_found(ball) if f in _FAULT and f not in own)
     margins = tuple((w.family, w.margin_db) for w in ball.families if w.family in extra)
