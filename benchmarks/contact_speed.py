@@ -1,10 +1,10 @@
-"""Speed of the contact solver against the FFT bound and against tamaas (run by hand).
+"""Speed of the contact solver against the FFT bound and against tamaas.
 
 Usage::
 
-    python benchmarks/contact_speed.py                # full run (a few minutes), markdown table
-    python benchmarks/contact_speed.py --quick        # 128^2 and 256^2 only
-    python benchmarks/contact_speed.py --repeat 5 --no-tamaas
+    python -m benchmarks contact_speed                # full run (a few minutes), markdown table
+    python -m benchmarks contact_speed --quick        # 128^2 and 256^2 only
+    python -m benchmarks contact_speed --repeat 5 --no-tamaas
 
 Each thread count runs in its own subprocess with ``OMP_NUM_THREADS`` set before numpy, FFTW
 and tamaas are imported; FFT ``workers`` equals the thread count. Problems: Hertz sphere on a box
@@ -87,7 +87,7 @@ def run_worker(threads, cases, repeat, with_tamaas, tol, backend="auto"):
     import numpy as np
 
     from bearing_envelope.contact import solve_contact
-    from bearing_envelope.contact.halfspace import _HAVE_PYFFTW, get_halfspace
+    from bearing_envelope.contact.halfspace import HAVE_PYFFTW, get_halfspace
 
     rows = []
     for kind, nx, ny in cases:
@@ -109,7 +109,7 @@ def run_worker(threads, cases, repeat, with_tamaas, tol, backend="auto"):
             c_conv = min(c_conv, _best(lambda: hs.displacement(p), 3, time.process_time)[0])
         t_np, sol_np = _best(lambda: solve(precondition=False), 1)
         row = dict(
-            case=f"{kind} {nx}x{ny}", threads=threads, backend=hs.backend, pyfftw=_HAVE_PYFFTW, tol=tol,
+            case=f"{kind} {nx}x{ny}", threads=threads, backend=hs.backend, pyfftw=HAVE_PYFFTW, tol=tol,
             t_first=t_first, t_solve=t_solve, iterations=sol.iterations, t_iter=t_solve / sol.iterations,
             convolutions=sol.convolutions,
             cpu_ratio_fft=c_solve / sol.iterations / (2 * c_conv),
@@ -189,6 +189,11 @@ def main(argv=None):
         with open(args.json, "w") as fh:
             json.dump(rows, fh, indent=1)
     return 0
+
+
+def smoke() -> None:
+    """One 32 x 32 sphere, one thread, one repeat, without tamaas (its worker subprocess too)."""
+    main(["--cases", "sphere:32x32", "--repeat", "1", "--threads", "1", "--no-tamaas"])
 
 
 if __name__ == "__main__":

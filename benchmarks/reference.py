@@ -1,11 +1,11 @@
-"""A reference that varies every knob, an error model per load, the converged default (issue 25
-parts 5-6), by hand.
+"""A reference that varies every knob, an error model per load, the converged default.
 
-    nice -n 5 python benchmarks/reference.py run --out results_bench/reference --worker 0/2
-    nice -n 5 python benchmarks/reference.py run --out results_bench/reference --worker 1/2
+    nice -n 10 python -m benchmarks reference run --out results_bench/reference --worker 0/2
+    nice -n 10 python -m benchmarks reference run --out results_bench/reference --worker 1/2
     (without --runs: MODEL_RUNS on the model's cases, HELDOUT_RUNS on the held-out ones;
     about 2 h of a 2-core machine)
-    python benchmarks/reference.py report --out results_bench/reference [--write-model]
+    python -m benchmarks reference report --out results_bench/reference [--write-model]
+    nice -n 10 python -m benchmarks reference cost --out results_bench/cost
 
 It reuses ``benchmarks/accuracy.py`` (tables cached per case and run, the metrics of the analysis
 chain, the Richardson step) with every fidelity at the far field ``responds`` and the amplitudes
@@ -46,11 +46,10 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-import accuracy as acc  # noqa: E402  (benchmarks/accuracy.py: tables, metrics, Richardson)
+from bearing_envelope.physics.fidelity import fidelity_from
+from bearing_envelope.study.accuracy import quantity_class
 
-from bearing_envelope.physics.fidelity import fidelity_from  # noqa: E402
-from bearing_envelope.study.accuracy import quantity_class  # noqa: E402
+from . import accuracy as acc  # tables, metrics, the Richardson step
 
 #: the model's cases: three depths per load (two until 2026-11-26) and a healthy race per load
 MODEL = ((500.0, 15.0), (500.0, 100.0), (250.0, 15.0), (250.0, 100.0), (750.0, 15.0),
@@ -420,6 +419,9 @@ def cmd_report(args) -> None:
     for load, depth in partial:                     # a case whose ladders are not all built
         print(f"left out (not every knob built): {load:g} kN / {depth:g} um", file=sys.stderr)
         df = df[~((df.load_kN == load) & (df.depth_um == depth))]
+    if df.empty:
+        raise SystemExit(f"reference report: no case of {args.out} has every run of REQUIRED "
+                         f"({', '.join(REQUIRED)})")
     ref = reference(df)
     ref.to_csv(args.out / "reference.csv", index=False)
     e = errors(df, ref)
@@ -538,6 +540,22 @@ def main(argv=None):
         cmd_run(args)
     else:
         cmd_report(args)
+    return 0
+
+
+def smoke() -> None:
+    """One case, run ``draft``, one revolution; the report refuses the incomplete case."""
+    import tempfile
+
+    with tempfile.TemporaryDirectory() as d:
+        main(["run", "--out", d, "--cases", "[[250, 15]]", "--runs", "draft",
+              "--revolutions", "1"])
+        try:
+            main(["report", "--out", d])
+        except SystemExit as e:
+            assert "REQUIRED" in str(e)
+        else:
+            raise AssertionError("report of an incomplete case")
 
 
 if __name__ == "__main__":

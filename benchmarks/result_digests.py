@@ -1,7 +1,7 @@
 """sha256 of every array of every case file and of every table of a sweep's ``results/``.
 
 For refactors that must not change a number: run the same sweep before and after, then
-``python benchmarks/result_digests.py results_before results_after``; prints one line per item
+``python -m benchmarks result_digests results_before results_after``; prints one line per item
 and the items that differ. HDF5 datasets are hashed by their bytes (dtype and shape included);
 attributes holding provenance (creation time, host, git commit, package version, paths, wall
 times) are skipped, the others are hashed. CSV tables are hashed as text with columns named
@@ -101,6 +101,25 @@ def main(argv: list[str]) -> int:
     for k in diff:
         print(f"  {k}: {a.get(k)} -> {b.get(k)}")
     return 1 if diff else 0
+
+
+def smoke() -> None:
+    """Two tiny result folders (a case file and a table) that differ in one array."""
+    import tempfile
+
+    with tempfile.TemporaryDirectory() as d:
+        for name, value in (("a", 1.0), ("b", 2.0)):
+            cases = Path(d, name, "cases")
+            cases.mkdir(parents=True)
+            with h5py.File(cases / "F1kN_h0um.h5", "w") as f:
+                f["p_max"] = np.array([0.0, value])
+                f.attrs["scene_json"] = "{}"
+            tables = Path(d, name, "tables")
+            tables.mkdir()
+            pd.DataFrame({"case": ["F1kN_h0um"], "amplitude": [1.5]}).to_csv(
+                tables / "harmonics.csv", index=False)
+        assert main([str(Path(d, "a"))]) == 0
+        assert main([str(Path(d, "a")), str(Path(d, "b"))]) == 1
 
 
 if __name__ == "__main__":

@@ -1,4 +1,4 @@
-"""Speed of the signal chain (run by hand; results go to docs/benchmarks.md, "## Signal chain").
+"""Speed of the signal chain (docs/benchmarks.md, "Signal chain").
 
 1. Fast kurtogram of a 411,000-sample signal (100 revolutions at fs = 65 kHz) to nlevel 8:
    ``bearing_envelope.signal.fast_kurtogram`` against the straightforward port of Antoni's
@@ -10,7 +10,7 @@
 
 The machine is shared: quote ratios measured side by side, not absolute times alone.
 
-    python benchmarks/signal_speed.py [--repeat 7] [--n 411000]
+    python -m benchmarks signal_speed [--repeat 7] [--n 411000]
 """
 
 from __future__ import annotations
@@ -63,12 +63,12 @@ def timeit(fn, repeat: int) -> list[float]:
     return out
 
 
-def main() -> None:
+def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--n", type=int, default=411_000, help="samples (default 411000)")
     ap.add_argument("--nlevel", type=int, default=8)
     ap.add_argument("--repeat", type=int, default=7, help="best of N (default 7)")
-    args = ap.parse_args()
+    args = ap.parse_args(argv)
 
     import numba
     import scipy
@@ -125,6 +125,12 @@ def main() -> None:
     print(f"parts: raw spectrum {t_raw:.3f} s, kurtogram {min(t_ours):.3f} s, "
           f"one band (band-pass + Hilbert + spectrum) {t_env:.3f} s x 4 bands")
     print(f"load average at end: {os.getloadavg()}")
+    return 0
+
+
+def smoke() -> None:
+    """The whole benchmark on a 20,000-sample signal, one repeat, nlevel 4."""
+    main(["--n", "20000", "--nlevel", "4", "--repeat", "1"])
 
 
 if __name__ == "__main__":

@@ -1,6 +1,6 @@
-"""Per-rule CPU of a sweep from Snakemake's benchmark files (issue 25 part 7).
+"""Per-rule CPU of a sweep from Snakemake's benchmark files.
 
-``python benchmarks/sweep_cost.py LOGS [LOGS_AFTER]`` reads ``LOGS/benchmarks/**.tsv`` (one file
+``python -m benchmarks sweep_cost LOGS [LOGS_AFTER]`` reads ``LOGS/benchmarks/**.tsv`` (one file
 per job: ``cpu_time`` = user + system CPU seconds of the job's process tree, ``s`` = wall,
 ``max_rss`` in MB) and prints, per rule, the jobs, their CPU (sum, mean per job), wall and the
 largest resident set; with two folders, side by side with the difference. The CPU of the
@@ -40,12 +40,30 @@ def main(argv: list[str]) -> int:
         print(f"total of the benchmarked jobs: {t['cpu_s'].sum():.1f} CPU s, {int(t['jobs'].sum())} jobs")
         return 0
     a, b = tables
-    both = a[["jobs", "cpu_s", "cpu_per_job_s"]].join(
-        b[["jobs", "cpu_s", "cpu_per_job_s"]], lsuffix="_before", rsuffix="_after", how="outer")
+    cols = ["jobs", "cpu_s", "cpu_per_job_s"]
+    both = a[cols].merge(b[cols], left_index=True, right_index=True, how="outer",
+                         suffixes=("_before", "_after"))
     both["change_s"] = both["cpu_s_after"] - both["cpu_s_before"]
     print(both.round(2).to_string())
     print(f"total: {a['cpu_s'].sum():.1f} -> {b['cpu_s'].sum():.1f} CPU s")
     return 0
+
+
+def smoke() -> None:
+    """Two tiny log folders of two rules each, alone and side by side."""
+    import tempfile
+
+    with tempfile.TemporaryDirectory() as d:
+        for run, cpu in (("before", 1.0), ("after", 0.5)):
+            for rule, case in (("simulate", "F1kN_h0um"), ("simulate", "F1kN_h5um"),
+                               ("aggregate", None)):
+                path = Path(d, run, "benchmarks", rule, f"{case}.tsv") if case else \
+                    Path(d, run, "benchmarks", f"{rule}.tsv")
+                path.parent.mkdir(parents=True, exist_ok=True)
+                path.write_text("s\th:m:s\tmax_rss\tcpu_time\n"
+                                f"{2 * cpu}\t0:00:02\t100.0\t{cpu}\n")
+        assert main([str(Path(d, "before"))]) == 0
+        assert main([str(Path(d, "before")), str(Path(d, "after"))]) == 0
 
 
 if __name__ == "__main__":

@@ -1,4 +1,5 @@
 import os
+from pathlib import Path
 
 import h5py
 import numpy as np
@@ -256,12 +257,13 @@ def test_stale_temporary_files_of_dead_writers_are_removed_at_the_next_write(tmp
     import subprocess
     import sys
 
-    from bearing_envelope.io import clean_stale_temps
-    from bearing_envelope.io.atomic import _host
+    from bearing_envelope.io import clean_stale_temps, temp_path_for
 
     d = tmp_path / "cases"
     d.mkdir()
-    host = _host()
+    own = Path(temp_path_for(d / "probe.h5"))       # .tmp-{host}~{pid}~{target}~{random}.h5
+    host = own.name[len(".tmp-"):].split("~")[0]
+    own.unlink()
     dead = d / f".tmp-{host}~{_dead_pid()}~F250kN_h0um.h5~abc.h5"        # SIGKILLed writer
     same_target = d / f".tmp-otherhost~1~F500kN_h30um.h5~def.h5"      # earlier try, same file
     live = subprocess.Popen([sys.executable, "-c", "import time; time.sleep(60)"])

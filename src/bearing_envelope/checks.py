@@ -28,6 +28,18 @@ def check_number(value, name: str) -> float:
 
     Raises ``ValueError`` naming ``name``: ``"{name} must be a number"`` for a bool, a string or
     what ``float`` cannot read, ``"{name} must be finite"`` for NaN or infinity.
+
+    Parameters
+    ----------
+    value : object
+        The value to check (a number or what ``float`` reads; not a bool or a string).
+    name : str
+        The field's name in the error message.
+
+    Returns
+    -------
+    float
+        ``value`` as a finite float.
     """
     v = _float(value, name)
     if not math.isfinite(v):
@@ -41,6 +53,22 @@ def check_positive(value, name: str, *, allow_zero: bool = False, allow_none: bo
     ``None`` is returned as is when ``allow_none``. Raises ``ValueError`` naming ``name``:
     ``"{name} must be a number"`` for a bool, a string or what ``float`` cannot read,
     ``"{name} must be a finite number > 0"`` (``>= 0``) for NaN, infinity or a value out of range.
+
+    Parameters
+    ----------
+    value : object
+        The value to check.
+    name : str
+        The field's name in the error message.
+    allow_zero : bool
+        Accept 0 (the bound is then ``>= 0``).
+    allow_none : bool
+        Accept ``None`` and return it.
+
+    Returns
+    -------
+    float or None
+        ``value`` as a finite float in range (``None`` when given and allowed).
     """
     if value is None and allow_none:
         return None

@@ -5,13 +5,16 @@
 - :class:`ElasticHalfSpace`: influence coefficients of uniform rectangular patches (Love) and the
   non-periodic DC-FFT displacement, kernel spectrum cached per grid;
 - :func:`composite_modulus`: ``E*`` from both bodies;
-- :mod:`hertz`: closed-form Hertz solutions (test oracles, grid sizing).
+- :mod:`hertz`: closed-form Hertz solutions (test oracles, grid sizing);
+- :data:`NUMPY_KERNELS`: the numpy reference of the solver's element-wise passes
+  (``solve_contact(..., kernels=NUMPY_KERNELS)``; the default is their numba version).
 
 Grid convention: ``[i, j]`` with axis 0 = x = rolling (``dx``), axis 1 = y = axial (``dy``);
 SI units. See ``docs/contact.md``.
 """
 
 from . import hertz
+from ._kernels import NUMPY as NUMPY_KERNELS
 from .halfspace import (
     ElasticHalfSpace,
     composite_modulus,
@@ -41,4 +44,5 @@ __all__ = [
     "get_halfspace",
     "kernel_spectrum",
     "hertz",
+    "NUMPY_KERNELS",
 ]

@@ -24,15 +24,17 @@ __all__ = [
     "kernel_spectrum",
     "ElasticHalfSpace",
     "get_halfspace",
+    "clear_kernel_cache",
+    "HAVE_PYFFTW",
 ]
 
 try:  # optional, faster FFTs; never required
     import pyfftw  # type: ignore
 
-    _HAVE_PYFFTW = True
+    HAVE_PYFFTW = True
 except Exception:  # pragma: no cover - depends on the environment
     pyfftw = None
-    _HAVE_PYFFTW = False
+    HAVE_PYFFTW = False
 
 
 def composite_modulus(E1: float, nu1: float, E2: float, nu2: float) -> float:
@@ -148,6 +150,20 @@ def influence_coefficients_linear(x, y, dx: float, dy: float, e_star: float) -> 
     ``dx dy``, like a uniform cell); a nodal field ``p_ij`` then describes the piecewise-bilinear
     pressure interpolating the nodes.
 
+    Parameters
+    ----------
+    x, y : array_like
+        Offsets from the element's node (m), broadcast together.
+    dx, dy : float
+        Node spacing (m): the element's half-widths.
+    e_star : float
+        Composite modulus ``E*`` (Pa).
+
+    Returns
+    -------
+    numpy.ndarray
+        Displacement (m) per unit nodal pressure (Pa), of the broadcast shape of ``x`` and ``y``.
+
     Notes
     -----
     Exact integration of the point-load solution against the tent functions: with the tent
@@ -215,6 +231,22 @@ def kernel_spectrum(shape: tuple[int, int], dx: float, dy: float, e_star: float,
     The kernel is even in both offsets, so its spectrum is real; it is stored as float64 of shape
     ``(2nx, ny + 1)`` and already carries the inverse-FFT normalisation. A small LRU cache
     (8 entries) keyed by ``(shape, dx, dy, e_star, element)`` keeps it across solves.
+
+    Parameters
+    ----------
+    shape : tuple of int
+        Grid shape ``(nx, ny)``.
+    dx, dy : float
+        Cell size (m).
+    e_star : float
+        Composite modulus ``E*`` (Pa).
+    element : {"uniform", "linear"}
+        Pressure element: uniform cells or pyramidal (bilinear) elements.
+
+    Returns
+    -------
+    numpy.ndarray
+        Read-only float64 array of shape ``(2 nx, ny + 1)``.
     """
     if element not in ELEMENTS:
         raise ValueError(f"element must be one of {ELEMENTS}, got {element!r}")
@@ -233,6 +265,17 @@ def kernel_spectrum(shape: tuple[int, int], dx: float, dy: float, e_star: float,
         while len(_CACHE) > _CACHE_SIZE:
             _CACHE.popitem(last=False)
     return spec
+
+
+def clear_kernel_cache() -> None:
+    """Empty the cache of :func:`kernel_spectrum` (a benchmark times a solve from cold).
+
+    Returns
+    -------
+    None
+    """
+    with _CACHE_LOCK:
+        _CACHE.clear()
 
 
 def _default_workers() -> int:
@@ -290,10 +333,10 @@ class ElasticHalfSpace:
         self.workers = int(workers) if workers else _default_workers()
         if backend not in ("auto", "scipy", "pyfftw"):
             raise ValueError(f"backend must be 'auto', 'scipy' or 'pyfftw', got {backend!r}")
-        if backend == "pyfftw" and not _HAVE_PYFFTW:
+        if backend == "pyfftw" and not HAVE_PYFFTW:
             raise ValueError("backend='pyfftw' but pyfftw is not importable")
         if backend == "auto":
-            backend = "pyfftw" if _HAVE_PYFFTW else "scipy"
+            backend = "pyfftw" if HAVE_PYFFTW else "scipy"
         self.backend = backend
         self.element = element
         self.spectrum = kernel_spectrum(self.shape, self.dx, self.dy, self.e_star, element)
@@ -324,6 +367,18 @@ class ElasticHalfSpace:
         """Surface displacement ``u = K * p`` (m) for a pressure field (Pa) of shape ``(nx, ny)``.
 
         Non-finite pressure is not allowed; the result is a new array unless ``out`` is given.
+
+        Parameters
+        ----------
+        pressure : numpy.ndarray
+            Pressure (Pa) on the operator's grid, shape ``(nx, ny)``, finite.
+        out : numpy.ndarray, optional
+            Array of shape ``(nx, ny)`` to write the result into.
+
+        Returns
+        -------
+        numpy.ndarray
+            Surface displacement (m), shape ``(nx, ny)`` (``out`` when given).
         """
         p = np.asarray(pressure, dtype=float)
         if p.shape != self.shape:
@@ -376,6 +431,26 @@ def get_halfspace(
     Small LRU (4 operators); the same object is returned for the same arguments in the same
     thread (operators hold work arrays, so each thread gets its own; the kernel spectrum itself
     is shared).
+
+    Parameters
+    ----------
+    shape : tuple of int
+        Grid shape ``(nx, ny)``.
+    dx, dy : float
+        Cell size (m).
+    e_star : float
+        Composite modulus ``E*`` (Pa).
+    workers : int, optional
+        FFT threads (default: ``OMP_NUM_THREADS``, else every core).
+    backend : {"auto", "scipy", "pyfftw"}
+        FFT library (``auto``: pyfftw where installed).
+    element : {"uniform", "linear"}
+        Pressure element.
+
+    Returns
+    -------
+    ElasticHalfSpace
+        The operator ``p -> u`` of this grid.
     """
     w = int(workers) if workers else _default_workers()
     key = (tuple(int(s) for s in shape), float(dx), float(dy), float(e_star), w, backend, element, get_ident())

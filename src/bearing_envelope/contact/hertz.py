@@ -73,7 +73,19 @@ class HertzContact:
         return math.pi * self.a * self.b
 
     def pressure(self, x, y):
-        """Pressure field ``p0 sqrt(1 - (x/a)^2 - (y/b)^2)`` (zero outside), Pa."""
+        """Pressure field ``p0 sqrt(1 - (x/a)^2 - (y/b)^2)`` (zero outside), Pa.
+
+        Parameters
+        ----------
+        x, y : array_like
+            Position from the contact centre along the ``a`` and ``b`` semi-axes (m), broadcast
+            together.
+
+        Returns
+        -------
+        numpy.ndarray
+            Pressure (Pa) at each position.
+        """
         import numpy as np
 
         s = 1.0 - (np.asarray(x) / self.a) ** 2 - (np.asarray(y) / self.b) ** 2
@@ -137,6 +149,16 @@ def elliptic_ratio(curvature_ratio: float) -> float:
 
     Solves ``(E(e)/k^2 - K(e)) / (K(e) - E(e)) = A_minor/A_major`` (``e^2 = 1 - k^2``) by
     Brent's method in ``log k``.
+
+    Parameters
+    ----------
+    curvature_ratio : float
+        ``A_minor / A_major >= 1``, the ratio of the relative curvatures.
+
+    Returns
+    -------
+    float
+        ``k = minor / major`` in (0, 1].
     """
     r = float(curvature_ratio)
     if not math.isfinite(r) or r < 1.0:
@@ -228,6 +250,16 @@ def curvature_difference(rx: float, ry: float) -> tuple[float, float]:
     ``sum rho = 1/R_x + 1/R_y`` (1/m) and ``F(rho) = |1/R_x - 1/R_y| / sum rho`` in [0, 1)
     (Harris & Kotzalas 2007, vol. 1, eqs. 2.26-2.27: the curvature difference of two bodies; for
     a ball on a race ``1/R_x = 2/d +- 1/R_race``, ``1/R_y = 2/d - 1/(f d)``).
+
+    Parameters
+    ----------
+    rx, ry : float
+        Effective radii of curvature of the contact in the two principal planes (m).
+
+    Returns
+    -------
+    tuple of (float, float)
+        ``(sum rho, F(rho))``: curvature sum (1/m) and curvature difference.
     """
     rx = check_positive(rx, "rx")
     ry = check_positive(ry, "ry")
@@ -266,6 +298,20 @@ def harris_point_contact(force: float, rx: float, ry: float, e_star: float) -> H
     (Harris & Kotzalas, *Rolling Bearing Analysis* 5th ed. 2007, vol. 1, eqs. 6.34-6.39, written
     with ``E*`` instead of steel's constants). The major axis lies along the direction of the
     larger radius. Parameters and return as :func:`elliptical` (``a`` along ``x``).
+
+    Parameters
+    ----------
+    force : float
+        Normal load ``Q`` (N).
+    rx, ry : float
+        Effective radii of curvature in the two principal planes (m).
+    e_star : float
+        Composite modulus ``E*`` (Pa).
+
+    Returns
+    -------
+    HertzContact
+        Semi-axes, peak pressure and approach of the contact.
     """
     force = check_positive(force, "force")
     e_star = check_positive(e_star, "e_star")
@@ -317,6 +363,20 @@ def hamrock_brewe(force: float, rx: float, ry: float, e_star: float) -> HertzCon
     B. J. Hamrock, D. E. Brewe, "Simplified solution for stresses and deformations", J. Lubr.
     Technol. 105 (1983) 171-177; Hamrock, Schmid & Jacobson, *Fundamentals of Machine
     Elements*, ch. 8. Stated accuracy a few per cent (k within ~3 %).
+
+    Parameters
+    ----------
+    force : float
+        Normal load ``Q`` (N).
+    rx, ry : float
+        Effective radii of curvature in the two principal planes (m).
+    e_star : float
+        Composite modulus ``E*`` (Pa).
+
+    Returns
+    -------
+    HertzContact
+        Semi-axes, peak pressure and approach of the contact (the approximation's).
     """
     force = check_positive(force, "force")
     rx = check_positive(rx, "rx")

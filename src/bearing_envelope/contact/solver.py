@@ -218,7 +218,7 @@ def solve_contact(
     fft_backend : {"auto", "scipy", "pyfftw"}
         FFT library (:class:`ElasticHalfSpace`); ``"auto"`` uses pyfftw when importable.
     kernels : dict, optional
-        Element-wise passes to use (testing): ``_kernels.NUMPY`` or the default numba ones.
+        Element-wise passes to use (testing): ``contact.NUMPY_KERNELS`` or the default numba ones.
     precondition : bool
         Precondition the CG direction with the approximate inverse of the half-space operator,
         applied in Fourier space on the bounding box of the contact set (see Notes).

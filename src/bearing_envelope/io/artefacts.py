@@ -92,6 +92,13 @@ class BandLimits:
     provenance: dict = field(default_factory=dict)
 
     def to_dict(self) -> dict:
+        """The band as a JSON-ready mapping.
+
+        Returns
+        -------
+        dict
+            ``name, strategy, low_hz, high_hz, clamped, ...`` as JSON-ready values.
+        """
         return {"name": self.name, "strategy": self.strategy, "low_hz": float(self.low_hz),
                 "high_hz": float(self.high_hz), "clamped": bool(self.clamped),
                 "provenance": jsonable(self.provenance)}
@@ -127,13 +134,31 @@ class CaseBands:
     kurtogram: dict | None = None
 
     def band(self, name: str) -> BandLimits:
-        """The band called ``name`` (KeyError naming the bands held otherwise)."""
+        """The band called ``name`` (KeyError naming the bands held otherwise).
+
+        Parameters
+        ----------
+        name : str
+            A band's name (``kurtogram``, ``fs4_3fs8``, ...).
+
+        Returns
+        -------
+        BandLimits
+            That band's limits.
+        """
         for b in self.bands:
             if b.name == name:
                 return b
         raise KeyError(f"{self.case}: no band {name!r}; bands: {[b.name for b in self.bands]}")
 
     def to_dict(self) -> dict:
+        """The JSON document of the case's bands.
+
+        Returns
+        -------
+        dict
+            The JSON document of :func:`write_bands` (format, version, case, bands).
+        """
         return {"format": "bearing_envelope.bands", "format_version": ARTEFACT_FORMATS["bands"],
                 "case": self.case, "load_kN": float(self.load_kN), "depth_um": float(self.depth_um),
                 "fs": float(self.fs), "signal": self.signal,
@@ -143,6 +168,18 @@ class CaseBands:
 
     @classmethod
     def from_dict(cls, doc) -> CaseBands:
+        """The case's bands from a document made by :meth:`to_dict`.
+
+        Parameters
+        ----------
+        doc : dict
+            A document made by :meth:`to_dict` (read from JSON).
+
+        Returns
+        -------
+        CaseBands
+            The case's band limits.
+        """
         return cls(case=str(doc["case"]), load_kN=float(doc["load_kN"]),
                    depth_um=float(doc["depth_um"]), fs=float(doc["fs"]), signal=str(doc["signal"]),
                    bands=tuple(BandLimits(name=b["name"], strategy=b["strategy"],
@@ -154,7 +191,20 @@ class CaseBands:
 
 
 def write_bands(path: str | os.PathLike, bands: CaseBands) -> str:
-    """Write a case's band limits as JSON (atomic). Returns the path."""
+    """Write a case's band limits as JSON (atomic). Returns the path.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The JSON file to write.
+    bands : CaseBands
+        The case's band limits.
+
+    Returns
+    -------
+    str
+        ``path``.
+    """
     with atomic_path(path, ".json") as tmp:
         with open(tmp, "w", encoding="utf-8") as fh:
             json.dump(bands.to_dict(), fh, indent=1)
@@ -163,6 +213,16 @@ def write_bands(path: str | os.PathLike, bands: CaseBands) -> str:
 
 def read_bands(path: str | os.PathLike) -> CaseBands:
     """Read a file written by :func:`write_bands`.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        A file written by :func:`write_bands`.
+
+    Returns
+    -------
+    CaseBands
+        The case's band limits.
 
     Raises
     ------
@@ -212,7 +272,20 @@ class KurtogramMap:
 def write_kurtogram(path: str | os.PathLike, kurtogram) -> str:
     """Write a kurtogram (:class:`bearing_envelope.signal.Kurtogram` or :class:`KurtogramMap`) as
     compressed NPZ (keys ``matrix``, ``levels``, ``freqs``, ``best`` = level, fc, bandwidth,
-    kurtosis); ``None`` writes a file holding no kurtogram (no band uses one)."""
+    kurtosis); ``None`` writes a file holding no kurtogram (no band uses one).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The NPZ file to write.
+    kurtogram : Kurtogram, KurtogramMap or None
+        The kurtogram (``None``: none was computed).
+
+    Returns
+    -------
+    str
+        ``path``.
+    """
     arrays = {"format": np.array("bearing_envelope.kurtogram"),
               "format_version": np.array(ARTEFACT_FORMATS["kurtogram"])}
     if kurtogram is not None:
@@ -240,7 +313,18 @@ def _load_npz(path, artefact):
 
 
 def read_kurtogram(path: str | os.PathLike) -> KurtogramMap | None:
-    """Read a file written by :func:`write_kurtogram` (None if it holds no kurtogram)."""
+    """Read a file written by :func:`write_kurtogram` (None if it holds no kurtogram).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        A file written by :func:`write_kurtogram`.
+
+    Returns
+    -------
+    KurtogramMap or None
+        The kurtogram's map and best cell, or None.
+    """
     path, a = _load_npz(path, "kurtogram")
     if "matrix" not in a:
         return None
@@ -274,7 +358,20 @@ class CaseSpectra:
 
 def write_spectra(path: str | os.PathLike, spectra: CaseSpectra) -> str:
     """Write a case's spectra as compressed NPZ: keys ``raw_f``, ``raw_a`` and, per band,
-    ``env_<band>_f``, ``env_<band>_a``; ``bands`` lists the band names in order."""
+    ``env_<band>_f``, ``env_<band>_a``; ``bands`` lists the band names in order.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The NPZ file to write.
+    spectra : CaseSpectra
+        The raw spectrum and the envelope spectrum of every band.
+
+    Returns
+    -------
+    str
+        ``path``.
+    """
     arrays = {"format": np.array("bearing_envelope.spectra"),
               "format_version": np.array(ARTEFACT_FORMATS["spectra"]),
               "bands": np.array(list(spectra.envelope), dtype=str),
@@ -289,7 +386,18 @@ def write_spectra(path: str | os.PathLike, spectra: CaseSpectra) -> str:
 
 
 def read_spectra(path: str | os.PathLike) -> CaseSpectra:
-    """Read a file written by :func:`write_spectra`."""
+    """Read a file written by :func:`write_spectra`.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        A file written by :func:`write_spectra`.
+
+    Returns
+    -------
+    CaseSpectra
+        The raw spectrum and the envelope spectrum of every band.
+    """
     path, a = _load_npz(path, "spectra")
     try:
         names = [str(n) for n in a["bands"]]
@@ -332,7 +440,18 @@ class SensorSignal:
 
 
 def check_sensor_output(path: str | os.PathLike) -> str:
-    """Return the lower-case suffix of a sensor output path, or raise ValueError naming it."""
+    """Return the lower-case suffix of a sensor output path, or raise ValueError naming it.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The output path of a sensor case.
+
+    Returns
+    -------
+    str
+        ``".h5"`` or ``".npz"``.
+    """
     suffix = _Path(path).suffix.lower()
     if suffix not in SENSOR_SUFFIXES:
         raise ValueError(f"output must end in .npz or .h5, got {os.fspath(path)!r}")
@@ -433,6 +552,16 @@ def _sensor_image(acc, fs: float, text: str, source) -> bytes:
 def read_sensor(path: str | os.PathLike) -> SensorSignal:
     """Read the acceleration written by :func:`write_sensor_case` (.h5 or .npz).
 
+    Parameters
+    ----------
+    path : str or os.PathLike
+        A file written by :func:`write_sensor_case`.
+
+    Returns
+    -------
+    SensorSignal
+        The acceleration, its sampling rate and the sensor settings.
+
     Raises
     ------
     FileNotFoundError, ArtefactFormatError
@@ -486,32 +615,103 @@ def write_tidy(path: str | os.PathLike, table) -> str:
 
     The columns must include :data:`bearing_envelope.study.tables.TIDY_COLUMNS` (ValueError naming the
     missing ones otherwise); extra columns follow them.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The CSV file to write.
+    table : pandas.DataFrame
+        The tidy table.
+
+    Returns
+    -------
+    str
+        ``path``.
     """
     return _write_table(path, table, TIDY_COLUMNS, "tidy table")
 
 
 def read_tidy(path: str | os.PathLike):
-    """Read a tidy harmonic table written by :func:`write_tidy` (DataFrame)."""
+    """Read a tidy harmonic table written by :func:`write_tidy` (DataFrame).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        A file written by :func:`write_tidy`.
+
+    Returns
+    -------
+    pandas.DataFrame
+        The tidy table.
+    """
     return _read_csv(path, TIDY_COLUMNS, "tidy harmonic table")
 
 
 def write_case_table(path: str | os.PathLike, table) -> str:
-    """Write the per-case summary table (one row per case) as CSV, atomically."""
+    """Write the per-case summary table (one row per case) as CSV, atomically.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The CSV file to write.
+    table : pandas.DataFrame
+        One row per case.
+
+    Returns
+    -------
+    str
+        ``path``.
+    """
     return _write_table(path, table, CASE_TABLE_COLUMNS, "case table")
 
 
 def read_case_table(path: str | os.PathLike):
-    """Read a table written by :func:`write_case_table` (DataFrame)."""
+    """Read a table written by :func:`write_case_table` (DataFrame).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        A file written by :func:`write_case_table`.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per case.
+    """
     return _read_csv(path, CASE_TABLE_COLUMNS, "case table")
 
 
 def write_band_table(path: str | os.PathLike, table) -> str:
-    """Write the band table (columns :data:`BAND_TABLE_COLUMNS`) as CSV, atomically."""
+    """Write the band table (columns :data:`BAND_TABLE_COLUMNS`) as CSV, atomically.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The CSV file to write.
+    table : pandas.DataFrame
+        One row per case and band.
+
+    Returns
+    -------
+    str
+        ``path``.
+    """
     return _write_table(path, table, BAND_TABLE_COLUMNS, "band table")
 
 
 def read_band_table(path: str | os.PathLike):
-    """Read a table written by :func:`write_band_table` (DataFrame)."""
+    """Read a table written by :func:`write_band_table` (DataFrame).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        A file written by :func:`write_band_table`.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per case and band.
+    """
     return _read_csv(path, BAND_TABLE_COLUMNS, "band table")
 
 
@@ -519,6 +719,18 @@ def write_pivots(directory: str | os.PathLike, pivots: dict) -> str:
     """Write load x depth pivots (``key -> DataFrame``) as ``<directory>/<key>.csv``.
 
     The files are written into a temporary sibling folder which then replaces ``directory``.
+
+    Parameters
+    ----------
+    directory : str or os.PathLike
+        The folder to (re)place.
+    pivots : dict of str to pandas.DataFrame
+        File stem -> load x depth pivot.
+
+    Returns
+    -------
+    str
+        ``directory``.
     """
     directory = _Path(directory)
     directory.parent.mkdir(parents=True, exist_ok=True)
@@ -545,7 +757,18 @@ def _public_mode_dir(path) -> None:
 
 def read_pivots(directory: str | os.PathLike) -> dict:
     """Read the pivots written by :func:`write_pivots`: ``key -> DataFrame`` indexed by
-    ``load_kN`` with float ``depth_um`` columns."""
+    ``load_kN`` with float ``depth_um`` columns.
+
+    Parameters
+    ----------
+    directory : str or os.PathLike
+        A folder written by :func:`write_pivots`.
+
+    Returns
+    -------
+    dict of str to pandas.DataFrame
+        File stem -> pivot.
+    """
     import pandas as pd  # lazy: importing io stays ~0.7 s (pandas +1.8 s)
 
     directory = _exists(directory)

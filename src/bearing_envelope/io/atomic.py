@@ -32,6 +32,16 @@ def temp_path_for(path: str | os.PathLike) -> str:
     Named ``.tmp-{host}~{pid}~{target name}~{random}.h5`` so that :func:`clean_stale_temps` can tell
     a temporary file of a dead writer (or an earlier attempt at the same target) from one another
     job is writing right now.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file the temporary one will become.
+
+    Returns
+    -------
+    str
+        The temporary file's path (created, empty).
     """
     path = os.fspath(path)
     directory = os.path.dirname(os.path.abspath(path))
@@ -59,6 +69,18 @@ def clean_stale_temps(directory: str | os.PathLike, target: str | os.PathLike | 
     host by a process that no longer runs. Files of other live writers (another job of the same
     sweep, another host of a cluster) are left alone. Called at the start of every
     :func:`write_case`, so a SIGKILL during a write leaves nothing behind after the next write.
+
+    Parameters
+    ----------
+    directory : str or os.PathLike
+        The folder to clean.
+    target : str or os.PathLike, optional
+        The file about to be written: its own earlier temporary files are stale too.
+
+    Returns
+    -------
+    list of str
+        The paths removed.
     """
     directory = os.fspath(directory)
     name = None if target is None else os.path.basename(os.fspath(target))
@@ -97,7 +119,13 @@ def clean_stale_temps(directory: str | os.PathLike, target: str | os.PathLike | 
 
 
 def public_mode(path) -> None:
-    """Give a file made by ``mkstemp`` (mode 0600) the mode a plain ``open`` would give."""
+    """Give a file made by ``mkstemp`` (mode 0600) the mode a plain ``open`` would give.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file whose mode is set (0666 minus the umask).
+    """
     umask = os.umask(0)
     os.umask(umask)
     os.chmod(path, 0o666 & ~umask)
@@ -109,6 +137,18 @@ def atomic_path(path: str | os.PathLike, suffix: str = ""):
 
     The temporary file (``.tmp-<name>.*<suffix>`` in the target directory, created if needed)
     is removed if the body raises, so a reader never sees a half-written file.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file to write.
+    suffix : str
+        Suffix of the temporary file (some writers choose the format by it).
+
+    Yields
+    ------
+    str
+        The temporary file's path, to write to.
     """
     path = _Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
@@ -129,7 +169,18 @@ def atomic_dir(path: str | os.PathLike):
     """Yield a new, empty folder next to ``path`` (``.tmp-<name>.*``, this writer's own); on
     success put it in place of ``path`` whole: an existing ``path`` is moved aside first and
     removed after, so ``path`` is always either the old or the new complete set, and two
-    writers of the same folder never share a temporary one. Removed if the body raises."""
+    writers of the same folder never share a temporary one. Removed if the body raises.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The folder to (re)place.
+
+    Yields
+    ------
+    str
+        The temporary folder's path, to fill.
+    """
     path = _Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = _Path(tempfile.mkdtemp(prefix=f".tmp-{path.name}.", dir=path.parent))
@@ -154,7 +205,22 @@ def _umask() -> int:
 
 
 def write_csv_atomic(df, path: str | os.PathLike, **kwargs) -> str:
-    """Write a DataFrame as CSV (no index unless ``index=True``) atomically; returns the path."""
+    """Write a DataFrame as CSV (no index unless ``index=True``) atomically; returns the path.
+
+    Parameters
+    ----------
+    df : pandas.DataFrame
+        The table.
+    path : str or os.PathLike
+        The CSV file to write.
+    **kwargs
+        Passed to :meth:`pandas.DataFrame.to_csv`.
+
+    Returns
+    -------
+    str
+        ``path``.
+    """
     index = kwargs.pop("index", False)
     with atomic_path(path, ".csv") as tmp:
         df.to_csv(tmp, index=index, **kwargs)

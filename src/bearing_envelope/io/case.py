@@ -122,7 +122,18 @@ class Case:
 
 def git_commit(path: str | None = None) -> str:
     """Commit hash of the repository holding ``path`` (this package by default), ``+dirty`` if
-    the tree has changes; ``"unknown"`` without git."""
+    the tree has changes; ``"unknown"`` without git.
+
+    Parameters
+    ----------
+    path : str, optional
+        A path inside the repository (default: this package's folder).
+
+    Returns
+    -------
+    str
+        The commit hash, with ``+dirty`` if the tree has changes, or ``"unknown"``.
+    """
     cwd = path or os.path.dirname(os.path.abspath(__file__))
     try:
         out = subprocess.run(["git", "rev-parse", "HEAD"], cwd=cwd, capture_output=True, text=True,
@@ -138,6 +149,18 @@ def git_commit(path: str | None = None) -> str:
 
 
 def jsonable(obj):
+    """``obj`` in JSON types, recursively.
+
+    Parameters
+    ----------
+    obj : object
+        Nested dicts, lists and tuples of numpy scalars and arrays and JSON values.
+
+    Returns
+    -------
+    object
+        The same structure in JSON types (dict keys as str, tuples and arrays as lists).
+    """
     if isinstance(obj, dict):
         return {str(k): jsonable(v) for k, v in obj.items()}
     if isinstance(obj, (list, tuple)):
@@ -378,7 +401,18 @@ def _write_error_model(f, em) -> None:
 
 def read_error_model(path: str | os.PathLike) -> tuple[dict[str, str], "pd.DataFrame"]:
     """The ``discretisation_error`` group of a case file: its attributes (``point``, ``kind``,
-    ``basis``) and the table (empty when the fidelity has no estimate)."""
+    ``basis``) and the table (empty when the fidelity has no estimate).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        A case file.
+
+    Returns
+    -------
+    tuple of (dict, pandas.DataFrame)
+        The group's attributes and its table.
+    """
     import h5py
     import pandas as pd
 
@@ -401,6 +435,16 @@ def case_file_problem(path: str | os.PathLike) -> str | None:
     (:func:`bearing_envelope.io.integrity.verify_file`: every chunk read against its
     Fletcher-32 sum, the attribute digest recomputed). Reads every byte once: 16 ms CPU per
     MB (0.14 s for a default case file of 8.9 MB).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        An existing case file.
+
+    Returns
+    -------
+    str or None
+        One line saying what is wrong, or None.
     """
     import h5py
 
@@ -428,6 +472,18 @@ def set_aside_unreadable(path: str | os.PathLike, *, warn=None) -> str | None:
     ``{path}.unreadable-{UTC time}`` (kept for inspection, never deleted) and a one-line warning
     naming both paths and the problem goes to ``warn`` (default: stderr). Returns the new path, or
     ``None`` when the file is missing or fine.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        A case file (it may not exist).
+    warn : callable, optional
+        Receives the warning line (default: print to stderr).
+
+    Returns
+    -------
+    str or None
+        The path the file was moved to, or None when it was not moved.
     """
     import sys
 
@@ -465,6 +521,16 @@ def _attr(v):
 
 def read_case(path: str | os.PathLike) -> Case:
     """Read a case file written by :func:`write_case`.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        A case file written by :func:`write_case`.
+
+    Returns
+    -------
+    Case
+        Signals, time, scene, fidelity, table, snapshots, fault frequencies and provenance.
 
     Raises
     ------

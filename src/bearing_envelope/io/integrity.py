@@ -84,6 +84,16 @@ def content_digest(f: h5py.File) -> str:
     names and shapes of all datasets, and the values of datasets without a checksum (scalar,
     empty, strings). Objects are visited in sorted order, so the digest does not depend on the
     order of writing.
+
+    Parameters
+    ----------
+    f : h5py.File
+        An open HDF5 file.
+
+    Returns
+    -------
+    str
+        The SHA-256 digest (hex).
     """
     h = hashlib.sha256()
     names: list[str] = []
@@ -104,7 +114,18 @@ def content_digest(f: h5py.File) -> str:
 
 def seal(f: h5py.File) -> str:
     """Store :func:`content_digest` of the open, writable file ``f`` as :data:`DIGEST_ATTR`
-    (the last write before closing); returns it."""
+    (the last write before closing); returns it.
+
+    Parameters
+    ----------
+    f : h5py.File
+        An open, writable HDF5 file.
+
+    Returns
+    -------
+    str
+        The digest stored.
+    """
     f.flush()
     digest = content_digest(f)
     f.attrs[DIGEST_ATTR] = digest
@@ -129,6 +150,18 @@ def verify_file(path: str | os.PathLike, *, require_digest: bool = True) -> str 
     recomputes :func:`content_digest` (a changed attribute, name, shape or unchecksummed value
     fails the comparison). Without a stored digest the file is reported unless
     ``require_digest`` is false (files written before checksums existed).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        An HDF5 file.
+    require_digest : bool
+        Report a file without a stored digest.
+
+    Returns
+    -------
+    str or None
+        One line saying what is wrong, or None.
     """
     path = os.fspath(path)
     try:
@@ -159,7 +192,18 @@ def verify_file(path: str | os.PathLike, *, require_digest: bool = True) -> str 
 
 def estimate_h5_bytes(arrays) -> int:
     """Upper estimate of the bytes of an HDF5 file holding ``arrays`` uncompressed, plus
-    per-dataset overhead (compression only makes the file smaller)."""
+    per-dataset overhead (compression only makes the file smaller).
+
+    Parameters
+    ----------
+    arrays : iterable of numpy.ndarray
+        The datasets the file will hold.
+
+    Returns
+    -------
+    int
+        Bytes.
+    """
     arrays = list(arrays)
     return int(sum(np.asarray(a).nbytes for a in arrays)
                + _OVERHEAD_BYTES_PER_DATASET * (len(arrays) + 1))
@@ -167,7 +211,15 @@ def estimate_h5_bytes(arrays) -> int:
 
 def require_free_space(path: str | os.PathLike, needed: int) -> None:
     """Raise :class:`DiskFullError` when the file system of ``path``'s folder has less than
-    ``needed`` bytes (plus a 1 MiB margin) free."""
+    ``needed`` bytes (plus a 1 MiB margin) free.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file about to be written.
+    needed : int
+        Bytes it needs.
+    """
     path = os.fspath(path)
     free = free_bytes(path)
     if free < needed + _FREE_SPACE_MARGIN_BYTES:
@@ -176,7 +228,20 @@ def require_free_space(path: str | os.PathLike, needed: int) -> None:
 
 def is_disk_full(exc: BaseException, path: str | os.PathLike) -> bool:
     """Whether ``exc`` (raised while writing next to ``path``) means the disk is full: errno
-    ENOSPC/EDQUOT, or an HDF5 write error while the file system has < 1 MiB left."""
+    ENOSPC/EDQUOT, or an HDF5 write error while the file system has < 1 MiB left.
+
+    Parameters
+    ----------
+    exc : BaseException
+        The exception raised while writing.
+    path : str or os.PathLike
+        The file being written.
+
+    Returns
+    -------
+    bool
+        True when the disk (or the quota) is full.
+    """
     if isinstance(exc, OSError) and exc.errno in (errno.ENOSPC, errno.EDQUOT):
         return True
     if not isinstance(exc, (OSError, RuntimeError)):
@@ -186,7 +251,18 @@ def is_disk_full(exc: BaseException, path: str | os.PathLike) -> bool:
 
 def free_bytes(path: str | os.PathLike) -> int:
     """Free bytes on the file system that will hold ``path`` (its nearest existing folder);
-    0 when that cannot be told."""
+    0 when that cannot be told.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        A path that may not exist yet.
+
+    Returns
+    -------
+    int
+        Free bytes available to this (unprivileged) writer, 0 when unknown.
+    """
     folder = os.path.dirname(os.path.abspath(os.fspath(path)))
     while folder and not os.path.isdir(folder):
         parent = os.path.dirname(folder)
@@ -200,7 +276,18 @@ def free_bytes(path: str | os.PathLike) -> int:
 
 
 def file_sha256(path: str | os.PathLike) -> str:
-    """SHA-256 (hex) of a file's bytes (e.g. a measured profile a case depends on)."""
+    """SHA-256 (hex) of a file's bytes (e.g. a measured profile a case depends on).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        Any file.
+
+    Returns
+    -------
+    str
+        The SHA-256 digest (hex).
+    """
     h = hashlib.sha256()
     with open(path, "rb") as fh:
         for block in iter(lambda: fh.read(1 << 20), b""):
@@ -213,6 +300,15 @@ def write_image(tmp: str | os.PathLike, path: str | os.PathLike, data: bytes) ->
 
     Free space is checked against ``len(data)`` first; ENOSPC while writing raises
     :class:`DiskFullError` as well. ``tmp`` is removed on any failure.
+
+    Parameters
+    ----------
+    tmp : str or os.PathLike
+        The temporary file to write (next to ``path``).
+    path : str or os.PathLike
+        The final file.
+    data : bytes
+        The file's whole content.
     """
     tmp, path = os.fspath(tmp), os.fspath(path)
     try:

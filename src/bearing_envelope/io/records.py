@@ -636,7 +636,18 @@ def _is_manifest(path: str) -> bool:
 def collect_records(paths) -> list[str]:
     """Files of ``paths``: files as given, folders expanded (sorted, non-recursive) to the
     files of :data:`SUFFIXES`, leaving out a folder's CSV manifests (a header with a ``file``
-    column)."""
+    column).
+
+    Parameters
+    ----------
+    paths : iterable of str or os.PathLike
+        Files and folders.
+
+    Returns
+    -------
+    list of str
+        The record files, in the order given (a folder's sorted).
+    """
     out: list[str] = []
     for p in paths:
         if os.path.isdir(p):
@@ -667,6 +678,11 @@ def read_manifest(path: str) -> list[dict]:
     -------
     list of dict
         ``{"file", "fs", "fr", "bearing", "column", "channel"}`` (None where not given).
+
+    Parameters
+    ----------
+    path : str
+        The manifest (CSV with a ``file`` column).
     """
     if not os.path.isfile(path):
         raise ValueError(f"--manifest: no such file: {path}")

@@ -81,6 +81,18 @@ def quantity_name(measure: str, base=None) -> str:
     ``("envelope_spectrum", "bsf2") -> "envelope_2bsf"``; other measures (``bandpass_peak``,
     ``kurtogram_kurtosis``) keep their name.
 
+    Parameters
+    ----------
+    measure : str
+        An ``analyze_signal`` measure (``raw_spectrum``, ``envelope_spectrum``, ...).
+    base : str, optional
+        The line's base (``dc``, ``fr``, ``bpfi``, ``bsf2``, ...); required for a spectrum.
+
+    Returns
+    -------
+    str
+        The tidy table's quantity name.
+
     Raises
     ------
     ValueError

@@ -30,7 +30,20 @@ class YamlLimitError(ValueError):
 
 
 def expanded_size(node: yaml.Node, limit: int = MAX_EXPANDED_NODES) -> int:
-    """Number of nodes ``node`` expands to (aliases counted in full), stopping past ``limit``."""
+    """Number of nodes ``node`` expands to (aliases counted in full), stopping past ``limit``.
+
+    Parameters
+    ----------
+    node : yaml.Node
+        The composed document (or part of it).
+    limit : int
+        Stop counting past this many nodes.
+
+    Returns
+    -------
+    int
+        Nodes counted (more than ``limit`` means: too many).
+    """
     memo: dict[int, int] = {}
 
     def size(n: yaml.Node) -> int:
@@ -51,7 +64,13 @@ def expanded_size(node: yaml.Node, limit: int = MAX_EXPANDED_NODES) -> int:
 
 
 def check_document_size(path: str | os.PathLike) -> None:
-    """Refuse a file larger than :data:`MAX_DOCUMENT_BYTES` (before reading it)."""
+    """Refuse a file larger than :data:`MAX_DOCUMENT_BYTES` (before reading it).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The YAML file.
+    """
     n = os.path.getsize(path)
     if n > MAX_DOCUMENT_BYTES:
         raise YamlLimitError(f"{n:,} bytes; allowed: a config of at most "
@@ -60,6 +79,20 @@ def check_document_size(path: str | os.PathLike) -> None:
 
 def load_bounded(stream, loader_cls, limit: int = MAX_EXPANDED_NODES):
     """``yaml.load(stream, loader_cls)`` after checking the expanded size of the document.
+
+    Parameters
+    ----------
+    stream : str or file
+        The YAML text or an open file.
+    loader_cls : type
+        A PyYAML loader class (e.g. ``yaml.SafeLoader``).
+    limit : int
+        Most nodes the document may expand to.
+
+    Returns
+    -------
+    object
+        The loaded document.
 
     Raises
     ------

@@ -41,6 +41,16 @@ def antialias_filter(oversample: int) -> np.ndarray:
     :data:`ANTIALIAS_ATTEN_DB` down (checked in the tests); pass-band ripple < 1e-4. The length
     is ``2 K oversample + 1`` (odd, symmetric: the centre tap is the zero-delay sample), unit DC
     gain.
+
+    Parameters
+    ----------
+    oversample : int
+        The internal rate as a multiple of fs (>= 2).
+
+    Returns
+    -------
+    numpy.ndarray
+        The filter's taps (odd length, symmetric, unit DC gain).
     """
     from scipy.signal import firwin, kaiser_beta, kaiserord
 
@@ -63,7 +73,20 @@ def auto_oversample(scene: Scene, fidelity: Fidelity | str | None = None) -> int
     below the window spacing. The interpolated history has no feature finer than the node
     spacing, so a denser internal rate changes nothing: measured, N = 8, 16 and 33 at
     ``standard`` agree to < 0.01 % in every amplitude (``docs/benchmarks.md``, "Accuracy per CPU
-    second"). N = 9 (15 um defect) and 6 (100 um) at ``standard``."""
+    second"). N = 9 (15 um defect) and 6 (100 um) at ``standard``.
+
+    Parameters
+    ----------
+    scene : Scene
+        The case's scene (defect width, speeds, fs).
+    fidelity : Fidelity, preset name or None
+        The fidelity whose table spacing bounds the travel per sample (None: ``standard``).
+
+    Returns
+    -------
+    int
+        ``N >= 1``.
+    """
     fid = fidelity_from(fidelity)
     v = scene.defect_speed_m_s
     step = fid.offset_step_m
@@ -145,14 +168,40 @@ def acquire(evaluate: Callable[[np.ndarray], dict], n_samples: int, fs: float, *
 
 def antialias_undershoot(oversample: int) -> float:
     """``sum(-h[h < 0])`` of :func:`antialias_filter`: an anti-aliased output of a signal with
-    internal samples in ``[0, M]`` lies in ``[-u M, (1 + u) M]`` with ``u`` this value."""
+    internal samples in ``[0, M]`` lies in ``[-u M, (1 + u) M]`` with ``u`` this value.
+
+    Parameters
+    ----------
+    oversample : int
+        The internal rate as a multiple of fs.
+
+    Returns
+    -------
+    float
+        ``u >= 0``.
+    """
     h = antialias_filter(oversample)
     return float(-h[h < 0].sum())
 
 
 
 def add_noise(x: np.ndarray, snr_db: float, seed: int) -> np.ndarray:
-    """``x`` plus white Gaussian noise at ``snr_db`` (signal power = variance of ``x``), seeded."""
+    """``x`` plus white Gaussian noise at ``snr_db`` (signal power = variance of ``x``), seeded.
+
+    Parameters
+    ----------
+    x : numpy.ndarray
+        The signal.
+    snr_db : float
+        Signal-to-noise ratio (dB).
+    seed : int
+        Seed of the noise generator.
+
+    Returns
+    -------
+    numpy.ndarray
+        A new array, ``x`` plus the noise.
+    """
     rng = np.random.default_rng(seed)
     power = float(np.var(x))
     sigma = math.sqrt(power / 10.0 ** (snr_db / 10.0)) if power > 0 else 0.0
@@ -161,7 +210,22 @@ def add_noise(x: np.ndarray, snr_db: float, seed: int) -> np.ndarray:
 
 def acquisition_settings(scene: Scene, fidelity: Fidelity | str | None = None) -> dict[str, Any]:
     """The acquisition a case uses: ``mode``, resolved ``oversample`` (1 for ``point``), the
-    filter's pass/stop edges (fractions of fs), its stop-band attenuation target (dB) and length."""
+    filter's pass/stop edges (fractions of fs), its stop-band attenuation target (dB) and length.
+
+    Parameters
+    ----------
+    scene : Scene
+        The case's scene (its ``operation.acquisition``).
+    fidelity : Fidelity, preset name or None
+        The fidelity (resolves ``oversample: auto``; None: ``standard``).
+
+    Returns
+    -------
+    dict
+        ``{"mode": "point", "oversample": 1}``, or ``mode``, ``oversample``,
+        ``oversample_setting``, ``filter``, ``pass_band_fs``, ``stop_band_fs``,
+        ``stop_band_attenuation_db``, ``filter_taps``.
+    """
     acq = scene.operation.acquisition
     if acq.mode == "point":
         return {"mode": "point", "oversample": 1}

@@ -44,12 +44,28 @@ def _load() -> dict[str, dict[str, Any]]:
 
 
 def designations() -> tuple[str, ...]:
-    """The designations in the catalogue, in file order."""
+    """The designations in the catalogue, in file order.
+
+    Returns
+    -------
+    tuple of str
+        Every designation of ``data/bearings.yaml``.
+    """
     return tuple(_load())
 
 
 def entry(designation: str) -> dict[str, Any]:
     """The raw catalogue entry (``{field: {value, source}}`` plus ``description``).
+
+    Parameters
+    ----------
+    designation : str
+        A catalogue designation (its full name, e.g. ``"SKF 6205-2RS"``).
+
+    Returns
+    -------
+    dict
+        The entry as stored: ``{field: {"value": ..., "source": ...}, "description": ...}``.
 
     Raises
     ------
@@ -64,10 +80,32 @@ def entry(designation: str) -> dict[str, Any]:
 
 
 def bearing_values(designation: str) -> dict[str, Any]:
-    """``scene.bearing`` values of a catalogue entry (field -> value, scene units)."""
+    """``scene.bearing`` values of a catalogue entry (field -> value, scene units).
+
+    Parameters
+    ----------
+    designation : str
+        A catalogue designation.
+
+    Returns
+    -------
+    dict
+        ``scene.bearing`` field -> value, in the scene's units (``_mm``, ``_deg`` in the names).
+    """
     return {k: v["value"] for k, v in entry(designation).items() if k not in _META_KEYS}
 
 
 def bearing_sources(designation: str) -> dict[str, str]:
-    """The source of every value of a catalogue entry (field -> text)."""
+    """The source of every value of a catalogue entry (field -> text).
+
+    Parameters
+    ----------
+    designation : str
+        A catalogue designation.
+
+    Returns
+    -------
+    dict of str to str
+        ``scene.bearing`` field -> where its value comes from (or "assumed").
+    """
     return {k: v["source"] for k, v in entry(designation).items() if k not in _META_KEYS}

@@ -57,12 +57,29 @@ class Grid:
         return (self.x.size, self.y.size)
 
     def mesh(self):
-        """``X, Y`` arrays of shape ``(nx, ny)``."""
+        """``X, Y`` arrays of shape ``(nx, ny)``.
+
+        Returns
+        -------
+        tuple of numpy.ndarray
+            ``(X, Y)``, the cell centres (m).
+        """
         return np.meshgrid(self.x, self.y, indexing="ij")
 
 
 def good_size(n: int) -> int:
-    """Smallest integer >= n whose only prime factors are 2, 3 and 5 (FFT-friendly)."""
+    """Smallest integer >= n whose only prime factors are 2, 3 and 5 (FFT-friendly).
+
+    Parameters
+    ----------
+    n : int
+        A grid size.
+
+    Returns
+    -------
+    int
+        The 5-smooth size.
+    """
     n = max(int(n), 1)
     while True:
         m = n
@@ -81,6 +98,22 @@ def make_grid(x_lo: float, x_hi: float, y_lo: float, y_hi: float, dx: float, dy:
     The sizes are even and rounded up to FFT-friendly numbers; the grid is symmetric about ``x_center``
     (default 0, so that ``x = 0`` is a symmetry line of the cells) and about ``y_center``
     (default the middle of ``[y_lo, y_hi]``).
+
+    Parameters
+    ----------
+    x_lo, x_hi, y_lo, y_hi : float
+        The region to cover (m).
+    dx, dy : float
+        Cell sizes (m).
+    x_center : float
+        Symmetry line across rolling (m).
+    y_center : float, optional
+        Symmetry line along the axis (m; default the middle of ``[y_lo, y_hi]``).
+
+    Returns
+    -------
+    Grid
+        Cell centres and spacings.
     """
     if y_center is None:
         y_center = 0.5 * (y_lo + y_hi)
@@ -120,6 +153,16 @@ def read_profile(path: str) -> tuple[np.ndarray, np.ndarray]:
 
     Returns ``(y, deviation)`` in m. ``deviation`` is the drop of the roller surface from its
     generatrix at the centre (positive = material removed). ``#`` starts a comment.
+
+    Parameters
+    ----------
+    path : str
+        The profile file.
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        ``(y, deviation)`` in m.
     """
     return _read_profile_cached(os.fspath(path), os.path.getmtime(path))
 
@@ -139,6 +182,16 @@ def read_defect_profile(path: str) -> tuple[np.ndarray, np.ndarray]:
     raceway; zero outside the file's range. In the gap the profile is scaled so that its deepest
     point equals the case's depth and extruded over the defect's axial length
     (:func:`defect_depth`, ``shape: profile``). Returns ``(x, depth)`` in m.
+
+    Parameters
+    ----------
+    path : str
+        The profile file.
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        ``(x, depth)`` in m.
     """
     return _read_defect_profile_cached(os.fspath(path), os.path.getmtime(path))
 
@@ -151,6 +204,11 @@ def axial_separation(bearing, y) -> np.ndarray:
     bearing : bearing_envelope.physics.scene.Bearing
     y : array_like
         Axial positions from the roller centre (m).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``s(y)`` (m), the shape of ``y``.
     """
     y = np.asarray(y, dtype=float)
     half = bearing.half_length_m
@@ -184,6 +242,18 @@ def defect_depth(defect, u, v) -> np.ndarray:
     surface follows a rim arc of that radius, ``r - sqrt(r^2 - d^2)`` (``d`` = distance inside
     the rectangular footprint), capped at ``h``. ``dent``:
     ``h cos^2(pi u / (2 h_x)) cos^2(pi v / (2 h_y))`` inside the footprint (smooth).
+
+    Parameters
+    ----------
+    defect : bearing_envelope.physics.scene.Defect
+        The defect (shape, depth, footprint, rim radius).
+    u, v : array_like
+        Local coordinates across rolling and along the axis (m), broadcast together.
+
+    Returns
+    -------
+    numpy.ndarray
+        Depth (m), the broadcast shape of ``u`` and ``v``.
     """
     u = np.asarray(u, dtype=float)
     v = np.asarray(v, dtype=float)
@@ -306,6 +376,18 @@ def hertz_estimate(scene, force: float):
 
     Uses :func:`bearing_envelope.contact.hertz.elliptical` with ``R_x``, ``R_y`` of the scene and
     ``E*`` of its materials. Used to size grids; the roller length is not taken into account.
+
+    Parameters
+    ----------
+    scene : Scene
+        The scene (roller and race curvatures, materials).
+    force : float
+        Roller load (N).
+
+    Returns
+    -------
+    HertzContact
+        The Hertz ellipse (semi-axes, peak pressure, approach).
     """
     b = scene.bearing
     return hertz.elliptical(force, b.rx_m, b.ry_m, scene.material.e_star_pa)

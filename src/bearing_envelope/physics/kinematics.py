@@ -51,7 +51,13 @@ class FaultFrequencies:
     bsf: float
 
     def orders(self) -> dict[str, float]:
-        """Return the frequencies as multiples of the shaft rate."""
+        """Return the frequencies as multiples of the shaft rate.
+
+        Returns
+        -------
+        dict of str to float
+            ``{"bpfo", "bpfi", "bsf", "ftf"}`` -> frequency / shaft rate.
+        """
         return {k: getattr(self, k) / self.fr for k in ("bpfo", "bpfi", "ftf", "bsf")}
 
 

@@ -60,7 +60,13 @@ class GlobalSolution:
 
 @lru_cache(maxsize=1)
 def solver_code_version() -> str:
-    """sha256 of the solver's sources (:data:`_SOLVER_SOURCES`) and the numpy/scipy versions."""
+    """sha256 of the solver's sources (:data:`_SOLVER_SOURCES`) and the numpy/scipy versions.
+
+    Returns
+    -------
+    str
+        The digest (hex).
+    """
     h = hashlib.sha256()
     here = Path(__file__).resolve().parent
     for rel in _SOLVER_SOURCES:
@@ -74,7 +80,22 @@ def global_key(gap: np.ndarray, grid_x: np.ndarray, grid_y: np.ndarray, fields: 
                ) -> tuple[str, str]:
     """``(sha256, key text)`` of a global solve: the gap's bytes (float64), the grid's
     coordinates, the scalar ``fields`` (JSON, sorted, floats as ``float.hex``) and
-    :func:`solver_code_version`."""
+    :func:`solver_code_version`.
+
+    Parameters
+    ----------
+    gap : numpy.ndarray
+        The no-defect gap of the solve (m).
+    grid_x, grid_y : numpy.ndarray
+        The grid's coordinates (m).
+    fields : dict
+        The solve's scalar settings (load, tolerance, ...).
+
+    Returns
+    -------
+    tuple of (str, str)
+        The entry's sha256 and the key text it hashes.
+    """
     def enc(v):
         if isinstance(v, float):
             return float(v).hex()
@@ -111,11 +132,36 @@ class NoDefectCache:
         self.misses = 0
 
     def path(self, sha: str) -> Path:
+        """The file of an entry.
+
+        Parameters
+        ----------
+        sha : str
+            The entry's key digest (:func:`global_key`).
+
+        Returns
+        -------
+        pathlib.Path
+            ``{directory}/{sha}.npz``.
+        """
         return self.directory / f"{sha}.npz"
 
     def load(self, sha: str, key: str):
         """``(grid_x, grid_y, dx, dy, GlobalSolution)`` of an entry, or None when it is missing
-        or invalid (one line on stderr says which and why)."""
+        or invalid (one line on stderr says which and why).
+
+        Parameters
+        ----------
+        sha : str
+            The entry's key digest.
+        key : str
+            The key text, compared with the one stored.
+
+        Returns
+        -------
+        tuple or None
+            ``(grid_x, grid_y, dx, dy, GlobalSolution)``, or None.
+        """
         p = self.path(sha)
         if not p.exists():
             self._note(sha, "missing")
@@ -143,7 +189,21 @@ class NoDefectCache:
 
     def store(self, sha: str, key: str, grid_x, grid_y, dx: float, dy: float,
               sol: GlobalSolution) -> None:
-        """Write an entry atomically (temporary file in the same folder, then renamed)."""
+        """Write an entry atomically (temporary file in the same folder, then renamed).
+
+        Parameters
+        ----------
+        sha : str
+            The entry's key digest.
+        key : str
+            The key text (stored with the entry).
+        grid_x, grid_y : numpy.ndarray
+            The grid's coordinates (m).
+        dx, dy : float
+            Cell sizes (m).
+        sol : GlobalSolution
+            The solve to store.
+        """
         self.directory.mkdir(parents=True, exist_ok=True)
         fd, tmp = tempfile.mkstemp(prefix=f".tmp-{sha[:12]}-", suffix=".npz", dir=self.directory)
         try:

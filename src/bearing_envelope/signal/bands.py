@@ -60,6 +60,24 @@ def clamp_band(low: float, high: float, fs: float, *, margin: float = NYQUIST_MA
     Returns ``(low, high, info)`` with ``info = {"clamped": bool, "requested_high_hz": high}``.
     With ``clamp`` the upper edge is lowered to ``margin * fs / 2``; without it a
     ``ValueError`` naming ``field`` is raised when ``high >= fs / 2``.
+
+    Parameters
+    ----------
+    low, high : float
+        Band edges (Hz).
+    fs : float
+        Sampling rate (Hz).
+    margin : float
+        Fraction of Nyquist the upper edge is lowered to when clamped.
+    clamp : bool
+        Lower an upper edge at or above ``margin * fs / 2`` (else refuse one at or above ``fs / 2``).
+    field : str
+        The band's name in error messages.
+
+    Returns
+    -------
+    tuple of (float, float, dict)
+        ``(low, high, info)``; ``info = {"clamped": bool, "requested_high_hz": high}``.
     """
     fs = check_fs(fs)
     nyq = fs / 2.0
@@ -134,7 +152,24 @@ def band_from_kurtogram(kurtogram, *, margin: float = NYQUIST_MARGIN):
 
 def band_fraction(fs: float, low: float = 0.25, high: float = 0.375, *, clamp: bool = False,
                   margin: float = NYQUIST_MARGIN):
-    """Band ``[low fs, high fs]`` (default fs/4 - 3 fs/8); fractions in ``[0, 0.5]``."""
+    """Band ``[low fs, high fs]`` (default fs/4 - 3 fs/8); fractions in ``[0, 0.5]``.
+
+    Parameters
+    ----------
+    fs : float
+        Sampling rate (Hz).
+    low, high : float
+        Band edges as fractions of ``fs``, in ``[0, 0.5]``.
+    clamp : bool
+        Lower an upper edge at or above ``margin * fs / 2`` (see :func:`clamp_band`).
+    margin : float
+        Fraction of Nyquist for the clamp.
+
+    Returns
+    -------
+    tuple of (float, float, dict)
+        ``(low_hz, high_hz, info)`` as :func:`clamp_band`.
+    """
     fs = check_fs(fs)
     lo_f, hi_f = float(low), float(high)
     for nm, v in (("low", lo_f), ("high", hi_f)):
@@ -148,7 +183,28 @@ def band_fraction(fs: float, low: float = 0.25, high: float = 0.375, *, clamp: b
 
 def band_orders(base_hz: float, low: float, high: float, fs: float, *, base_name: str = "base",
                 clamp: bool = False, margin: float = NYQUIST_MARGIN):
-    """Band ``[low, high] x base_hz`` (e.g. 3-6 x BPFI, 10-13 x BPFI)."""
+    """Band ``[low, high] x base_hz`` (e.g. 3-6 x BPFI, 10-13 x BPFI).
+
+    Parameters
+    ----------
+    base_hz : float
+        The base frequency (Hz), e.g. BPFI.
+    low, high : float
+        Band edges as multiples of ``base_hz``.
+    fs : float
+        Sampling rate (Hz).
+    base_name : str
+        The base's name in error messages.
+    clamp : bool
+        Lower an upper edge at or above ``margin * fs / 2`` (see :func:`clamp_band`).
+    margin : float
+        Fraction of Nyquist for the clamp.
+
+    Returns
+    -------
+    tuple of (float, float, dict)
+        ``(low_hz, high_hz, info)`` as :func:`clamp_band`.
+    """
     fs = check_fs(fs)
     base_hz = check_positive(base_hz, f"orders band: base {base_name!r}")
     l_hz, h_hz, info = clamp_band(float(low) * base_hz, float(high) * base_hz, fs, margin=margin,
@@ -160,7 +216,24 @@ def band_orders(base_hz: float, low: float, high: float, fs: float, *, base_name
 
 def band_fixed(low_hz: float, high_hz: float, fs: float, *, clamp: bool = False,
                margin: float = NYQUIST_MARGIN):
-    """A band given in Hz, the same for every case."""
+    """A band given in Hz, the same for every case.
+
+    Parameters
+    ----------
+    low_hz, high_hz : float
+        Band edges (Hz).
+    fs : float
+        Sampling rate (Hz).
+    clamp : bool
+        Lower an upper edge at or above ``margin * fs / 2`` (see :func:`clamp_band`).
+    margin : float
+        Fraction of Nyquist for the clamp.
+
+    Returns
+    -------
+    tuple of (float, float, dict)
+        ``(low_hz, high_hz, info)`` as :func:`clamp_band`.
+    """
     l_hz, h_hz, info = clamp_band(low_hz, high_hz, fs, margin=margin, clamp=clamp,
                                   field="fixed band")
     return (l_hz, h_hz), {"strategy": "fixed", **info}

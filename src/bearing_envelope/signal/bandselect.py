@@ -34,7 +34,22 @@ __all__ = ["infogram_band", "protrugram_band", "tree_cells"]
 def tree_cells(fs: float, max_level: float, min_bandwidth: float = 0.0):
     """Cells ``(level, low, high)`` (Hz) of the 1/3-binary tree of the fast kurtogram up to
     ``max_level``: level ``k`` splits ``[0, fs/2]`` into ``2^k`` bands, level ``k + log2(3) - 1``
-    into ``3 x 2^(k-1)``; only bands at least ``min_bandwidth`` Hz wide."""
+    into ``3 x 2^(k-1)``; only bands at least ``min_bandwidth`` Hz wide.
+
+    Parameters
+    ----------
+    fs : float
+        Sampling rate (Hz).
+    max_level : float
+        Deepest level of the tree (binary or 1/3 levels).
+    min_bandwidth : float
+        Narrowest band kept (Hz).
+
+    Returns
+    -------
+    list of tuple of (float, float, float)
+        ``(level, low_hz, high_hz)`` of every cell kept, by level.
+    """
     fs = check_fs(fs)
     nyq = fs / 2.0
     out = []

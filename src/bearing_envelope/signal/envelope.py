@@ -122,6 +122,12 @@ def envelope(x, *, squared: bool = False):
         Real, normally band-passed, signal (unit ``U``).
     squared : bool, default False
         Return :math:`|x_a|^2` (unit ``U^2``) instead of :math:`|x_a|` (unit ``U``).
+
+    Returns
+    -------
+    numpy.ndarray
+        The envelope (or its square with ``squared``), same length and unit as ``x`` (squared:
+        unit squared).
     """
     x = check_signal(x, "x", min_length=2)
     mean = x.mean()
@@ -189,6 +195,20 @@ def envelope_spectrum(
     :math:`(1 + m\cos 2\pi f_m t)\cos 2\pi f_c t` inside the band gives a line of amplitude
     ``m`` at :math:`f_m`; with ``squared`` the line is ``2 m`` (plus :math:`m^2/2` at
     :math:`2 f_m`).
+
+    Examples
+    --------
+    A 3 kHz carrier modulated 50 % at 50 Hz: the envelope spectrum of the 2-4 kHz band holds
+    one line, at 50 Hz, of amplitude 0.5.
+
+    >>> import numpy as np
+    >>> from bearing_envelope.signal import envelope_spectrum
+    >>> fs = 20000.0
+    >>> t = np.arange(20000) / fs
+    >>> x = (1 + 0.5 * np.cos(2 * np.pi * 50.0 * t)) * np.cos(2 * np.pi * 3000.0 * t)
+    >>> f, a = envelope_spectrum(x, fs, (2000.0, 4000.0))
+    >>> float(f[np.argmax(a)]), round(float(a.max()), 3)
+    (50.0, 0.5)
     """
     fs = check_fs(fs)
     x = check_signal(x, "x", min_length=2)
@@ -209,7 +229,20 @@ def envelope_spectrum(
 def peak_value(x, *, skip: int = 0):
     """Largest absolute value of a (band-passed) signal, in its unit, ignoring ``skip``
     samples at each end (the filter's edge transients, :func:`settling_samples`); at most a
-    quarter of the record is skipped at each end."""
+    quarter of the record is skipped at each end.
+
+    Parameters
+    ----------
+    x : array_like
+        A real signal.
+    skip : int
+        Samples ignored at each end (at most a quarter of the record).
+
+    Returns
+    -------
+    float
+        ``max |x|`` over the samples kept.
+    """
     x = check_signal(x, "x", min_length=1)
     k = min(int(skip), (x.size - 1) // 4)
     return float(np.max(np.abs(x[k: x.size - k])))

@@ -105,7 +105,20 @@ class Kurtogram:
 
     def restrict(self, max_level: float | None = None, min_bandwidth: float | None = None):
         """The same kurtogram with the best cell searched only where ``level <= max_level`` and
-        ``bandwidth >= min_bandwidth`` (Hz); ``None`` keeps no limit."""
+        ``bandwidth >= min_bandwidth`` (Hz); ``None`` keeps no limit.
+
+        Parameters
+        ----------
+        max_level : float, optional
+            Deepest level searched for the best cell.
+        min_bandwidth : float, optional
+            Narrowest band searched (Hz).
+
+        Returns
+        -------
+        Kurtogram
+            A copy whose best cell (level, centre, bandwidth, kurtosis) is the restricted search's.
+        """
         if max_level is not None:
             max_level = float(max_level)
         min_bandwidth = check_positive(min_bandwidth, "min_bandwidth", allow_none=True)
@@ -126,6 +139,16 @@ def kurtogram_levels(nlevel: int) -> np.ndarray:
 
     Returns ``[0, 1, 1 + c, 2, 2 + c, ..., nlevel - 1 + c, nlevel]`` with
     ``c = log2(3) - 1 ~= 0.585``, i.e. ``2 * nlevel`` values.
+
+    Parameters
+    ----------
+    nlevel : int
+        Number of binary levels (>= 1).
+
+    Returns
+    -------
+    numpy.ndarray
+        The ``2 * nlevel`` row levels.
     """
     nlevel = int(nlevel)
     # the ternary rows are splits of binary level k - 1 -> level (k - 1) + log2(3) = k + 0.585
@@ -139,7 +162,18 @@ def kurtogram_levels(nlevel: int) -> np.ndarray:
 
 def max_kurtogram_level(n: int) -> int:
     """Largest ``nlevel`` allowed for ``n`` samples: ``floor(log2(n)) - 7`` (>= 128 samples
-    per sub-band at the deepest binary level, the rule of the published code)."""
+    per sub-band at the deepest binary level, the rule of the published code).
+
+    Parameters
+    ----------
+    n : int
+        Number of samples of the signal.
+
+    Returns
+    -------
+    int
+        The largest ``nlevel`` :func:`fast_kurtogram` accepts for ``n`` samples.
+    """
     return int(math.floor(math.log2(max(int(n), 1)))) - _DEEPEST_LOG2
 
 

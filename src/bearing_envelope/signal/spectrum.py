@@ -260,7 +260,22 @@ TOLERANCE_MAX_SPACING = 0.25
 def default_tolerance(target: float, df: float, fr: float | None = None) -> float:
     """Default search half-width (Hz): ``max(TOLERANCE_MIN_BINS df, TOLERANCE_FRACTION
     target)`` = ``max(2 df, 0.002 target)``, at most ``TOLERANCE_MAX_SPACING fr`` = ``fr / 4``
-    (``fr``: the sideband spacing, Hz; ``df``: the bin spacing, Hz)."""
+    (``fr``: the sideband spacing, Hz; ``df``: the bin spacing, Hz).
+
+    Parameters
+    ----------
+    target : float
+        The line's frequency (Hz).
+    df : float
+        Bin spacing of the spectrum (Hz).
+    fr : float, optional
+        Sideband spacing (Hz), bounding the half-width.
+
+    Returns
+    -------
+    float
+        The search half-width (Hz).
+    """
     tol = max(TOLERANCE_MIN_BINS * df, TOLERANCE_FRACTION * abs(target))
     if fr is not None:
         tol = min(tol, TOLERANCE_MAX_SPACING * fr)

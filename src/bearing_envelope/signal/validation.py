@@ -16,7 +16,20 @@ __all__ = ["check_band", "check_fs", "check_positive", "check_signal"]
 
 
 def check_fs(fs, name: str = "fs") -> float:
-    """Return ``fs`` as a float, raising ``ValueError`` unless it is finite and > 0."""
+    """Return ``fs`` as a float, raising ``ValueError`` unless it is finite and > 0.
+
+    Parameters
+    ----------
+    fs : object
+        The sampling rate (Hz).
+    name : str
+        The argument's name in the error message.
+
+    Returns
+    -------
+    float
+        ``fs`` as a finite float > 0.
+    """
     try:
         v = float(fs)
     except (TypeError, ValueError):
@@ -31,6 +44,22 @@ def check_signal(x, name: str = "x", *, min_length: int = 2, allow_complex: bool
 
     Raises ``ValueError`` naming ``name`` when the array is empty, not 1-D, shorter than
     ``min_length``, or holds NaN/inf values.
+
+    Parameters
+    ----------
+    x : array_like
+        The signal.
+    name : str
+        The argument's name in error messages.
+    min_length : int
+        Fewest samples allowed.
+    allow_complex : bool
+        Accept a complex signal (returned as complex128).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``x`` as a 1-D float64 (or complex128) array.
     """
     a = np.asarray(x)
     if a.dtype == object:
@@ -53,7 +82,22 @@ def check_signal(x, name: str = "x", *, min_length: int = 2, allow_complex: bool
 
 
 def check_band(band, fs: float, name: str = "band") -> tuple[float, float]:
-    """Check a (low, high) band in Hz against 0 < low < high < fs/2 (low may be 0)."""
+    """Check a (low, high) band in Hz against 0 < low < high < fs/2 (low may be 0).
+
+    Parameters
+    ----------
+    band : sequence of two floats
+        ``(low, high)`` in Hz.
+    fs : float
+        Sampling rate (Hz).
+    name : str
+        The argument's name in error messages.
+
+    Returns
+    -------
+    tuple of (float, float)
+        ``(low, high)`` as floats.
+    """
     try:
         low, high = (float(band[0]), float(band[1]))
     except (TypeError, ValueError, IndexError):

@@ -73,7 +73,7 @@ from .settings import AnalysisSettings, CaseId
 
 __all__ = ["DEFAULT_CASES", "DEFAULT_KNOBS", "DEFAULT_BANDS", "COLUMNS", "tradeoff_study",
            "study_from_config", "pareto_front", "pareto_table", "pareto_points", "plot_tradeoff",
-           "metric_labels", "run_variant"]
+           "metric_labels", "run_variant", "apply_knob"]
 
 #: (load_kN, depth_um) of the representative cases.
 DEFAULT_CASES: tuple[tuple[float, float], ...] = (
@@ -132,8 +132,25 @@ def _replace(base: Fidelity, **kw) -> Fidelity:
     return dataclasses.replace(base, **kw)
 
 
-def _apply_knob(base: Fidelity, knob: str, value) -> tuple[Fidelity, dict]:
-    """The fidelity of one knob value and the scene overrides it implies."""
+def apply_knob(base: Fidelity, knob: str, value) -> tuple[Fidelity, dict]:
+    """The fidelity of one knob value and the scene overrides it implies.
+
+    Parameters
+    ----------
+    base : Fidelity
+        The fidelity the knob is varied around.
+    knob : str
+        A fidelity field, ``offset_density`` (a factor on the table's offset nodes), a scene
+        knob (``edge_radius_um``), or any of these with ``[linear]`` (linear elements).
+    value : float or int
+        The knob's value (the factor for ``offset_density``).
+
+    Returns
+    -------
+    tuple of (Fidelity, dict)
+        The fidelity with the knob set, and the scene overrides (``{"defect": {...}}`` for a
+        scene knob, else empty).
+    """
     if knob in _SCENE_KNOBS:
         return base, {"defect": {knob: float(value)}}
     if knob == "offset_density":
@@ -146,7 +163,7 @@ def _apply_knob(base: Fidelity, knob: str, value) -> tuple[Fidelity, dict]:
             max_offsets=max(3, int(round(base.max_offsets * f))),
             offset_step_um=base.offset_step_um / f), {}
     if knob.endswith("[linear]"):
-        fid, sc = _apply_knob(base, knob[:-len("[linear]")], value)
+        fid, sc = apply_knob(base, knob[:-len("[linear]")], value)
         return _replace(fid, element="linear"), sc
     names = {f.name for f in dataclasses.fields(Fidelity)}
     if knob not in names or knob in ("name",):
@@ -159,6 +176,9 @@ def _apply_knob(base: Fidelity, knob: str, value) -> tuple[Fidelity, dict]:
     elif ftype is float and isinstance(v, int):
         v = float(v)
     return _replace(base, **{knob: v}), {}
+
+
+_apply_knob = apply_knob  # the former name (study.limits reads it)
 
 
 def _base_value(base: Fidelity, scene_map: Mapping, knob: str):

@@ -1,0 +1,61 @@
+"""The maintained benchmarks: one entry point, ``python -m benchmarks NAME [args]``.
+
+Every figure of ``docs/benchmarks.md`` names the command of this registry that regenerates it.
+A benchmark is a module of this package with
+
+- ``main(argv) -> int``: the measurement (``argv`` as on the command line; ``--help`` lists the
+  options), printing markdown tables;
+- ``smoke() -> None``: the same code path on tiny inputs, seconds long, run by
+  ``tests/test_benchmarks.py`` for every registered name (no timing is checked there).
+
+To add one, write the module and add its name to :data:`REGISTRY`. ``python -m benchmarks``
+alone lists them.
+"""
+
+from __future__ import annotations
+
+import importlib
+from pathlib import Path
+from types import ModuleType
+
+#: name -> one line on what it measures (the module ``benchmarks.<name>``)
+REGISTRY: dict[str, str] = {
+    "contact_speed": "contact solver: time per solve and per CG iteration against the FFT bound "
+                     "(and tamaas where installed), Hertz p0 error",
+    "case_cost": "CPU of one simulated case per fault location and fidelity (CWRU 6205 scene), "
+                 "and the table's no-defect contact against Hertz",
+    "signal_speed": "fast kurtogram and the whole analysis chain on a sweep-length record",
+    "false_alarms": "false-alarm rate of the detection test on pure Gaussian noise",
+    "real_records": "verdicts on the CWRU 12 kHz drive-end records (right / wrong / abstain per "
+                    "fault set and confidence) and false alarms on shaped noise",
+    "reference": "the converged reference, the error model per load, its coverage on held-out "
+                 "cases, the cost of the presets",
+    "sweep_cost": "CPU per rule of a finished sweep, from Snakemake's benchmark files",
+    "result_digests": "sha256 of every array and table of a sweep's results/ (bit-identity)",
+}
+
+#: Benchmarks of work in flight, registered as soon as their module is in this folder (each
+#: with ``main(argv)`` and ``smoke()`` like the others); move an entry up once it has landed.
+PENDING = {
+    "hostile_configs": "bad and hostile configs: each refused before any job, and the check's cost",
+}
+REGISTRY.update({name: what for name, what in PENDING.items()
+                 if (Path(__file__).parent / f"{name}.py").exists()})
+
+
+def load(name: str) -> ModuleType:
+    """The module of a registered benchmark.
+
+    Parameters
+    ----------
+    name : str
+        A key of :data:`REGISTRY`.
+
+    Returns
+    -------
+    module
+        ``benchmarks.<name>``, with ``main(argv)`` and ``smoke()``.
+    """
+    if name not in REGISTRY:
+        raise SystemExit(f"benchmark: got {name!r}; allowed: {', '.join(sorted(REGISTRY))}")
+    return importlib.import_module(f"{__name__}.{name}")
