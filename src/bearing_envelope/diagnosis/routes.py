@@ -34,7 +34,7 @@ least :data:`MEDIUM_MIN_ROUTES` routes, named by one of them other than the enve
 and found by more routes than any other fault, is the diagnosis at ``medium``; otherwise the
 envelope route's verdict stands. Only the rolling element may be raised so: on the 32 CWRU
 development records, raising the races as well names four ball records (118, 119, 224, 225:
-race lines in every route) as inner or outer race at ``medium`` (``benchmarks/routes_dev.py``,
+race lines in every route) as inner or outer race at ``medium`` (``python -m benchmarks routes``,
 ``docs/diagnosis_routes.md``). The evidence says which route found what.
 """
 

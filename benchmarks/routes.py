@@ -2,9 +2,9 @@
 12 kHz drive-end development records, one verdict from several routes, leave one fault set
 out, and the false-alarm rate on shaped noise with every route.
 
-    nice -n 10 python benchmarks/routes_dev.py [--data ../shared/data/real] [--trials 300]
-        [--no-mc] [--table docs_table.md]
+    nice -n 10 python -m benchmarks routes --data DATA [--trials 400] [--no-mc] [--only-mc]
 
+``DATA``: laid out like the project's real-data folder (``benchmarks.real_records``).
 Records: the 32 of ``cwru_de12/`` (truth and Smith & Randall's grade in its ``index.csv``) and
 the normal record, through ``analyze_signal`` with the ``analyze`` command's defaults
 (``diagnosis.records.RECORD_OPTIONS`` without its routes, :data:`OPTIONS`) and then every
@@ -22,22 +22,19 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
-import sys
 import time
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-from cwru_dev import INCH, load_records, outcome, shaped_noise  # noqa: E402
+from bearing_envelope.diagnosis import analyze_signal
+from bearing_envelope.diagnosis.detection import clopper_pearson
+from bearing_envelope.diagnosis.records import RECORD_OPTIONS
+from bearing_envelope.diagnosis.routes import ROUTES, combine_routes, run_routes
+from bearing_envelope.physics.kinematics import fault_frequencies
 
-from bearing_envelope.diagnosis import analyze_signal  # noqa: E402
-from bearing_envelope.diagnosis.detection import clopper_pearson  # noqa: E402
-from bearing_envelope.diagnosis.records import RECORD_OPTIONS  # noqa: E402
-from bearing_envelope.diagnosis.routes import (ROUTES, combine_routes,  # noqa: E402
-                                               run_routes)
-from bearing_envelope.physics.kinematics import fault_frequencies  # noqa: E402
+from .real_records import INCH, load_records, outcome, shaped_noise
 
 #: Combination variants: (name, faults the routes may raise, routes needed), most
 #: conservative first.
@@ -155,8 +152,8 @@ def noise_mc(normal, trials, n, raises, min_routes, seed=24) -> dict:
 
 def main(argv=None) -> int:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    p.add_argument("--data", type=Path,
-                   default=Path(__file__).resolve().parents[2] / "shared" / "data" / "real")
+    p.add_argument("--data", type=Path, required=True,
+                   help="folder with cwru_de12/index.csv and cwru_097_normal_0hp.npz")
     p.add_argument("--trials", type=int, default=300)
     p.add_argument("--no-mc", action="store_true")
     p.add_argument("--only-mc", action="store_true")
@@ -166,7 +163,7 @@ def main(argv=None) -> int:
         _print_mc(records, args.trials)
         return 0
     idx = pd.read_csv(args.data / "cwru_de12" / "index.csv")
-    grades = dict(zip(idx.cwru_record, idx.sr2015_grade))
+    grades = (dict(zip(idx.cwru_record, idx.sr2015_grade)) if "sr2015_grade" in idx else {})
     runs = run(records)
     print("## what each route sees (margin over threshold, dB; * named)\n")
     print(route_table(runs, grades).to_markdown(index=False))
@@ -201,5 +198,13 @@ def _print_mc(records, trials):
               f"{100 * hi:.2f} %)")
 
 
-if __name__ == "__main__":
-    raise SystemExit(main())
+def smoke() -> None:
+    """``real_records``' synthetic data folder (one inner-race record, one normal record), every
+    route, and a 2-trial Monte Carlo."""
+    from unittest import mock
+
+    from . import real_records
+
+    # real_records.smoke builds the folder and calls its main: run this one's instead
+    with mock.patch.object(real_records, "main", lambda argv: main([*argv])):
+        real_records.smoke()
