@@ -33,9 +33,10 @@ route alone never makes ``high``: else ``medium``). Where the envelope route nam
 least :data:`MEDIUM_MIN_ROUTES` routes, named by one of them other than the envelope route,
 and found by more routes than any other fault, is the diagnosis at ``medium``; otherwise the
 envelope route's verdict stands. Only the rolling element may be raised so: on the 32 CWRU
-development records, raising the races as well names four ball records (118, 119, 224, 225:
-race lines in every route) as inner or outer race at ``medium`` (``python -m benchmarks routes``,
-``docs/diagnosis_routes.md``). The evidence says which route found what.
+development records, raising the races as well gives 4 (three routes needed) or 6 (two) wrong
+verdicts at ``medium``, ball records whose race lines every route sees among them
+(``python -m benchmarks routes``, ``docs/diagnosis_routes.md``). The evidence says which route
+found what.
 """
 
 from __future__ import annotations
@@ -124,7 +125,19 @@ class RouteResult:
         return route_found(self.verdict) if self.found is None else self.found
 
     def margin(self, family: str) -> float:
-        """The fundamental's margin over its threshold (dB) of ``family`` in this route."""
+        """The fundamental's margin over its threshold of one family in this route.
+
+        Parameters
+        ----------
+        family : str
+            Family name (``bpfo``, ``bsf2``, ...).
+
+        Returns
+        -------
+        float
+            ``floor_ratio_db - threshold_db`` (dB) in the route's best band; NaN when the
+            family is not searched.
+        """
         extra = dict(self.found_margins)
         if family in extra:
             return extra[family]
@@ -135,9 +148,19 @@ class RouteResult:
 
 
 def route_name(verdict: Verdict) -> tuple[str, ...]:
-    """The families a route's verdict names: its diagnosis, or its candidates when it cannot
-    tell; ``bsf`` only with its FTF sidebands; never ``ftf`` (the cage rate supports, it does
-    not name)."""
+    """The families a route's verdict names.
+
+    Parameters
+    ----------
+    verdict : Verdict
+        The route's family verdict.
+
+    Returns
+    -------
+    tuple of str
+        Its diagnosis, or its candidates when it cannot tell; ``bsf`` only with its FTF
+        sidebands; never ``ftf`` (the cage rate supports, it does not name).
+    """
     by = {v.family: v for v in verdict.families}
     fams = (verdict.diagnosis.family,) if verdict.diagnosis is not None else verdict.candidates
     out = []
@@ -327,8 +350,19 @@ def _fault(family: str) -> str:
 
 
 def route_found(verdict: Verdict) -> tuple[str, ...]:
-    """Families a route detects and does not explain by a stronger one (named, second
-    findings and weak ones alike), without the cage rate (supporting evidence only)."""
+    """Families a route finds.
+
+    Parameters
+    ----------
+    verdict : Verdict
+        The route's family verdict.
+
+    Returns
+    -------
+    tuple of str
+        Every detected family that no stronger one explains (named, second findings and weak
+        ones alike), without the cage rate (supporting evidence only).
+    """
     return tuple(v.family for v in verdict.families
                  if v.detected and v.role not in (None, "explained") and v.family != "ftf")
 
@@ -368,7 +402,13 @@ class RoutedVerdict:
     envelope: Verdict
 
     def summary(self) -> str:
-        """One line: the diagnosis, its confidence, how it was decided and the routes."""
+        """One line of the combined verdict.
+
+        Returns
+        -------
+        str
+            The diagnosis, its confidence, how it was decided and what each route found.
+        """
         head = ("no fault" if self.confidence is None else
                 f"{CANNOT_TELL}: {' or '.join(display_name(c) for c in self.candidates)}"
                 if self.diagnosis is None else f"{display_name(self.diagnosis)}")
