@@ -6,7 +6,7 @@ import pytest
 
 from bearing_envelope.diagnosis import AnalysisOptions, analyze_signal, fault_families
 from bearing_envelope.diagnosis.routes import (RouteResult, combine_routes, route_name,
-                                               route_verdict, run_routes)
+                                               route_verdict, run_routes, spectra_verdict)
 
 FR = 29.95
 FREQS = {"bpfo": 107.36, "bpfi": 162.19, "ftf": 11.93, "bsf": 70.58}
@@ -110,3 +110,22 @@ def test_ball_named_by_2xbsf_or_bsf_with_cage_sidebands_never_by_the_cage():
     ees = _result("ees", _train(ftf, 30.0, k=4), 14)
     v = combine_routes({"envelope": env, "cpw": cage, "ees": ees})
     assert v.decided_by == "envelope" and v.diagnosis is None
+
+
+def test_high_needs_a_second_route():
+    # BPFO in three distinct envelope bands, 30 dB lines: high on its own; with no other route
+    # finding it the verdict is medium, with one it stays high
+    spectra = {}
+    for i, name in enumerate(("a", "b", "c")):
+        f, a = _spectrum(_train(FREQS["bpfo"], 60.0), 20 + i)
+        spectra[name] = ((1000.0 * i, 1000.0 * (i + 1)), f, a)
+    env_v = spectra_verdict(spectra, FAMS, fr=FR, search=SEARCH, n_harmonics=3, n_sidebands=1,
+                     pfa=0.01)
+    assert env_v.confidence == "high" and env_v.diagnosis.family == "bpfo"
+    env = RouteResult("envelope", env_v, route_name(env_v), (0.0, 6000.0))
+    alone = combine_routes({"envelope": env, "cpw": _result("cpw", {}, 30)})
+    assert (alone.confidence, alone.decided_by) == ("medium",
+                                                    "envelope, high needs a second route")
+    both = combine_routes({"envelope": env,
+                           "cpw": _result("cpw", _train(FREQS["bpfo"], 40.0), 31)})
+    assert (both.diagnosis, both.confidence, both.decided_by) == ("bpfo", "high", "envelope")

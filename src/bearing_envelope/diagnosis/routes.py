@@ -58,7 +58,7 @@ from .faults import CANNOT_TELL, Verdict, display_name, fault_verdict, search_li
 
 __all__ = ["BALL_SEARCH_PERCENT", "DEFAULT_ROUTES", "MEDIUM_MIN_ROUTES", "RAISES", "ROUTES",
            "RouteResult", "RoutedVerdict", "apply_routes", "combine_routes", "route_found",
-           "route_name", "route_spectrum", "route_verdict", "run_routes"]
+           "route_name", "route_spectrum", "route_verdict", "run_routes", "spectra_verdict"]
 
 #: Every route (the envelope route is the verdict of ``analyze_signal``).
 ROUTES = ("envelope", "cpw", "drs_sk", "ees")
@@ -239,16 +239,36 @@ def route_verdict(route: str, f, amplitude, band, families, *, fr: float, search
     pfa : float
         Record-wise false-alarm probability of the route.
     """
-    return _verdict({route: (band, f, amplitude)}, families, fr=fr, search=search,
-                    n_harmonics=n_harmonics, n_sidebands=n_sidebands, pfa=pfa)
+    return spectra_verdict({route: (band, f, amplitude)}, families, fr=fr, search=search,
+                           n_harmonics=n_harmonics, n_sidebands=n_sidebands, pfa=pfa)
 
 
-def _verdict(spectra: Mapping, families, *, fr, search, n_harmonics, n_sidebands, pfa,
-             known: Mapping | None = None):
-    """``fault_verdict`` over the spectra ``{band name: (band, f, amplitude)}``, each line
-    tested at ``pfa / (families x bands)``, a rolling element searched within at least
-    :data:`BALL_SEARCH_PERCENT`; ``known``: ``{band name: {family: rows}}`` already searched
-    so (not searched again)."""
+def spectra_verdict(spectra: Mapping, families, *, fr, search, n_harmonics, n_sidebands,
+                    pfa, known: Mapping | None = None) -> Verdict:
+    """:func:`~bearing_envelope.diagnosis.faults.fault_verdict` over several spectra.
+
+    Parameters
+    ----------
+    spectra : mapping
+        ``{band name: ((low_hz, high_hz), f, amplitude)}``.
+    families : sequence of FaultFamily
+    fr : float
+        Shaft rate (Hz).
+    search : mapping
+        ``search_percent``, ``tolerance_hz``, ``min_search_bins`` of the line search; a
+        rolling element's fundamental is searched within at least :data:`BALL_SEARCH_PERCENT`.
+    n_harmonics, n_sidebands : int
+    pfa : float
+        Record-wise false-alarm probability: each line is tested at ``pfa / (families x
+        bands)``.
+    known : mapping, optional
+        ``{band name: {family: rows of search_lines}}`` already searched so (not searched
+        again).
+
+    Returns
+    -------
+    Verdict
+    """
     n_tests = max(1, len(families) * len(spectra))
     rows = []
     for name, (band, f, amplitude) in spectra.items():
@@ -283,9 +303,9 @@ def _envelope_result(details: Mapping, search: Mapping) -> RouteResult:
     # the other families' lines as analyze_signal found them (same search, same pfa per test)
     known = {name: {k: rows for k, rows in b["lines"].items() if k not in _FAULT}
              for name, b in details["bands"].items()}
-    ball = _verdict(spectra, details["families"], fr=details["fr"], search=search,
-                    n_harmonics=opt.n_harmonics, n_sidebands=opt.n_sidebands, pfa=opt.pfa,
-                    known=known)
+    ball = spectra_verdict(spectra, details["families"], fr=details["fr"], search=search,
+                           n_harmonics=opt.n_harmonics, n_sidebands=opt.n_sidebands,
+                           pfa=opt.pfa, known=known)
     own = route_found(v)
     extra = tuple(f for f in route_found(ball) if f in _FAULT and f not in own)
     margins = tuple((w.family, w.margin_db) for w in ball.families if w.family in extra)
