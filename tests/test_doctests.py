@@ -10,6 +10,7 @@ ENTRY_POINTS = [
     ("bearing_envelope.physics.history", "simulate"),
     ("bearing_envelope.signal.envelope", "envelope_spectrum"),
     ("bearing_envelope.signal.kurtogram", "fast_kurtogram"),
+    ("bearing_envelope.diagnosis.records", "analyze_record"),
 ]
 
 

@@ -328,6 +328,13 @@ def _writable(opt: str, path: str | None, *, directory: bool = False) -> None:
     if path is None or (path == "-" and opt == "--json"):
         return
     target = os.path.abspath(path)
+    real = os.path.realpath(target)
+    if real.startswith(("/dev/", "/proc/", "/sys/")) or real in ("/dev", "/proc", "/sys"):
+        raise ValueError(f"{opt}: {path!r} is a system path ({real}); allowed: a "
+                         f"{'directory' if directory else 'regular file'} of your own")
+    if os.path.exists(target) and not (os.path.isdir(target) or os.path.isfile(target)):
+        raise ValueError(f"{opt}: {path!r} is a device, FIFO or socket; allowed: a "
+                         f"{'directory' if directory else 'regular file'}")
     if directory and os.path.exists(target) and not os.path.isdir(target):
         raise ValueError(f"--plot: {path!r} is a file; allowed: a directory")
     if not directory and (os.path.isdir(target) or path.endswith(os.sep)):
@@ -472,13 +479,11 @@ def library_arguments(args) -> dict:
 
 
 def analyze_record(task: dict, args, library: dict):
-    """One record through the library (:func:`bearing_envelope.diagnosis.records.
-    analyze_record`): the task's own fs, shaft rate and bearing win over the options."""
-    from bearing_envelope.diagnosis.records import analyze_record as analyze
+    """One record through the library (:func:`bearing_envelope.diagnosis.batch.analyze_item`:
+    the task's own fs, shaft rate and bearing win over the options)."""
+    from bearing_envelope.diagnosis.batch import analyze_item
 
-    per = {k: task[k] for k in ("fs", "shaft_hz", "bearing") if task.get(k) is not None}
-    kw = {**library, "fs": args.fs, **per}
-    return analyze(library["reader"](task), file=task["file"], name=task.get("name"), **kw)
+    return analyze_item(task, fs=args.fs, **library)
 
 
 def run(args) -> int:

@@ -7,6 +7,9 @@ signal, and its plots.
 - :mod:`.speed`: the shaft rate measured from the raw spectrum's shaft harmonics;
 - :mod:`.lines`: raw-spectrum terms and harmonic/sideband amplitudes of a base line;
 - :mod:`.analysis`: :func:`analyze_signal`, bands x envelope x lines in one call;
+- :mod:`.records`: :func:`analyze_record`, one measured record (an array or a record already
+  read) with every decision of ``bearing-envelope analyze``, a typed :class:`RecordAnalysis`;
+- :mod:`.batch`: :func:`analyze_records`, many records in parallel, the verdict table;
 - :mod:`.plots`: figures of an analysis (matplotlib, imported on demand).
 """
 
@@ -16,6 +19,8 @@ from .faults import (CANNOT_TELL, CONFIDENCE_LEVELS, DEFAULT_SEARCH_PERCENT, Fam
                      FaultFamily, Verdict, evidence_level, fault_families, fault_verdict,
                      search_lines)
 from .lines import harmonic_amplitudes, raw_terms
+from .records import RECORD_OPTIONS, RecordAnalysis, RecordFailure, analyze_record
+from .batch import analyze_records, verdict_table
 from .speed import ShaftRate, estimate_shaft_rate
 
 __all__ = ["COLUMNS", "KURTOGRAM_MIN_ORDERS", "AnalysisOptions", "analyze_signal",
@@ -23,4 +28,5 @@ __all__ = ["COLUMNS", "KURTOGRAM_MIN_ORDERS", "AnalysisOptions", "analyze_signal
            "FamilyVerdict", "FaultFamily", "Verdict", "evidence_level", "fault_families",
            "fault_verdict",
            "search_lines", "harmonic_amplitudes", "raw_terms", "ShaftRate",
-           "estimate_shaft_rate"]
+           "estimate_shaft_rate", "RECORD_OPTIONS", "RecordAnalysis", "RecordFailure",
+           "analyze_record", "analyze_records", "verdict_table"]

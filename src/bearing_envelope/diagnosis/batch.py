@@ -23,7 +23,7 @@ import pandas as pd
 
 from .records import RecordFailure, analyze_record
 
-__all__ = ["one_line", "analyze_records", "record_figure", "verdict_table"]
+__all__ = ["one_line", "analyze_item", "analyze_records", "record_figure", "verdict_table"]
 
 #: Per-record keys of a mapping item that override the call's arguments.
 _ITEM_KEYS = ("fs", "shaft_hz", "bearing", "name")
@@ -91,15 +91,38 @@ def record_figure(res, fig_dir: str, figure_options: Mapping | None = None) -> s
         title=res.file, **dict(figure_options or {}))
 
 
+def analyze_item(item, *, reader: Callable | None = None, index: int = 0, **kwargs):
+    """One item of :func:`analyze_records`, analysed in full (samples and spectra kept).
+
+    Parameters
+    ----------
+    item : array_like, mapping or path
+        As an item of :func:`analyze_records`: a task mapping's non-None ``fs``, ``shaft_hz``,
+        ``bearing``, ``name`` win over ``kwargs``; ``reader`` reads a path or a task.
+    reader : callable, optional
+        ``reader(path_or_task) -> record mapping``.
+    index : int, default 0
+        Position of the item (the name ``record_{index}`` of an array).
+    **kwargs
+        The arguments of :func:`~bearing_envelope.diagnosis.records.analyze_record`.
+
+    Returns
+    -------
+    RecordAnalysis
+    """
+    signal, per = _split(item, index)
+    if isinstance(signal, Mapping) and "x" not in signal:  # a task: the reader reads it
+        if reader is None:
+            raise ValueError(f"file: {per['file']}: a path needs a reader")
+        signal = reader(signal)
+    return analyze_record(signal, reader=reader, **{**kwargs, **per})
+
+
 def _work(index: int, item, kwargs: dict, reader, fig_dir, figure_options):
     """One record: analysed (and drawn), compact; any error becomes a failure (one line)."""
-    signal, per = _split(item, index)
+    _, per = _split(item, index)
     try:
-        if isinstance(signal, Mapping) and "x" not in signal:  # a task: the reader reads it
-            if reader is None:
-                raise ValueError(f"file: {per['file']}: a path needs a reader")
-            signal = reader(signal)
-        res = analyze_record(signal, reader=reader, **{**kwargs, **per})
+        res = analyze_item(item, reader=reader, index=index, **kwargs)
         if fig_dir is not None:
             res = replace(res, figure=record_figure(res, fig_dir, figure_options))
         return res.compact()

@@ -501,7 +501,13 @@ class RecordAnalysis:
         return self.details["families"]
 
     def summary_lines(self) -> list[str]:
-        """The verdict in words (:meth:`Verdict.summary_lines`)."""
+        """The verdict in words (:meth:`Verdict.summary_lines`).
+
+        Returns
+        -------
+        list of str
+            The verdict line, then one line per other family worth naming.
+        """
         return self.verdict.summary_lines()
 
     def to_frame(self) -> pd.DataFrame:
@@ -551,7 +557,13 @@ class RecordAnalysis:
 
     def compact(self) -> "RecordAnalysis":
         """The same result without the samples and the spectra (what a batch keeps): the
-        verdict, the lines, the bands' limits and provenance, the kurtogram stay."""
+        verdict, the lines, the bands' limits and provenance, the kurtogram stay.
+
+        Returns
+        -------
+        RecordAnalysis
+            The copy.
+        """
         bands = {nm: {k: v for k, v in b.items() if k not in ("f", "amplitude")}
                  for nm, b in self.bands.items()}
         details = {k: v for k, v in self.details.items() if k != "raw"}
@@ -577,15 +589,38 @@ class RecordFailure:
                  "status": "error", "error": self.error},)
 
     def summary_lines(self) -> list[str]:
-        """No verdict: an empty list."""
+        """No verdict: an empty list.
+
+        Returns
+        -------
+        list of str
+            ``[]``.
+        """
         return []
 
     def to_frame(self) -> pd.DataFrame:
-        """The one-row verdict table of the failure."""
+        """The one-row verdict table of the failure.
+
+        Returns
+        -------
+        pandas.DataFrame
+            One row: the file, ``status`` error and the reason.
+        """
         return pd.DataFrame.from_records(list(self.rows))
 
     def to_dict(self, lines=None) -> dict:
-        """``{"file", "error"}``."""
+        """``{"file", "error"}``.
+
+        Parameters
+        ----------
+        lines : optional
+            Ignored (the signature of :meth:`RecordAnalysis.to_dict`).
+
+        Returns
+        -------
+        dict
+            ``{"file": ..., "error": ...}``.
+        """
         return {"file": self.file, "error": self.error}
 
 
