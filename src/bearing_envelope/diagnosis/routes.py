@@ -238,6 +238,11 @@ def route_verdict(route: str, f, amplitude, band, families, *, fr: float, search
     n_harmonics, n_sidebands : int
     pfa : float
         Record-wise false-alarm probability of the route.
+
+    Returns
+    -------
+    Verdict
+        The verdict over the route's one band (named after the route).
     """
     return spectra_verdict({route: (band, f, amplitude)}, families, fr=fr, search=search,
                            n_harmonics=n_harmonics, n_sidebands=n_sidebands, pfa=pfa)
