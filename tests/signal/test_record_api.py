@@ -138,7 +138,7 @@ def test_one_default_of_the_analysis_options():
     """The sweep's schema, the library, the command line and the trade-off study agree: the
     command line and the trade-off study hold no literal of their own."""
     from bearing_envelope.cli import build_parser
-    from bearing_envelope.study.tradeoff import _analysis_used
+    from bearing_envelope.study.tradeoff import analysis_used
 
     schema = yaml.safe_load((ROOT / "src" / "bearing_envelope" / "data" /
                              "config.schema.yaml").read_text())
@@ -150,7 +150,7 @@ def test_one_default_of_the_analysis_options():
         if "default" in an[key]:  # the schema may take it from AnalysisOptions instead
             assert an[key]["default"] == value, key
     assert (d.n_harmonics, d.n_sidebands, d.n_raw_harmonics) == (3, 2, 3)
-    used = _analysis_used(None)
+    used = analysis_used(None)
     assert {k: used[k] for k in pairs} == pairs
     args = build_parser().parse_args(["analyze", "x.npy"])
     for opt in ("harmonics", "sidebands", "raw_harmonics", "nlevel", "search_percent", "pfa",
