@@ -41,6 +41,7 @@ from ..physics.kinematics import fault_frequencies
 from ..signal.bands import DEFAULT_BANDS
 from ..signal.kurtogram import max_kurtogram_level
 from .analysis import AnalysisOptions, analyze_signal
+from .routes import DEFAULT_ROUTES
 from .detection import fault_band_metrics
 from .faults import Verdict
 
@@ -54,8 +55,10 @@ MIN_BINS = 10
 
 #: The options of a measured recording: the shared defaults of :class:`AnalysisOptions` (the
 #: sweep's), with the shaft rate measured from the record (a nominal speed is off by a fraction
-#: of a percent on a real machine; the sweep knows its speed exactly and keeps it off).
-RECORD_OPTIONS = AnalysisOptions(measure_speed=True)
+#: of a percent on a real machine; the sweep knows its speed exactly and keeps it off) and
+#: every route of :mod:`~bearing_envelope.diagnosis.routes` in the verdict (the sweep runs
+#: none).
+RECORD_OPTIONS = AnalysisOptions(measure_speed=True, routes=DEFAULT_ROUTES)
 
 
 class Source(NamedTuple):
