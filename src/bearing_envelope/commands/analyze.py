@@ -234,9 +234,9 @@ def check_args(args) -> None:
     args.geometry = geometry_args(args)
     _check_counts(args)
     if args.fixed_band is not None:
-        lo, hi = args.fixed_band
-        if not (math.isfinite(lo) and math.isfinite(hi) and 0 <= lo < hi):
-            raise ValueError(f"--fixed-band: got {lo!r} {hi!r}; allowed: 0 <= LOW_HZ < HIGH_HZ")
+        from bearing_envelope.diagnosis.records import check_fixed_band  # start-up time
+
+        check_fixed_band(args.fixed_band, OPTION_NAMES)
     if not args.files and args.manifest is None:
         raise ValueError("file: give a signal file, several, a folder, or --manifest CSV")
     if len(args.files) == 1 and args.manifest is None and os.path.isdir(args.files[0]) \
