@@ -1,16 +1,14 @@
 # bearing_envelope: contact-pressure histories of a damaged roller bearing and their envelope
 # analysis over a load x defect-depth sweep. Everything lives in workflow/rules/*.smk; the
 # physics and signal processing live in the package (src/bearing_envelope).
+#
+# No `configfile:` directive: ./config.yaml and the --configfile files are read once, each, by
+# the project's loader in workflow/rules/common.smk (bearing_envelope.study.settings.
+# workflow_settings: strict YAML with line numbers, merged so that a designation is a complete
+# bearing, validated and typed once).
 from snakemake.utils import min_version
 
 min_version("8.10")
-
-
-# Read ./config.yaml strictly first, so a YAML error names its line (Snakemake's loader does not).
-include: "workflow/rules/precheck.smk"
-
-
-configfile: "config.yaml"
 
 
 report: "workflow/report/workflow.rst"

@@ -175,15 +175,12 @@ def no_solver(monkeypatch):
 
 
 @pytest.mark.parametrize("key", sorted(BAD_CONFIGS))
-def test_workflow_precheck_rejects(tmp_path, key):
+def test_workflow_precheck_rejects(tmp_path, monkeypatch, key):
     spec, pattern = BAD_CONFIGS[key]
     path = _write(tmp_path, spec)
+    monkeypatch.chdir(tmp_path)   # a run directory without a config.yaml under the file
     with pytest.raises(ConfigError) as info:
-        try:
-            parsed = yaml.safe_load(path.read_text())  # what Snakemake hands to common.smk
-        except yaml.YAMLError:
-            parsed = {}
-        workflow_settings(parsed if isinstance(parsed, dict) else {}, [path])
+        workflow_settings([path])   # what common.smk calls with the --configfile files
     _one_line(str(info.value), pattern)
     assert str(path) in str(info.value)
 
@@ -205,11 +202,12 @@ def test_cli_rejects_before_any_solve(tmp_path, capsys, no_solver, key):
     assert not out.exists()
 
 
-def test_valid_draft_config_passes_both_entry_points(tmp_path, capsys):
+def test_valid_draft_config_passes_both_entry_points(tmp_path, monkeypatch, capsys):
     from bearing_envelope.cli import main
 
     path = _write(tmp_path, lambda c: None)
-    st = workflow_settings(yaml.safe_load(path.read_text()), [path])
+    monkeypatch.chdir(tmp_path)
+    st = workflow_settings([path])
     assert [c.name for c in st.cases] == ["F250kN_h0um", "F250kN_h50um", "F750kN_h0um", "F750kN_h50um"]
     assert main(["check-config", str(path)]) == 0
     assert "4 cases" in capsys.readouterr().out

@@ -48,13 +48,7 @@ def test_nothing_outside_src_imports_a_private_name_of_the_library():
         if rel.parts[0] in ("src", ".snakemake", "results") or rel.parts[0].startswith("."):
             continue
         hits += [(str(rel), name) for _, name in _private_uses(path)]
-    assert sorted(set(hits) - KNOWN) == []
-
-
-#: Left: two internals of physics/solves.py checked directly by a test (the force balance of the
-#: axial end strips); to be made public with the next edit of solves.py.
-KNOWN = {("tests/test_end_strips.py", "hi..._far_uptake"),
-         ("tests/test_end_strips.py", "hi..._end_intervals")}
+    assert sorted(set(hits)) == []
 
 
 def _private(name: str) -> bool:

@@ -60,10 +60,9 @@ def test_case_name_parse_refuses_non_canonical_and_garbage():
 
 
 def test_case_names_round_trip_exactly():
-    from bearing_envelope.study.tables import parse_case_name
-
     assert CaseId(333.3333, 50.0000001).name == "F333.3333kN_h50.0000001um"
-    assert parse_case_name("F333.3333kN_h50.0000001um.csv") == (333.3333, 50.0000001)
+    c = CaseId.parse("F333.3333kN_h50.0000001um.csv")
+    assert (c.load_kN, c.depth_um) == (333.3333, 50.0000001)
 
 
 def test_sweep_cases_without_and_with_widths():
@@ -87,21 +86,24 @@ def test_default_config_has_the_study_cases_and_width_rule():
     assert st.scene(CaseId(500, 30, 200)).defect.width_um == 200.0
 
 
-def test_defaults_filled_as_snakemake_validate_does():
-    """The workflow's params (and so Snakemake's rerun decisions) must not change with the loader."""
+def test_defaults_filled_as_a_json_schema_validator_does(tmp_path):
+    """The loader fills the schema's defaults (with those whose home is code filled in) as
+    ``snakemake.utils.validate(set_default=True)`` fills them, so jobs receive the same values."""
     from snakemake.utils import validate
 
-    from bearing_envelope.study.schema import SCHEMA_PATH
+    from bearing_envelope.study.settings import _full_schema
 
     for cfg in (copy.deepcopy(DRAFT), {"sweep": {"loads_kN": [1], "depths_um": [0]},
                                        "scene": {"material": {"roller": {}}},
                                        "analysis": {"bands": [{"name": "k", "strategy": "kurtogram"}]}}):
         ours = settings_from_mapping(cfg).config
         theirs = copy.deepcopy(cfg)
-        validate(theirs, str(SCHEMA_PATH))
+        schema = tmp_path / "schema.yaml"
+        schema.write_text(yaml.safe_dump(_full_schema()))
+        validate(theirs, str(schema))
         assert json.dumps(ours, sort_keys=True) == json.dumps(theirs, sort_keys=True)
-    # the defaults reach nested $ref sections
-    assert ours["scene"]["material"]["roller"] == {"E_GPa": 210.0, "nu": 0.3}
+    # no scene default is filled: the scene's defaults live in physics/scene.py alone
+    assert ours["scene"]["material"]["roller"] == {}
 
 
 def test_cage_slip_schema_matches_the_implementation():

@@ -106,7 +106,7 @@ def _direct(node, r):
     f0, _, p0 = node.end_ref["ref"]          # solved (and cached) by the defect solve
     cell = node.window.dx * node.window.dy
     assert f0 == pytest.approx(float(p0.sum()) * cell, rel=1e-9)
-    return float(p0.sum() - r.pressure.sum()) * cell - hi._far_uptake(node, r.pressure, p0)
+    return float(p0.sum() - r.pressure.sum()) * cell - hi.far_uptake(node, r.pressure, p0)
 
 
 def test_force_balance_with_end_strips():
@@ -124,7 +124,7 @@ def test_end_intervals_skip_an_end_at_the_roller_end():
     # window gap is +inf beyond the roller end)
     s = _scene(axial_position_mm=16.0, length_um=2000.0)
     fid, node, r = _solve(s, 60e3, 0.0, end_dy_um=10.0)
-    ends = hi._end_intervals(s, fid, node.window)
+    ends = hi.end_intervals(s, fid, node.window)
     assert len(ends) == 1
     yc = node.window.y[ends[0][0]:ends[0][1]]
     assert yc.min() < 15e-3 < yc.max()
@@ -132,4 +132,4 @@ def test_end_intervals_skip_an_end_at_the_roller_end():
     assert r.removed_force > 0
     s0 = _scene()
     fid0, node0, _ = _solve(s0, 60e3, 0.0, end_dy_um=10.0)
-    assert len(hi._end_intervals(s0, fid0, node0.window)) == 2
+    assert len(hi.end_intervals(s0, fid0, node0.window)) == 2

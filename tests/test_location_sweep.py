@@ -17,7 +17,8 @@ from bearing_envelope.physics.locations import LOCATION_FAMILIES, event_frequenc
 from bearing_envelope.physics.scene import Scene
 from bearing_envelope.study.pipeline import case_bands, case_fault_lines, case_harmonics
 from bearing_envelope.study.settings import (AnalysisSettings, CaseId, ConfigError,
-                                             SweepSettings, read_yaml, settings_from_mapping)
+                                             SweepSettings, read_configs,
+                                             settings_from_mapping)
 from bearing_envelope.study.figures import fig_diagnosability_maps, fig_harmonics_vs_depth
 from bearing_envelope.study.tables import add_location, concat_tidy, pivot_tables
 
@@ -63,7 +64,7 @@ def test_sweep_locations_repeat_every_case_and_bad_values_name_the_field():
 
 
 def _cwru_config(**defect):
-    cfg = read_yaml("config_cwru.yaml")
+    cfg = read_configs(["config.yaml", "config_cwru.yaml"])
     cfg.pop("tradeoff", None)
     cfg["scene"]["defect"].update(defect)
     return cfg
@@ -124,7 +125,7 @@ def _synthetic_case(location: str, lines_hz, modulation_hz: float | None):
     if modulation_hz is not None:
         env = env * (1.0 + 0.5 * np.cos(2 * np.pi * modulation_hz * t))
     x = env * np.cos(2 * np.pi * CARRIER_HZ * t)
-    m = read_yaml("config_cwru.yaml")["scene"]
+    m = read_configs(["config.yaml", "config_cwru.yaml"])["scene"]
     m["defect"]["location"] = location
     sc = Scene.from_mapping(m, load_kN=1.0, depth_um=0.0)
     ff = sc.frequencies()
@@ -187,10 +188,15 @@ def test_tables_get_a_location_column_and_one_pivot_per_location():
                               "band_high_hz": 2.0, "quantity": quantity, "order": 1,
                               "sideband": 0, "frequency_hz": 1.0, "amplitude": c.depth_um + 1}])
 
-    plain = concat_tidy([frame("F1kN_h0um", "envelope_bpfi"), frame("F1kN_h5um", "envelope_bpfi")])
-    assert "location" not in plain.columns and add_location(plain) is plain
+    plain_cases = [CaseId(1, 0), CaseId(1, 5)]
+    plain = concat_tidy([frame("F1kN_h0um", "envelope_bpfi"), frame("F1kN_h5um", "envelope_bpfi")],
+                        plain_cases)
+    assert "location" not in plain.columns and add_location(plain, plain_cases) is plain
+    cases = SweepSettings(loads_kN=(1.0,), depths_um=(0.0, 5.0),
+                          locations=("outer_race", "rolling_element")).cases()
     tidy = concat_tidy([frame("F1kN_h5um_re", "envelope_2bsf"), frame("F1kN_h0um_or", "envelope_bpfo"),
-                        frame("F1kN_h5um_or", "envelope_bpfo"), frame("F1kN_h0um_re", "envelope_2bsf")])
+                        frame("F1kN_h5um_or", "envelope_bpfo"), frame("F1kN_h0um_re", "envelope_2bsf")],
+                       cases)
     assert list(tidy.columns[:4]) == ["case", "load_kN", "depth_um", "location"]
     assert list(tidy["case"]) == ["F1kN_h0um_or", "F1kN_h5um_or", "F1kN_h0um_re", "F1kN_h5um_re"]
     piv = pivot_tables(tidy)
@@ -200,10 +206,11 @@ def test_tables_get_a_location_column_and_one_pivot_per_location():
 
 
 def test_figures_and_detection_maps_carry_the_location(tmp_path):
-    rows, cells = [], []
+    rows, cells, cases = [], [], []
     for loc, q in (("outer_race", "envelope_bpfo"), ("rolling_element", "envelope_2bsf")):
         for depth in (0.0, 10.0):
-            name = CaseId(1.0, depth, None, loc).name
+            cases.append(CaseId(1.0, depth, None, loc))
+            name = cases[-1].name
             for k in (1, 2):
                 rows.append({"case": name, "load_kN": 1.0, "depth_um": depth, "band": "fixed",
                              "band_strategy": "fixed", "band_low_hz": 1.0, "band_high_hz": 2.0,
@@ -212,9 +219,9 @@ def test_figures_and_detection_maps_carry_the_location(tmp_path):
             for snr in (0.0, 10.0):
                 cells.append({"case": name, "load_kN": 1.0, "depth_um": depth, "snr_db": snr,
                               "band": "fixed", "statistic_db": snr + depth, "detected": depth > 0})
-    tidy = concat_tidy([pd.DataFrame(rows)])
+    tidy = concat_tidy([pd.DataFrame(rows)], cases)
     fig_harmonics_vs_depth(tidy, "fixed", tmp_path / "h.png")
     assert (tmp_path / "h.png").stat().st_size > 0
-    out = fig_diagnosability_maps(add_location(pd.DataFrame(cells)), tmp_path / "maps")
+    out = fig_diagnosability_maps(add_location(pd.DataFrame(cells), cases), tmp_path / "maps")
     assert sorted(p.name for p in out) == ["diagnosability_fixed_outer_race.png",
                                            "diagnosability_fixed_rolling_element.png"]

@@ -13,7 +13,7 @@ from bearing_envelope.physics.geometry import defect_depth, gap_field, make_grid
 from bearing_envelope.physics.loads import scene_load_distribution
 from bearing_envelope.physics.scene import Scene
 from bearing_envelope.physics.solves import SolveStats, defect_solve, solve_load
-from bearing_envelope.study.settings import ConfigError, settings_from_mapping
+from bearing_envelope.study.settings import ConfigError, read_configs, settings_from_mapping
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -66,14 +66,8 @@ def test_bad_profile_file_is_refused(tmp_path):
 
 
 def _merged(*names):
-    def merge(a, b):
-        for k, v in b.items():
-            a[k] = merge(dict(a.get(k, {})), v) if isinstance(v, dict) else v
-        return a
-    out = {}
-    for n in names:
-        out = merge(out, yaml.safe_load((ROOT / n).read_text()))
-    return out
+    """The files merged as the workflow merges them (the one merge function)."""
+    return read_configs([ROOT / n for n in names])
 
 
 @pytest.mark.parametrize("extra, location", [((), "inner_race"),

@@ -25,6 +25,8 @@ rule aggregate:
             caption="../report/pivots.rst",
             category="Pivot tables",
         ),
+    params:
+        cases=CASE_IDS,
     log:
         "logs/aggregate.log",
     benchmark:

@@ -8,25 +8,27 @@ from bearing_envelope.study.figures import example_pairs
 from bearing_envelope.study.limits import precheck, profile_files
 from bearing_envelope.study.recovery import is_dry_run, marker_if_present, recover_case_files
 from bearing_envelope.study.provenance import code_dependencies
-from bearing_envelope.study.settings import CASE_NAME_REGEX, CaseId, workflow_settings
+from bearing_envelope.study.settings import CASE_NAME_REGEX, workflow_settings
 
 
-def check_limits(settings, files):
-    """bearing_envelope.study.limits.precheck (config-as-code, case names, lower bounds,
-    tradeoff section, resource estimate per case): one line naming the field, no job runs."""
+def check_limits(settings):
+    """bearing_envelope.study.limits.precheck (case names, lower bounds, tradeoff section,
+    resource estimate per case): one line naming the field, no job runs."""
     try:
-        return precheck(settings, files)
+        return precheck(settings)
     except ValueError as exc:
         print(f"bearing_envelope: invalid configuration: {exc}", file=sys.stderr)
         raise SystemExit(1)
 
 
 def load_workflow_settings():
-    """The one validating loader (bearing_envelope.study.settings.workflow_settings) on the files
-    Snakemake read: on error one line naming the field, and no job runs. The schema defaults are
-    filled into `config` as snakemake.utils.validate would."""
+    """The one validating loader (bearing_envelope.study.settings.workflow_settings): reads
+    ./config.yaml and the --configfile files once each, merges them with --config (a designation
+    is a complete bearing), validates and types once; on error one line naming the field, and
+    no job runs. `config` becomes the validated mapping (schema defaults filled)."""
     try:
-        settings = workflow_settings(config, workflow.configfiles)
+        settings = workflow_settings(workflow.overwrite_configfiles,
+                                     dict(workflow.config_settings.config))
     except ValueError as exc:  # ConfigError, one line naming the field
         print(f"bearing_envelope: invalid configuration: {exc}", file=sys.stderr)
         raise SystemExit(1)
@@ -36,7 +38,7 @@ def load_workflow_settings():
 
 
 SETTINGS = load_workflow_settings()
-ESTIMATES = check_limits(SETTINGS, workflow.configfiles)  # bearing_envelope.study.limits
+ESTIMATES = check_limits(SETTINGS)  # bearing_envelope.study.limits
 
 # Library code is an input of the rules that use it: editing a module reruns the stages whose
 # script imports it (directly or through other package modules), derived from the imports.
@@ -58,10 +60,17 @@ LOADS = list(SETTINGS.sweep.loads_kN)
 DEPTHS = list(SETTINGS.sweep.depths_um)
 CASE_IDS = SETTINGS.cases
 CASES = [c.name for c in CASE_IDS]
+#: The typed case each name stands for: a case's identity names its files, never the reverse.
+CASE_BY_NAME = {c.name: c for c in CASE_IDS}
 BAND_NAMES = [b.name for b in SETTINGS.analysis.bands]
 
 wildcard_constraints:
     case=CASE_NAME_REGEX,
+
+
+def case_id(wildcards):
+    """The typed case (CaseId) of a job: looked up by the name it gave its files."""
+    return CASE_BY_NAME[wildcards.case]
 
 
 def scene_params(wildcards):
@@ -101,7 +110,7 @@ def reference_case(wildcards):
     """The healthy case of the same load for a defect case (defines the defect part); for a
     healthy case, the shallowest defect case of its load (its noise defines the healthy cells'
     noise: bearing_envelope.study.pipeline.case_diagnosability). None where the sweep lacks it."""
-    case = CaseId.parse(wildcards.case)
+    case = case_id(wildcards)
     if case.depth_um > 0:
         return f"results/cases/{case.healthy.name}.h5" if 0.0 in DEPTHS else []
     peers = [c for c in CASE_IDS if c.load_kN == case.load_kN and c.location == case.location

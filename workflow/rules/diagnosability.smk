@@ -82,6 +82,8 @@ rule diagnosability:
             caption="../report/diagnosability.rst",
             category="Diagnosability",
         ),
+    params:
+        cases=CASE_IDS,
     log:
         "logs/diagnosability.log",
     benchmark:

@@ -9,6 +9,7 @@ rule simulate:
         "results/cases/{case}.h5",
     params:
         setup=scene_params,
+        case=case_id,
     log:
         "logs/simulate/{case}.log",
     benchmark:

@@ -9,9 +9,10 @@ from bearing_envelope.study.tables import add_location, band_table, concat_tidy,
 
 with log_to(snakemake.log[0]):  # noqa: F821
     inp, out = snakemake.input, snakemake.output  # noqa: F821
-    tidy = concat_tidy(read_tidy(p) for p in inp.harmonics)
+    cases = snakemake.params.cases  # noqa: F821  (the sweep's typed cases: CaseId)
+    tidy = concat_tidy((read_tidy(p, sealed=True) for p in inp.harmonics), cases)
     write_tidy(out.harmonics, tidy)
     write_case_table(out.cases, add_location(
-        pd.DataFrame([case_summary(read_case(p)) for p in inp.cases])))
-    write_band_table(out.bands, add_location(band_table(read_bands(p) for p in inp.bands)))
+        pd.DataFrame([case_summary(read_case(p)) for p in inp.cases]), cases))
+    write_band_table(out.bands, add_location(band_table(read_bands(p) for p in inp.bands), cases))
     write_pivots(out.pivots, pivot_tables(tidy))

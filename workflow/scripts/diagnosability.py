@@ -10,7 +10,8 @@ from bearing_envelope.study.tables import add_location, table_html, write_csv_at
 
 with log_to(snakemake.log[0]) as log:  # noqa: F821
     inp, out = snakemake.input, snakemake.output  # noqa: F821
-    df = add_location(pd.concat([pd.read_csv(p) for p in inp.cells], ignore_index=True))
+    df = add_location(pd.concat([pd.read_csv(p) for p in inp.cells], ignore_index=True),
+                      snakemake.params.cases)  # noqa: F821  (the sweep's typed cases)
     df = df.sort_values(["band"] + (["location"] if "location" in df else [])
                         + ["load_kN", "depth_um", "snr_db"], kind="stable")
     write_csv_atomic(df, out.table)

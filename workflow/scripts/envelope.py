@@ -8,5 +8,5 @@ with log_to(snakemake.log[0]):  # noqa: F821
     inp, out = snakemake.input, snakemake.output  # noqa: F821
     table, spectra = case_envelope(read_case(inp.case), AnalysisSettings.from_json(snakemake.params.analysis),  # noqa: F821
                                    read_bands(inp.bands))
-    write_tidy(out.harmonics, table)
+    write_tidy(out.harmonics, table, sealed=True)  # digest: an edit is refused by aggregate
     write_spectra(out.spectra, spectra)

@@ -5,18 +5,18 @@ from bearing_envelope.physics.history import simulate
 from bearing_envelope.io import write_case
 from bearing_envelope.study.accuracy import case_error_model
 from bearing_envelope.study.provenance import log_to
-from bearing_envelope.study.settings import CaseId, SimulationSetup
+from bearing_envelope.study.settings import SimulationSetup
 
 #: The content-addressed store of the no-defect global solves (bearing_envelope.physics.nodefect_cache).
 NODEFECT_CACHE = "results/cache/nodefect"
 
 with log_to(snakemake.log[0]) as log:  # noqa: F821
     setup = SimulationSetup.from_json(snakemake.params.setup)  # noqa: F821
-    case = CaseId.parse(snakemake.wildcards.case)  # noqa: F821
+    case = snakemake.params.case  # noqa: F821  (typed: CaseId)
     # the no-defect solves of a load are shared by its depth cases (issue 25; bit-identical)
     hist = simulate(setup.scene(case), setup.fidelity, progress=False,
                     nodefect_cache=NODEFECT_CACHE)
     write_case(snakemake.output[0], hist,  # noqa: F821
-               extra_attrs={"workflow_rule": "simulate", "case": case.name},
+               extra_attrs={"workflow_rule": "simulate", **case.attrs()},
                error_model=case_error_model(hist))
     print(json.dumps(hist.stats, default=float), file=log)

@@ -305,6 +305,13 @@ def _writable(opt: str, path: str | None, *, directory: bool = False) -> None:
     if path is None or (path == "-" and opt == "--json"):
         return
     target = os.path.abspath(path)
+    real = os.path.realpath(target)
+    if real.startswith(("/dev/", "/proc/", "/sys/")) or real in ("/dev", "/proc", "/sys"):
+        raise ValueError(f"{opt}: {path!r} is a system path ({real}); allowed: a "
+                         f"{'directory' if directory else 'regular file'} of your own")
+    if os.path.exists(target) and not (os.path.isdir(target) or os.path.isfile(target)):
+        raise ValueError(f"{opt}: {path!r} is a device, FIFO or socket; allowed: a "
+                         f"{'directory' if directory else 'regular file'}")
     if directory and os.path.exists(target) and not os.path.isdir(target):
         raise ValueError(f"--plot: {path!r} is a file; allowed: a directory")
     if not directory and (os.path.isdir(target) or path.endswith(os.sep)):

@@ -1,10 +1,12 @@
 """``bearing-envelope check-config``: validate a config file exactly as the workflow does.
 
-Reads the file with the project's strict loader (duplicate keys refused, YAML errors with their
-line), validates it against the schema and runs every cross-field check
-(:func:`bearing_envelope.study.settings.load_settings`); prints the cases it defines, or one line naming
-the field that is wrong. No simulation runs. Use it when Snakemake itself rejects a
-``--configfile`` (a missing file, or "Config file is not valid JSON or YAML" without a line).
+Reads ``./config.yaml`` (when present) and the file with the project's strict loader (duplicate
+keys refused, YAML errors with their line), merges them as ``snakemake --configfile FILE`` from
+this directory would (:func:`bearing_envelope.study.settings.workflow_settings`: a partial file is
+an overlay, and a designation is a complete bearing), validates and runs every cross-field
+check; prints the cases it defines, or one line naming the field that is wrong. No simulation
+runs. Use it when Snakemake itself rejects a ``--configfile`` (a missing file, or "Config file is
+not valid JSON or YAML" without a line).
 
 Example::
 
@@ -26,18 +28,18 @@ def register(subparsers) -> None:
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     p.add_argument("config", nargs="?", default=None,
-                   help="YAML config (default ./config.yaml)")
+                   help="YAML config, merged over ./config.yaml as the workflow merges a "
+                        "--configfile (default: ./config.yaml alone)")
     p.set_defaults(func=run)
 
 
 def run(args) -> int:
     # lazy: keeps `bearing-envelope --help` ~0.4 s (numba, pandas: ~4 s)
-    from bearing_envelope.study.settings import load_settings
-
     from bearing_envelope.study.limits import precheck
+    from bearing_envelope.study.settings import workflow_settings
 
-    st = load_settings(args.config)
-    precheck(st, [st.source])
+    st = workflow_settings([] if args.config is None else [args.config])
+    precheck(st)
     cases = st.cases
     print(f"{st.source}: valid; fidelity {st.fidelity.name}; {len(cases)} cases: "
           f"{', '.join(c.name for c in cases[:6])}{' ...' if len(cases) > 6 else ''}",

@@ -98,7 +98,7 @@ def run(args) -> int:
     check_output(args.output)
     check_case(case, scene, fid, cfg)  # memory and CPU estimate before any allocation
     hist = simulate(scene, fid, progress=not args.quiet, use_numba=not args.numpy)
-    write_case(args.output, hist, extra_attrs={"config_file": str(path or ""), "case": case.name},
+    write_case(args.output, hist, extra_attrs={"config_file": str(path or ""), **case.attrs()},
                error_model=case_error_model(hist))
     if not args.quiet:
         s = hist.stats

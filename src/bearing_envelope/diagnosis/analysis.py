@@ -11,7 +11,7 @@ import pandas as pd
 
 from ..signal.validation import check_fs, check_positive, check_signal
 from ..signal.bands import DEFAULT_BANDS, NYQUIST_MARGIN, resolve_band
-from ..signal.envelope import envelope_spectrum, peak_value, settling_samples
+from ..signal.envelope import DEFAULT_FILTER_ORDER, envelope_spectrum, peak_value, settling_samples
 from .faults import (DEFAULT_SEARCH_PERCENT, FaultFamily, fault_families, fault_verdict,
                      search_lines)
 from ..signal.kurtogram import fast_kurtogram, max_kurtogram_level
@@ -177,7 +177,7 @@ class AnalysisOptions:
     max_level: float | None = None
     min_bandwidth: float | None = None
     kurtogram_min_orders: float | None = KURTOGRAM_MIN_ORDERS
-    filter_order: int = 4
+    filter_order: int = DEFAULT_FILTER_ORDER
     squared: bool = False
     window: str | tuple = "hann"
     tolerance_hz: float | None = None

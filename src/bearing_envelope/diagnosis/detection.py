@@ -28,7 +28,7 @@ Detection statistic (:func:`detection_statistic`, :func:`detect`)
     averages that probability over the distribution of the sample median (order statistics:
     a Beta law) and solves it for ``pfa``; the default ``pfa = 0.01`` gives about 10-11 dB for
     5-30 bins against several hundred background bins. ``docs/sensor.md``,
-    ``benchmarks/false_alarm_mc.py`` and ``tests/test_diagnosis.py`` check it by Monte Carlo.
+    ``python -m benchmarks false_alarms`` and ``tests/test_diagnosis.py`` check it by Monte Carlo.
 """
 
 from __future__ import annotations
@@ -52,6 +52,8 @@ __all__ = [
     "fault_band_metrics",
     "threshold_db",
     "detection_statistic",
+    "background_mask",
+    "background_problem",
     "detect",
     "clopper_pearson",
     "false_alarm_rates",
@@ -217,6 +219,21 @@ def threshold_db(pfa: float = DEFAULT_PFA, n_bins: int = 1,
     ``N_low`` bins below the line and the ``N_high`` above it): with ``r_k = m_hat_k / m =
     sqrt(-log2(1 - U_k))`` and ``r = (r_low + r_high) / 2``, ``P(a > t m r) = 2^(-t^2 r^2)``,
     averaged over the two independent medians.
+
+    Parameters
+    ----------
+    pfa : float
+        False-alarm probability of the test, in (0, 1).
+    n_bins : int
+        Independent bins searched for the line.
+    n_background : int or tuple of (int, int), optional
+        Bins of the background median (a pair: the medians below and above the line, averaged);
+        None: the median known exactly.
+
+    Returns
+    -------
+    float
+        The threshold (dB) on the line-to-background ratio.
 
     Examples
     --------
@@ -384,28 +401,16 @@ def detection_statistic(
     j = idx[int(np.argmax(a[idx]))]
     peak = float(a[j])
 
-    bg = (f >= lo * line) & (f <= hi * line) & (f > 0)
-    excl = []
-    kmax = int(math.ceil(hi)) + 1
-    for k in range(1, kmax + 1):
-        for m in range(-sidebands if fr else 0, (sidebands if fr else 0) + 1):
-            excl.append(k * line + m * (fr or 0.0))
-    if fr is not None:
-        excl.extend(fr * np.arange(1, int(hi * line / fr) + 2))
-    excl.extend(float(x) for x in exclude_hz)
-    for c in excl:
-        bg &= np.abs(f - c) > half
-    if bg.sum() < 5:
-        raise ValueError(f"too few background bins ({int(bg.sum())}) around {line:g} Hz: widen "
-                         f"background={background!r} or use a finer spectrum")
+    bg = background_mask(f, line, half, (lo, hi), fr=fr, sidebands=sidebands,
+                         exclude_hz=exclude_hz)
+    problem = background_problem(f, bg, line, level)
+    if problem is not None:
+        raise ValueError(f"{problem}: widen background={background!r} or use a finer spectrum")
     if level == "median":
         value = float(np.median(a[bg]))
         counts = int(bg.sum())
     elif level == "two_sided":
         below, above = bg & (f < line), bg & (f > line)
-        if below.sum() < 3 or above.sum() < 3:
-            raise ValueError(f"level='two_sided' needs >= 3 background bins on each side of "
-                             f"{line:g} Hz, got {int(below.sum())} and {int(above.sum())}")
         value = 0.5 * float(np.median(a[below]) + np.median(a[above]))
         counts = (int(below.sum()), int(above.sum()))
     else:
@@ -422,8 +427,90 @@ def detection_statistic(
                      bool(stat > thr and not skirt))
 
 
+def background_mask(f, line: float, half: float, background: tuple[float, float], *,
+                    fr: float | None, sidebands: int, exclude_hz: Iterable[float] = ()):
+    """The background bins of :func:`detection_statistic`: ``f`` within ``background x line``,
+    at least ``half`` (Hz) away from every harmonic of the line and its ``fr`` sidebands,
+    every ``fr`` harmonic and ``exclude_hz``.
+
+    Parameters
+    ----------
+    f : numpy.ndarray
+        Frequencies of the spectrum (Hz).
+    line, half : float
+        The line and the search half-width (Hz).
+    background : (lo, hi)
+        Background band in multiples of ``line``.
+    fr : float or None
+        Shaft rate (Hz); None: no ``fr`` lines excluded.
+    sidebands : int
+        Sidebands ``k line +- m fr`` excluded (m <= ``sidebands``).
+    exclude_hz : iterable of float
+        Further lines excluded.
+
+    Returns
+    -------
+    numpy.ndarray of bool
+    """
+    lo, hi = background
+    bg = (f >= lo * line) & (f <= hi * line) & (f > 0)
+    excl = []
+    kmax = int(math.ceil(hi)) + 1
+    for k in range(1, kmax + 1):
+        for m in range(-sidebands if fr else 0, (sidebands if fr else 0) + 1):
+            excl.append(k * line + m * (fr or 0.0))
+    if fr is not None:
+        excl.extend(fr * np.arange(1, int(hi * line / fr) + 2))
+    excl.extend(float(x) for x in exclude_hz)
+    for c in excl:
+        bg &= np.abs(f - c) > half
+    return bg
+
+
+def background_problem(f, bg, line: float, level: str) -> str | None:
+    """Why the background ``bg`` (:func:`background_mask`) is too small for ``level`` (None
+    when it is enough): fewer than 5 bins, or for ``two_sided`` fewer than 3 on a side.
+
+    Parameters
+    ----------
+    f : numpy.ndarray
+        Frequencies (Hz).
+    bg : numpy.ndarray of bool
+        The background bins.
+    line : float
+        The line (Hz).
+    level : {"median", "two_sided"}
+
+    Returns
+    -------
+    str or None
+    """
+    if bg.sum() < 5:
+        return f"too few background bins ({int(bg.sum())}) around {line:g} Hz"
+    below, above = int((bg & (f < line)).sum()), int((bg & (f > line)).sum())
+    if level == "two_sided" and (below < 3 or above < 3):
+        return (f"level='two_sided' needs >= 3 background bins on each side of {line:g} Hz, "
+                f"got {below} and {above}")
+    return None
+
+
 def detect(f, amplitude, line_hz: float, **kwargs) -> tuple[float, bool]:
-    """``(statistic_db, detected)`` of :func:`detection_statistic` (same keyword arguments)."""
+    """``(statistic_db, detected)`` of :func:`detection_statistic` (same keyword arguments).
+
+    Parameters
+    ----------
+    f, amplitude : array_like
+        The spectrum (Hz, amplitude).
+    line_hz : float
+        The line searched (Hz).
+    **kwargs
+        Passed to :func:`detection_statistic`.
+
+    Returns
+    -------
+    tuple of (float, bool)
+        ``(statistic_db, detected)``.
+    """
     d = detection_statistic(f, amplitude, line_hz, **kwargs)
     return d.statistic_db, d.detected
 
@@ -434,6 +521,20 @@ def clopper_pearson(k: int, n: int, confidence: float = 0.95) -> tuple[float, fl
     ``low = B^-1(a/2; k, n - k + 1)`` and ``high = B^-1(1 - a/2; k + 1, n - k)`` with
     ``a = 1 - confidence`` and ``B^-1`` the inverse regularised incomplete beta function
     (``low = 0`` for ``k = 0``, ``high = 1`` for ``k = n``).
+
+    Parameters
+    ----------
+    k : int
+        Events (false alarms), ``0 <= k <= n``.
+    n : int
+        Trials (>= 1).
+    confidence : float
+        Two-sided confidence level.
+
+    Returns
+    -------
+    tuple of (float, float)
+        ``(low, high)``.
 
     Examples
     --------
@@ -462,6 +563,16 @@ def false_alarm_rates(trials: pd.DataFrame, by=("band", "snr_db"),
         One row per group of ``by`` (all rows when ``by`` is empty): ``n_trials``,
         ``n_false_alarms``, ``rate``, ``ci_low``, ``ci_high`` (Clopper-Pearson at
         ``confidence``), ``statistic_db_mean``, ``statistic_db_max``, ``threshold_db``.
+
+    Parameters
+    ----------
+    trials : pandas.DataFrame
+        One row per test of a healthy record (``detected``, ``statistic_db``, ``threshold_db`` and
+        the ``by`` columns).
+    by : sequence of str
+        Columns to group by.
+    confidence : float
+        Confidence level of the intervals.
     """
     by = list(by)
     groups = trials.groupby(by, sort=True) if by else [((), trials)]

@@ -14,7 +14,7 @@ import numpy as np
 from matplotlib.figure import Figure  # this module only draws: it is imported on demand
 from matplotlib.patches import Rectangle
 
-from ..signal.envelope import bandpass, envelope
+from ..signal.envelope import DEFAULT_FILTER_ORDER, bandpass, envelope
 from .faults import display_name
 
 __all__ = ["FAMILY_COLORS", "plot_envelope_spectrum", "plot_envelope_waveform",
@@ -343,7 +343,8 @@ def plot_raw_spectrum(details: dict, ax=None, *, db: bool = False, orders: bool 
 
 
 def plot_envelope_waveform(x, details: dict, band: str, ax=None, *, periods: float = 8.0,
-                           family: str | None = None, order: int = 4):
+                           family: str | None = None,
+                           order: int = DEFAULT_FILTER_ORDER):
     """A stretch of the band-passed signal (grey) and its envelope, with the fault period.
 
     Parameters

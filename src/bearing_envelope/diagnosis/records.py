@@ -518,12 +518,12 @@ class RecordAnalysis:
         return self.details["families"]
 
     def summary_lines(self) -> list[str]:
-        """The verdict in words.
+        """The verdict in words (:meth:`Verdict.summary_lines`).
 
         Returns
         -------
         list of str
-            :meth:`Verdict.summary_lines`: the diagnosis first.
+            The verdict line, then one line per other family worth naming.
         """
         return self.verdict.summary_lines()
 
@@ -579,6 +579,7 @@ class RecordAnalysis:
         Returns
         -------
         RecordAnalysis
+            The copy.
         """
         bands = {nm: {k: v for k, v in b.items() if k not in ("f", "amplitude")}
                  for nm, b in self.bands.items()}
@@ -605,12 +606,12 @@ class RecordFailure:
                  "status": "error", "error": self.error},)
 
     def summary_lines(self) -> list[str]:
-        """No verdict.
+        """No verdict: an empty list.
 
         Returns
         -------
-        list
-            Empty.
+        list of str
+            ``[]``.
         """
         return []
 
@@ -620,21 +621,22 @@ class RecordFailure:
         Returns
         -------
         pandas.DataFrame
+            One row: the file, ``status`` error and the reason.
         """
         return pd.DataFrame.from_records(list(self.rows))
 
     def to_dict(self, lines=None) -> dict:
-        """The failure as JSON.
+        """``{"file", "error"}``.
 
         Parameters
         ----------
-        lines : ignored
-            As :meth:`RecordAnalysis.to_dict` (a failed record has none).
+        lines : optional
+            Ignored (the signature of :meth:`RecordAnalysis.to_dict`).
 
         Returns
         -------
         dict
-            ``{"file", "error"}``.
+            ``{"file": ..., "error": ...}``.
         """
         return {"file": self.file, "error": self.error}
 

@@ -21,7 +21,8 @@ from .. import __version__
 from .atomic import atomic_path, write_csv_atomic
 from .case import git_commit, jsonable, read_case
 from .integrity import (CHECKSUM_OPTIONS, DiskFullError, estimate_h5_bytes, is_disk_full,
-                        require_free_space, seal, free_bytes, write_image)
+                        require_free_space, seal, free_bytes, write_image, seal_text,
+                        unseal_text)
 from .vocabulary import BAND_TABLE_COLUMNS, CASE_TABLE_COLUMNS, TIDY_COLUMNS
 
 __all__ = [
@@ -591,7 +592,8 @@ def read_sensor(path: str | os.PathLike) -> SensorSignal:
 def _read_csv(path, required, what, **kwargs):
     import pandas as pd  # lazy: importing io stays ~0.7 s (pandas +1.8 s)
 
-    path = _exists(path)
+    if isinstance(path, (str, os.PathLike)):   # else an open text buffer
+        path = _exists(path)
     try:
         df = pd.read_csv(path, **kwargs)
     except (ValueError, pd.errors.ParserError) as exc:
@@ -610,7 +612,7 @@ def _write_table(path, table, required, what: str) -> str:
     return write_csv_atomic(table, path)
 
 
-def write_tidy(path: str | os.PathLike, table) -> str:
+def write_tidy(path: str | os.PathLike, table, *, sealed: bool = False) -> str:
     """Write a tidy harmonic table (per case or aggregated) as CSV, atomically.
 
     The columns must include :data:`bearing_envelope.study.tables.TIDY_COLUMNS` (ValueError naming the
@@ -619,32 +621,60 @@ def write_tidy(path: str | os.PathLike, table) -> str:
     Parameters
     ----------
     path : str or os.PathLike
-        The CSV file to write.
+        The CSV file.
     table : pandas.DataFrame
-        The tidy table.
+        The table.
+    sealed : bool
+        Precede the CSV by the line ``# content_sha256=...``
+        (:func:`bearing_envelope.io.integrity.seal_text`): the per-case tables, so that an
+        edit is found before they are aggregated (:func:`read_tidy` with ``sealed=True``).
 
     Returns
     -------
     str
-        ``path``.
+        The path.
     """
-    return _write_table(path, table, TIDY_COLUMNS, "tidy table")
+    if not sealed:
+        return _write_table(path, table, TIDY_COLUMNS, "tidy table")
+    missing = [c for c in TIDY_COLUMNS if c not in table.columns]
+    if missing:
+        raise ValueError(f"tidy table lacks the columns {missing}")
+    with atomic_path(path, ".csv") as tmp:
+        with open(tmp, "w", encoding="utf-8", newline="") as fh:
+            fh.write(seal_text(table.to_csv(index=False)))
+    return os.fspath(path)
 
 
-def read_tidy(path: str | os.PathLike):
+def read_tidy(path: str | os.PathLike, *, sealed: bool = False):
     """Read a tidy harmonic table written by :func:`write_tidy` (DataFrame).
 
     Parameters
     ----------
     path : str or os.PathLike
-        A file written by :func:`write_tidy`.
+        The CSV file.
+    sealed : bool
+        Require the digest line of ``write_tidy(..., sealed=True)`` and check it.
 
     Returns
     -------
     pandas.DataFrame
-        The tidy table.
+
+    Raises
+    ------
+    ArtefactFormatError
+        Unreadable, columns missing, or (``sealed``) no digest or a digest that no longer
+        matches: the file was edited after it was written.
     """
-    return _read_csv(path, TIDY_COLUMNS, "tidy harmonic table")
+    if not sealed:
+        return _read_csv(path, TIDY_COLUMNS, "tidy harmonic table")
+    path = _exists(path)
+    with open(path, encoding="utf-8", newline="") as fh:
+        text = fh.read()
+    try:
+        body = unseal_text(text, path)
+    except ValueError as exc:
+        raise ArtefactFormatError(str(exc)) from None
+    return _read_csv(_io.StringIO(body), TIDY_COLUMNS, f"tidy harmonic table {path}")
 
 
 def write_case_table(path: str | os.PathLike, table) -> str:

@@ -25,7 +25,7 @@ import numpy as np
 
 __all__ = ["DIGEST_ATTR", "CHECKSUM_OPTIONS", "DiskFullError", "content_digest", "seal",
            "verify_file", "require_free_space", "free_bytes", "estimate_h5_bytes", "is_disk_full",
-           "file_sha256", "write_image"]
+           "file_sha256", "write_image", "TEXT_DIGEST_PREFIX", "seal_text", "unseal_text"]
 
 #: Root attribute holding the SHA-256 digest (hex) of :func:`content_digest`.
 DIGEST_ATTR = "content_sha256"
@@ -328,3 +328,57 @@ def write_image(tmp: str | os.PathLike, path: str | os.PathLike, data: bytes) ->
         if is_disk_full(exc, path):
             raise DiskFullError(path, len(data), free_bytes(path)) from None
         raise
+
+
+#: First line of a sealed text file (a per-case table): the SHA-256 of every line after it.
+TEXT_DIGEST_PREFIX = "# content_sha256="
+
+
+def seal_text(body: str) -> str:
+    """``body`` preceded by the line ``# content_sha256=<hex>`` (SHA-256 of ``body``'s UTF-8
+    bytes), so that an edit of the file after writing is found (:func:`unseal_text`).
+
+    Parameters
+    ----------
+    body : str
+        The text to seal (e.g. a CSV table).
+
+    Returns
+    -------
+    str
+        The sealed text.
+    """
+    return f"{TEXT_DIGEST_PREFIX}{hashlib.sha256(body.encode('utf-8')).hexdigest()}\n{body}"
+
+
+def unseal_text(text: str, path: str | os.PathLike) -> str:
+    """The body of a text sealed by :func:`seal_text`, after checking its digest.
+
+    Parameters
+    ----------
+    text : str
+        The file's content.
+    path : str or os.PathLike
+        The file (named in the error).
+
+    Returns
+    -------
+    str
+        The text after the digest line.
+
+    Raises
+    ------
+    ValueError
+        One line naming the file: no digest line, or the content no longer matches it (the
+        file was edited after it was written).
+    """
+    first, _, body = text.partition("\n")
+    if not first.startswith(TEXT_DIGEST_PREFIX):
+        raise ValueError(f"{os.fspath(path)}: no '{TEXT_DIGEST_PREFIX}' first line (not written "
+                         f"by this package, or edited); delete it so the workflow remakes it")
+    stored = first[len(TEXT_DIGEST_PREFIX):].strip()
+    actual = hashlib.sha256(body.encode("utf-8")).hexdigest()
+    if actual != stored:
+        raise ValueError(f"{os.fspath(path)}: edited after it was written (digest {stored[:12]}... "
+                         f"stored, {actual[:12]}... now); delete it so the workflow remakes it")
+    return body

@@ -36,6 +36,7 @@ import json
 import math
 import os
 import re
+import tokenize
 import zipfile
 import zlib
 
@@ -337,7 +338,7 @@ def _npy_header(fh, path: str, what: str):
             shape, fortran, dtype = npf.read_array_header_2_0(fh)
         else:
             shape, fortran, dtype = npf._read_array_header(fh, version)  # 3.0: no public reader
-    except (ValueError, EOFError, OSError, SyntaxError) as exc:
+    except (ValueError, EOFError, OSError, SyntaxError, tokenize.TokenError) as exc:
         raise ValueError(f"file: {path}: {what} has no valid .npy header "
                          f"({str(exc).splitlines()[0] if str(exc) else type(exc).__name__})"
                          ) from None
@@ -346,11 +347,17 @@ def _npy_header(fh, path: str, what: str):
 
 
 def _check_size(shape, dtype, have: int, path: str, what: str) -> None:
+    """The data after a ``.npy`` header must be exactly what the header claims: fewer bytes
+    is a truncated file, more a header that hides samples (both refused)."""
     need = math.prod(shape) * dtype.itemsize
     if need > have:
         raise ValueError(f"file: {path}: {what} has a header that claims shape {shape} of "
                          f"{dtype} ({_human_bytes(need)}) but only {_human_bytes(have)} of data "
                          f"follow; the file is truncated or its header is wrong")
+    if need < have:
+        raise ValueError(f"file: {path}: {what} has a header that claims shape {shape} of "
+                         f"{dtype} ({_human_bytes(need)}) but {_human_bytes(have)} of data "
+                         f"follow; the header is wrong (samples would be left out)")
 
 
 def _channel_of(shape, column, path: str) -> tuple[int | None, int]:
@@ -401,7 +408,7 @@ def _npz_members(zf: zipfile.ZipFile, path: str) -> dict:
                 version = npf.read_magic(fh)
                 shape, _, dtype = (npf.read_array_header_1_0(fh) if version == (1, 0)
                                    else npf.read_array_header_2_0(fh))
-            except (ValueError, EOFError) as exc:
+            except (ValueError, EOFError, SyntaxError, tokenize.TokenError) as exc:
                 raise ValueError(f"file: {path}: member {name!r} has no valid .npy header "
                                  f"({exc})") from None
             if not np.dtype(dtype).hasobject:
@@ -430,8 +437,11 @@ def _from_npz(z, members: dict, column, path: str) -> dict:
              if math.prod(shape) <= 1 and dt.kind in "iuf"}
     out = _scalars(small, path)
     meta = members.get("meta_json")
-    if meta is not None and meta[1].kind == "U" and math.prod(meta[0]) <= 1:
-        out.update(_meta(z["meta_json"], out))
+    if meta is not None:
+        if meta[1].kind != "U" or math.prod(meta[0]) != 1:
+            raise ValueError(f"file: {path}: 'meta_json' holds {meta[1]} of shape {meta[0]}; "
+                             f"allowed: one JSON text (or no meta_json)")
+        out.update(_meta(z["meta_json"], out, path))
     name = _choose(members, column, path)
     shape, dt = members[name]
     _check_dtype(dt, path, f"variable {name!r}")
@@ -470,13 +480,18 @@ def _scalars(arrays: dict, path: str) -> dict:
     return out
 
 
-def _meta(raw, out: dict) -> dict:
-    """The shaft rate of a ``meta_json`` entry (``shaft_hz``) when no scalar gave one."""
+def _meta(raw, out: dict, path: str) -> dict:
+    """The shaft rate of a ``meta_json`` entry (``shaft_hz``) when no scalar gave one; a
+    ``meta_json`` that is not a JSON object is refused (one line), never ignored."""
     try:
-        meta = json.loads(str(np.asarray(raw).ravel()[0]) if np.size(raw) else "{}")
-    except (ValueError, TypeError):
-        return {}
-    fr = meta.get("shaft_hz") if isinstance(meta, dict) else None
+        meta = json.loads(str(np.asarray(raw).ravel()[0]))
+    except (ValueError, TypeError) as exc:
+        raise ValueError(f"file: {path}: 'meta_json' is not valid JSON ({exc}); allowed: a JSON "
+                         f"object (or no meta_json)") from None
+    if not isinstance(meta, dict):
+        raise ValueError(f"file: {path}: 'meta_json' holds a JSON {type(meta).__name__}; "
+                         f"allowed: a JSON object (or no meta_json)")
+    fr = meta.get("shaft_hz")
     if out.get("fr") is None and isinstance(fr, (int, float)) and math.isfinite(fr) and fr > 0:
         return {"fr": float(fr)}
     return {}
@@ -543,9 +558,34 @@ def _cwru_pick(cwru: dict, channel: str, path: str) -> str:
 
 
 # --------------------------------------------------------------------------------- .wav
+def _wav_truncation(path: str) -> str | None:
+    """Why a WAV file is shorter than its chunks say (None when every chunk is whole): the
+    RIFF walk scipy does, without reading the samples."""
+    size = os.path.getsize(path)
+    with open(path, "rb") as fh:
+        head = fh.read(12)
+        if len(head) < 12 or head[:4] not in (b"RIFF", b"RIFX") or head[8:12] != b"WAVE":
+            return None  # not a plain RIFF WAVE: scipy's reader reports it
+        order = "little" if head[:4] == b"RIFF" else "big"
+        pos = 12
+        while pos + 8 <= size:
+            fh.seek(pos)
+            chunk = fh.read(8)
+            n = int.from_bytes(chunk[4:8], order)
+            if pos + 8 + n > size:
+                return (f"its '{chunk[:4].decode('latin-1')}' chunk declares {n:,} bytes but "
+                        f"{size - pos - 8:,} follow")
+            pos += 8 + n + (n & 1)
+    return None
+
+
 def _read_wav(path, column) -> dict:
     from scipy.io import wavfile
 
+    short = _wav_truncation(path)
+    if short is not None:
+        raise ValueError(f"file: {path} is a truncated WAV file ({short}); allowed: a whole "
+                         f"recording")
     try:
         fs, a = wavfile.read(path, mmap=False)
     except Exception as exc:  # scipy raises ValueError, EOFError, struct.error, ... on junk

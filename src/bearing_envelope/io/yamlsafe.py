@@ -14,7 +14,7 @@ import os
 
 import yaml
 
-__all__ = ["MAX_EXPANDED_NODES", "MAX_DOCUMENT_BYTES", "YamlLimitError", "expanded_size",
+__all__ = ["MAX_EXPANDED_NODES", "MAX_DOCUMENT_BYTES", "MAX_NESTING", "YamlLimitError", "expanded_size",
            "load_bounded", "check_document_size"]
 
 #: Nodes a config may expand to (scalars, lists, mappings, each alias use counted in full):
@@ -23,6 +23,10 @@ MAX_EXPANDED_NODES = 100_000
 
 #: Largest config file read, bytes (the default config is 12 kB).
 MAX_DOCUMENT_BYTES = 1 << 20
+
+#: Deepest nesting of lists and mappings accepted (the schema's deepest field is 6 levels
+#: down; a 20,000-deep list would exhaust Python's recursion in the parser).
+MAX_NESTING = 32
 
 
 class YamlLimitError(ValueError):
@@ -46,21 +50,25 @@ def expanded_size(node: yaml.Node, limit: int = MAX_EXPANDED_NODES) -> int:
     """
     memo: dict[int, int] = {}
 
-    def size(n: yaml.Node) -> int:
+    def size(n: yaml.Node, depth: int) -> int:
+        if depth > MAX_NESTING:
+            raise YamlLimitError(f"lists or mappings nested more than {MAX_NESTING} deep "
+                                 f"(line {n.start_mark.line + 1}); allowed: at most "
+                                 f"{MAX_NESTING} levels")
         key = id(n)
         if key in memo:
             return memo[key]
         memo[key] = limit + 1  # a cycle (recursive alias) counts as too large
         if isinstance(n, yaml.SequenceNode):
-            total = 1 + sum(size(c) for c in n.value)
+            total = 1 + sum(size(c, depth + 1) for c in n.value)
         elif isinstance(n, yaml.MappingNode):
-            total = 1 + sum(size(k) + size(v) for k, v in n.value)
+            total = 1 + sum(size(k, depth + 1) + size(v, depth + 1) for k, v in n.value)
         else:
             total = 1
         memo[key] = min(total, limit + 1)
         return memo[key]
 
-    return size(node)
+    return size(node, 0)
 
 
 def check_document_size(path: str | os.PathLike) -> None:
@@ -97,11 +105,16 @@ def load_bounded(stream, loader_cls, limit: int = MAX_EXPANDED_NODES):
     Raises
     ------
     YamlLimitError
-        The document expands to more than ``limit`` nodes (an alias bomb or a recursive alias).
+        The document expands to more than ``limit`` nodes (an alias bomb or a recursive alias)
+        or nests lists and mappings more than :data:`MAX_NESTING` deep.
     """
     loader = loader_cls(stream)
     try:
-        node = loader.get_single_node()
+        try:
+            node = loader.get_single_node()
+        except RecursionError:  # the composer recurses once per level of nesting
+            raise YamlLimitError(f"lists or mappings nested too deep for the parser; allowed: "
+                                 f"at most {MAX_NESTING} levels") from None
         if node is None:
             return None
         n = expanded_size(node, limit)

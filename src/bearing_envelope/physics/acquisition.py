@@ -72,8 +72,8 @@ def auto_oversample(scene: Scene, fidelity: Fidelity | str | None = None) -> int
     ``fidelity``'s table (:func:`_offset_nodes`; ``offset_step_um`` for a healthy race), but not
     below the window spacing. The interpolated history has no feature finer than the node
     spacing, so a denser internal rate changes nothing: measured, N = 8, 16 and 33 at
-    ``standard`` agree to < 0.01 % in every amplitude (``docs/benchmarks.md``, "Accuracy per CPU
-    second"). N = 9 (15 um defect) and 6 (100 um) at ``standard``.
+    ``standard`` agree to < 0.01 % in every amplitude (``CHANGELOG.md``, "Fidelity presets and
+    their accuracy"). N = 9 (15 um defect) and 6 (100 um) at ``standard``.
 
     Parameters
     ----------

@@ -21,13 +21,18 @@ from typing import Any
 
 import yaml
 
-__all__ = ["CATALOGUE_PATH", "designations", "bearing_values", "bearing_sources", "entry"]
+__all__ = ["CATALOGUE_PATH", "designations", "bearing_values", "bearing_sources", "entry",
+           "operation_values", "OPERATION_KEYS"]
 
 #: The catalogue file (package data).
 CATALOGUE_PATH = Path(__file__).resolve().parent.parent / "data" / "bearings.yaml"
 
 #: Entry keys that are not ``scene.bearing`` fields.
 _META_KEYS = ("description",)
+
+#: Entry keys that are ``scene.operation`` fields of the bearing (a stated BPFI): they travel
+#: with the entry; an entry without one gives null (the fault frequencies from geometry).
+OPERATION_KEYS = ("bpfi_override_hz",)
 
 
 @lru_cache(maxsize=1)
@@ -85,14 +90,32 @@ def bearing_values(designation: str) -> dict[str, Any]:
     Parameters
     ----------
     designation : str
-        A catalogue designation.
+        A catalogue designation (:func:`designations`).
 
     Returns
     -------
     dict
-        ``scene.bearing`` field -> value, in the scene's units (``_mm``, ``_deg`` in the names).
+        Field -> value, without the entry's operation keys (:func:`operation_values`).
     """
-    return {k: v["value"] for k, v in entry(designation).items() if k not in _META_KEYS}
+    return {k: v["value"] for k, v in entry(designation).items()
+            if k not in _META_KEYS and k not in OPERATION_KEYS}
+
+
+def operation_values(designation: str) -> dict[str, Any]:
+    """``scene.operation`` values that travel with a catalogue entry.
+
+    Parameters
+    ----------
+    designation : str
+        A catalogue designation (:func:`designations`).
+
+    Returns
+    -------
+    dict
+        Every key of :data:`OPERATION_KEYS`: the entry's value, or None when it gives none.
+    """
+    ent = entry(designation)
+    return {k: (ent[k]["value"] if k in ent else None) for k in OPERATION_KEYS}
 
 
 def bearing_sources(designation: str) -> dict[str, str]:
@@ -101,11 +124,12 @@ def bearing_sources(designation: str) -> dict[str, str]:
     Parameters
     ----------
     designation : str
-        A catalogue designation.
+        A catalogue designation (:func:`designations`).
 
     Returns
     -------
     dict of str to str
         ``scene.bearing`` field -> where its value comes from (or "assumed").
     """
-    return {k: v["source"] for k, v in entry(designation).items() if k not in _META_KEYS}
+    return {k: v["source"] for k, v in entry(designation).items()
+            if k not in _META_KEYS and k not in OPERATION_KEYS}

@@ -39,7 +39,7 @@ import math
 from dataclasses import dataclass
 from typing import Any, Mapping
 
-__all__ = ["Fidelity", "PRESETS", "fidelity_from"]
+__all__ = ["Fidelity", "PRESETS", "DEFAULT_PRESET", "fidelity_from"]
 
 
 @dataclass(frozen=True)
@@ -307,6 +307,10 @@ PRESETS: dict[str, Fidelity] = {
 }
 
 
+#: The preset a config without ``fidelity:`` gets (the config schema's default is filled from it).
+DEFAULT_PRESET = "standard"
+
+
 def fidelity_from(spec: str | Mapping[str, Any] | Fidelity | None = None) -> Fidelity:
     """Build a :class:`Fidelity` from a preset name, a mapping, or pass one through.
 
@@ -324,7 +328,7 @@ def fidelity_from(spec: str | Mapping[str, Any] | Fidelity | None = None) -> Fid
         Unknown preset, unknown key or bad value (the message names ``fidelity.<field>``).
     """
     if spec is None:
-        return PRESETS["standard"]
+        return PRESETS[DEFAULT_PRESET]
     if isinstance(spec, Fidelity):
         return spec
     if isinstance(spec, str):

@@ -24,11 +24,13 @@ from __future__ import annotations
 
 import math
 import os
+import warnings
 from dataclasses import dataclass
 from functools import lru_cache
 
 import numpy as np
 
+from ..checks import check_input_file
 from ..contact import hertz
 
 __all__ = ["Grid", "make_grid", "read_profile", "read_defect_profile", "axial_separation", "defect_depth", "gap_field",
@@ -128,11 +130,21 @@ def make_grid(x_lo: float, x_hi: float, y_lo: float, y_hi: float, dx: float, dy:
     return Grid(x, y, float(dx), float(dy))
 
 
+#: Largest measured-profile file read (bytes): a profile of 10^5 rows is about 3 MB.
+MAX_PROFILE_BYTES = 16 << 20
+
+
 def _two_columns(path: str, names: str) -> tuple[np.ndarray, np.ndarray]:
     """The two columns of a text or CSV file (``#`` comments), at least 3 rows, finite, the
     first strictly increasing; ``names`` (e.g. ``"y_mm, deviation_um"``) names them in errors."""
-    data = np.loadtxt(path, delimiter=None if not path.endswith(".csv") else ",", comments="#",
-                      ndmin=2)
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")   # "input contained no data": the shape says it
+            data = np.loadtxt(path, delimiter=None if not path.endswith(".csv") else ",",
+                              comments="#", ndmin=2)
+    except (ValueError, UnicodeDecodeError) as exc:
+        raise ValueError(f"not a two-column numeric file ({names}): "
+                         f"{' '.join(str(exc).split())[:160]}") from None
     if data.shape[1] != 2 or data.shape[0] < 3:
         raise ValueError(f"expected two columns ({names}) and >= 3 rows, got shape {data.shape}")
     if not np.all(np.isfinite(data)):
@@ -164,7 +176,8 @@ def read_profile(path: str) -> tuple[np.ndarray, np.ndarray]:
     tuple of numpy.ndarray
         ``(y, deviation)`` in m.
     """
-    return _read_profile_cached(os.fspath(path), os.path.getmtime(path))
+    path = check_input_file(path, "profile file", max_bytes=MAX_PROFILE_BYTES)
+    return _read_profile_cached(path, os.path.getmtime(path))
 
 
 @lru_cache(maxsize=8)
@@ -193,7 +206,8 @@ def read_defect_profile(path: str) -> tuple[np.ndarray, np.ndarray]:
     tuple of numpy.ndarray
         ``(x, depth)`` in m.
     """
-    return _read_defect_profile_cached(os.fspath(path), os.path.getmtime(path))
+    path = check_input_file(path, "defect profile file", max_bytes=MAX_PROFILE_BYTES)
+    return _read_defect_profile_cached(path, os.path.getmtime(path))
 
 
 def axial_separation(bearing, y) -> np.ndarray:

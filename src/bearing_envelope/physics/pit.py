@@ -65,7 +65,24 @@ class BottomContact:
 def slot_estimate(p: float, e_star: float, width_um: float | None,
                   edge_radius_um: float = 20.0) -> float:
     """Plane-strain estimate of the threshold depth (um) at contact pressure ``p`` (Pa): fixed
-    ``width_um``: ``p w / E*``; ``None`` (w = 2 h): ``2 r s / (1 + s^2)`` with ``s = 2 p / E*``."""
+    ``width_um``: ``p w / E*``; ``None`` (w = 2 h): ``2 r s / (1 + s^2)`` with ``s = 2 p / E*``.
+
+    Parameters
+    ----------
+    p : float
+        Contact pressure at the defect (Pa).
+    e_star : float
+        Composite modulus ``E*`` (Pa).
+    width_um : float or None
+        The pit's width (um), or None for ``w = 2 h``.
+    edge_radius_um : float
+        The rim radius (um), for ``w = 2 h``.
+
+    Returns
+    -------
+    float
+        The threshold depth (um).
+    """
     s = 2.0 * p / e_star
     if width_um is None:
         return 2.0 * edge_radius_um * s / (1.0 + s * s)
@@ -74,7 +91,24 @@ def slot_estimate(p: float, e_star: float, width_um: float | None,
 
 def pit_scene(mapping: dict | None, load_kN: float, depth_um: float,
               width_um: float | None) -> Scene:
-    """The scene with ``defect.width_um = width_um`` (``None``: the default ``w = 2 h``)."""
+    """The scene with ``defect.width_um = width_um`` (``None``: the default ``w = 2 h``).
+
+    Parameters
+    ----------
+    mapping : dict or None
+        Scene overrides (``Scene.from_mapping``).
+    load_kN : float
+        Bearing load (kN).
+    depth_um : float
+        Pit depth (um).
+    width_um : float or None
+        Pit width (um), or None for ``w = 2 h``.
+
+    Returns
+    -------
+    Scene
+        The scene.
+    """
     m = {k: dict(v) if isinstance(v, dict) else v for k, v in (mapping or {}).items()}
     if width_um is not None:
         m["defect"] = {**(m.get("defect") or {}), "width_um": float(width_um)}
@@ -84,7 +118,29 @@ def pit_scene(mapping: dict | None, load_kN: float, depth_um: float,
 def bottom_loaded(scene: Scene, fidelity: Fidelity | str | dict | None, q_load: float,
                   x_d: float = 0.0, *, node=None, stats: SolveStats | None = None
                   ) -> BottomContact:
-    """Solve the window at roller load ``q_load`` (N) with the defect at offset ``x_d`` (m)."""
+    """Solve the window at roller load ``q_load`` (N) with the defect at offset ``x_d`` (m).
+
+    Parameters
+    ----------
+    scene : Scene
+        The scene with the pit.
+    fidelity : Fidelity, preset name, mapping or None
+        The fidelity of the solve.
+    q_load : float
+        Roller load (N).
+    x_d : float
+        Defect offset from the contact centre (m).
+    node : LoadNode, optional
+        The load's no-defect solves, if made already.
+    stats : SolveStats, optional
+        Counters to add the solve to.
+
+    Returns
+    -------
+    BottomContact
+        Whether the pit's bottom carries load, the bottom's share of the window force, the
+        deepest cells' depth and the no-defect pressures at this load.
+    """
     fid = fidelity_from(fidelity)
     stats = stats or SolveStats()
     if node is None:
@@ -115,6 +171,30 @@ def depth_threshold(load_kN: float, width_um: float | None, fidelity="standard",
     mean of the last bracket (``h_loaded < h* <= h_free``, ratio ``<= 1 + rel_tol``) and every
     solve made. ``h* = h_lo`` if the bottom is free already at ``h_lo``; ``inf`` if it is still
     loaded at ``h_hi``.
+
+    Parameters
+    ----------
+    load_kN : float
+        Bearing load (kN).
+    width_um : float or None
+        Pit width (um), or None for ``w = 2 h``.
+    fidelity : Fidelity, preset name or mapping
+        The fidelity of the solves.
+    mapping : dict, optional
+        Scene overrides.
+    x_d : float
+        Defect offset from the contact centre (m).
+    q_load : float, optional
+        Roller load (N) instead of ``Q_max``.
+    h_lo, h_hi : float
+        The depth bracket searched (um).
+    rel_tol : float
+        Relative width of the final bracket.
+
+    Returns
+    -------
+    tuple of (float, list of BottomContact)
+        ``h*`` (um) and every solve made.
     """
     fid = fidelity_from(fidelity)
     stats = SolveStats()

@@ -58,42 +58,42 @@ import os
 from dataclasses import dataclass
 from typing import Any, Mapping
 
-from .catalogue import bearing_values, designations
-from .geometry import read_defect_profile, read_profile
+from .catalogue import bearing_values, designations, operation_values
+from .geometry import defect_depth, read_defect_profile, read_profile
 from .kinematics import FaultFrequencies, fault_frequencies
 
 __all__ = [
     "EndRelief", "Bearing", "MaterialProps", "Material", "Acquisition", "Operation", "Load",
     "Defect", "Scene", "ACQUISITION_MODES", "ROLLER_LOAD_MODELS", "BEARING_STEEL_HARDNESS_GPA",
     "DEFAULT_SCENE", "default_scene_mapping", "MAX_BAND_ORDER", "DEFECT_LOCATIONS", "DEFECT_SHAPES",
-    "BEARING_KINDS", "DEFAULT_GROOVE_CONFORMITY",
+    "BEARING_KINDS", "DEFAULT_GROOVE_CONFORMITY", "STUDY_DESIGNATION",
 ]
 
 #: The analysis needs bands up to 13 x BPFI (the study's 10-13 x BPFI band); fs must exceed
 #: twice that so the band lies below Nyquist.
 MAX_BAND_ORDER = 13
 
+#: The bearing of the source study (Brusa et al. 2021): its catalogue entry
+#: (``data/bearings.yaml``) is the default scene's bearing and carries the study's stated BPFI
+#: (``operation.bpfi_override_hz``, 231.9 Hz; geometry alone gives 194.2 Hz).
+STUDY_DESIGNATION = "FAG 534176"
+
+#: ``scene.bearing`` keys a catalogue entry need not give (their default when it does not).
+_BEARING_EXTRA = {
+    "pitch_diameter_mm": None,
+    "profile_file": None,
+    "designation": None,
+    "kind": "roller",
+    "outer_raceway_profile_radius_mm": None,
+    "inner_groove_conformity": None,
+    "outer_groove_conformity": None,
+}
+
+#: The default scene: the study's bearing from its catalogue entry (``designation`` null means
+#: this bearing) and the defaults of every other section, written here only (the config schema
+#: holds no scene default; ``tests/test_defaults.py``).
 DEFAULT_SCENE: dict[str, Any] = {
-    "bearing": {
-        "bore_mm": 110.0,
-        "outside_diameter_mm": 180.0,
-        "roller_diameter_mm": 17.45,
-        "rollers_per_row": 22,
-        "rows": 2,
-        "pitch_diameter_mm": None,
-        "contact_angle_deg": 12.82,
-        "roller_crown_radius_mm": 81.5,
-        "raceway_profile_radius_mm": 83.1,
-        "roller_length_mm": 34.0,
-        "end_relief": {"kind": "radius", "radius_mm": 1.0},
-        "radial_clearance_um": 40.0,
-        "profile_file": None,
-        "designation": None,
-        "kind": "roller",
-        "outer_raceway_profile_radius_mm": None,
-        "inner_groove_conformity": None,
-        "outer_groove_conformity": None,
-    },
+    "bearing": {**_BEARING_EXTRA, **bearing_values(STUDY_DESIGNATION), "designation": None},
     "material": {
         "roller": {"E_GPa": 210.0, "nu": 0.3},
         "race": {"E_GPa": 210.0, "nu": 0.3},
@@ -101,7 +101,7 @@ DEFAULT_SCENE: dict[str, Any] = {
     },
     "operation": {
         "shaft_rate_hz": 15.8,
-        "bpfi_override_hz": 231.9,
+        **operation_values(STUDY_DESIGNATION),
         "fs_hz": 65000.0,
         "revolutions": 100.0,
         "cage_slip_percent": 0.0,
@@ -687,11 +687,6 @@ class Scene:
         return cls.from_mapping(None, load_kN=load_kN, depth_um=depth_um)
 
 
-#: The bearing of the source study, the one whose stated BPFI ``operation.bpfi_override_hz``
-#: reproduces (231.9 Hz; geometry alone gives 194.2 Hz).
-STUDY_DESIGNATION = "FAG 534176"
-
-
 def _check_override_bearing(operation: Operation, bearing: Bearing) -> None:
     """The BPFI override is the study's: refused on a scene naming another catalogue bearing
     (its fault frequencies then come from its geometry; ``designation: null`` is the study's)."""
@@ -705,8 +700,9 @@ def _check_override_bearing(operation: Operation, bearing: Bearing) -> None:
 
 def _base_mapping(given: Mapping[str, Any] | None) -> dict[str, Any]:
     """The defaults a mapping is merged over: :data:`DEFAULT_SCENE`, with the bearing of the
-    catalogue entry ``bearing.designation`` names (:mod:`bearing_envelope.physics.catalogue`);
-    for another bearing than the study's the default BPFI override is null (geometric)."""
+    catalogue entry ``bearing.designation`` names (:mod:`bearing_envelope.physics.catalogue`)
+    and the operation values travelling with it (the BPFI override: the study's 231.9 Hz for
+    its entry, null, i.e. geometric, for an entry that states none)."""
     b = (given or {}).get("bearing") if isinstance(given, Mapping) else None
     des = b.get("designation") if isinstance(b, Mapping) else None
     if des is None:
@@ -714,10 +710,9 @@ def _base_mapping(given: Mapping[str, Any] | None) -> dict[str, Any]:
     if not isinstance(des, str):
         raise _bad("bearing.designation", des, f"null or one of {list(designations())}")
     base = copy.deepcopy(DEFAULT_SCENE)
-    base["bearing"].update(bearing_values(des))
+    base["bearing"].update(bearing_values(des))   # keys the entry lacks: the study's
     base["bearing"]["designation"] = des
-    if des != STUDY_DESIGNATION:
-        base["operation"]["bpfi_override_hz"] = None
+    base["operation"].update(operation_values(des))
     return base
 
 
@@ -762,9 +757,13 @@ def _build_bearing(m: Mapping[str, Any]) -> Bearing:
     cr = _num(p + "roller_crown_radius_mm", m["roller_crown_radius_mm"], lo=0, lo_open=True)
     ci = _num(p + "raceway_profile_radius_mm", m["raceway_profile_radius_mm"], lo=cr, lo_open=True,
               allowed=f"a number > roller_crown_radius_mm ({cr:g}) (profiles must not cross)")
-    length = _num(p + "roller_length_mm", m["roller_length_mm"], lo=0, lo_open=True)
+    length = _num(p + "roller_length_mm", m["roller_length_mm"], lo=0, lo_open=True, hi=od,
+                  allowed=f"a length > 0 and <= outside_diameter_mm ({od:g} mm)")
     relief = _build_relief(m["end_relief"], length)
-    clearance = _num(p + "radial_clearance_um", m["radial_clearance_um"], lo=0)
+    clearance = _num(p + "radial_clearance_um", m["radial_clearance_um"], lo=0,
+                     hi=MAX_CLEARANCE_FRACTION * 1e3 * d, hi_open=True,
+                     allowed=f"a clearance >= 0 and below {MAX_CLEARANCE_FRACTION:.0%} of the "
+                             f"rolling-element diameter ({MAX_CLEARANCE_FRACTION * 1e3 * d:g} um)")
     extra = _build_kind_fields(m, d, cr, length)
     pf = m["profile_file"]
     if pf is not None:
@@ -772,10 +771,20 @@ def _build_bearing(m: Mapping[str, Any]) -> Bearing:
             raise _bad(p + "profile_file", pf, "null or a path to a two-column file (y_mm, deviation_um)")
         pf = os.fspath(pf)
         try:
-            read_profile(pf)
+            _yp, dev = read_profile(pf)
         except (OSError, ValueError) as exc:
             raise _bad(p + "profile_file", pf, f"a readable two-column file (y_mm, deviation_um): {exc}")
+        worst = max(abs(float(v)) for v in dev)
+        if worst >= 0.5e-3 * d:
+            raise _bad(p + "profile_file", pf, f"deviations smaller than the roller radius "
+                       f"({500 * d:g} um; this file has {1e6 * worst:.4g} um)")
     return Bearing(bore, od, d, z, rows, pd, alpha, cr, ci, length, relief, clearance, pf, **extra)
+
+
+#: Largest radial clearance, as a fraction of the rolling-element diameter: ISO 5753 groups
+#: reach about 1 % (C5 of a large bearing), 5 % is a loose bearing; a clearance near the ball
+#: itself leaves one element carrying the load with no physical meaning.
+MAX_CLEARANCE_FRACTION = 0.05
 
 
 #: Groove conformity ``f = r_groove / d`` of a ball race when neither the config nor the
@@ -881,13 +890,44 @@ def _build_defect(m: Mapping[str, Any], depth_um: float, bearing: Bearing) -> De
     pos = _num(p + "position_deg", m["position_deg"], lo=0, hi=360, hi_open=True,
                allowed="a finite angle in [0, 360) deg from the load direction (0 = centre of the "
                        "load zone)")
+    if pos != 0 and loc != "outer_race":
+        raise _bad(p + "position_deg", pos, f"0 unless defect.location is 'outer_race' (an "
+                   f"{loc.replace('_', ' ')} defect turns through the load zone; its angle "
+                   f"is not a setting)")
     pf = _defect_profile(m["profile_file"], shape)
     if depth > 0 and width <= 0:
         raise _bad(p + "width_um", width, "> 0 when depth_um > 0")
     d = Defect(depth, length, width, shape, edge, ypos, orient, loc, pos, pf)
     if depth > 0:
         _check_defect_fits(d, bearing)
+        _check_rim(d)
     return d
+
+
+#: Least depth (fraction of ``depth_um``) the deepest point of a flat or cylindrical defect
+#: keeps under its rim arcs: a rim radius much larger than the footprint flattens the defect
+#: into a dimple (``edge_radius_um: 1e6`` leaves 0.3 nm of a 50 um defect). The study's
+#: shallowest default case (15 um deep, 30 um wide, 20 um rim) keeps 45 %.
+MIN_RIM_DEPTH_FRACTION = 0.1
+
+
+def _check_rim(d: Defect) -> None:
+    """Refuse an ``edge_radius_um`` whose rim arcs leave less than
+    :data:`MIN_RIM_DEPTH_FRACTION` of the depth at the defect's centre."""
+    if d.shape not in ("flat", "cylinder") or d.edge_radius_um <= 0:
+        return
+    h = 1e-6 * d.depth_um
+    deepest = float(defect_depth(d, 0.0, 0.0))
+    if deepest >= MIN_RIM_DEPTH_FRACTION * h:
+        return
+    half = 0.5 * d.extent_x_m if d.shape == "cylinder" else \
+        min(0.5 * d.extent_x_m, 0.5 * d.extent_y_m)
+    keep = MIN_RIM_DEPTH_FRACTION * h      # r - sqrt(r^2 - half^2) = keep at the largest r
+    r_max_um = 1e6 * (half * half + keep * keep) / (2.0 * keep)
+    raise _bad("defect.edge_radius_um", d.edge_radius_um,
+               f"a rim radius <= {r_max_um:.4g} um for this {d.depth_um:g} um deep defect (its "
+               f"rims would leave {1e6 * deepest:.3g} um of depth, less than "
+               f"{MIN_RIM_DEPTH_FRACTION:.0%})")
 
 
 def _defect_profile(pf: Any, shape: str) -> str | None:

@@ -22,7 +22,7 @@ from .scene import Scene
 
 __all__ = ["SolveStats", "LoadNode", "DefectSolve", "RimStrip", "GlobalGridError", "global_solve",
            "solve_load", "outside_max", "outside_solve", "defect_solve", "neighbourhood_max",
-           "window_spec"]
+           "window_spec", "far_uptake", "end_intervals"]
 
 @dataclass
 class SolveStats:
@@ -40,7 +40,18 @@ class SolveStats:
 
     def solve(self, *args, **kwargs):
         """:func:`solve_contact` with its cost counted, also when it raises (stalled solves
-        that a caller retries are part of the cost: ``n_failed``, ``failed_seconds``)."""
+        that a caller retries are part of the cost: ``n_failed``, ``failed_seconds``).
+
+        Parameters
+        ----------
+        *args, **kwargs
+            Passed to :func:`~bearing_envelope.contact.solve_contact`.
+
+        Returns
+        -------
+        ContactSolution
+            The solve's result.
+        """
         t0 = _time.perf_counter()
         try:
             sol = solve_contact(*args, **kwargs)
@@ -112,6 +123,26 @@ def _halfspace(grid: Grid, e_star: float, backend: str, element: str = "uniform"
 
 
 def window_spec(scene: Scene, fid: Fidelity, q_load: float, kappa: float):
+    """The defect window's size and spacing at roller load ``q_load`` (N).
+
+    Parameters
+    ----------
+    scene : Scene
+        The case's scene.
+    fid : Fidelity
+        The fidelity (grids, tolerance, strips).
+    q_load : float
+        Roller load (N).
+    kappa : float
+        Solved/Hertz contact half-width ratio (the read strip is ``s = kappa a + w_x/2 + r_n``).
+
+    Returns
+    -------
+    tuple
+        ``(a, s, dx, dy, xh, yd, hy_read, hy)``: Hertz semi-axis, read strip's half-width, window
+        spacings, window half-extent across rolling, defect's axial position, read and window
+        half-extents along the axis (m).
+    """
     d = scene.defect
     a = hertz_estimate(scene, q_load).a
     ex = d.extent_x_m if d.active else 0.0
@@ -159,6 +190,26 @@ def global_solve(scene: Scene, fid: Fidelity, q_load: float, extent: float, stat
     content-addressed no-defect store (:mod:`~bearing_envelope.physics.nodefect_cache`), keyed by
     the initial grid's gap field and everything else the solve reads. Returns ``(grid,
     solution)``; raises :class:`GlobalGridError` naming the load and the last extent.
+
+    Parameters
+    ----------
+    scene : Scene
+        The case's scene.
+    fid : Fidelity
+        The fidelity (global grid, tolerance).
+    q_load : float
+        Roller load (N).
+    extent : float
+        Initial half-extent across rolling (m).
+    stats : SolveStats
+        Counters (and the no-defect store, ``stats.cache``).
+    p_init : numpy.ndarray, optional
+        Warm start.
+
+    Returns
+    -------
+    tuple of (Grid, GlobalSolution)
+        The grid and the solution.
     """
     dxg, dyg = fid.global_dx_m, fid.global_dy_m
     half = scene.bearing.half_length_m
@@ -258,7 +309,30 @@ def solve_load(scene: Scene, fid: Fidelity, q_load: float, kappa: float, stats: 
                 p_init_global=None, *, with_far: bool = True) -> LoadNode:
     """Global no-defect solve and zoom window at roller load ``q_load`` (:class:`LoadNode`);
     ``with_far=False`` skips the far field's response (:func:`far_response`: only the removed force
-    needs it; the table's pressure checks do not)."""
+    needs it; the table's pressure checks do not).
+
+    Parameters
+    ----------
+    scene : Scene
+        The case's scene.
+    fid : Fidelity
+        The fidelity (grids, tolerance, strips).
+    q_load : float
+        Roller load (N).
+    kappa : float
+        Solved/Hertz contact half-width ratio (the read strip is ``s = kappa a + w_x/2 + r_n``).
+    stats : SolveStats
+        Counters.
+    p_init_global : numpy.ndarray, optional
+        Warm start of the global solve.
+    with_far : bool
+        Compute the far field's response.
+
+    Returns
+    -------
+    LoadNode
+        The global and window no-defect solutions at this load.
+    """
     e_star = scene.material.e_star_pa
     a, s, dxw, dyw, xh, yd, hy_read, hy = window_spec(scene, fid, q_load, kappa)
     dxg, dyg = fid.global_dx_m, fid.global_dy_m
@@ -438,7 +512,26 @@ def _on_global_cells(grid: Grid, win: Grid, j_lo: int, m: int, p_w: np.ndarray) 
 def outside_solve(scene: Scene, fid: Fidelity, q_load: float, kappa: float,
                   stats: SolveStats) -> tuple[float, float, float]:
     """From a global no-defect solve only: the maximum pressure outside the read strip (Pa),
-    the approach (m) and the contact area (m^2)."""
+    the approach (m) and the contact area (m^2).
+
+    Parameters
+    ----------
+    scene : Scene
+        The case's scene.
+    fid : Fidelity
+        The fidelity (grids, tolerance, strips).
+    q_load : float
+        Roller load (N).
+    kappa : float
+        Solved/Hertz contact half-width ratio (the read strip is ``s = kappa a + w_x/2 + r_n``).
+    stats : SolveStats
+        Counters.
+
+    Returns
+    -------
+    tuple of (float, float, float)
+        ``(p_out, approach, area)`` in Pa, m, m^2.
+    """
     a, s, dxw, dyw, xh, yd, hy_read, hy = window_spec(scene, fid, q_load, kappa)
     grid, sol = global_solve(scene, fid, q_load, global_extent(fid, kappa, a), stats)
     gstrip = np.abs(grid.y - yd) <= hy_read + 1e-12
@@ -448,7 +541,26 @@ def outside_solve(scene: Scene, fid: Fidelity, q_load: float, kappa: float,
 
 def outside_max(scene: Scene, fid: Fidelity, q_load: float, kappa: float,
                 stats: SolveStats) -> float:
-    """Maximum no-defect pressure outside the read strip from a global solve only (Pa)."""
+    """Maximum no-defect pressure outside the read strip from a global solve only (Pa).
+
+    Parameters
+    ----------
+    scene : Scene
+        The case's scene.
+    fid : Fidelity
+        The fidelity (grids, tolerance, strips).
+    q_load : float
+        Roller load (N).
+    kappa : float
+        Solved/Hertz contact half-width ratio (the read strip is ``s = kappa a + w_x/2 + r_n``).
+    stats : SolveStats
+        Counters.
+
+    Returns
+    -------
+    float
+        The pressure (Pa).
+    """
     return outside_solve(scene, fid, q_load, kappa, stats)[0]
 
 
@@ -478,7 +590,28 @@ class DefectSolve:
 
 def defect_solve(scene: Scene, fid: Fidelity, node: LoadNode, x_d: float, stats: SolveStats,
                   p_init=None) -> DefectSolve:
-    """Window solve with the defect at offset ``x_d`` under the no-defect window approach."""
+    """Window solve with the defect at offset ``x_d`` under the no-defect window approach.
+
+    Parameters
+    ----------
+    scene : Scene
+        The case's scene.
+    fid : Fidelity
+        The fidelity.
+    node : LoadNode
+        The load's no-defect solves (:func:`solve_load`).
+    x_d : float
+        Defect offset from the contact centre (m).
+    stats : SolveStats
+        Counters.
+    p_init : numpy.ndarray, optional
+        Warm start.
+
+    Returns
+    -------
+    DefectSolve
+        Pressure, peaks, removed force and area change, with the strips' results.
+    """
     win = node.window
     g = gap_field(scene, win, x_d) + node.u_ext
     kw = dict(tol=fid.tol, max_iter=fid.max_iter, approach=node.approach, boundary="ignore",
@@ -506,7 +639,7 @@ def defect_solve(scene: Scene, fid: Fidelity, node: LoadNode, x_d: float, stats:
     if not strips:
         W = float(p[:, node.strip].max())
         Pd = neighbourhood_max(scene, fid, win, p, x_d)
-        dF = float(node.p_window0.sum() - p.sum()) * cell - _far_uptake(node, p)
+        dF = float(node.p_window0.sum() - p.sum()) * cell - far_uptake(node, p)
         dA = float(np.count_nonzero(p > 0)) * cell - node.area_window0
         return DefectSolve(max(W, node.outside_max), Pd, p, dF, dA, W)
     # parent cells a strip owns count through the strip's force and area; the parent is read
@@ -533,7 +666,7 @@ def defect_solve(scene: Scene, fid: Fidelity, node: LoadNode, x_d: float, stats:
     f0, a0, p0 = float(node.p_window0.sum()) * cell, node.area_window0, node.p_window0
     if any(st.axis == 1 for st in strips):
         f0, a0, p0 = _end_reference(scene, fid, node, stats)
-    dF = f0 - force - _far_uptake(node, p, p0)
+    dF = f0 - force - far_uptake(node, p, p0)
     dA = area - a0
     return DefectSolve(max(W, node.outside_max), Pd, p, dF, dA, W)
 
@@ -566,10 +699,25 @@ def _end_reference(scene: Scene, fid: Fidelity, node: LoadNode,
     return node.end_ref["ref"]
 
 
-def _far_uptake(node: LoadNode, p: np.ndarray, p0: np.ndarray | None = None) -> float:
+def far_uptake(node: LoadNode, p: np.ndarray, p0: np.ndarray | None = None) -> float:
     """Force (N) the far field takes up at fixed approach when the window's pressure goes from
     the no-defect ``p0`` (default ``p_window0``) to ``p`` (:class:`FarResponse`); 0 with a
-    frozen far field."""
+    frozen far field.
+
+    Parameters
+    ----------
+    node : LoadNode
+        The load node whose window and far-field response are used.
+    p : numpy.ndarray
+        The window's pressure (Pa), window shape.
+    p0 : numpy.ndarray, optional
+        The no-defect pressure it is compared with (default ``node.p_window0``).
+
+    Returns
+    -------
+    float
+        The force (N).
+    """
     if node.far is None:
         return 0.0
     return node.far.uptake(p - (node.p_window0 if p0 is None else p0),
@@ -619,11 +767,28 @@ class RimStrip:
         return np.repeat(self.own[self.slab], self.m, axis=self.axis)
 
     def columns(self, parent_cols: np.ndarray) -> np.ndarray:
-        """A bool over the window's columns as one over the strip's columns."""
+        """A bool over the window's columns as one over the strip's columns.
+
+        Parameters
+        ----------
+        parent_cols : numpy.ndarray
+            Bool over the window's columns.
+
+        Returns
+        -------
+        numpy.ndarray
+            Bool over the strip's columns.
+        """
         return np.repeat(parent_cols[self.slab[1]], self.m if self.axis == 1 else 1)
 
     def coarse(self) -> np.ndarray:
-        """The strip's pressure averaged over each parent cell (shape of ``own[slab]``)."""
+        """The strip's pressure averaged over each parent cell (shape of ``own[slab]``).
+
+        Returns
+        -------
+        numpy.ndarray
+            Mean pressure (Pa) per parent cell.
+        """
         p = self.pressure
         if self.axis == 0:
             return p.reshape(-1, self.m, p.shape[1]).mean(axis=1)
@@ -713,9 +878,24 @@ def _rim_intervals(scene: Scene, fid: Fidelity, win: Grid, x_d: float) -> list[t
                       win.x[0] - 0.5 * win.dx, win.dx, win.shape[0])
 
 
-def _end_intervals(scene: Scene, fid: Fidelity, win: Grid) -> list[tuple[int, int]]:
+def end_intervals(scene: Scene, fid: Fidelity, win: Grid) -> list[tuple[int, int]]:
     """Window-column ranges of the axial end strips (around ``y_d +- w_y/2``). An end on or
-    beyond a roller end (a defect spanning the roller) or outside the window has none."""
+    beyond a roller end (a defect spanning the roller) or outside the window has none.
+
+    Parameters
+    ----------
+    scene : Scene
+        The scene (defect extent and axial position, roller length).
+    fid : Fidelity
+        The fidelity (``end_strip_um``).
+    win : Grid
+        The defect window.
+
+    Returns
+    -------
+    list of tuple of (int, int)
+        ``(first, end)`` column ranges of the window, one per axial end that gets a strip.
+    """
     d = scene.defect
     hy = 0.5 * d.extent_y_m
     y0, y1 = win.y[0] - 0.5 * win.dy, win.y[-1] + 0.5 * win.dy
@@ -742,7 +922,7 @@ def _refine_strips(scene: Scene, fid: Fidelity, node: LoadNode, x_d: float, p: n
     if not scene.defect.active:
         return out
     m_end = int(math.ceil(win.dy / fid.end_dy_m - 1e-9)) if fid.end_dy_um else 1
-    ends = _end_intervals(scene, fid, win) if m_end >= 2 else []
+    ends = end_intervals(scene, fid, win) if m_end >= 2 else []
     rims = _rim_intervals(scene, fid, win, x_d) if fid.rim_dx_um else []
     rows = np.zeros(win.shape[0], bool)
     for i0, i1 in rims:
@@ -832,6 +1012,28 @@ def _solve_strip(scene: Scene, fid: Fidelity, node: LoadNode, x_d: float, p: np.
 
 
 def neighbourhood_max(scene: Scene, fid: Fidelity, win: Grid, p: np.ndarray, x_d: float) -> float:
+    """The largest pressure (Pa) in the defect's neighbourhood (its footprint plus
+    ``fid.neighbourhood_um`` on every side) of the window field ``p``; 0 when none of it is in
+    the window.
+
+    Parameters
+    ----------
+    scene : Scene
+        The case's scene (the defect's footprint).
+    fid : Fidelity
+        The fidelity (``neighbourhood_um``).
+    win : Grid
+        The window.
+    p : numpy.ndarray
+        The window's pressure (Pa).
+    x_d : float
+        Defect offset (m).
+
+    Returns
+    -------
+    float
+        The pressure (Pa).
+    """
     d = scene.defect
     nb = fid.neighbourhood_m
     ex = d.extent_x_m if d.active else 0.0

@@ -131,7 +131,15 @@ class Mode:
         return self.f_n_hz * math.sqrt(1.0 - self.zeta**2)
 
     def check_fs(self, fs: float, where: str = "mode") -> None:
-        """Raise ValueError if ``f_n_hz`` is not below the Nyquist frequency ``fs/2``."""
+        """Raise ValueError if ``f_n_hz`` is not below the Nyquist frequency ``fs/2``.
+
+        Parameters
+        ----------
+        fs : float
+            Sampling rate (Hz).
+        where : str
+            The mode's name in the error message.
+        """
         if self.f_n_hz >= 0.5 * fs:
             raise ValueError(
                 f"{where}.f_n_hz must be < fs/2 = {0.5 * fs:g} Hz, got {self.f_n_hz:g} Hz"
@@ -139,6 +147,20 @@ class Mode:
 
     @classmethod
     def from_mapping(cls, m: Mapping, where: str = "mode") -> Mode:
+        """A mode from its config mapping (``f_n_hz``, ``zeta``, ``gain``), checked.
+
+        Parameters
+        ----------
+        m : Mapping
+            ``f_n_hz``, ``zeta`` and optionally ``gain``.
+        where : str
+            The mapping's place in the config, for error messages.
+
+        Returns
+        -------
+        Mode
+            The mode.
+        """
         m = _check_keys(where, m, ("f_n_hz", "zeta", "gain"))
         for key in ("f_n_hz", "zeta"):
             if key not in m:
@@ -190,7 +212,18 @@ class Tone:
                 object.__setattr__(self, key, check_number(v, key))
 
     def frequency(self, fr: float | None) -> float:
-        """Tone frequency in Hz (``order * fr`` for an order tone)."""
+        """Tone frequency in Hz (``order * fr`` for an order tone).
+
+        Parameters
+        ----------
+        fr : float or None
+            Shaft rate (Hz), needed for an order tone.
+
+        Returns
+        -------
+        float
+            The frequency (Hz).
+        """
         if self.frequency_hz is not None:
             return self.frequency_hz
         if fr is None:
@@ -199,6 +232,20 @@ class Tone:
 
     @classmethod
     def from_mapping(cls, m: Mapping, where: str = "tone") -> Tone:
+        """A tone from its config mapping, checked.
+
+        Parameters
+        ----------
+        m : Mapping
+            ``frequency_hz`` or ``order``, ``amplitude`` or ``level_db``, optionally ``phase_rad``.
+        where : str
+            The mapping's place in the config, for error messages.
+
+        Returns
+        -------
+        Tone
+            The tone.
+        """
         m = _check_keys(where, m, ("frequency_hz", "order", "amplitude", "level_db", "phase_rad"))
         try:
             return cls(**dict(m))
@@ -290,6 +337,18 @@ class TransferModel:
         Raises ValueError naming the offending field (``sensor.modes[0].zeta`` ...), its value and
         the allowed range. With ``fs`` (Hz) the natural frequencies are also checked against
         Nyquist.
+
+        Parameters
+        ----------
+        mapping : Mapping
+            The ``sensor:`` section.
+        fs : float, optional
+            Sampling rate (Hz) to check the modes against.
+
+        Returns
+        -------
+        TransferModel
+            The model.
         """
         m = _check_keys("sensor", mapping, cls._KEYS)
         raw_modes = m.get("modes")
@@ -325,7 +384,13 @@ class TransferModel:
         return model
 
     def check_fs(self, fs: float) -> None:
-        """Raise ValueError if any mode is not below ``fs/2``."""
+        """Raise ValueError if any mode is not below ``fs/2``.
+
+        Parameters
+        ----------
+        fs : float
+            Sampling rate (Hz).
+        """
         fs = check_number(fs, "fs")
         if fs <= 0:
             raise ValueError(f"fs must be > 0 Hz, got {fs!r}")
@@ -333,24 +398,58 @@ class TransferModel:
             m.check_fs(fs, f"sensor.modes[{i}]")
 
     def with_snr(self, snr_db: float | None) -> TransferModel:
-        """A copy with another target SNR (dB; None = no noise)."""
+        """A copy with another target SNR (dB; None = no noise).
+
+        Parameters
+        ----------
+        snr_db : float or None
+            The target SNR (dB), or None for no noise.
+
+        Returns
+        -------
+        TransferModel
+            The copy.
+        """
         return TransferModel(self.modes, NoiseSpec(snr_db, self.noise.exact), self.tones,
                              self.discretization, self.excitation, self.excitation_scale, self.seed)
 
     def to_dict(self) -> dict[str, Any]:
-        """Plain-dict form (the inverse of :meth:`from_mapping`), for provenance."""
+        """Plain-dict form (the inverse of :meth:`from_mapping`), for provenance.
+
+        Returns
+        -------
+        dict
+            The ``sensor:`` mapping of this model.
+        """
         d = asdict(self)
         d["modes"] = [asdict(x) for x in self.modes]
         d["tones"] = [{k: v for k, v in asdict(t).items() if v is not None} for t in self.tones]
         return d
 
     def to_json(self) -> str:
-        """The canonical serialisation (sorted keys) a workflow job receives."""
+        """The canonical serialisation (sorted keys) a workflow job receives.
+
+        Returns
+        -------
+        str
+            JSON text.
+        """
         return json.dumps(self.to_dict(), sort_keys=True)
 
     @classmethod
     def from_json(cls, text: str) -> TransferModel:
-        """The model :meth:`to_json` serialised."""
+        """The model :meth:`to_json` serialised.
+
+        Parameters
+        ----------
+        text : str
+            JSON written by :meth:`to_json`.
+
+        Returns
+        -------
+        TransferModel
+            The model.
+        """
         return cls.from_mapping(json.loads(text))
 
 
@@ -367,6 +466,18 @@ def select_excitation(signals: Mapping[str, np.ndarray], kind: str = "pressure")
     ``force`` -> the first of ``contact_force`` (roller load minus the force the defect removes
     at fixed approach: the blocked force), ``force``, ``roller_load`` (N). Returns
     ``(name, array)``; raises KeyError naming what is missing.
+
+    Parameters
+    ----------
+    signals : Mapping of str to numpy.ndarray
+        The case's signals by name.
+    kind : str
+        ``pressure``, ``pressure_defect`` or ``force``.
+
+    Returns
+    -------
+    tuple of (str, numpy.ndarray)
+        The signal's name and its samples.
     """
     if kind not in EXCITATION_KINDS:
         raise ValueError(f"excitation must be one of {tuple(EXCITATION_KINDS)}, got {kind!r}")
@@ -386,6 +497,11 @@ def excitation_from_history(x: np.ndarray, *, scale: float = 1.0) -> np.ndarray:
         Contact history sampled at fs: p_max (Pa) or a contact force (N).
     scale : float
         Multiplier (e.g. an effective area in m^2 to express a pressure as a force in N).
+
+    Returns
+    -------
+    numpy.ndarray
+        The excitation, same length as ``x``.
 
     Notes
     -----
@@ -417,6 +533,20 @@ def mode_sos(mode: Mode, fs: float, method: str = "impulse") -> np.ndarray:
     ``bilinear``: the analog resonator with omega_n prewarped to ``2 fs tan(omega_n T/2)``.
     Either way B is then scaled so that ``|H(exp(j omega_n T))| = g``. Poles:
     ``|z| = exp(-zeta omega_n T) < 1`` (impulse) — always stable.
+
+    Parameters
+    ----------
+    mode : Mode
+        The mode.
+    fs : float
+        Sampling rate (Hz).
+    method : str
+        ``impulse`` (impulse invariance) or ``bilinear`` (prewarped bilinear transform).
+
+    Returns
+    -------
+    numpy.ndarray
+        The section, shape (1, 6) (``scipy.signal.sosfilt`` layout).
     """
     fs = check_number(fs, "fs")
     mode.check_fs(fs)
@@ -449,7 +579,22 @@ def mode_sos(mode: Mode, fs: float, method: str = "impulse") -> np.ndarray:
 
 
 def impulse_response(model: TransferModel | Sequence[Mode], fs: float, n: int) -> np.ndarray:
-    """Response of the summed modes to a unit-area impulse (first sample ``fs``, others 0)."""
+    """Response of the summed modes to a unit-area impulse (first sample ``fs``, others 0).
+
+    Parameters
+    ----------
+    model : TransferModel or sequence of Mode
+        The modes.
+    fs : float
+        Sampling rate (Hz).
+    n : int
+        Samples.
+
+    Returns
+    -------
+    numpy.ndarray
+        The response, ``n`` samples.
+    """
     x = np.zeros(int(n))
     x[0] = fs
     return apply_structure(x, fs, model)
@@ -461,6 +606,22 @@ def apply_structure(excitation: np.ndarray, fs: float,
 
     The impulse-invariant sections approximate ``y(t) = integral h(t - tau) e(tau) dtau``, so an
     input sample ``fs * A`` is an impulse of area ``A`` (see :func:`impulse_response`).
+
+    Parameters
+    ----------
+    excitation : numpy.ndarray
+        The excitation (:func:`excitation_from_history`).
+    fs : float
+        Sampling rate (Hz).
+    model : TransferModel or sequence of Mode
+        The modes.
+    method : str, optional
+        Discretisation of the modes (default: the model's).
+
+    Returns
+    -------
+    numpy.ndarray
+        The acceleration, same length as ``excitation``.
     """
     if isinstance(model, TransferModel):
         modes, method = model.modes, method or model.discretization
@@ -477,7 +638,20 @@ def apply_structure(excitation: np.ndarray, fs: float,
 # synthesis
 # --------------------------------------------------------------------------------------------
 def measure_snr_db(defect_part: np.ndarray, noise: np.ndarray) -> float:
-    """``10 log10(var(defect_part) / var(noise))`` (dB)."""
+    """``10 log10(var(defect_part) / var(noise))`` (dB).
+
+    Parameters
+    ----------
+    defect_part : numpy.ndarray
+        The signal's part due to the defect.
+    noise : numpy.ndarray
+        The noise added.
+
+    Returns
+    -------
+    float
+        The SNR (dB).
+    """
     pd = float(np.var(defect_part))
     pn = float(np.var(noise))
     if pn == 0.0:

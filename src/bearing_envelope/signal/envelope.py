@@ -11,6 +11,7 @@ from .spectrum import amplitude_spectrum
 from .validation import check_fs, check_signal
 
 __all__ = [
+    "DEFAULT_FILTER_ORDER",
     "bandpass",
     "envelope",
     "envelope_spectrum",
@@ -19,7 +20,12 @@ __all__ = [
 ]
 
 
-def bandpass(x, fs: float, band, *, order: int = 4):
+#: Butterworth order of the zero-phase band-pass (applied forward and backward: twice the
+#: attenuation), the one default of every band-pass of the package.
+DEFAULT_FILTER_ORDER = 4
+
+
+def bandpass(x, fs: float, band, *, order: int = DEFAULT_FILTER_ORDER):
     r"""Zero-phase Butterworth band-pass (second-order sections, forward-backward).
 
     Parameters
@@ -67,7 +73,7 @@ def _bandpass_sos(fs: float, band, order) -> np.ndarray:
 SETTLING_TOLERANCE = 1e-3
 
 
-def settling_samples(fs: float, band, *, order: int = 4, tol: float = SETTLING_TOLERANCE) -> int:
+def settling_samples(fs: float, band, *, order: int = DEFAULT_FILTER_ORDER, tol: float = SETTLING_TOLERANCE) -> int:
     """Samples after which the impulse response of :func:`bandpass`'s filter stays below
     ``tol`` times its maximum: the length of the edge transients of the forward-backward
     filter at each end of a record (even padding mirrors the record about its end sample, which
@@ -143,7 +149,7 @@ def envelope_spectrum(
     *,
     squared: bool = False,
     window="hann",
-    order: int = 4,
+    order: int = DEFAULT_FILTER_ORDER,
     return_signal: bool = False,
     clamp: bool = False,
     margin: float = NYQUIST_MARGIN,

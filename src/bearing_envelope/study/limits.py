@@ -5,7 +5,6 @@ after :func:`bearing_envelope.study.settings.workflow_settings`; ``bearing-envel
 check-config`` too). It refuses, with one line naming the field, the value and what is
 allowed:
 
-- a config file asking Snakemake for YTE templating (``__use_yte__``): templating runs Python;
 - a case whose name would be too long for a file name, or does not read back exactly;
 - a hardness below :data:`MIN_HARDNESS_GPA`, a record shorter than the analysis' longest
   kurtogram window (:func:`min_revolutions`);
@@ -20,6 +19,8 @@ from __future__ import annotations
 
 import math
 import os
+
+import numpy as np
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
@@ -27,18 +28,20 @@ from ..physics.acquisition import auto_oversample
 from ..physics.loads import scene_load_distribution
 from ..physics.solves import window_spec
 from ..signal.kurtogram import max_kurtogram_level
-from .settings import ConfigError, format_number, read_yaml
+from .settings import DEFAULT_MAX_CASES, ConfigError, format_number
 from ..physics.fidelity import fidelity_from
-from .tradeoff import _apply_knob
+from .tradeoff import TRADEOFF_DEFAULTS, _apply_knob
 
 __all__ = ["DEFAULT_LIMITS", "MIN_HARDNESS_GPA", "MAX_CASE_NAME_CHARS", "ResourceEstimate",
-           "estimate_case", "check_case", "min_revolutions", "refuse_config_code", "available_memory_bytes", "precheck",
+           "estimate_case", "check_case", "min_revolutions", "available_memory_bytes", "precheck",
            "profile_files"]
 
-#: Stated limits per case when the config has no ``limits:`` section: CPU seconds of one
-#: simulation job (the default sweep needs 7-10 s per case) and memory (None: the machine's
-#: available memory).
-DEFAULT_LIMITS = {"max_case_cpu_s": 3600.0, "max_case_memory_GB": None}
+#: Stated limits when the config has no ``limits:`` section: CPU seconds of one simulation
+#: job (the default sweep needs 7-10 s per case), memory (None: the machine's available
+#: memory) and the number of cases (checked by the loader before any case is built, so its
+#: default lives there: :data:`bearing_envelope.study.settings.DEFAULT_MAX_CASES`).
+DEFAULT_LIMITS = {"max_case_cpu_s": 3600.0, "max_case_memory_GB": None,
+                  "max_cases": DEFAULT_MAX_CASES}
 
 #: Lowest hardness accepted, GPa: below it the hardness bound flattens every contact (pure
 #: lead is 0.04 GPa; bearing steel about 7.4 GPa).
@@ -110,9 +113,12 @@ class ResourceEstimate:
         return max(parts, key=parts.get) if parts else "scene"
 
     def describe(self) -> str:
-        return (f"{self.n_samples:,} samples x {self.oversample} oversample, "
-                f"{self.global_cells:,} global + {self.window_cells:,} window cells x "
-                f"{self.n_solves} solves: about {self.memory_bytes / _GB:.3g} GB and "
+        def count(v: int) -> str:      # 1e300 samples in 3 significant digits, not 300
+            return f"{v:,}" if v < 10 ** 12 else f"{float(v):.3g}"
+
+        return (f"{count(self.n_samples)} samples x {count(self.oversample)} oversample, "
+                f"{count(self.global_cells)} global + {count(self.window_cells)} window cells "
+                f"x {self.n_solves} solves: about {self.memory_bytes / _GB:.3g} GB and "
                 f"{self.cpu_seconds:.3g} CPU s")
 
 
@@ -184,17 +190,6 @@ def min_revolutions(scene) -> float:
     return MIN_KURTOGRAM_SAMPLES / scene.operation.fs_hz * scene.operation.shaft_rate_hz
 
 
-def refuse_config_code(files: Sequence[str | os.PathLike]) -> None:
-    """Read each config file strictly (:func:`~bearing_envelope.study.settings.read_yaml`) and
-    refuse ``__use_yte__`` (Snakemake's YTE templating evaluates Python in the file)."""
-    for f in files:
-        doc = read_yaml(f)
-        if "__use_yte__" in doc:
-            raise ConfigError(
-                f"{os.fspath(f)}: __use_yte__: {doc['__use_yte__']!r}; allowed: the key absent "
-                f"(YTE templating runs Python from the config file; a config here is data)")
-
-
 def _limits(config: Mapping) -> dict:
     out = dict(DEFAULT_LIMITS)
     given = config.get("limits") or {}
@@ -211,8 +206,10 @@ def _limits(config: Mapping) -> dict:
     return out
 
 
-def _check_case(case, scene, analysis, limits: dict, memory_cap: float, fidelity) -> None:
-    """The per-case checks of :func:`precheck` (name, lower bounds, resource estimate)."""
+def _check_case(case, scene, analysis, limits: dict, memory_cap: float,
+                fidelity) -> ResourceEstimate:
+    """The per-case checks of :func:`precheck` (name, lower bounds, resource estimate);
+    returns the estimate."""
     if len(case.name) > MAX_CASE_NAME_CHARS:
         raise ConfigError(f"sweep: case name {case.name[:40]}... has {len(case.name)} "
                           f"characters; allowed: at most {MAX_CASE_NAME_CHARS}")
@@ -227,13 +224,19 @@ def _check_case(case, scene, analysis, limits: dict, memory_cap: float, fidelity
                           f"({n} samples); allowed: >= {min_revolutions(scene):.3g} (the "
                           f"kurtogram needs {MIN_KURTOGRAM_SAMPLES} samples)")
     est = estimate_case(case.name, scene, fidelity)
+    _check_estimate(est, limits, memory_cap)
+    return est
+
+
+def _check_estimate(est: ResourceEstimate, limits: dict, memory_cap: float) -> None:
+    """Refuse an estimate over the available memory or ``limits.max_case_cpu_s``."""
     if est.memory_bytes > memory_cap:
-        raise ConfigError(f"{est.culprit('memory')}: case {case.name} would need about "
+        raise ConfigError(f"{est.culprit('memory')}: case {est.case} would need about "
                           f"{est.memory_bytes / _GB:.3g} GB ({est.describe()}); allowed: "
                           f"<= {memory_cap / _GB:.3g} GB (the available memory or "
                           f"limits.max_case_memory_GB)")
-    if est.cpu_seconds > limits["max_case_cpu_s"]:
-        raise ConfigError(f"{est.culprit('cpu')}: case {case.name} would need about "
+    if limits["max_case_cpu_s"] is not None and est.cpu_seconds > limits["max_case_cpu_s"]:
+        raise ConfigError(f"{est.culprit('cpu')}: case {est.case} would need about "
                           f"{est.cpu_seconds:.3g} CPU s ({est.describe()}); allowed: "
                           f"<= {limits['max_case_cpu_s']:g} CPU s (limits.max_case_cpu_s)")
 
@@ -249,22 +252,18 @@ def _check_sweep_values(sweep) -> None:
                                   f"{MAX_VALUE_CHARS} characters (e.g. 0.5, 12.25)")
 
 
-#: Keys of the ``tradeoff:`` section (:func:`bearing_envelope.study.tradeoff.study_from_config`).
-_TRADEOFF_KEYS = ("cases", "revolutions", "base", "reference", "reference_element",
-                  "element_series", "knobs", "presets")
-
-
 def _check_tradeoff(section: Mapping) -> None:
     """The ``tradeoff:`` section as the trade study will read it (without running it)."""
     for key in section:
-        if key not in _TRADEOFF_KEYS:
-            raise ConfigError(f"tradeoff.{key}: unknown key; allowed: {', '.join(_TRADEOFF_KEYS)}")
+        if key not in TRADEOFF_DEFAULTS:
+            raise ConfigError(f"tradeoff.{key}: unknown key; allowed: {', '.join(TRADEOFF_DEFAULTS)}")
+    section = {**TRADEOFF_DEFAULTS, **section}
     try:
-        base = fidelity_from(section.get("base", "standard"))
-        for c in section.get("cases", []):
+        base = fidelity_from(section["base"])
+        for c in section["cases"]:
             if len(c) != 2 or not all(isinstance(v, (int, float)) and v >= 0 for v in c):
                 raise ValueError(f"tradeoff.cases: got {c!r}; allowed: [load_kN, depth_um]")
-        rev = section.get("revolutions", 4.0)
+        rev = section["revolutions"]
         if isinstance(rev, bool) or not isinstance(rev, (int, float)) or not rev > 0:
             raise ValueError(f"tradeoff.revolutions: got {rev!r}; allowed: a number > 0")
         for knob, values in (section.get("knobs") or {}).items():
@@ -273,17 +272,17 @@ def _check_tradeoff(section: Mapping) -> None:
                                  f"values, coarse to fine")
             for v in values:
                 _apply_knob(base, str(knob), v)
-        presets = section.get("presets", [])
+        presets = section["presets"]
         for p in (presets.values() if isinstance(presets, Mapping) else presets):
             fidelity_from(p)
-        if section.get("reference", "finest") not in ("finest", "per_knob"):
+        if section["reference"] not in ("finest", "per_knob"):
             fidelity_from(section["reference"])
     except (ValueError, TypeError, KeyError) as exc:
         msg = str(exc)
         raise ConfigError(msg if msg.startswith("tradeoff") else f"tradeoff: {msg}") from None
 
 
-def precheck(settings, files: Sequence[str | os.PathLike] = ()) -> list[ResourceEstimate]:
+def precheck(settings) -> list[ResourceEstimate]:
     """The checks of this module on validated settings; returns each case's estimate.
 
     Raises
@@ -291,7 +290,6 @@ def precheck(settings, files: Sequence[str | os.PathLike] = ()) -> list[Resource
     ConfigError
         One line naming the field, the value and what is allowed.
     """
-    refuse_config_code(files)
     cfg = settings.config
     if settings.tradeoff:
         _check_tradeoff(settings.tradeoff)
@@ -310,9 +308,120 @@ def precheck(settings, files: Sequence[str | os.PathLike] = ()) -> list[Resource
     setup = settings.simulation
     for case in settings.sweep.cases():
         scene = setup.scene(case)
-        _check_case(case, scene, settings.analysis, limits, cap, setup.fidelity)
-        out.append(estimate_case(case.name, scene, setup.fidelity))
+        out.append(_check_case(case, scene, settings.analysis, limits, cap, setup.fidelity))
+    _check_physics(settings)   # after the estimates: they bound the record length first
     return out
+
+
+#: Fewest resolution bins (1 / record length) a demodulation band may span: a narrower band
+#: (``0.007 .. 0.014 Hz``) passes no line at all, yet its envelope spectrum gives amplitudes.
+MIN_BAND_BINS = 2
+
+#: Sidebands of the fault line excluded from the detection map's background (the default of
+#: :func:`bearing_envelope.diagnosis.detection.detection_statistic`, which the map uses).
+_MAP_SIDEBANDS = 3
+
+
+def _location_scenes(settings) -> dict:
+    """One case per swept location at its highest load and deepest defect (first in sweep
+    order), with its scene: the cases whose record, lines and contact the checks below read."""
+    setup, out = settings.simulation, {}
+    top = max(settings.sweep.loads_kN)
+    for case in settings.sweep.cases():
+        if case.load_kN == top and case.location not in out:
+            out[case.location] = (case, setup.scene(case))
+    return out
+
+
+def _check_physics(settings) -> None:
+    """Checks a job would otherwise make on its inputs, once per swept location: the contact
+    not plastic everywhere at the highest load (:func:`_check_contact`), every band wider than
+    the record's resolution (:func:`_check_band_widths`), and with a ``sensor:`` section a
+    background around the fault line for the detection map (:func:`_check_map_background`)."""
+    for case, scene in _location_scenes(settings).values():
+        _check_contact(settings, case, scene)
+        if settings.analysis is not None:
+            _check_band_widths(settings.analysis, scene)
+        if settings.sensor is not None:
+            _check_map_background(scene, case)
+
+
+def _check_contact(settings, case, scene) -> None:
+    """Refuse a load whose Hertz mean pressure at the most loaded element exceeds the hardness
+    (the scene's, else bearing steel's): the whole contact would sit at the plastic bound."""
+    from ..physics.geometry import hertz_estimate
+    from ..physics.scene import BEARING_STEEL_HARDNESS_GPA
+
+    q = scene_load_distribution(scene).q_max
+    if not (math.isfinite(q) and q > 0):
+        raise ConfigError(f"scene.bearing: case {case.name}: the load distribution puts "
+                          f"{q:g} N on the most loaded element; allowed: a bearing and load "
+                          f"that load at least one element")
+    mean = 2.0 / 3.0 * hertz_estimate(scene, q).p0
+    hard = scene.material.hardness_pa or BEARING_STEEL_HARDNESS_GPA * 1e9
+    if mean > hard:
+        i = list(settings.sweep.loads_kN).index(case.load_kN)
+        f_max = case.load_kN * (hard / mean) ** 3     # p ~ Q^(1/3), Q ~ F
+        raise ConfigError(f"sweep.loads_kN[{i}]: got {case.load_kN:g}; allowed: a load whose "
+                          f"contact is not plastic everywhere: the most loaded element's Hertz "
+                          f"mean pressure is {mean / 1e9:.3g} GPa > hardness {hard / 1e9:.3g} GPa "
+                          f"(about {f_max:.3g} kN at most for this bearing)")
+
+
+def _record(scene) -> tuple[int, float]:
+    """Samples of a case's record and its frequency resolution (Hz)."""
+    op = scene.operation
+    n = int(math.ceil(op.revolutions / op.shaft_rate_hz * op.fs_hz))
+    return n, op.fs_hz / n
+
+
+def _check_band_widths(analysis, scene) -> None:
+    """Every fixed, fraction or order band at least :data:`MIN_BAND_BINS` resolution bins wide."""
+    from ..physics.locations import scene_event_frequencies
+    from ..signal.bands import resolve_band
+
+    _n, df = _record(scene)
+    fs = scene.operation.fs_hz
+    for b in analysis.bands:
+        lo, hi = resolve_band(b.to_mapping(), fs, frequencies=scene_event_frequencies(scene),
+                              static=True)[0]
+        if lo is not None and hi - lo < MIN_BAND_BINS * df:
+            raise ConfigError(f"analysis.bands[{b.name}]: {lo:g} .. {hi:g} Hz is "
+                              f"{hi - lo:.3g} Hz wide; allowed: at least {MIN_BAND_BINS} "
+                              f"resolution bins ({MIN_BAND_BINS * df:.3g} Hz at "
+                              f"scene.operation.revolutions = {scene.operation.revolutions:g})")
+
+
+def _map_background_problem(scene, revolutions: float) -> str | None:
+    """Why the detection map could not test this scene's fault line at ``revolutions``."""
+    from ..diagnosis.detection import background_mask, background_problem
+    from ..physics.locations import LOCATION_FAMILIES, scene_event_frequencies
+    from .pipeline import MAP_BACKGROUND, MAP_FMAX
+
+    op = scene.operation
+    n = int(math.ceil(revolutions / op.shaft_rate_hz * op.fs_hz))
+    df = op.fs_hz / n
+    line = scene_event_frequencies(scene)[LOCATION_FAMILIES[scene.defect.location][0]]
+    f = np.arange(int(MAP_FMAX * line / df) + 2) * df
+    bg = background_mask(f, line, max(0.01 * line, 0.5 * df), MAP_BACKGROUND,
+                         fr=op.shaft_rate_hz, sidebands=_MAP_SIDEBANDS)
+    return background_problem(f, bg, line, "two_sided")
+
+
+def _check_map_background(scene, case) -> None:
+    """The detection map (rules diagnose, false_alarms) tests the fault line against the
+    spectrum around it (:data:`bearing_envelope.study.pipeline.MAP_BACKGROUND`): the record
+    must resolve enough bins there besides the shaft harmonics and sidebands it excludes."""
+    rev = scene.operation.revolutions
+    problem = _map_background_problem(scene, rev)
+    if problem is None:
+        return
+    need = rev
+    while need < 1e6 and _map_background_problem(scene, need) is not None:
+        need *= 1.25
+    raise ConfigError(f"scene.operation.revolutions: got {rev:g}; allowed: a record long enough "
+                      f"for the detection map's background (case {case.name}: {problem}; about "
+                      f">= {need:.3g} revolutions)")
 
 
 def profile_files(settings) -> list[str]:
@@ -337,5 +446,4 @@ def check_case(case, scene, fidelity, config: Mapping | None = None, analysis=No
     cap = available_memory_bytes()
     if limits["max_case_memory_GB"] is not None:
         cap = min(cap, limits["max_case_memory_GB"] * _GB)
-    _check_case(case, scene, analysis, limits, cap, fidelity)
-    return estimate_case(case.name, scene, fidelity)
+    return _check_case(case, scene, analysis, limits, cap, fidelity)

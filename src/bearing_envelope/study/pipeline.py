@@ -36,7 +36,7 @@ from ..diagnosis import AnalysisOptions, analyze_signal
 from ..diagnosis.detection import detection_statistic
 from ..io import BandLimits, CaseBands, CaseSpectra
 from ..physics.fidelity import Fidelity
-from ..physics.locations import LOCATION_FAMILIES, event_frequencies
+from ..physics.locations import LOCATION_FAMILIES, scene_event_frequencies
 from ..physics.scene import DEFECT_LOCATIONS
 from ..physics.transfer import (TransferModel, excitation_from_history, select_excitation,
                                 synthesize_acceleration)
@@ -84,10 +84,10 @@ def history_case(history):
     from types import SimpleNamespace
 
     sc = history.scene
-    ff = sc.frequencies()
+    ev = scene_event_frequencies(sc)
     return SimpleNamespace(
         signals=dict(history.signals), fs=sc.operation.fs_hz, fr=sc.operation.shaft_rate_hz,
-        bpfi=sc.bpfi_hz, bpfo=ff.bpfo, ftf=ff.ftf, bsf=ff.bsf, load_kN=sc.load.load_kN,
+        bpfi=ev["bpfi"], bpfo=ev["bpfo"], ftf=ev["ftf"], bsf=ev["bsf"], load_kN=sc.load.load_kN,
         depth_um=sc.defect.depth_um, scene=sc.to_mapping(),
         attrs={"fidelity_json": json.dumps(history.fidelity.to_dict())})
 
@@ -105,7 +105,9 @@ def case_signal(case, name: str = "p_max") -> np.ndarray:
 
 
 def case_frequencies(case) -> dict[str, float]:
-    """Base frequencies (Hz) of a case: fr, the BPFI used, and the geometric BPFO, FTF, BSF."""
+    """Base frequencies (Hz) of a case as its file states them: fr and the rates its events run
+    at (BPFI used, BPFO, FTF = the cage rate used, BSF;
+    :func:`bearing_envelope.physics.locations.scene_event_frequencies`)."""
     return {"fr": float(case.fr), "bpfi": float(case.bpfi), "bpfo": float(case.bpfo),
             "ftf": float(case.ftf), "bsf": float(case.bsf)}
 
@@ -123,8 +125,8 @@ def case_fault_lines(case) -> tuple[dict[str, float], dict[str, tuple[str, float
     Inner race: ``{"bpfi": BPFI used}`` with the default fr sidebands (today's analysis);
     outer race: ``{"bpfo": Z f_c}`` with fr sidebands as a check; rolling element:
     ``{"bsf2": 2 BSF}`` with FTF sidebands (:data:`bearing_envelope.physics.locations.
-    LOCATION_FAMILIES`). The rates are those of the history's cage rate
-    (:func:`bearing_envelope.physics.locations.event_frequencies`).
+    LOCATION_FAMILIES`). The rates are those the case file states (:func:`case_frequencies`:
+    the history's own event rates).
 
     Returns
     -------
@@ -136,10 +138,8 @@ def case_fault_lines(case) -> tuple[dict[str, float], dict[str, tuple[str, float
     loc = case_location(case)
     if loc == DEFECT_LOCATIONS[0]:
         return {"bpfi": float(case.bpfi)}, None
-    b = case.scene["bearing"]
-    ev = event_frequencies(float(case.fr), float(case.bpfi), int(b["rollers_per_row"]),
-                           float(b["roller_diameter_mm"]), float(b["pitch_diameter_mm"]),
-                           float(b["contact_angle_deg"]))
+    ev = case_frequencies(case)
+    ev["bsf2"] = 2.0 * ev["bsf"]
     family, spacing = LOCATION_FAMILIES[loc]
     return {family: ev[family]}, {family: (spacing, ev[spacing])}
 

@@ -109,7 +109,9 @@ class log_to:
     """Context manager sending stderr (warnings, tracebacks) and logging to a log file.
 
     Used by the workflow scripts: ``with log_to(snakemake.log[0]): ...``. An exception is
-    written to the log and re-raised so that the job fails.
+    written to the log and re-raised so that the job fails; a full disk (ENOSPC, EDQUOT,
+    :class:`bearing_envelope.io.integrity.DiskFullError`) ends the job with one line on stderr
+    instead (``SystemExit``), wherever it was raised (an HDF5 case, a figure's PNG).
     """
 
     def __init__(self, path):
@@ -129,10 +131,16 @@ class log_to:
         import sys
         import traceback
 
-        if isinstance(exc, OSError) and exc.errno == errno.ENOSPC:
-            print(f"error: {exc}", file=self._fh)  # a full disk: one line, no traceback
-        elif exc_type is not None:
-            traceback.print_exception(exc_type, exc, tb, file=self._fh)
+        full = isinstance(exc, OSError) and exc.errno in (errno.ENOSPC, errno.EDQUOT)
+        try:
+            if full:
+                print(f"error: {exc}", file=self._fh)  # a full disk: one line, no traceback
+            elif exc_type is not None:
+                traceback.print_exception(exc_type, exc, tb, file=self._fh)
+            self._fh.close()
+        except OSError:   # the log is on the full disk too
+            pass
         sys.stderr = self._old
-        self._fh.close()
+        if full:
+            raise SystemExit(f"bearing_envelope: disk full: {exc}") from None
         return False

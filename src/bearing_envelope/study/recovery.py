@@ -24,7 +24,7 @@ from pathlib import Path
 
 from ..io import case_file_problem, set_aside_unreadable
 
-__all__ = ["NON_EXECUTING_FLAGS", "is_dry_run", "rebuild_marker", "marker_if_present",
+__all__ = ["NON_EXECUTING_FLAGS", "NON_EXECUTING_ARGS", "is_dry_run", "rebuild_marker", "marker_if_present",
            "Recovery", "recover_case_files"]
 
 #: Long command-line options of Snakemake after which no job runs (dry run, summaries, reports,
@@ -37,7 +37,8 @@ NON_EXECUTING_FLAGS = frozenset({
     "--list-code-changes", "--list-untracked", "--lu", "--delete-all-output",
     "--delete-temp-output", "--print-compilation", "--containerize", "--archive",
     "--generate-unit-tests", "--export-cwl", "--conda-create-envs-only", "--conda-cleanup-envs",
-    "--cleanup-shadow", "--version", "--help", "--show-failed-logs-only",
+    "--cleanup-shadow", "--version", "--help", "--show-failed-logs-only", "--list-conda-envs",
+    "--container-cleanup-images", "--edit-notebook", "--dry-run",
 })
 
 #: Short options of Snakemake that run no job: -n (dry run), -t (touch), -S (summary),
@@ -60,26 +61,73 @@ def _short_flags(arg: str) -> set[str]:
     return flags
 
 
-def is_dry_run(argv: list[str] | None = None, workflow=None) -> bool:
-    """Whether this Snakemake invocation runs no job (so must change no file).
+#: Attributes of Snakemake's parsed command line (``snakemake.cli.parse_args``) that make it
+#: run no job: each selects a branch of ``snakemake.cli.args_to_api`` other than executing
+#: the workflow (dry run, touch, listings, summaries, reports, graphs, cleanups ...).
+NON_EXECUTING_ARGS = (
+    "dryrun", "touch", "report", "lint", "list_target_rules", "list_rules",
+    "print_compilation", "containerize", "generate_unit_tests", "dag", "rulegraph",
+    "filegraph", "d3dag", "unlock", "cleanup_metadata", "conda_cleanup_envs",
+    "conda_create_envs_only", "list_conda_envs", "cleanup_shadow", "container_cleanup_images",
+    "list_changes", "list_input_changes", "list_params_changes", "list_untracked", "summary",
+    "detailed_summary", "archive", "delete_all_output", "delete_temp_output", "version",
+    "edit_notebook",
+)
 
-    ``workflow.dryrun`` is read when given, but Snakemake 8.x/9.x set it only after the
-    Snakefile was parsed (it is False while the workflow's own code runs), so the command line
-    decides: any of :data:`NON_EXECUTING_FLAGS` or a short-option cluster holding ``-n``,
-    ``-t``, ``-S``, ``-D``, ``-l``.
-    """
-    if workflow is not None and getattr(workflow, "dryrun", False):
-        return True
+
+def _snakemake_args(argv: list[str]):
+    """Snakemake's own reading of ``argv`` (abbreviations, profiles and the workflow profile
+    included), or None when it cannot be parsed here (not a snakemake command line)."""
+    import contextlib
+    import io
+
+    try:
+        from snakemake.cli import parse_args
+    except ImportError:
+        return None
+    sink = io.StringIO()
+    try:
+        with contextlib.redirect_stdout(sink), contextlib.redirect_stderr(sink):
+            return parse_args(argv)[1]
+    except (Exception, SystemExit):  # noqa: BLE001 -- any failure: fall back to the flags
+        return None
+
+
+def _flags_say_dry_run(argv: list[str]) -> bool:
+    """The fallback: a long option that is :data:`NON_EXECUTING_FLAGS` or a prefix of one
+    (argparse accepts unambiguous abbreviations: ``--dry-r``, ``--summ``), or a short-option
+    cluster holding ``-n``, ``-t``, ``-S``, ``-D``, ``-l``, ``-h``, ``-v``."""
     # An option's value that looks like a flag (``-s -n``) counts as the flag: a false "dry
     # run" only skips the recovery, a missed one would change files on a dry run.
-    for arg in list(sys.argv if argv is None else argv)[1:]:
+    for arg in argv:
         if arg.startswith("--"):
-            if arg.split("=", 1)[0] in NON_EXECUTING_FLAGS:
+            name = arg.split("=", 1)[0]
+            if len(name) > 3 and any(f.startswith(name) for f in NON_EXECUTING_FLAGS):
                 return True
         elif arg.startswith("-") and len(arg) > 1 and not arg[1].isdigit():
             if _short_flags(arg) & _NON_EXECUTING_SHORT:
                 return True
     return False
+
+
+def is_dry_run(argv: list[str] | None = None, workflow=None) -> bool:
+    """Whether this Snakemake invocation runs no job (so must change no file).
+
+    ``workflow.dryrun`` is read when given, but Snakemake 8.x/9.x set it only after the
+    Snakefile was parsed (it is False while the workflow's own code runs), so the command line
+    decides, read by Snakemake's own parser (:func:`snakemake.cli.parse_args`: abbreviated
+    options such as ``--dry-r``, a profile saying ``dry-run: true``): any attribute of
+    :data:`NON_EXECUTING_ARGS` set means no job runs. When that parser cannot read ``argv``,
+    the flags decide (:func:`_flags_say_dry_run`); either way a flag named on the command line
+    counts.
+    """
+    if workflow is not None and getattr(workflow, "dryrun", False):
+        return True
+    args = list(sys.argv if argv is None else argv)[1:]
+    if _flags_say_dry_run(args):
+        return True
+    parsed = _snakemake_args(args)
+    return parsed is not None and any(getattr(parsed, a, None) for a in NON_EXECUTING_ARGS)
 
 
 def rebuild_marker(stage: str, case: str) -> str:

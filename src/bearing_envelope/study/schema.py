@@ -1,5 +1,4 @@
-"""The sweep configuration's schema: where it lives, and the scene frequencies the settings
-checks need (a leaf of :mod:`bearing_envelope.study`).
+"""The sweep configuration's schema: where it lives (a leaf of :mod:`bearing_envelope.study`).
 
 The structure of ``config.yaml`` is described by ``bearing_envelope/data/config.schema.yaml`` (JSON
 Schema, package data). Loading, validation and the cross-field checks a schema cannot express
@@ -12,13 +11,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
-__all__ = ["scene_frequencies", "SCHEMA_PATH"]
+__all__ = ["SCHEMA_PATH"]
 
 #: The JSON schema of ``config.yaml``, shipped as package data (the workflow validates against it too).
 SCHEMA_PATH = Path(__file__).resolve().parent.parent / "data" / "config.schema.yaml"
 
-
-def scene_frequencies(scene) -> dict[str, float]:
-    """Base frequencies (Hz) of a scene by name: fr, bpfi (the one used), bpfo, ftf, bsf."""
-    ff = scene.frequencies()
-    return {"fr": ff.fr, "bpfi": scene.bpfi_hz, "bpfo": ff.bpfo, "ftf": ff.ftf, "bsf": ff.bsf}

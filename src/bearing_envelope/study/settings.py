@@ -28,6 +28,7 @@ from __future__ import annotations
 import copy
 import dataclasses
 import difflib
+import functools
 import json
 import math
 import os
@@ -39,27 +40,34 @@ from typing import Any
 
 import numpy as np
 
-from ..io.yamlsafe import YamlLimitError, check_document_size, load_bounded
-from ..physics.fidelity import Fidelity, fidelity_from
+from ..checks import check_input_file
+from ..diagnosis.analysis import AnalysisOptions
+from ..io.yamlsafe import MAX_DOCUMENT_BYTES, YamlLimitError, load_bounded
+from ..physics.fidelity import DEFAULT_PRESET, Fidelity, fidelity_from
 from ..physics.geometry import hertz_estimate
 from ..physics.loads import scene_load_distribution
 from ..physics.locations import LOCATION_FAMILIES, scene_event_frequencies
 from ..physics.scene import DEFECT_LOCATIONS, Scene
 from ..physics.transfer import TransferModel
-from ..signal.bands import resolve_band
-from .schema import SCHEMA_PATH, scene_frequencies
+from ..signal.bands import DEFAULT_BANDS, resolve_band
+from .schema import SCHEMA_PATH
 
 __all__ = [
     "ConfigError", "CaseId", "format_number", "CASE_NAME_REGEX", "LOCATION_CODES",
     "BandSpec", "AnalysisSettings", "SweepSettings", "DiagnosabilitySettings", "Settings",
     "SimulationSetup", "section_defaults",
     "read_yaml", "settings_from_mapping", "load_settings", "workflow_settings",
-    "default_config_path",
-    "DEFAULT_CONFIG_NAME",
+    "default_config_path", "merge_configs", "read_configs", "config_files", "analysis_defaults",
+    "DEFAULT_CONFIG_NAME", "DEFAULT_MAX_CASES",
 ]
 
 #: The config file ``simulate --config`` and the workflow read when none is named.
 DEFAULT_CONFIG_NAME = "config.yaml"
+
+#: Cases a sweep may have when ``limits.max_cases`` is not given: the pre-run checks cost
+#: about 3 CPU ms per case (``check-config`` on 1000 cases: 4.4 CPU s with imports) and
+#: Snakemake's dry run about 20 ms per case; a larger sweep says so with ``limits.max_cases``.
+DEFAULT_MAX_CASES = 1000
 
 #: Longest message taken from a schema error (the instance repr can be long).
 _MAX_MESSAGE = 240
@@ -179,19 +187,23 @@ class CaseId:
                              f"case is {case.name!r}")
         return case
 
+    def attrs(self) -> dict[str, str]:
+        """The case-file attributes that record this case: ``case`` (its name, for people) and
+        ``case_json`` (the typed fields, what :meth:`from_case` reads back)."""
+        return {"case": self.name, "case_json": json.dumps(dataclasses.asdict(self),
+                                                           sort_keys=True)}
+
     @classmethod
     def from_case(cls, case) -> "CaseId":
         """The id of a read case file (:class:`bearing_envelope.io.Case`).
 
-        Uses the ``case`` attribute the writers store; for older files, load and depth (and the
-        width when it is not the default 2 x depth, the location when it is not the inner race).
+        Uses the typed ``case_json`` attribute the writers store (:meth:`attrs`; never the name);
+        for older files, load and depth (and the width when it is not the default 2 x depth, the
+        location when it is not the inner race).
         """
         attrs = getattr(case, "attrs", {}) or {}
-        if attrs.get("case"):
-            try:
-                return cls.parse(str(attrs["case"]))
-            except ValueError:
-                pass
+        if attrs.get("case_json"):
+            return cls(**json.loads(str(attrs["case_json"])))
         defect = (getattr(case, "scene", None) or {}).get("defect") or {}
         width = defect.get("width_um")
         depth = float(case.depth_um)
@@ -276,6 +288,13 @@ class SweepSettings:
         locations = _locations(m.get("locations"))
         return cls(values("loads_kN", 0.0, True), values("depths_um", 0.0, False), widths,
                    locations)
+
+    @property
+    def n_cases(self) -> int:
+        """How many cases :meth:`cases` makes, counted without making them."""
+        healthy = sum(1 for h in self.depths_um if h == 0)
+        per_load = healthy + (len(self.depths_um) - healthy) * len(self.widths_um or (None,))
+        return len(self.locations or (None,)) * len(self.loads_kN) * per_load
 
     def cases(self) -> list[CaseId]:
         """Every case: locations outermost (when set), then loads, depths, widths innermost."""
@@ -529,8 +548,49 @@ def _unique_key_loader():
             seen[key] = line
         return yaml.SafeLoader.construct_mapping(loader, node, deep=deep)
 
+    def construct_number(loader, node):
+        text = str(node.value)
+        if not _PLAIN_NUMBER.match(text):
+            value = _YAML11_NUMBER[node.tag](loader, node)
+            raise ConfigError(f"{node.start_mark.name}, line {node.start_mark.line + 1}: "
+                              f"{text!r} is a YAML 1.1 {_number_form(text)} number (read as "
+                              f"{value!r}); allowed: a plain decimal number (1.5, 90, 1e-3), "
+                              f"or quote it if it is text")
+        return _YAML11_NUMBER[node.tag](loader, node)
+
     UniqueKeyLoader.add_constructor(yaml.resolver.BaseResolver.DEFAULT_MAPPING_TAG, construct_mapping)
+    for tag in _YAML11_NUMBER:
+        UniqueKeyLoader.add_constructor(tag, construct_number)
     return UniqueKeyLoader
+
+
+def _yaml11_number_constructors() -> dict:
+    import yaml
+
+    return {"tag:yaml.org,2002:int": yaml.SafeLoader.construct_yaml_int,
+            "tag:yaml.org,2002:float": yaml.SafeLoader.construct_yaml_float}
+
+
+#: The constructors of YAML 1.1 numbers (PyYAML's SafeLoader), by tag.
+_YAML11_NUMBER = _yaml11_number_constructors()
+
+#: Numbers written as a reader expects: decimal digits with an optional sign, fraction and
+#: exponent (``_`` between digits allowed), ``.inf``/``.nan`` (refused later by the finite
+#: check). YAML 1.1 also reads ``1:30`` as 90 (base 60), ``010`` as 8 (octal), ``0x1f``, ``0b11``.
+_PLAIN_NUMBER = re.compile(r"^[-+]?(?:(?:0|[1-9][0-9_]*)(?:\.[0-9_]*)?|\.[0-9_]+)"
+                           r"(?:[eE][-+]?[0-9]+)?$|^[-+]?\.(?:inf|Inf|INF)$|^\.(?:nan|NaN|NAN)$")
+
+
+def _number_form(text: str) -> str:
+    """The YAML 1.1 number form of a non-plain numeric scalar (for the error message)."""
+    t = text.lstrip("+-")
+    if ":" in t:
+        return "base-60 (sexagesimal)"
+    if t.startswith(("0x", "0X")):
+        return "hexadecimal"
+    if t.startswith(("0b", "0B")):
+        return "binary"
+    return "octal" if t.startswith("0") else "non-decimal"
 
 
 def read_yaml(path: str | os.PathLike) -> dict[str, Any]:
@@ -551,7 +611,10 @@ def read_yaml(path: str | os.PathLike) -> dict[str, Any]:
     if not os.path.exists(p):
         raise ConfigError(f"{p}: config file not found")
     try:
-        check_document_size(p)
+        check_input_file(p, "config file", max_bytes=MAX_DOCUMENT_BYTES, allow_empty=True)
+    except ValueError as exc:
+        raise ConfigError(str(exc)) from None
+    try:
         with open(p, encoding="utf-8") as fh:
             doc = load_bounded(fh, _unique_key_loader())  # aliases bounded (io.yamlsafe)
     except ConfigError:
@@ -572,6 +635,10 @@ def read_yaml(path: str | os.PathLike) -> dict[str, Any]:
     if not isinstance(doc, dict):
         raise ConfigError(f"{p}: the config must be a mapping of sections (sweep:, scene:, ...), "
                           f"got a {type(doc).__name__}")
+    if "__use_yte__" in doc:
+        raise ConfigError(
+            f"{p}: __use_yte__: {doc['__use_yte__']!r}; allowed: the key absent (YTE templating "
+            f"runs Python from the config file; a config here is data)")
     return doc
 
 
@@ -594,13 +661,54 @@ def _check_finite(obj: Any, path: tuple = ()) -> None:
             _check_finite(v, path + (i,))
 
 
-def _schema(partial: bool) -> dict:
+#: ``analysis:`` keys whose default is a field of
+#: :class:`~bearing_envelope.diagnosis.analysis.AnalysisOptions`, the one home of the analysis
+#: defaults (the sweep and ``analyze`` share it): config key -> option field.
+ANALYSIS_OPTION_FIELDS = {
+    "nlevel": "nlevel", "max_level": "max_level", "min_bandwidth_hz": "min_bandwidth",
+    "filter_order": "filter_order", "squared_envelope": "squared", "harmonics": "n_harmonics",
+    "sidebands": "n_sidebands", "raw_orders_fr": "n_raw_harmonics",
+}
+
+
+def analysis_defaults() -> dict[str, Any]:
+    """The ``analysis:`` defaults the schema is filled with, read from
+    :class:`~bearing_envelope.diagnosis.analysis.AnalysisOptions` (``amplitude``:
+    ``interpolated`` when its ``interpolate`` is true, else ``peak_bin``; ``bands``: its bands,
+    :data:`~bearing_envelope.signal.bands.DEFAULT_BANDS` when None).
+
+    Returns
+    -------
+    dict
+        Config key -> default value.
+    """
+    opt = AnalysisOptions()
+    out = {key: getattr(opt, name) for key, name in ANALYSIS_OPTION_FIELDS.items()}
+    out["amplitude"] = "interpolated" if opt.interpolate else "peak_bin"
+    out["bands"] = [dict(b) for b in (opt.bands or DEFAULT_BANDS)]
+    return out
+
+
+@functools.lru_cache(maxsize=1)
+def _full_schema() -> dict:
+    """The schema file with the defaults whose home is code filled in: ``fidelity`` from
+    :data:`~bearing_envelope.physics.fidelity.DEFAULT_PRESET`, the analysis keys from
+    :func:`analysis_defaults`. The file itself holds no scene, fidelity, analysis-option,
+    limits or tradeoff default (``tests/test_defaults.py``)."""
     import yaml
 
     with open(SCHEMA_PATH, encoding="utf-8") as fh:
         schema = yaml.safe_load(fh)
+    props = schema["properties"]
+    props["fidelity"]["default"] = DEFAULT_PRESET
+    for key, value in analysis_defaults().items():
+        props["analysis"]["properties"][key]["default"] = value
+    return schema
+
+
+def _schema(partial: bool) -> dict:
+    schema = copy.deepcopy(_full_schema())
     if partial:
-        schema = dict(schema)
         schema["required"] = []
     return schema
 
@@ -652,6 +760,28 @@ def _fill_defaults(instance: Any, schema: Mapping[str, Any], root: Mapping[str, 
             _fill_defaults(item, schema["items"], root)
 
 
+def _coerce_integers(instance: Any, schema: Mapping[str, Any], root: Mapping[str, Any]) -> Any:
+    """Integral floats where the schema asks for an integer become ``int``, recursively, in
+    place (JSON Schema counts ``3.0`` as an integer; ``range(3.0)`` in a job does not): the
+    value every job receives is the one the check passed. Returns the (coerced) instance."""
+    ref = schema.get("$ref")
+    if isinstance(ref, str) and ref.startswith("#/$defs/"):
+        schema = root.get("$defs", {}).get(ref.split("/")[-1], schema)
+    types = schema.get("type")
+    types = [types] if isinstance(types, str) else list(types or [])
+    if isinstance(instance, float) and "integer" in types and "number" not in types \
+            and instance.is_integer():
+        return int(instance)
+    if isinstance(instance, dict):
+        for name, sub in (schema.get("properties") or {}).items():
+            if name in instance:
+                instance[name] = _coerce_integers(instance[name], sub, root)
+    elif isinstance(instance, list) and isinstance(schema.get("items"), Mapping):
+        for i, item in enumerate(instance):
+            instance[i] = _coerce_integers(item, schema["items"], root)
+    return instance
+
+
 def section_defaults(section: str) -> dict[str, Any]:
     """The schema's defaults of one top-level section (``analysis``, ``diagnosability``, ...):
     the one place defaults live, read by the typed settings for keys a mapping leaves out."""
@@ -674,6 +804,9 @@ def validate_mapping(config: Mapping[str, Any], *, source: str = "<mapping>",
     if not isinstance(config, Mapping):
         raise ConfigError(f"{source}: the config must be a mapping, got {type(config).__name__}")
     config = copy.deepcopy(dict(config))
+    if not partial:   # every key of these sections has a default
+        for section in ("scene", "analysis"):
+            config.setdefault(section, {})
     try:
         _check_finite(config)
     except ConfigError as exc:
@@ -685,6 +818,7 @@ def validate_mapping(config: Mapping[str, Any], *, source: str = "<mapping>",
         err = jsonschema.exceptions.best_match(errors)
         raise ConfigError(f"{source}: {_schema_message(err)}")
     _fill_defaults(config, schema, schema)
+    _coerce_integers(config, schema, schema)
     return config
 
 
@@ -722,6 +856,7 @@ def _build(cfg: dict, source: str, partial: bool) -> Settings:
                    "null while scene.defect.width_um is set (give the width in one place)")
     if sweep is not None:
         sweep = _location_axis(sweep, scene_map)
+        _check_case_count(sweep, cfg)
         scenes = {}
         for case in sweep.cases():
             where = f"case {case.name}: "
@@ -738,7 +873,7 @@ def _build(cfg: dict, source: str, partial: bool) -> Settings:
     else:
         scene0 = Scene.from_mapping(scene_map, load_kN=PARTIAL_SCENE_LOAD_KN, depth_um=0.0)
     fs = float(scene0.operation.fs_hz)
-    freqs = scene_frequencies(scene0)
+    freqs = scene_event_frequencies(scene0)
     sensor = None
     if cfg.get("sensor"):
         sensor = TransferModel.from_mapping(cfg["sensor"], fs=fs)
@@ -764,6 +899,19 @@ def _build(cfg: dict, source: str, partial: bool) -> Settings:
     return Settings(source=source, config=cfg, sweep=sweep, fidelity=fidelity,
                     scene_mapping=scene_map, analysis=analysis, sensor=sensor,
                     diagnosability=diag, tradeoff=dict(cfg.get("tradeoff") or {}))
+
+
+def _check_case_count(sweep: SweepSettings, cfg: Mapping[str, Any]) -> None:
+    """Refuse a sweep of more than ``limits.max_cases`` cases before any case is built (the
+    checks cost about 3 ms per case, Snakemake's DAG more)."""
+    limit = (cfg.get("limits") or {}).get("max_cases") or DEFAULT_MAX_CASES
+    n = sweep.n_cases
+    if n > limit:
+        axes = " x ".join(f"{len(v)} {k}" for k, v in (
+            ("locations", sweep.locations), ("loads_kN", sweep.loads_kN),
+            ("depths_um", sweep.depths_um), ("widths_um", sweep.widths_um)) if v)
+        raise ConfigError(f"sweep: {n:,} cases ({axes}); allowed: at most {limit:,} "
+                          f"(limits.max_cases; raise it for a larger sweep)")
 
 
 def _location_axis(sweep: SweepSettings, scene_map: Mapping[str, Any]) -> SweepSettings:
@@ -837,30 +985,138 @@ def _check_widths(sweep: SweepSettings, scenes, load_distribution, hertz_estimat
                    f"{'' if loc is None else ', ' + loc}){also}")
 
 
-def load_settings(path: str | os.PathLike | None = None, *, partial: bool = False) -> Settings:
-    """Read, validate and type a config file (``./config.yaml`` when ``path`` is None).
+def merge_configs(base: Mapping[str, Any], overlay: Mapping[str, Any]) -> dict[str, Any]:
+    """``overlay`` merged over ``base``: the one merge of config files (the workflow's
+    ``config.yaml`` + ``--configfile`` files + ``--config``, and ``check-config``).
 
-    The one loader of the project: ``simulate --config`` calls it with ``partial=True`` (only the
-    sections it needs), the workflow's ``common.smk`` through :func:`settings_from_mapping`
-    after checking its config files with :func:`read_yaml`.
+    Mappings merge key by key, recursively; any other value (lists included) replaces the base's,
+    as Snakemake merges config files. One rule more: **a designation is a complete bearing**. An
+    overlay whose ``scene.bearing`` names ``designation`` replaces the base's whole
+    ``scene.bearing`` and drops the base's ``scene.operation.bpfi_override_hz`` (the override
+    travels with the catalogue entry), so that a file naming a bearing is never merged with
+    another bearing's keys.
+
+    Parameters
+    ----------
+    base, overlay : mapping
+        Parsed config files (:func:`read_yaml`).
+
+    Returns
+    -------
+    dict
+        A new mapping; neither argument is changed.
+    """
+    out = copy.deepcopy(dict(base))
+    scene = overlay.get("scene")
+    bearing = scene.get("bearing") if isinstance(scene, Mapping) else None
+    if isinstance(bearing, Mapping) and "designation" in bearing \
+            and isinstance(out.get("scene"), Mapping):
+        out["scene"] = {k: v for k, v in out["scene"].items() if k != "bearing"}
+        op = out["scene"].get("operation")
+        if isinstance(op, Mapping):
+            out["scene"]["operation"] = {k: v for k, v in op.items() if k != "bpfi_override_hz"}
+    _update(out, overlay)
+    return out
+
+
+def _update(out: dict, overlay: Mapping[str, Any]) -> None:
+    for key, value in overlay.items():
+        if isinstance(value, Mapping) and isinstance(out.get(key), Mapping):
+            out[key] = dict(out[key])
+            _update(out[key], value)
+        else:
+            out[key] = copy.deepcopy(value)
+
+
+def config_files(given: Sequence[str | os.PathLike] = ()) -> list[str]:
+    """The files a run reads, in merge order: ``./config.yaml`` when it exists (the workflow's
+    base), then ``given`` (``--configfile`` files) except ``./config.yaml`` itself.
+
+    Parameters
+    ----------
+    given : sequence of path
+        Further config files, later ones win.
+
+    Returns
+    -------
+    list of str
+    """
+    files = [DEFAULT_CONFIG_NAME] if default_config_path() is not None else []
+    base = Path(DEFAULT_CONFIG_NAME).resolve()
+    return files + [os.fspath(f) for f in given if not (files and Path(f).resolve() == base)]
+
+
+def read_configs(files: Sequence[str | os.PathLike],
+                 overrides: Mapping[str, Any] | None = None) -> dict[str, Any]:
+    """Read each file once (:func:`read_yaml`) and merge them in order (:func:`merge_configs`),
+    then ``overrides`` (Snakemake's ``--config key=value``).
+
+    Parameters
+    ----------
+    files : sequence of path
+    overrides : mapping, optional
+
+    Returns
+    -------
+    dict
+        The merged, not yet validated mapping.
+    """
+    merged: dict[str, Any] = {}
+    for f in files:
+        merged = merge_configs(merged, read_yaml(f))
+    return merge_configs(merged, overrides or {})
+
+
+def load_settings(path: str | os.PathLike | Sequence[str | os.PathLike] | None = None, *,
+                  partial: bool = False, overrides: Mapping[str, Any] | None = None) -> Settings:
+    """Read, merge, validate and type config files: the one loader of the project.
+
+    Parameters
+    ----------
+    path : path, sequence of paths or None
+        One file, or files merged in order (:func:`merge_configs`); None: ``./config.yaml``.
+    partial : bool
+        Accept a config without the top-level required sections (``simulate --config`` needs
+        only ``scene:``).
+    overrides : mapping, optional
+        Merged last (Snakemake's ``--config``).
+
+    Returns
+    -------
+    Settings
+
+    Raises
+    ------
+    ConfigError
+        One line naming the file(s), the field, the value and what is allowed.
     """
     if path is None:
         path = default_config_path()
         if path is None:
             raise ConfigError(f"no config given and no ./{DEFAULT_CONFIG_NAME} in {os.getcwd()}")
-    src = os.fspath(path)
-    return settings_from_mapping(read_yaml(src), source=src, partial=partial)
+    files = [os.fspath(path)] if isinstance(path, (str, os.PathLike)) else \
+        [os.fspath(p) for p in path]
+    if not files:
+        raise ConfigError(f"no config file given and no ./{DEFAULT_CONFIG_NAME} in {os.getcwd()}")
+    source = " + ".join(files)
+    return settings_from_mapping(read_configs(files, overrides), source=source, partial=partial)
 
 
-def workflow_settings(config: Mapping[str, Any], files: Sequence[str | os.PathLike] = ()) -> Settings:
-    """The workflow's pre-run check (``workflow/rules/common.smk`` calls exactly this).
+def workflow_settings(files: Sequence[str | os.PathLike] = (),
+                      overrides: Mapping[str, Any] | None = None) -> Settings:
+    """The workflow's loader (``workflow/rules/common.smk`` calls exactly this): ``./config.yaml``
+    and the ``--configfile`` files (:func:`config_files`), each parsed once, merged by
+    :func:`merge_configs`, ``--config`` values last; validated and typed once.
 
-    Snakemake has already parsed ``files`` into ``config`` with a loader that keeps the last of
-    two equal keys; each file is re-read with :func:`read_yaml` (duplicate keys, YAML errors with
-    line numbers), then the merged ``config`` is validated and typed by
-    :func:`settings_from_mapping`.
+    Parameters
+    ----------
+    files : sequence of path
+        ``workflow.overwrite_configfiles`` (the ``--configfile`` files).
+    overrides : mapping, optional
+        ``workflow.config_settings.config`` (the ``--config`` values).
+
+    Returns
+    -------
+    Settings
     """
-    files = [os.fspath(f) for f in files]
-    for f in files:
-        read_yaml(f)
-    return settings_from_mapping(config, source=" + ".join(files) or "config")
+    return load_settings(config_files(files), overrides=overrides)

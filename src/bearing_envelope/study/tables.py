@@ -32,7 +32,7 @@ __all__ = [
     "add_location",
     "pivot_tables",
     "write_csv_atomic",
-    "parse_case_name",
+    
     "table_html",
 ]
 
@@ -74,16 +74,6 @@ def tidy_from_analysis(table: pd.DataFrame, strategies: Mapping[str, str] | None
     return df
 
 
-def parse_case_name(name: str) -> tuple[float, float]:
-    """Return ``(load_kN, depth_um)`` of a case name (:meth:`bearing_envelope.study.settings.CaseId.parse`).
-
-    Kept for callers of the former helper; new code uses ``CaseId.parse`` (which also gives the
-    width of a ``..._w{width}um`` name).
-    """
-    c = CaseId.parse(name)
-    return c.load_kN, c.depth_um
-
-
 def public_mode(path) -> None:
     """Alias of :func:`bearing_envelope.io.public_mode` (kept for existing callers)."""
     _io_public_mode(path)
@@ -94,8 +84,22 @@ def write_csv_atomic(df: pd.DataFrame, path: str | os.PathLike, **kwargs) -> Non
     _io_write_csv_atomic(df, path, **kwargs)
 
 
-def concat_tidy(frames: Iterable[pd.DataFrame]) -> pd.DataFrame:
+def concat_tidy(frames: Iterable[pd.DataFrame], cases: Iterable[CaseId] | None = None
+                ) -> pd.DataFrame:
     """Concatenate per-case tidy frames, check the columns and sort deterministically.
+
+    Parameters
+    ----------
+    frames : iterable of pandas.DataFrame
+        Per-case tidy tables.
+    cases : iterable of CaseId, optional
+        The sweep's typed cases (each names its rows' ``case``): the ``location`` and
+        ``width_um`` columns come from them (:func:`add_location`, :func:`add_width`); None:
+        the frames' own columns only.
+
+    Returns
+    -------
+    pandas.DataFrame
 
     Raises
     ------
@@ -115,12 +119,13 @@ def concat_tidy(frames: Iterable[pd.DataFrame]) -> pd.DataFrame:
         rows = df.loc[bad, ["case", "band", "quantity", "order", "sideband"]].head(5)
         raise ValueError(f"non-finite amplitudes in {int(bad.sum())} rows, e.g.\n{rows}")
     lead, sort = list(TIDY_COLUMNS), list(TIDY_SORT)
-    df = add_location(df)
+    if cases is not None:
+        cases = list(cases)
+        df = add_width(add_location(df, cases), cases)
     if "location" in df.columns:
         # a key like load and depth, the first of the sort
         lead.insert(lead.index("depth_um") + 1, "location")
         sort.insert(0, "location")
-    df = add_width(df)
     if "width_um" in df.columns:
         # a sweep over widths: a key like load and depth (empty: the healthy race)
         lead.insert(lead.index("depth_um") + 1, "width_um")
@@ -135,12 +140,33 @@ def concat_tidy(frames: Iterable[pd.DataFrame]) -> pd.DataFrame:
     return df.sort_values(sort, kind="stable").reset_index(drop=True)
 
 
-def add_location(df: pd.DataFrame) -> pd.DataFrame:
+def _case_ids(df: pd.DataFrame, cases: Iterable[CaseId]) -> list[CaseId]:
+    """The typed case of each row (its ``case`` column names one of ``cases``)."""
+    by_name = {c.name: c for c in cases}
+    missing = sorted(set(df["case"]) - set(by_name))
+    if missing:
+        raise ValueError(f"rows of case(s) {missing[:3]} that are not cases of the sweep")
+    return [by_name[c] for c in df["case"]]
+
+
+def add_location(df: pd.DataFrame, cases: Iterable[CaseId]) -> pd.DataFrame:
     """``df`` with a ``location`` column after ``depth_um`` (``inner_race``, ``outer_race``,
-    ``rolling_element``) read from its case names, when a name carries one (a sweep over
-    locations, or a scene's location other than the inner race); else ``df`` unchanged, so the
-    default sweep's tables stay as they were."""
-    locations = [CaseId.parse(c).location for c in df["case"]]
+    ``rolling_element``) from the typed cases its ``case`` column names, when a case has one (a
+    sweep over locations, or a scene's location other than the inner race); else ``df``
+    unchanged, so the default sweep's tables stay as they were.
+
+    Parameters
+    ----------
+    df : pandas.DataFrame
+        With a ``case`` column.
+    cases : iterable of CaseId
+        The sweep's cases.
+
+    Returns
+    -------
+    pandas.DataFrame
+    """
+    locations = [c.location for c in _case_ids(df, cases)]
     if all(loc is None for loc in locations):
         return df
     df = df.drop(columns=["location"], errors="ignore")
@@ -148,12 +174,23 @@ def add_location(df: pd.DataFrame) -> pd.DataFrame:
     return df
 
 
-def add_width(df: pd.DataFrame) -> pd.DataFrame:
+def add_width(df: pd.DataFrame, cases: Iterable[CaseId]) -> pd.DataFrame:
     """``df`` with a ``width_um`` column after ``depth_um`` (the defect width of a sweep over
-    widths, NaN for the healthy race) read from its case names, when a name carries one; else
-    ``df`` unchanged."""
-    width_of = {c: CaseId.parse(c).width_um for c in df["case"].unique()}
-    widths = [width_of[c] for c in df["case"]]
+    widths, NaN for the healthy race) from the typed cases its ``case`` column names, when one
+    has a width; else ``df`` unchanged.
+
+    Parameters
+    ----------
+    df : pandas.DataFrame
+        With a ``case`` column.
+    cases : iterable of CaseId
+        The sweep's cases.
+
+    Returns
+    -------
+    pandas.DataFrame
+    """
+    widths = [c.width_um for c in _case_ids(df, cases)]
     if all(w is None for w in widths):
         return df
     df = df.drop(columns=["width_um"], errors="ignore")

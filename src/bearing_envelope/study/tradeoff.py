@@ -66,14 +66,14 @@ from ..contact import halfspace as _hs
 from ..diagnosis import AnalysisOptions
 from ..physics.fidelity import PRESETS, Fidelity, fidelity_from
 from ..physics.history import simulate
+from ..physics.locations import scene_event_frequencies
 from ..physics.scene import DEFAULT_SCENE, Scene
 from .pipeline import case_bands, case_harmonics, history_case
-from .schema import scene_frequencies
 from .settings import AnalysisSettings, CaseId
 
 __all__ = ["DEFAULT_CASES", "DEFAULT_KNOBS", "DEFAULT_BANDS", "COLUMNS", "tradeoff_study",
-           "study_from_config", "pareto_front", "pareto_table", "pareto_points", "plot_tradeoff",
-           "metric_labels", "run_variant", "apply_knob"]
+           "study_from_config", "TRADEOFF_DEFAULTS", "pareto_front", "pareto_table",
+           "pareto_points", "plot_tradeoff", "metric_labels", "run_variant", "apply_knob"]
 
 #: (load_kN, depth_um) of the representative cases.
 DEFAULT_CASES: tuple[tuple[float, float], ...] = (
@@ -225,7 +225,7 @@ def run_variant(scene, fidelity: Fidelity, analysis) -> dict[str, Any]:
     case = history_case(hist)
     if not isinstance(analysis, AnalysisSettings):
         analysis = AnalysisSettings.from_mapping(analysis, fs=float(scene.operation.fs_hz),
-                                                 freqs=scene_frequencies(scene), has_sensor=False)
+                                                 freqs=scene_event_frequencies(scene), has_sensor=False)
     sig = analysis.signal
     x = np.asarray(case.signals[sig], float)
     metrics: dict[tuple[str, str], float] = {("peak_pressure", ""): float(x.max()),
@@ -259,16 +259,25 @@ def _error(metric: str, est: float, ref: float, x=None, xref=None, depth: float 
 # the study
 
 
+#: Defaults of the ``tradeoff:`` config section, written here only (the schema holds none;
+#: :func:`study_from_config` and the pre-run check read them). ``knobs`` None: :data:`DEFAULT_KNOBS`.
+TRADEOFF_DEFAULTS: dict[str, Any] = {
+    "cases": DEFAULT_CASES, "revolutions": 4.0, "base": "standard", "reference": "finest",
+    "reference_element": "uniform", "element_series": ("local_dx_um",),
+    "presets": ("draft", "standard", "paper"), "knobs": None,
+}
+
+
 def tradeoff_study(
     cases: Sequence[Sequence[float]] = DEFAULT_CASES,
     *,
     knobs: Mapping[str, Sequence] | None = None,
-    base: str | Mapping | Fidelity = "standard",
-    reference: str | Mapping | Fidelity = "finest",
-    reference_element: str = "uniform",
-    element_series: Sequence[str] = ("local_dx_um",),
+    base: str | Mapping | Fidelity = TRADEOFF_DEFAULTS["base"],
+    reference: str | Mapping | Fidelity = TRADEOFF_DEFAULTS["reference"],
+    reference_element: str = TRADEOFF_DEFAULTS["reference_element"],
+    element_series: Sequence[str] = TRADEOFF_DEFAULTS["element_series"],
     presets: Mapping[str, Any] | None = None,
-    revolutions: float = 4.0,
+    revolutions: float = TRADEOFF_DEFAULTS["revolutions"],
     scene: Mapping[str, Any] | None = None,
     analysis: Mapping[str, Any] | None = None,
     progress=None,
@@ -695,22 +704,20 @@ def study_from_config(section: Mapping[str, Any] | None, *, scene: Mapping[str, 
     to fine; replaces the default set), ``presets`` (list of preset names or mapping name ->
     fidelity mapping). See ``src/bearing_envelope/data/config.schema.yaml``.
     """
-    s = dict(section or {})
-    allowed = {"cases", "revolutions", "base", "reference", "reference_element", "element_series",
-               "knobs", "presets"}
-    unknown = sorted(set(s) - allowed)
+    unknown = sorted(set(section or {}) - set(TRADEOFF_DEFAULTS))
     if unknown:
-        raise ValueError(f"tradeoff: unknown key(s) {unknown}; allowed: {sorted(allowed)}")
-    cases = s.get("cases", DEFAULT_CASES)
-    for c in cases:
+        raise ValueError(f"tradeoff: unknown key(s) {unknown}; allowed: "
+                         f"{sorted(TRADEOFF_DEFAULTS)}")
+    s = {**TRADEOFF_DEFAULTS, **dict(section or {})}
+    for c in s["cases"]:
         if len(c) != 2:
             raise ValueError(f"tradeoff.cases: each case is [load_kN, depth_um], got {c!r}")
-    presets = s.get("presets", ["draft", "standard", "paper"])
+    presets = s["presets"]
     if isinstance(presets, Sequence) and not isinstance(presets, str):
         presets = {str(p): p for p in presets}
     return tradeoff_study(
-        [tuple(c) for c in cases], knobs=s.get("knobs"), base=s.get("base", "standard"),
-        reference=s.get("reference", "finest"), reference_element=s.get("reference_element", "uniform"),
-        element_series=s.get("element_series", ("local_dx_um",)), presets=presets,
-        revolutions=float(s.get("revolutions", 4.0)), scene=scene, analysis=analysis,
+        [tuple(c) for c in s["cases"]], knobs=s["knobs"], base=s["base"],
+        reference=s["reference"], reference_element=s["reference_element"],
+        element_series=s["element_series"], presets=presets,
+        revolutions=float(s["revolutions"]), scene=scene, analysis=analysis,
         progress=progress)
