@@ -131,8 +131,9 @@ def _add_analysis_args(p) -> None:
                    help="clamp a fixed band's upper edge above Nyquist to 0.98 fs/2 instead of "
                         "refusing it")
     p.add_argument("--speed", choices=("measured", "nominal"), default=None,
-                   help="measured (default for a recording, RECORD_OPTIONS): the shaft rate is read from the record's shaft "
-                        "harmonics (diagnosis.speed) and every fault frequency is scaled to it, "
+                   help="measured (default for a recording, RECORD_OPTIONS): the shaft rate is "
+                        "read from the record's shaft harmonics (diagnosis.speed) and every "
+                        "fault frequency is scaled to it, "
                         "fundamentals then searched within 0.5 %%; nominal: the given --fr / rpm "
                         "as is, fundamentals searched within --search-percent (the rates of "
                         "README 'What the confidence means' are with measured)")
