@@ -32,13 +32,19 @@ REGISTRY: dict[str, str] = {
                  "cases, the cost of the presets",
     "sweep_cost": "CPU per rule of a finished sweep, from Snakemake's benchmark files",
     "result_digests": "sha256 of every array and table of a sweep's results/ (bit-identity)",
+    "hostile_configs": "bad and hostile configs: each refused before any job in one line naming "
+                       "the field, or run to the end; the check's CPU per config",
+    "outside_zone": "outer-race pits at 3:00 / 12:00 against 6:00 per loading mechanism "
+                    "(centrifugal force, preload): loads, events, BPFO level",
+    "cwru_hardness": "what the hardness bound changes in the CWRU scenes (p_max, removed force, "
+                     "envelope line)",
+    "hostile_configs": "bad and hostile configs: each refused before any job (or run to the "
+                       "end with --run), and the check's cost",
 }
 
 #: Benchmarks of work in flight, registered as soon as their module is in this folder (each
 #: with ``main(argv)`` and ``smoke()`` like the others); move an entry up once it has landed.
-PENDING = {
-    "hostile_configs": "bad and hostile configs: each refused before any job, and the check's cost",
-}
+PENDING: dict[str, str] = {}
 REGISTRY.update({name: what for name, what in PENDING.items()
                  if (Path(__file__).parent / f"{name}.py").exists()})
 

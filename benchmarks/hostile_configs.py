@@ -125,20 +125,24 @@ def special_configs(base: dict, work: Path) -> list[tuple[str, str, object]]:
     s = lambda *kv: _multi(base, kv)  # noqa: E731
     empty = _tmpfile(work, "empty.csv", "")
     huge_profile = _tmpfile(work, "huge_profile.csv",
-                            "".join(f"{y} {1e300 if y == 0 else 0.0}\n" for y in range(-17, 18)))
+                            "".join(f"{y},{1e300 if y == 0 else 0.0}\n" for y in range(-17, 18)))
     ball = {"designation": "SKF 6205-2RS", "inner_groove_conformity": 0.5000001}
+    cwru = (("scene", "operation", "bpfi_override_hz"), None, ("sweep", "loads_kN"), [1.0],
+            ("sweep", "depths_um"), [0, 177.8], ("scene", "defect", "length_um"), 177.8)
     out = [
         ("long case name", "issue", s(("sweep", "loads_kN"), [250.00000000000001234567891])),
         ("long band name", "issue", s(("analysis", "bands"), [{"name": "b" * 300,
                                                                "strategy": "kurtogram"}])),
         ("nlevel 12, 1 revolution", "issue", s(("analysis", "nlevel"), 12,
                                                ("scene", "operation", "revolutions"), 1)),
-        ("groove conformity 0.5000001", "issue", s(("scene", "bearing"), ball,
-                                                   ("sweep", "loads_kN"), [1.0])),
+        ("groove conformity 0.5000001", "issue", s(("scene", "bearing"), ball, *cwru)),
         ("rolling element at position_deg", "issue",
-         s(("scene", "bearing"), {"designation": "SKF 6205-2RS"}, ("sweep", "loads_kN"), [1.0],
+         s(("scene", "bearing"), {"designation": "SKF 6205-2RS"}, *cwru,
            ("scene", "defect", "location"), "rolling_element",
            ("scene", "defect", "position_deg"), 90)),
+        ("rolling element (CWRU ball)", "issue",
+         s(("scene", "bearing"), {"designation": "SKF 6205-2RS"}, *cwru,
+           ("scene", "defect", "location"), "rolling_element")),
         ("tone 1e300 dB", "issue", s(("sensor", "tones"), [{"order": 1, "level_db": 1e300}])),
         ("noise_snr_db -1e300", "issue", s(("scene", "operation", "noise_snr_db"), -1e300)),
         ("excitation_scale 1e308", "issue", s(("sensor", "excitation_scale"), 1e308)),
@@ -154,7 +158,8 @@ def special_configs(base: dict, work: Path) -> list[tuple[str, str, object]]:
                                     "high_hz": 0.014}])),
         ("harmonics 3.0", "silent", s(("analysis", "harmonics"), 3.0)),
         ("5000 kN on the 6205", "plausibility",
-         s(("scene", "bearing"), {"designation": "SKF 6205-2RS"}, ("sweep", "loads_kN"), [5000])),
+         s(("scene", "bearing"), {"designation": "SKF 6205-2RS"}, *cwru,
+           ("sweep", "loads_kN"), [5000])),
         ("seed 1e70", "plausibility", s(("scene", "operation", "noise_seed"), 10 ** 70)),
         ("sensor seed 2^63", "plausibility", s(("sensor", "seed"), 2 ** 63)),
         ("clearance larger than the roller", "plausibility",

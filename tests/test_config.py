@@ -91,7 +91,7 @@ def test_defaults_filled_as_a_json_schema_validator_does(tmp_path):
     ``snakemake.utils.validate(set_default=True)`` fills them, so jobs receive the same values."""
     from snakemake.utils import validate
 
-    from bearing_envelope.study.settings import _full_schema
+    from bearing_envelope.study.settings import full_schema
 
     for cfg in (copy.deepcopy(DRAFT), {"sweep": {"loads_kN": [1], "depths_um": [0]},
                                        "scene": {"material": {"roller": {}}},
@@ -99,7 +99,7 @@ def test_defaults_filled_as_a_json_schema_validator_does(tmp_path):
         ours = settings_from_mapping(cfg).config
         theirs = copy.deepcopy(cfg)
         schema = tmp_path / "schema.yaml"
-        schema.write_text(yaml.safe_dump(_full_schema()))
+        schema.write_text(yaml.safe_dump(full_schema()))
         validate(theirs, str(schema))
         assert json.dumps(ours, sort_keys=True) == json.dumps(theirs, sort_keys=True)
     # no scene default is filled: the scene's defaults live in physics/scene.py alone

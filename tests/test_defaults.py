@@ -23,7 +23,7 @@ from bearing_envelope.physics.fidelity import DEFAULT_PRESET, fidelity_from
 from bearing_envelope.physics.scene import DEFAULT_SCENE, STUDY_DESIGNATION, Scene
 from bearing_envelope.signal.envelope import DEFAULT_FILTER_ORDER, bandpass, envelope_spectrum
 from bearing_envelope.study.limits import DEFAULT_LIMITS
-from bearing_envelope.study.settings import _full_schema, settings_from_mapping
+from bearing_envelope.study.settings import full_schema, settings_from_mapping
 from bearing_envelope.study.schema import SCHEMA_PATH
 from bearing_envelope.study.tradeoff import TRADEOFF_DEFAULTS, tradeoff_study
 
@@ -71,7 +71,7 @@ def test_schema_file_writes_no_analysis_option_default():
 
 def test_loaded_schema_takes_analysis_and_fidelity_defaults_from_their_homes():
     opt = AnalysisOptions()
-    props = _full_schema()["properties"]
+    props = full_schema()["properties"]
     an = {k: v["default"] for k, v in props["analysis"]["properties"].items() if "default" in v}
     assert an["harmonics"] == opt.n_harmonics and an["sidebands"] == opt.n_sidebands
     assert an["raw_orders_fr"] == opt.n_raw_harmonics and an["nlevel"] == opt.nlevel

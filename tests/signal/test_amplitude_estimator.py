@@ -73,16 +73,26 @@ def test_amplitude_at_interpolated_reads_an_off_bin_sinusoid(delta):
     assert fi == pytest.approx(f0, abs=1e-3 * fs / n)
 
 
-def test_sweep_default_estimator_is_interpolated_from_the_schema(case):
+def test_sweep_chooses_interpolated_over_the_library_default(case):
+    # One default (AnalysisOptions: the largest bin, the reading the detection threshold is
+    # calibrated for); the default sweep's config.yaml chooses the interpolated estimator.
+    from pathlib import Path
+
+    from bearing_envelope.diagnosis import AnalysisOptions
+    from bearing_envelope.study.settings import read_yaml
     filled = validate_mapping({"analysis": {"bands": ANALYSIS["bands"]}}, partial=True)
-    assert filled["analysis"]["amplitude"] == "interpolated"
-    assert amplitude_estimator(typed(ANALYSIS, case)) == "interpolated"
+    lib = "interpolated" if AnalysisOptions().interpolate else "peak_bin"
+    assert filled["analysis"]["amplitude"] == lib
+    root = Path(__file__).resolve().parents[2]
+    assert read_yaml(root / "config.yaml")["analysis"]["amplitude"] == "interpolated"
+    assert amplitude_estimator(typed(dict(ANALYSIS, amplitude="interpolated"), case)) \
+        == "interpolated"
     with pytest.raises(ValueError, match="analysis.amplitude"):
         amplitude_estimator(typed(dict(ANALYSIS, amplitude="parabolic"), case))
 
 
 def test_every_line_of_the_sweep_table_reads_the_synthesised_amplitude(case):
-    an = typed(ANALYSIS, case)                          # no `amplitude` key: the default
+    an = typed(dict(ANALYSIS, amplitude="interpolated"), case)   # the default sweep's choice
     bands, _ = case_bands(case, an)
     df = case_harmonics(case, an, bands)
     got = _read(df)

@@ -137,11 +137,11 @@ def test_one_default_of_the_analysis_options():
     """The command line and the trade-off study hold no analysis default of their own: they
     read AnalysisOptions' (the sweep's; the schema's agreement is tests/test_defaults.py's)."""
     from bearing_envelope.cli import build_parser
-    from bearing_envelope.study.tradeoff import _analysis_used
+    from bearing_envelope.study.tradeoff import analysis_used
 
     d = AnalysisOptions()
     assert (d.n_harmonics, d.n_sidebands, d.n_raw_harmonics) == (3, 2, 3)
-    used = _analysis_used(None)
+    used = analysis_used(None)
     assert (used["harmonics"], used["sidebands"], used["raw_orders_fr"]) == (3, 2, 3)
     args = build_parser().parse_args(["analyze", "x.npy"])
     for opt in ("harmonics", "sidebands", "raw_harmonics", "nlevel", "search_percent", "pfa",

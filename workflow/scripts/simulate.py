@@ -16,6 +16,10 @@ with log_to(snakemake.log[0]) as log:  # noqa: F821
     # the no-defect solves of a load are shared by its depth cases (issue 25; bit-identical)
     hist = simulate(setup.scene(case), setup.fidelity, progress=False,
                     nodefect_cache=NODEFECT_CACHE)
+    if hist.stats.get("exposure_note"):
+        # one line: a defect that never meets a loaded contact, or passages beyond the
+        # validated pit bridging (physics/exposure.py); also in the case's stats
+        print(f"simulate: warning: {case.name}: {hist.stats['exposure_note']}", file=log)
     write_case(snakemake.output[0], hist,  # noqa: F821
                extra_attrs={"workflow_rule": "simulate", **case.attrs()},
                error_model=case_error_model(hist))

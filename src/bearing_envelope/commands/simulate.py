@@ -98,6 +98,9 @@ def run(args) -> int:
     check_output(args.output)
     check_case(case, scene, fid, cfg)  # memory and CPU estimate before any allocation
     hist = simulate(scene, fid, progress=not args.quiet, use_numba=not args.numpy)
+    if hist.stats.get("exposure_note"):
+        # one line, also when quiet: the case's model is outside its validated range
+        print(f"simulate: warning: {case.name}: {hist.stats['exposure_note']}", file=sys.stderr)
     write_case(args.output, hist, extra_attrs={"config_file": str(path or ""), **case.attrs()},
                error_model=case_error_model(hist))
     if not args.quiet:

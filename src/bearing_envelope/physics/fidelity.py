@@ -283,7 +283,7 @@ PRESETS: dict[str, Fidelity] = {
         n_checks=6, n_snapshot_offsets=2,
     ),
     # the default before issue 25 part 6 (then named "standard"), chosen from the speed-accuracy
-    # study (docs/benchmarks.md, "Speed-accuracy trade"): the defect window spacing across
+    # study (CHANGELOG.md, "Fidelity presets and their accuracy"): the defect window spacing across
     # rolling and the axial spacing of the roller-end peak carry almost all of the error; the
     # axial window spacing, the tolerance and the load nodes are relaxed to pay for the 2 um
     # window

@@ -64,6 +64,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .acquisition import acquire, acquisition_settings, add_noise, antialias_undershoot
+from .exposure import exposure, exposure_line
 from .fidelity import Fidelity, fidelity_from
 from .kernels import HAVE_NUMBA, synth_kernel
 from .loads import LoadDistribution, scene_load_distribution
@@ -71,7 +72,7 @@ from .locations import location_signals, location_tables
 from .nodefect_cache import NoDefectCache
 from .scene import Scene
 from .solves import SolveStats
-from .table import PressureTable, build_table
+from .table import PressureTable, build_table, unloaded_table
 
 __all__ = ["History", "simulate", "synthesize", "synthesize_numpy", "kinematics", "cage_angle",
            "evaluate_signals", "synthesize_case", "CONTACT_SIGNALS", "STATE_SIGNALS",
@@ -182,7 +183,8 @@ def evaluate_signals(scene: Scene, table: PressureTable, ld: LoadDistribution, t
     if scene.defect.location != "inner_race":
         return location_signals(scene, table, ld, cage_angle(scene, t, t_end=t_end),
                                 use_numba=use_numba)
-    fn = synthesize if use_numba else synthesize_numpy
+    # the numba kernel has the closed-form load law; the centrifugal law is read by numpy
+    fn = synthesize if use_numba and ld.centrifugal == 0 else synthesize_numpy
     P, Pd, Q, X = fn(scene, table, ld, t, t_end=t_end)
     out = {"p_max": P, "p_max_defect": Pd, "roller_load": Q, "defect_offset": X}
     out.update(table.evaluate_integrals(Q, X, use_numba=use_numba))
@@ -276,13 +278,18 @@ def simulate(scene: Scene, fidelity: Fidelity | str | None = None, *, progress: 
     fid = fidelity_from(fidelity)
     t_start = _time.perf_counter()
     ld = scene_load_distribution(scene)
+    exp = exposure(scene, ld)
     stats = SolveStats(cache=None if nodefect_cache is None else NoDefectCache(nodefect_cache))
-    if scene.defect.location == "inner_race":
+    if not exp["loaded"] and scene.defect.active:
+        # recognised before any solve: the contact at the defect never carries load
+        tables = {r: unloaded_table(scene.for_race(r)) for r in exp["races"]}
+        table, snaps = next(iter(tables.values())), {}
+    elif scene.defect.location == "inner_race":
         table, nodes, snaps = build_table(scene, fid, q_max=ld.q_max, stats=stats,
                                           progress=progress)
         tables = {"inner": table}
     else:
-        tables, nodes, snaps = location_tables(scene, fid, ld.q_max, stats, progress)
+        tables, nodes, snaps = location_tables(scene, fid, exp, stats, progress)
         table = next(iter(tables.values()))
     t_table = _time.perf_counter() - t_start
     op = scene.operation
@@ -306,6 +313,7 @@ def simulate(scene: Scene, fidelity: Fidelity | str | None = None, *, progress: 
         "nodefect_cache_misses": stats.cache.misses if stats.cache else 0,
         "solver_seconds": stats.solver_seconds, "table_seconds": t_table,
         "synthesis_seconds": t_synth, "wall_seconds": _time.perf_counter() - t_start,
+        "exposure": exp, "exposure_note": exposure_line(scene, exp),
     }
     return History(scene, fid, t, signals["p_max"], signals["p_max_defect"], Q, X, table, snaps,
                    ld, signals, stats_d, acq, tables)

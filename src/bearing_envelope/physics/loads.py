@@ -32,6 +32,25 @@ design rule ``Q_max ~ 4.6 F/(Z cos alpha)`` (rollers) or 5 (balls) allows for so
 ``K`` from Palmgren's line-contact deflection (Harris & Kotzalas 2007, eq. 6.40):
 ``delta = 3.84e-5 Q^0.9 / l^0.8`` (mm, N, mm) per raceway contact, two contacts in series:
 ``Q = K delta^(10/9)``. It only matters with clearance (the shape of the load zone).
+
+**Negative clearance (preload).** ``P_d < 0`` is an interference between the elements and the
+races (operating clearance after interference fits and a warmer inner ring, :func:`operating_clearance`):
+every element is compressed by ``-P_d/2`` before any load and the load zone spans more than
+180 deg (``eps > 1``).
+
+**Centrifugal force** (``load.centrifugal``; Harris & Kotzalas 2007, vol. 2 ch. 3): each
+element, of mass ``m``, orbiting with the cage at ``omega_c`` on the pitch radius, presses on the
+outer race with ``F_c = m omega_c^2 D/2`` (:func:`centrifugal_force`). Then the outer contact
+carries ``Q_o = Q_i + F_c cos(alpha)`` and the compatibility of the element's two deflections,
+
+.. math::
+
+    c_i Q_i^{1/n} + c_o (Q_i + F_c\\cos\\alpha)^{1/n} = \\delta(\\psi),
+
+gives the inner contact's load ``Q_i(psi)``; where ``delta(psi) <= c_o (F_c cos alpha)^(1/n)`` the
+inner contact opens (``Q_i = 0``) and the element rests on the outer race with ``F_c`` alone: an
+element outside the radial load zone still loads the outer race. The inner ring's equilibrium
+``sum Q_i cos(psi) cos(alpha) = F_row`` is solved as before.
 """
 
 from __future__ import annotations
@@ -45,7 +64,8 @@ from scipy.optimize import brentq
 
 from ..contact import hertz
 
-__all__ = ["LoadDistribution", "palmgren_stiffness", "solve_row", "row_load_distribution",
+__all__ = ["LoadDistribution", "palmgren_stiffness", "centrifugal_force", "race_compliances",
+           "operating_clearance", "ELEMENT_DENSITY_KG_M3", "STEEL_EXPANSION_PER_K", "solve_row", "row_load_distribution",
            "load_zone_integral", "scene_load_distribution", "hertz_point_stiffness", "contact_law",
            "LINE_CONTACT_EXPONENT", "POINT_CONTACT_EXPONENT"]
 
@@ -109,11 +129,21 @@ class LoadDistribution:
     delta_r: float
     psi: np.ndarray
     q: np.ndarray
+    #: Centrifugal force of an element along the contact normal, ``F_c cos(alpha)`` (N); 0 = off.
+    centrifugal: float = 0.0
+    #: ``(delta, Q_i)`` nodes of the inner contact's load against the element's compression
+    #: (with the centrifugal force only; :func:`_inner_load` solved exactly at each node).
+    law_nodes: tuple | None = None
 
     @property
     def q_max(self) -> float:
-        """Load of the roller at ``psi = 0`` (N)."""
+        """Load of the roller at ``psi = 0`` (N): the inner contact's (the largest of the row)."""
         return float(self.load_at(0.0))
+
+    @property
+    def q_max_outer(self) -> float:
+        """Outer contact's load at ``psi = 0`` (N): ``q_max`` plus the centrifugal force."""
+        return self.q_max + self.centrifugal
 
     @property
     def epsilon(self) -> float:
@@ -122,22 +152,54 @@ class LoadDistribution:
 
     @property
     def half_angle(self) -> float:
-        """Half extent of the load zone ``psi_l = arccos(P_d / (2 delta_r))`` (rad)."""
-        return math.acos(min(1.0, self.clearance / (2.0 * self.delta_r)))
+        """Half extent of the radial load zone ``psi_l = arccos(P_d / (2 delta_r))`` (rad); pi
+        when a preload loads every element."""
+        return math.acos(min(1.0, max(-1.0, self.clearance / (2.0 * self.delta_r))))
 
-    def load_at(self, psi):
-        """Roller load ``Q(psi)`` (N) at angle(s) ``psi`` (rad) from the load direction."""
+    def load_at(self, psi, race: str = "inner"):
+        """Element load ``Q(psi)`` (N) at angle(s) ``psi`` (rad) from the load direction.
+
+        ``race``: the contact whose load is returned: ``inner`` (``Q_i``) or ``outer``
+        (``Q_i + F_c cos(alpha)``); the two are equal without the centrifugal force.
+        """
         d = (self.delta_r * np.cos(psi) - 0.5 * self.clearance) * math.cos(self.contact_angle_rad)
-        return self.stiffness * np.clip(d, 0.0, None) ** self.exponent
+        if self.law_nodes is None:
+            q = self.stiffness * np.clip(d, 0.0, None) ** self.exponent
+        else:
+            q = np.interp(d, self.law_nodes[0], self.law_nodes[1], left=0.0)
+        return q + self.centrifugal if race == "outer" else q
 
     def shape(self, psi):
         """``Q(psi) / Q_max``."""
         return self.load_at(psi) / self.q_max
 
 
+#: Nodes of the ``(delta, Q_i)`` law with the centrifugal force (uniform in ``delta``): the
+#: linear reading is within 1e-6 Q_max of the exact solve (tests/test_loads_outside_zone.py).
+LAW_NODES = 4097
+
+
+def _inner_load(delta, c_i: float, c_o: float, fc: float, n: float) -> np.ndarray:
+    """Inner contact load ``Q_i`` (N) of an element compressed by ``delta`` (m) along its
+    normal, with the outer contact carrying ``Q_i + fc``: the root of
+    ``c_i Q^(1/n) + c_o (Q + fc)^(1/n) = delta`` (bisection, 80 halvings: exact to rounding), 0
+    where ``delta <= c_o fc^(1/n)`` (the inner contact open)."""
+    d = np.atleast_1d(np.asarray(delta, dtype=float))
+    lo = np.zeros_like(d)
+    hi = (np.clip(d, 0.0, None) / c_i) ** n
+    m = 1.0 / n
+    for _ in range(80):
+        mid = 0.5 * (lo + hi)
+        over = c_i * mid ** m + c_o * (mid + fc) ** m > d
+        hi = np.where(over, mid, hi)
+        lo = np.where(over, lo, mid)
+    return 0.5 * (lo + hi)
+
+
 def solve_row(force_row: float, n_rollers: int, contact_angle_deg: float = 0.0,
               clearance: float = 0.0, stiffness: float = 1e10, exponent: float = 10.0 / 9.0,
-              phase: float = 0.0) -> LoadDistribution:
+              phase: float = 0.0, *, centrifugal: float = 0.0,
+              compliances: tuple[float, float] | None = None) -> LoadDistribution:
     """Solve the radial equilibrium of one row for ``delta_r``.
 
     Parameters
@@ -149,13 +211,19 @@ def solve_row(force_row: float, n_rollers: int, contact_angle_deg: float = 0.0,
     contact_angle_deg : float
         Contact angle (deg).
     clearance : float
-        Radial internal clearance ``P_d`` (m), >= 0.
+        Radial internal (operating) clearance ``P_d`` (m); negative = preload.
     stiffness : float
         ``K`` of ``Q = K delta^n`` (N m^-n); with zero clearance it does not change ``Q``.
     exponent : float
         ``n`` (10/9 line contact, 3/2 point contact).
     phase : float
         Angle of roller 0 from the load direction (rad).
+    centrifugal : float
+        Centrifugal force of an element along the contact normal, ``F_c cos(alpha)`` (N), >= 0
+        (module docstring); 0 = off (the closed-form law, unchanged).
+    compliances : (float, float) or None
+        ``(c_i, c_o)`` of each contact's deflection ``delta_j = c_j Q^(1/n)`` (m N^(-1/n),
+        :func:`race_compliances`); required with ``centrifugal > 0``.
 
     Returns
     -------
@@ -165,27 +233,37 @@ def solve_row(force_row: float, n_rollers: int, contact_angle_deg: float = 0.0,
         raise ValueError(f"force_row must be > 0, got {force_row!r}")
     if int(n_rollers) != n_rollers or n_rollers < 1:
         raise ValueError(f"n_rollers must be an integer >= 1, got {n_rollers!r}")
-    if clearance < 0:
-        raise ValueError(f"clearance must be >= 0, got {clearance!r}")
+    if not math.isfinite(clearance):
+        raise ValueError(f"clearance must be finite, got {clearance!r}")
+    if not (centrifugal >= 0) or (centrifugal > 0 and compliances is None):
+        raise ValueError(f"centrifugal must be >= 0 (with compliances), got {centrifugal!r}")
     ca = math.radians(contact_angle_deg)
     psi = phase + 2.0 * math.pi * np.arange(n_rollers) / n_rollers
 
-    def residual(dr):
+    def loads(dr):
         d = (dr * np.cos(psi) - 0.5 * clearance) * math.cos(ca)
-        q = stiffness * np.clip(d, 0.0, None) ** exponent
-        return float(np.sum(q * np.cos(psi)) * math.cos(ca) - force_row)
+        if centrifugal > 0:
+            return _inner_load(d, compliances[0], compliances[1], centrifugal, exponent)
+        return stiffness * np.clip(d, 0.0, None) ** exponent
 
-    lo = 0.5 * clearance / max(np.max(np.cos(psi)), 1e-12)
+    def residual(dr):
+        return float(np.sum(loads(dr) * np.cos(psi)) * math.cos(ca) - force_row)
+
+    lo = max(0.0, 0.5 * clearance / max(np.max(np.cos(psi)), 1e-12))
     hi = max(lo, 1e-9) * 2 + 1e-9
     while residual(hi) < 0:
         hi *= 2.0
         if hi > 1.0:
             raise ValueError("load distribution: no equilibrium found (check stiffness/clearance)")
     dr = brentq(residual, lo, hi, xtol=1e-18, rtol=1e-14, maxiter=500)
-    d = (dr * np.cos(psi) - 0.5 * clearance) * math.cos(ca)
-    q = stiffness * np.clip(d, 0.0, None) ** exponent
+    nodes = None
+    if centrifugal > 0:
+        d_top = (dr - 0.5 * clearance) * math.cos(ca)
+        d_open = compliances[1] * centrifugal ** (1.0 / exponent)
+        dn = np.linspace(min(d_open, d_top), d_top, LAW_NODES)
+        nodes = (dn, _inner_load(dn, compliances[0], compliances[1], centrifugal, exponent))
     return LoadDistribution(float(force_row), int(n_rollers), ca, float(clearance), float(stiffness),
-                            float(exponent), float(dr), psi, q)
+                            float(exponent), float(dr), psi, loads(dr), float(centrifugal), nodes)
 
 
 #: Load-deflection exponents ``n`` of ``Q = K delta^n``: line contact (Palmgren, rollers) and
@@ -221,16 +299,97 @@ def contact_law(scene) -> tuple[float, float]:
     return palmgren_stiffness(1e-3 * b.roller_length_mm), LINE_CONTACT_EXPONENT
 
 
+#: Density of the rolling elements (kg/m^3): through-hardened AISI 52100 / 100Cr6, 7.81e3
+#: (ASTM A295 data sheets; Harris & Kotzalas use 7.8e3) -- assumed for every catalogue bearing.
+ELEMENT_DENSITY_KG_M3 = 7810.0
+#: Linear thermal expansion of bearing steel (1/K): 52100, 11.9e-6 near 20-100 C (assumed).
+STEEL_EXPANSION_PER_K = 11.9e-6
+
+
+def centrifugal_force(bearing, cage_rate_hz: float,
+                      density_kg_m3: float = ELEMENT_DENSITY_KG_M3) -> float:
+    """Centrifugal force (N) of one rolling element orbiting with the cage, ``m omega_c^2 D/2``.
+
+    Harris & Kotzalas (2007), vol. 2 ch. 3: ``F_c = m omega_c^2 d_m / 2``; ``m = rho pi d^3/6``
+    (ball) or ``rho pi d^2 L/4`` (roller of length ``roller_length_mm``).
+
+    Parameters
+    ----------
+    bearing : Bearing
+    cage_rate_hz : float
+        Orbit rate of the element (Hz): the cage rate.
+    density_kg_m3 : float
+        Element density.
+
+    Returns
+    -------
+    float
+        ``F_c`` (N), radial, outwards.
+    """
+    d = 1e-3 * bearing.roller_diameter_mm
+    vol = math.pi * d ** 3 / 6.0 if bearing.kind == "ball" else \
+        0.25 * math.pi * d ** 2 * 1e-3 * bearing.roller_length_mm
+    return density_kg_m3 * vol * (2.0 * math.pi * cage_rate_hz) ** 2 * 0.5 * bearing.pitch_diameter_m
+
+
+def race_compliances(scene) -> tuple[float, float]:
+    """``(c_i, c_o)`` of each raceway contact's deflection ``delta_j = c_j Q^(1/n)`` (m N^(-1/n)):
+    Hertz approaches at 1 N (balls, as :func:`hertz_point_stiffness`) or Palmgren's
+    ``3.84e-5 / l^0.8`` mm per contact (rollers, as :func:`palmgren_stiffness`); in series they
+    give :func:`contact_law`'s ``K = (c_i + c_o)^(-n)``."""
+    b = scene.bearing
+    if getattr(b, "kind", "roller") == "ball":
+        e = scene.material.e_star_pa
+        return tuple(hertz.elliptical(_PROBE_LOAD_N, b.rx_for(r), b.ry_for(r), e).approach
+                     for r in ("inner", "outer"))
+    c = 1e-3 * 3.84e-5 / b.roller_length_mm ** 0.8
+    return c, c
+
+
+def operating_clearance(bearing, *, shaft_interference_um: float = 0.0,
+                        housing_interference_um: float = 0.0,
+                        inner_warmer_by_K: float = 0.0) -> float:
+    """Operating radial clearance (um) from the mounted-free clearance ``radial_clearance_um``.
+
+    Same-material thick-cylinder (Lame) fits: an inner ring on a solid shaft widens its raceway
+    by ``I_s d_bore / D_i`` (``D_i = D - d``, the groove bottom), an outer ring in a housing of
+    large section narrows its raceway by ``I_h D_o / OD`` (``D_o = D + d``); an inner ring
+    warmer than the outer by ``dT`` widens by ``a dT D_i`` against the outer
+    (``a`` = :data:`STEEL_EXPANSION_PER_K`). Harris & Kotzalas (2007), vol. 1 ch. 8 (fits and
+    clearance); the fractions (0.80 and 0.87 for the 6205) lie in the 70-90 % that bearing
+    makers quote for the clearance taken up by a fit.
+
+    Returns
+    -------
+    float
+        ``P_d`` (um): negative = preload.
+    """
+    pd, d = bearing.pitch_diameter_mm, bearing.roller_diameter_mm
+    d_i, d_o = pd - d, pd + d
+    return (bearing.radial_clearance_um - shaft_interference_um * bearing.bore_mm / d_i
+            - housing_interference_um * d_o / bearing.outside_diameter_mm
+            - 1e3 * STEEL_EXPANSION_PER_K * inner_warmer_by_K * d_i)
+
+
+def _row_kwargs(scene) -> dict:
+    """The centrifugal keywords of :func:`solve_row` for ``scene`` (``load.centrifugal``)."""
+    if not getattr(scene.load, "centrifugal", False):
+        return {}
+    fc = centrifugal_force(scene.bearing, scene.cage_rate_hz) * math.cos(scene.bearing.contact_angle_rad)
+    return {"centrifugal": fc, "compliances": race_compliances(scene)}
+
+
 def row_load_distribution(scene) -> LoadDistribution:
     """Load distribution of the loaded row of ``scene`` in ``bearing`` mode.
 
     The radial load ``scene.load.value_N`` is shared equally by ``scene.bearing.rows`` rows;
-    the law is :func:`contact_law` (line contact for rollers, point contact for balls).
+    the law is :func:`contact_law` (line contact for rollers, point contact for balls), with
+    the centrifugal force when ``load.centrifugal`` is on.
     """
     b = scene.bearing
     k, n = contact_law(scene)
     return solve_row(scene.load.value_N / b.rows, b.rollers_per_row, b.contact_angle_deg,
-                     1e-6 * b.radial_clearance_um, k, n)
+                     1e-6 * b.radial_clearance_um, k, n, **_row_kwargs(scene))
 
 
 def scene_load_distribution(scene) -> LoadDistribution:
@@ -247,10 +406,12 @@ def scene_load_distribution(scene) -> LoadDistribution:
     target = scene.load.value_N
     c = 1e-6 * b.radial_clearance_um
 
+    kw = _row_kwargs(scene)
+
     def f(fr):
-        return solve_row(fr, b.rollers_per_row, b.contact_angle_deg, c, k, n).q_max - target
+        return solve_row(fr, b.rollers_per_row, b.contact_angle_deg, c, k, n, **kw).q_max - target
 
     lo = target * 0.05
     hi = target * b.rollers_per_row
     fr = brentq(f, lo, hi, rtol=1e-13, xtol=1e-9)
-    return solve_row(fr, b.rollers_per_row, b.contact_angle_deg, c, k, n)
+    return solve_row(fr, b.rollers_per_row, b.contact_angle_deg, c, k, n, **kw)

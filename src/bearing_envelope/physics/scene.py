@@ -15,7 +15,7 @@ key, with units, in ``docs/scene.md``)::
       raceway_profile_radius_mm: 83.1  # c_i, concave inner-raceway profile radius
       roller_length_mm: 34.0         # effective (contacting) roller length
       end_relief: {kind: radius, radius_mm: 1.0}   # or {kind: log, drop_um: 20, length_mm: 3}
-      radial_clearance_um: 40.0      # radial internal (operating) clearance
+      radial_clearance_um: 40.0      # radial internal (operating) clearance; < 0 = preload
       profile_file: null             # two-column file (y_mm, deviation_um) replacing the crown
     material:
       roller: {E_GPa: 210.0, nu: 0.3}
@@ -34,6 +34,7 @@ key, with units, in ``docs/scene.md``)::
     load:
       mode: bearing                  # bearing | contact
       roller_load: smooth            # smooth | discrete
+      centrifugal: false             # true: each element pressed on the outer race by m w_c^2 D/2
     defect:
       length_um: 500.0
       width_um: null                 # null -> 2 x depth
@@ -110,7 +111,7 @@ DEFAULT_SCENE: dict[str, Any] = {
         "noise_seed": 0,
         "acquisition": {"mode": "antialiased", "oversample": "auto"},
     },
-    "load": {"mode": "bearing", "roller_load": "smooth"},
+    "load": {"mode": "bearing", "roller_load": "smooth", "centrifugal": False},
     "defect": {
         "length_um": 500.0,
         "width_um": None,
@@ -121,6 +122,8 @@ DEFAULT_SCENE: dict[str, Any] = {
         "location": "inner_race",
         "position_deg": 0.0,
         "profile_file": None,
+        "spin_axis": "fixed",
+        "spin_seed": 0,
     },
 }
 
@@ -513,11 +516,16 @@ class Load:
     (default) the load-zone law at the defect's angle (continuous; no step at BPFI in a healthy
     race), ``discrete`` the load of the roller actually over the defect, at that roller's angle
     (steps as the defect passes from one roller to the next, half-way between them).
+
+    ``centrifugal`` (default False): each element also presses on the outer race with its
+    centrifugal force ``m omega_c^2 D/2`` (:func:`bearing_envelope.physics.loads.centrifugal_force`),
+    so elements outside the radial load zone still load the outer race.
     """
 
     value_N: float
     mode: str = "bearing"
     roller_load: str = "smooth"
+    centrifugal: bool = False
 
     @property
     def load_kN(self) -> float:
@@ -555,6 +563,15 @@ class Defect:
     profile_file : str or None
         Measured defect profile, two columns ``x_um, depth_um`` (depth across the defect along
         rolling, extruded over the length): replaces the analytic shape (``shape: profile``).
+    spin_axis : {"fixed", "wandering"}
+        ``rolling_element`` only. ``fixed``: the defect lies on the element's rolling track and
+        meets a race every half spin turn. ``wandering``: the element's orientation about its
+        centre is redrawn (uniform on the sphere, seeded) once per cage turn in the unloaded
+        zone (at 180 deg from the load direction); the defect meets a contact only while its
+        axial distance from the track, ``(d/2) sin(latitude)``, is within the contact's axial
+        semi-axis ``b(Q)`` (:func:`bearing_envelope.physics.locations.rolling_element_kinematics`).
+    spin_seed : int
+        Seed of the ``wandering`` orientations (>= 0).
     """
 
     depth_um: float
@@ -567,6 +584,8 @@ class Defect:
     location: str = "inner_race"
     position_deg: float = 0.0
     profile_file: str | None = None
+    spin_axis: str = "fixed"
+    spin_seed: int = 0
 
     @property
     def extent_x_m(self) -> float:
@@ -632,12 +651,17 @@ class Scene:
         b.pop("contact_race")
         b["end_relief"] = {k: v for k, v in b["end_relief"].items() if v is not None}
         d = dataclasses.asdict(self.defect)
+        if d["spin_axis"] == "fixed":
+            # only when wandering: the stored scene of every case without it is unchanged
+            del d["spin_axis"], d["spin_seed"]
         return {
             "bearing": b,
             "material": dataclasses.asdict(self.material),
             "operation": dataclasses.asdict(self.operation),
             "load": {"mode": self.load.mode, "roller_load": self.load.roller_load,
-                     "value_kN": self.load.load_kN},
+                     "value_kN": self.load.load_kN,
+                     # only when on: the stored scene of every case without it is unchanged
+                     **({"centrifugal": True} if self.load.centrifugal else {})},
             "defect": d,
         }
 
@@ -760,10 +784,12 @@ def _build_bearing(m: Mapping[str, Any]) -> Bearing:
     length = _num(p + "roller_length_mm", m["roller_length_mm"], lo=0, lo_open=True, hi=od,
                   allowed=f"a length > 0 and <= outside_diameter_mm ({od:g} mm)")
     relief = _build_relief(m["end_relief"], length)
-    clearance = _num(p + "radial_clearance_um", m["radial_clearance_um"], lo=0,
+    clearance = _num(p + "radial_clearance_um", m["radial_clearance_um"],
+                     lo=-MAX_CLEARANCE_FRACTION * 1e3 * d, lo_open=True,
                      hi=MAX_CLEARANCE_FRACTION * 1e3 * d, hi_open=True,
-                     allowed=f"a clearance >= 0 and below {MAX_CLEARANCE_FRACTION:.0%} of the "
-                             f"rolling-element diameter ({MAX_CLEARANCE_FRACTION * 1e3 * d:g} um)")
+                     allowed=f"an operating clearance within +-{MAX_CLEARANCE_FRACTION:.0%} of the "
+                             f"rolling-element diameter (+-{MAX_CLEARANCE_FRACTION * 1e3 * d:g} um;"
+                             f" negative = preload)")
     extra = _build_kind_fields(m, d, cr, length)
     pf = m["profile_file"]
     if pf is not None:
@@ -862,11 +888,16 @@ def _build_load(m: Mapping[str, Any], load_kN: float) -> Load:
     mode = _choice("load.mode", m["mode"], ("bearing", "contact"))
     v = _num("load.value_kN", load_kN, lo=0, lo_open=True)
     rl = _choice("load.roller_load", m["roller_load"], ROLLER_LOAD_MODELS)
-    return Load(v * 1e3, mode, rl)
+    cf = m["centrifugal"]
+    if not isinstance(cf, bool):
+        raise _bad("load.centrifugal", cf, "true | false")
+    return Load(v * 1e3, mode, rl, cf)
 
 
 #: ``defect.location`` values.
 DEFECT_LOCATIONS = ("inner_race", "outer_race", "rolling_element")
+#: ``defect.spin_axis`` values (see :class:`Defect`).
+SPIN_AXES = ("fixed", "wandering")
 
 #: ``defect.shape`` values: ``flat`` (rectangular footprint, flat bottom, rounded rims),
 #: ``dent`` (smooth cos^2 bump), ``cylinder`` (circular footprint of diameter ``width_um``, flat
@@ -897,7 +928,12 @@ def _build_defect(m: Mapping[str, Any], depth_um: float, bearing: Bearing) -> De
     pf = _defect_profile(m["profile_file"], shape)
     if depth > 0 and width <= 0:
         raise _bad(p + "width_um", width, "> 0 when depth_um > 0")
-    d = Defect(depth, length, width, shape, edge, ypos, orient, loc, pos, pf)
+    spin = _choice(p + "spin_axis", m["spin_axis"], SPIN_AXES)
+    if spin != "fixed" and loc != "rolling_element":
+        raise _bad(p + "spin_axis", spin, f"'fixed' unless defect.location is 'rolling_element' "
+                   f"(got location {loc!r})")
+    d = Defect(depth, length, width, shape, edge, ypos, orient, loc, pos, pf, spin,
+               _int(p + "spin_seed", m["spin_seed"], lo=0))
     if depth > 0:
         _check_defect_fits(d, bearing)
         _check_rim(d)
@@ -906,9 +942,12 @@ def _build_defect(m: Mapping[str, Any], depth_um: float, bearing: Bearing) -> De
 
 #: Least depth (fraction of ``depth_um``) the deepest point of a flat or cylindrical defect
 #: keeps under its rim arcs: a rim radius much larger than the footprint flattens the defect
-#: into a dimple (``edge_radius_um: 1e6`` leaves 0.3 nm of a 50 um defect). The study's
-#: shallowest default case (15 um deep, 30 um wide, 20 um rim) keeps 45 %.
-MIN_RIM_DEPTH_FRACTION = 0.1
+#: into nothing (``edge_radius_um: 1e6`` leaves 0.3 nm of a 50 um defect). A round trough whose
+#: rims leave a few percent of the stated depth is a real shape (the pit-bottom study bisects
+#: the depth of 20 um-rim troughs down to 0.5 um, which keep 1.25 %); below 1 % the stated
+#: depth no longer describes the defect. The study's shallowest default case (15 um deep, 30 um
+#: wide, 20 um rim) keeps 45 %.
+MIN_RIM_DEPTH_FRACTION = 0.01
 
 
 def _check_rim(d: Defect) -> None:

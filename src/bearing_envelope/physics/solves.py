@@ -742,6 +742,10 @@ class RimStrip:
     axis: int = 0
     m: int = 1
     own: np.ndarray | None = None
+    #: window columns ``j0:j1`` a rim strip (axis 0) spans: the read strip and a margin
+    #: (:func:`_rim_columns`); ``j1`` None = every column
+    j0: int = 0
+    j1: int | None = None
     #: the parent cells whose force and area it counts and whose mean the window holds
     #: (``own`` but where an end strip crosses a rim strip: the end strip's); None = ``own``
     count: np.ndarray | None = None
@@ -759,7 +763,7 @@ class RimStrip:
     def slab(self) -> tuple[slice, slice]:
         """The parent cells of the strip (index into the window)."""
         s = slice(self.i0, self.i1)
-        return (s, slice(None)) if self.axis == 0 else (slice(None), s)
+        return (s, slice(self.j0, self.j1)) if self.axis == 0 else (slice(None), s)
 
     @property
     def fine_own(self) -> np.ndarray:
@@ -878,6 +882,23 @@ def _rim_intervals(scene: Scene, fid: Fidelity, win: Grid, x_d: float) -> list[t
                       win.x[0] - 0.5 * win.dx, win.dx, win.shape[0])
 
 
+#: Window cells (axially) a rim strip reaches beyond the read strip on each side: the strip's
+#: own boundary there (0.5 um cells against the window's 2 um) stays clear of every cell read.
+RIM_BOX_MARGIN_CELLS = 2
+
+
+def _rim_columns(node: "LoadNode") -> tuple[int, int]:
+    """Window columns ``[j0, j1)`` of the rim strips: the read strip (the defect's axial extent
+    and the neighbourhood, ``node.strip``) and :data:`RIM_BOX_MARGIN_CELLS` each side. Until
+    issue 33 the strips spanned every window column: 3x the cells for the CWRU ball pit, the
+    refined rows far from the defect read nowhere."""
+    cols = np.flatnonzero(node.strip)
+    if not cols.size:
+        return 0, node.window.shape[1]
+    return (max(0, int(cols[0]) - RIM_BOX_MARGIN_CELLS),
+            min(node.window.shape[1], int(cols[-1]) + 1 + RIM_BOX_MARGIN_CELLS))
+
+
 def end_intervals(scene: Scene, fid: Fidelity, win: Grid) -> list[tuple[int, int]]:
     """Window-column ranges of the axial end strips (around ``y_d +- w_y/2``). An end on or
     beyond a roller end (a defect spanning the roller) or outside the window has none.
@@ -930,11 +951,13 @@ def _refine_strips(scene: Scene, fid: Fidelity, node: LoadNode, x_d: float, p: n
     cols = np.zeros(win.shape[1], bool)
     for j0, j1 in ends:
         cols[j0:j1] = True
+    j0, j1 = _rim_columns(node)
     for i0, i1 in rims:
         own = np.zeros(win.shape, bool)
-        own[i0:i1] = True
+        own[i0:i1, j0:j1] = True
         st = _solve_strip(scene, fid, node, x_d, p, 0, i0, i1,
-                          int(round(fid.local_dx_um / fid.rim_dx_um)), own, fid.rim_strip_m, stats)
+                          int(round(fid.local_dx_um / fid.rim_dx_um)), own, fid.rim_strip_m, stats,
+                          (j0, j1))
         if st is not None and cols.any():
             st.count = own.copy()
             st.count[:, cols] = False
@@ -954,7 +977,7 @@ def _refine_strips(scene: Scene, fid: Fidelity, node: LoadNode, x_d: float, p: n
 
 def _solve_strip(scene: Scene, fid: Fidelity, node: LoadNode, x_d: float, p: np.ndarray,
                  axis: int, i0: int, i1: int, m: int, own: np.ndarray, b: float,
-                 stats: SolveStats) -> RimStrip | None:
+                 stats: SolveStats, cols: tuple[int, int] | None = None) -> RimStrip | None:
     """Solve one strip: the window's parent cells ``i0:i1`` along ``axis``, each split into
     ``m`` along it, under the window's displacement, at the window's approach.
 
@@ -968,7 +991,8 @@ def _solve_strip(scene: Scene, fid: Fidelity, node: LoadNode, x_d: float, p: np.
     strip's ends along ``axis`` (where the nested boundary is)."""
     win = node.window
     e_star = scene.material.e_star_pa
-    st = RimStrip(i0, i1, win, np.empty(0), np.empty(0), np.empty(0), axis, m, own)
+    j0, j1 = cols if cols is not None and axis == 0 else (0, None)
+    st = RimStrip(i0, i1, win, np.empty(0), np.empty(0), np.empty(0), axis, m, own, j0=j0, j1=j1)
     if not np.any(p[own] > 0):
         return None
     d = (win.dx, win.dy)[axis] / m
@@ -976,15 +1000,16 @@ def _solve_strip(scene: Scene, fid: Fidelity, node: LoadNode, x_d: float, p: np.
     c = c_par[i0] - 0.5 * m * d + (np.arange((i1 - i0) * m) + 0.5) * d
     fine_shape = list(win.shape)
     fine_shape[axis] *= m
+    ks = range(win.shape[1])[j0:j1]
     if axis == 0:
         fine = Grid(np.zeros(fine_shape[0]), win.y, d, win.dy)
-        grid = Grid(c, win.y, d, win.dy)
-        u_far = np.stack([np.interp(c, win.x, node.u_ext[:, k]) for k in range(win.shape[1])], 1)
+        grid = Grid(c, win.y[j0:j1], d, win.dy)
+        u_far = np.stack([np.interp(c, win.x, node.u_ext[:, k]) for k in ks], 1)
     else:
         fine = Grid(win.x, np.zeros(fine_shape[1]), win.dx, d)
         grid = Grid(win.x, c, win.dx, d)
         u_far = np.stack([np.interp(c, win.y, node.u_ext[k]) for k in range(win.shape[0])], 0)
-    sl_f = [slice(None), slice(None)]
+    sl_f = [slice(None), slice(j0, j1)]
     sl_f[axis] = slice(i0 * m, i1 * m)
     u_near = _halfspace(fine, e_star, "scipy").displacement(
         np.repeat(np.where(own, 0.0, p), m, axis=axis))[tuple(sl_f)]

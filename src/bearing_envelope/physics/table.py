@@ -19,7 +19,7 @@ from .scene import Scene
 from .solves import (LoadNode, SolveStats, defect_solve, neighbourhood_max, outside_solve,
                      solve_load, window_spec)
 
-__all__ = ["PressureTable", "build_table", "direct_pressure", "Q_MIN_FRACTION",
+__all__ = ["PressureTable", "build_table", "direct_pressure", "Q_MIN_FRACTION", "unloaded_table",
            "OUTSIDE_LOAD_DENSITY", "CHECK_OFFSETS_PER_LOAD"]
 
 #: Random offsets checked per random roller load (each kind: on the grid / anywhere).
@@ -313,11 +313,49 @@ KAPPA_MARGIN = 1.02
 SNAPSHOT_XI_MAX = 0.8
 
 
-def _table_loads(q_max: float, n_loads: int) -> tuple[np.ndarray, np.ndarray]:
-    """Roller-load nodes, uniform in ``q = Q^(1/3)`` from ``Q_MIN_FRACTION q_max`` to ``q_max``:
-    returns ``(q, Q)``."""
-    qn = np.linspace((Q_MIN_FRACTION * q_max) ** (1 / 3), q_max ** (1 / 3), n_loads)
+#: Relative width of the load range of a table whose defect meets one load only (an outer-race
+#: defect under a steady load): two nodes, ``Q (1 - w)`` and ``Q``.
+CONSTANT_LOAD_SPAN = 0.02
+
+
+def _table_loads(q_max: float, n_loads: int, q_min: float | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """Roller-load nodes, uniform in ``q = Q^(1/3)``, returns ``(q, Q)``.
+
+    ``q_min`` None: from ``Q_MIN_FRACTION q_max`` to ``q_max`` (``n_loads`` nodes; below the
+    first node the rows are scaled, not solved). ``q_min`` given (the smallest load the defect
+    meets, :func:`~.exposure.exposure`): from ``q_min`` to ``q_max``, as many nodes as keep the
+    spacing in ``q`` of the default rule at this ``q_max`` (at least 2, at least ``n_loads`` for
+    a range as wide as the default); one load only: the two nodes of
+    :data:`CONSTANT_LOAD_SPAN`."""
+    top = q_max ** (1 / 3)
+    lo_default = (Q_MIN_FRACTION * q_max) ** (1 / 3)
+    if q_min is None:
+        qn = np.linspace(lo_default, top, n_loads)
+        return qn, qn ** 3
+    lo = min(q_min, (1.0 - CONSTANT_LOAD_SPAN) * q_max) ** (1 / 3)
+    step = (top - lo_default) / max(n_loads - 1, 1)
+    n = max(2, int(math.ceil((top - lo) / step - 1e-9)) + 1)
+    qn = np.linspace(lo, top, n)
     return qn, qn ** 3
+
+
+def unloaded_table(scene: Scene) -> PressureTable:
+    """The table of a contact that never carries load (:func:`~.exposure.exposure`: the defect
+    never meets a loaded element): every reading at ``Q = 0`` is 0 (pressure, force, approach,
+    area) without a solve. Its load nodes (1 and 2 N) are placeholders: reading it at ``Q > 0``
+    is refused."""
+    qn = np.array([1.0, 2.0])
+    q_out = np.linspace(1.0, 2.0, OUTSIDE_LOAD_DENSITY + 1)
+    z2, zo = np.zeros((2, 2)), np.zeros(q_out.size)
+    ex = scene.defect.extent_x_m if scene.defect.active else 0.0
+    tab = PressureTable(qn, np.array([0.0, 1.0]), np.zeros(2), np.zeros(2), np.ones((2, 2)), z2,
+                        hertz_estimate(scene, 1.0).a, 1.0, 0.5 * ex, 1e-3, q_out, zo,
+                        # areas 1 m^2 at the placeholder nodes: read as c(q) q^2, 0 at Q = 0
+                        approach0=np.zeros(2), area0=np.ones(2), approach_out=zo,
+                        area_out=np.ones(q_out.size),
+                        p_cap=scene.material.hardness_pa)
+    tab.info = {"unloaded": True, "interp_max_rel_error_p_max": 0.0}
+    return tab
 
 
 def _offset_nodes(scene: Scene, fid: Fidelity, s_reach: float, dxw: float) -> np.ndarray:
@@ -418,24 +456,36 @@ def _defect_ratios(scene: Scene, fid: Fidelity, nodes: list[LoadNode], q_nodes: 
                                                 len(snap_xi), axis=0)
         else:
             p_prev = None
+            solved: dict[int, np.ndarray] = {}
             for j in range(nxi - 1, -1, -1):
                 if x_nodes[j] > reach or nd.w0 <= 0:
                     tick()
                     continue
                 ds = defect_solve(scene, fid, nd, x_nodes[j], stats, p_prev)
-                p_prev = ds.pressure
+                p_prev = solved[j] = ds.pressure
                 R[i, j] = ds.W / nd.w0
                 Rd[i, j] = ds.Pd / nd.w0
                 RF[i, j] = ds.removed_force / nd.q
                 RA[i, j] = ds.area_change / nd.area_global
                 dF_max = max(dF_max, abs(ds.removed_force) / nd.q)
-            fields = [defect_solve(scene, fid, nd, xi * s_i, stats).pressure.astype(np.float32)
-                      for xi in snap_xi]
-            snap["offsets"] = np.asarray(snap_xi) * s_i
+            # the snapshots are the table's own solves at the offset nodes nearest to
+            # xi s(Q) (until issue 33 solved again at xi s(Q) exactly: 30 of the 256 defect
+            # solves of a CWRU ball case, for pictures only)
+            picked = [_nearest_solved(solved, x_nodes, xi * s_i) for xi in snap_xi]
+            fields = [solved[j].astype(np.float32) if j is not None else
+                      defect_solve(scene, fid, nd, xi * s_i, stats).pressure.astype(np.float32)
+                      for j, xi in zip(picked, snap_xi)]
+            snap["offsets"] = np.array([x_nodes[j] if j is not None else xi * s_i
+                                        for j, xi in zip(picked, snap_xi)])
             snap["window_pressure"] = np.array(fields) if fields else \
                 np.zeros((0,) + nd.window.shape, np.float32)
         snapshots[f"load_{i}"] = snap
     return _DefectRatios(R, Rd, RF, RA, dF_max, snapshots)
+
+
+def _nearest_solved(solved: dict, x_nodes: np.ndarray, x: float) -> int | None:
+    """Index of the solved offset node nearest to ``x`` (m), None when none is solved."""
+    return min(solved, key=lambda j: abs(x_nodes[j] - x)) if solved else None
 
 
 def _outside_maxima(scene: Scene, fid: Fidelity, nodes: list[LoadNode], qn: np.ndarray,
@@ -552,8 +602,10 @@ def _refine_outside(scene: Scene, fid: Fidelity, kappa: float, stats: SolveStats
 
 def build_table(scene: Scene, fidelity: Fidelity | str | None = None, *, q_max: float,
                 stats: SolveStats | None = None, progress: bool = False,
-                check_seed: int = 20261122) -> tuple[PressureTable, list[LoadNode], dict]:
-    """Solve the contacts and build the ``P(Q, x)`` table for roller loads up to ``q_max``.
+                check_seed: int = 20261122, q_min: float | None = None,
+                ) -> tuple[PressureTable, list[LoadNode], dict]:
+    """Solve the contacts and build the ``P(Q, x)`` table for roller loads up to ``q_max``
+    (from ``q_min``, the smallest load the defect meets, when given: :func:`_table_loads`).
 
     Stages: load nodes uniform in ``Q^(1/3)`` (:func:`_table_loads`); the no-defect global +
     window solve at each (:func:`_solve_load_nodes`, which fixes ``kappa``); offsets on the
@@ -573,7 +625,8 @@ def build_table(scene: Scene, fidelity: Fidelity | str | None = None, *, q_max: 
     stats = stats or SolveStats()
     d = scene.defect
     nq = fid.n_loads
-    qn, q_nodes = _table_loads(q_max, nq)
+    qn, q_nodes = _table_loads(q_max, nq, q_min)
+    nq = qn.size
     a_coef = hertz_estimate(scene, q_max).a / q_max ** (1 / 3)
     ex = d.extent_x_m if d.active else 0.0
     s_const = 0.5 * ex + fid.neighbourhood_m

@@ -385,6 +385,11 @@ def _check_band_widths(analysis, scene) -> None:
     for b in analysis.bands:
         lo, hi = resolve_band(b.to_mapping(), fs, frequencies=scene_event_frequencies(scene),
                               static=True)[0]
+        if lo is not None and 0 < lo < df:
+            raise ConfigError(f"analysis.bands[{b.name}]: low edge {lo:.3g} Hz; allowed: 0 or "
+                              f"at least one resolution bin ({df:.3g} Hz at "
+                              f"scene.operation.revolutions = {scene.operation.revolutions:g}): "
+                              f"a band-pass edge below it has no stable filter")
         if lo is not None and hi - lo < MIN_BAND_BINS * df:
             raise ConfigError(f"analysis.bands[{b.name}]: {lo:g} .. {hi:g} Hz is "
                               f"{hi - lo:.3g} Hz wide; allowed: at least {MIN_BAND_BINS} "

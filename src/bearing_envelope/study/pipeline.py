@@ -63,7 +63,7 @@ AMPLITUDE_ESTIMATORS = {
 
 
 def amplitude_estimator(analysis: AnalysisSettings) -> str:
-    """``analysis.amplitude`` (the schema's default: ``interpolated``), checked."""
+    """``analysis.amplitude`` (default: AnalysisOptions'; the default sweep chooses ``interpolated``), checked."""
     name = analysis.amplitude
     if name not in AMPLITUDE_ESTIMATORS:
         raise ValueError(f"analysis.amplitude: got {name!r}; allowed: "
@@ -476,7 +476,7 @@ def _snr_definition(case, ref) -> str:
 #: spectrum of noise demodulated in a band a few BPFI wide (3-6 and 10-13 x BPFI: 3 BPFI) falls
 #: across 0.5-1.5 x BPFI (amplitude density 1.12 -> 0.84 of its value at BPFI), so the median
 #: over that range sits 1-1.3 % below the level at BPFI and the false-alarm rate rises by ~20 %
-#: (1.5 % measured on pure noise, benchmarks/false_alarm_mc.py). Over 0.8-1.2 x BPFI, with the
+#: (1.5 % measured on pure noise, python -m benchmarks false_alarms). Over 0.8-1.2 x BPFI, with the
 #: level the mean of the medians below and above the line (linear trend cancelled), the rate
 #: is 0.95-1.07 % in every band; diagnosis.threshold_db accounts for the two medians'
 #: randomness (126 bins each).

@@ -43,6 +43,7 @@ import numpy as np
 from ..checks import check_input_file
 from ..diagnosis.analysis import AnalysisOptions
 from ..io.yamlsafe import MAX_DOCUMENT_BYTES, YamlLimitError, load_bounded
+from ..physics.exposure import BRIDGE_MAX_FRACTION  # the pit-bridging limit (fraction of 2b)
 from ..physics.fidelity import DEFAULT_PRESET, Fidelity, fidelity_from
 from ..physics.geometry import hertz_estimate
 from ..physics.loads import scene_load_distribution
@@ -58,7 +59,7 @@ __all__ = [
     "SimulationSetup", "section_defaults",
     "read_yaml", "settings_from_mapping", "load_settings", "workflow_settings",
     "default_config_path", "merge_configs", "read_configs", "config_files", "analysis_defaults",
-    "DEFAULT_CONFIG_NAME", "DEFAULT_MAX_CASES",
+    "DEFAULT_CONFIG_NAME", "DEFAULT_MAX_CASES", "full_schema",
 ]
 
 #: The config file ``simulate --config`` and the workflow read when none is named.
@@ -690,11 +691,17 @@ def analysis_defaults() -> dict[str, Any]:
 
 
 @functools.lru_cache(maxsize=1)
-def _full_schema() -> dict:
+def full_schema() -> dict:
     """The schema file with the defaults whose home is code filled in: ``fidelity`` from
     :data:`~bearing_envelope.physics.fidelity.DEFAULT_PRESET`, the analysis keys from
     :func:`analysis_defaults`. The file itself holds no scene, fidelity, analysis-option,
-    limits or tradeoff default (``tests/test_defaults.py``)."""
+    limits or tradeoff default (``tests/test_defaults.py``).
+
+    Returns
+    -------
+    dict
+        The JSON schema of a config file, with every default.
+    """
     import yaml
 
     with open(SCHEMA_PATH, encoding="utf-8") as fh:
@@ -707,7 +714,7 @@ def _full_schema() -> dict:
 
 
 def _schema(partial: bool) -> dict:
-    schema = copy.deepcopy(_full_schema())
+    schema = copy.deepcopy(full_schema())
     if partial:
         schema["required"] = []
     return schema
@@ -940,12 +947,6 @@ def _check_family_harmonics(analysis: AnalysisSettings, scenes, fs: float) -> No
                        f"below Nyquist ({fs / 2:g} Hz)")
 
 
-#: A ball bridges a pit wider than its contact (2a across rolling) when the pit is short
-#: axially against the contact ellipse (2b): the contact keeps both axial lobes and the pit
-#: bottom is never reached. Allowed up to this fraction of 2b, the largest measured
-#: (``benchmarks/wide_pit.py``: the CWRU 0.021 in pit at 1 kN, 0.25 of 2b on the inner race,
-#: 0.26 on the outer; window solve vs whole-ellipse solve, docs/benchmarks.md, issue 23 parts 5-6).
-BRIDGE_MAX_FRACTION = 0.26
 
 
 def _check_widths(sweep: SweepSettings, scenes, load_distribution, hertz_estimate,

@@ -62,7 +62,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from ..contact import halfspace as _hs
+from ..contact.halfspace import clear_kernel_cache
 from ..diagnosis import AnalysisOptions
 from ..physics.fidelity import PRESETS, Fidelity, fidelity_from
 from ..physics.history import simulate
@@ -73,7 +73,8 @@ from .settings import AnalysisSettings, CaseId
 
 __all__ = ["DEFAULT_CASES", "DEFAULT_KNOBS", "DEFAULT_BANDS", "COLUMNS", "tradeoff_study",
            "study_from_config", "TRADEOFF_DEFAULTS", "pareto_front", "pareto_table",
-           "pareto_points", "plot_tradeoff", "metric_labels", "run_variant", "apply_knob"]
+           "pareto_points", "plot_tradeoff", "metric_labels", "run_variant", "apply_knob",
+           "analysis_used"]
 
 #: (load_kN, depth_um) of the representative cases.
 DEFAULT_CASES: tuple[tuple[float, float], ...] = (
@@ -205,11 +206,7 @@ def _merge(a: Mapping, b: Mapping) -> dict:
 
 
 def _clear_kernel_cache() -> None:
-    try:
-        with _hs._CACHE_LOCK:
-            _hs._CACHE.clear()
-    except AttributeError:  # pragma: no cover - cache layout changed
-        pass
+    clear_kernel_cache()
 
 
 def run_variant(scene, fidelity: Fidelity, analysis) -> dict[str, Any]:
@@ -336,7 +333,7 @@ def tradeoff_study(
     base_f = fidelity_from(base)
     knobs = dict(DEFAULT_KNOBS if knobs is None else knobs)
     scene_map = _merge(scene or {}, {"operation": {"revolutions": float(revolutions)}})
-    an = _analysis_used(analysis)
+    an = analysis_used(analysis)
     if reference_element not in ("uniform", "linear"):
         raise ValueError(f"tradeoff.reference_element must be uniform or linear, got {reference_element!r}")
     all_knobs = _expand_knobs(knobs, element_series, base_f, scene_map)
@@ -369,10 +366,22 @@ def tradeoff_study(
     return df
 
 
-def _analysis_used(analysis: Mapping[str, Any] | None) -> dict[str, Any]:
+def analysis_used(analysis: Mapping[str, Any] | None) -> dict[str, Any]:
     """The analysis settings of the study: the analysis defaults of
     :class:`~bearing_envelope.diagnosis.AnalysisOptions` (the sweep's), and the keys of
-    :data:`ANALYSIS_KEYS_USED` from ``analysis``."""
+    :data:`ANALYSIS_KEYS_USED` from ``analysis``.
+
+    Parameters
+    ----------
+    analysis : Mapping or None
+        The config's ``analysis:`` section.
+
+    Returns
+    -------
+    dict
+        ``signal``, ``nlevel``, ``filter_order``, ``squared_envelope``, ``harmonics``,
+        ``sidebands``, ``raw_orders_fr``, ``bands``.
+    """
     d = AnalysisOptions()
     an = {"signal": "p_max", "nlevel": d.nlevel, "filter_order": d.filter_order,
           "squared_envelope": d.squared, "harmonics": d.n_harmonics,
