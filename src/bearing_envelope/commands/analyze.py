@@ -131,8 +131,9 @@ def _add_analysis_args(p) -> None:
                    help="clamp a fixed band's upper edge above Nyquist to 0.98 fs/2 instead of "
                         "refusing it")
     p.add_argument("--speed", choices=("measured", "nominal"), default=None,
-                   help="measured (default for a recording, RECORD_OPTIONS): the shaft rate is read from the record's shaft "
-                        "harmonics (diagnosis.speed) and every fault frequency is scaled to it, "
+                   help="measured (default for a recording, RECORD_OPTIONS): the shaft rate is "
+                        "read from the record's shaft harmonics (diagnosis.speed) and every "
+                        "fault frequency is scaled to it, "
                         "fundamentals then searched within 0.5 %%; nominal: the given --fr / rpm "
                         "as is, fundamentals searched within --search-percent (the rates of "
                         "README 'What the confidence means' are with measured)")
@@ -242,9 +243,9 @@ def check_args(args) -> None:
     args.geometry = geometry_args(args)
     _check_counts(args)
     if args.fixed_band is not None:
-        lo, hi = args.fixed_band
-        if not (math.isfinite(lo) and math.isfinite(hi) and 0 <= lo < hi):
-            raise ValueError(f"--fixed-band: got {lo!r} {hi!r}; allowed: 0 <= LOW_HZ < HIGH_HZ")
+        from bearing_envelope.diagnosis.records import check_fixed_band  # start-up time
+
+        check_fixed_band(args.fixed_band, OPTION_NAMES)
     if not args.files and args.manifest is None:
         raise ValueError("file: give a signal file, several, a folder, or --manifest CSV")
     if len(args.files) == 1 and args.manifest is None and os.path.isdir(args.files[0]) \
