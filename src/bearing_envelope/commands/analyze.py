@@ -131,8 +131,9 @@ def _add_analysis_args(p) -> None:
                    help="clamp a fixed band's upper edge above Nyquist to 0.98 fs/2 instead of "
                         "refusing it")
     p.add_argument("--speed", choices=("measured", "nominal"), default=None,
-                   help="measured (default for a recording, RECORD_OPTIONS): the shaft rate is read from the record's shaft "
-                        "harmonics (diagnosis.speed) and every fault frequency is scaled to it, "
+                   help="measured (default for a recording, RECORD_OPTIONS): the shaft rate is "
+                        "read from the record's shaft harmonics (diagnosis.speed) and every "
+                        "fault frequency is scaled to it, "
                         "fundamentals then searched within 0.5 %%; nominal: the given --fr / rpm "
                         "as is, fundamentals searched within --search-percent (the rates of "
                         "README 'What the confidence means' are with measured)")
@@ -141,6 +142,13 @@ def _add_analysis_args(p) -> None:
                         "nominal frequency (default: the library's, AnalysisOptions; real lines "
                         "sit 0.2-0.7 %% off when the nominal speed is not the actual one); "
                         "harmonics are searched around k x the frequency found")
+    p.add_argument("--routes", default=None, metavar="ROUTE[,ROUTE...]",
+                   help="evidence routes of the verdict besides the envelope bands "
+                        "(diagnosis.routes): cpw (cepstrum pre-whitened squared envelope "
+                        "spectrum), drs_sk (discrete/random separation, kurtogram band, squared "
+                        "envelope spectrum), ees (enhanced envelope spectrum); 'envelope' for "
+                        "the envelope bands alone; default: the library's for a recording "
+                        "(RECORD_OPTIONS: every route)")
     p.add_argument("--pfa", type=float, default=None,
                    help="record-wise false-alarm probability of the verdict (default: the "
                         "library's, AnalysisOptions); each family x band test runs at pfa / "
@@ -230,13 +238,14 @@ def check_args(args) -> None:
         raise ValueError(f"--search-percent: got {sp!r}; allowed: 0 < percent < 50")
     if args.pfa is not None and not (math.isfinite(args.pfa) and 0 < args.pfa < 1):
         raise ValueError(f"--pfa: got {args.pfa!r}; allowed: 0 < pfa < 1")
+    args.routes = parse_routes(args.routes)
     args.faults = parse_faults(args.fault)
     args.geometry = geometry_args(args)
     _check_counts(args)
     if args.fixed_band is not None:
-        lo, hi = args.fixed_band
-        if not (math.isfinite(lo) and math.isfinite(hi) and 0 <= lo < hi):
-            raise ValueError(f"--fixed-band: got {lo!r} {hi!r}; allowed: 0 <= LOW_HZ < HIGH_HZ")
+        from bearing_envelope.diagnosis.records import check_fixed_band  # start-up time
+
+        check_fixed_band(args.fixed_band, OPTION_NAMES)
     if not args.files and args.manifest is None:
         raise ValueError("file: give a signal file, several, a folder, or --manifest CSV")
     if len(args.files) == 1 and args.manifest is None and os.path.isdir(args.files[0]) \
@@ -245,6 +254,21 @@ def check_args(args) -> None:
                          f"file or a folder of them")
     check_outputs(args)
     args.band_specs = load_bands(args.bands)
+
+
+def parse_routes(text: str | None) -> tuple[str, ...] | None:
+    """``--routes``: the comma-separated route names (checked against diagnosis.routes.ROUTES
+    where the chain runs), None for the default."""
+    if text is None:
+        return None
+    # the layers load here, before any record is read (the chain needs them next anyway)
+    from bearing_envelope.diagnosis.routes import ROUTES
+
+    names = tuple(r.strip() for r in str(text).split(",") if r.strip())
+    if not names or any(r not in ROUTES for r in names):
+        raise ValueError(f"--routes: got {text!r}; allowed: a comma-separated list of "
+                         f"{', '.join(ROUTES)}")
+    return tuple(r for r in names if r != "envelope")
 
 
 def _check_counts(args) -> None:
@@ -436,6 +460,8 @@ def build_options(args):
         given["interpolate"] = True
     if args.speed is not None:
         given["measure_speed"] = args.speed == "measured"
+    if args.routes is not None:
+        given["routes"] = args.routes
     return replace(RECORD_OPTIONS, **given)
 
 

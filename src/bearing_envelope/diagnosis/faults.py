@@ -583,6 +583,12 @@ class Verdict:
         The families between which the verdict cannot tell (else empty).
     statistic : str
         Statement of the statistic, the threshold and the decision rule.
+    routes : tuple of str
+        With the routes of :mod:`~bearing_envelope.diagnosis.routes`: which route found
+        what, one phrase per route (else empty).
+    decided_by : str or None
+        With the routes: ``"envelope"``, ``"envelope, high needs a second route"`` or
+        ``"routes"`` (:func:`~bearing_envelope.diagnosis.routes.combine_routes`).
     """
 
     families: tuple[FamilyVerdict, ...]
@@ -598,6 +604,8 @@ class Verdict:
         "and it is a local maximum; a family is detected in a band if its fundamental and "
         "its second harmonic are; confidence from the bands that agree, the harmonics, the "
         "expected modulation and the margin (faults.evidence_level)"))
+    routes: tuple[str, ...] = ()
+    decided_by: str | None = None
 
     def _role(self, role: str) -> tuple[FamilyVerdict, ...]:
         return tuple(v for v in self.families if v.role == role)
@@ -636,7 +644,7 @@ class Verdict:
                 f"{best.threshold_db:.1f} dB in band {best.band}, harmonics detected "
                 f"{_ranges(best.harmonics) if best.harmonics else 'none'})")
             return [f"no bearing fault detected at a record-wise false-alarm probability of "
-                    f"{self.pfa:g}{tail}"]
+                    f"{self.pfa:g}{tail}"] + self._route_lines()
         if d is None:
             names = " or ".join(display_name(c) for c in self.candidates)
             lines = [f"cannot tell: {names} ({self.confidence} evidence each)"]
@@ -648,7 +656,13 @@ class Verdict:
                   for v in self._role("second finding")]
         lines += [f"explained: {v.summary()}" for v in self._role("explained")]
         lines += [f"weak, not a finding: {v.summary()}" for v in self._role("weak")]
-        return lines
+        return lines + self._route_lines()
+
+    def _route_lines(self) -> list[str]:
+        """``decided by ...`` and one line per route (empty without the routes)."""
+        if not self.routes:
+            return []
+        return [f"decided by: {self.decided_by}"] + [f"route {r}" for r in self.routes]
 
     def to_dict(self) -> dict:
         """Plain JSON-able form."""
@@ -671,7 +685,8 @@ class Verdict:
                 "candidates": list(self.candidates), "evidence": self.evidence,
                 "second_findings": [v.family for v in self._role("second finding")],
                 "pfa": self.pfa, "n_tests": self.n_tests, "pfa_test": self.pfa_test,
-                "statistic": self.statistic, "summary": self.summary_lines(), "families": fams}
+                "statistic": self.statistic, "summary": self.summary_lines(), "families": fams,
+                "routes": list(self.routes), "decided_by": self.decided_by}
 
 
 def _tolerance(f0: float, df_hz: float) -> float:

@@ -1,0 +1,808 @@
+"""The virtual CWRU rig: every measured fault record re-made as a simulated record of that rig.
+
+For each measured record (a CWRU drive-end record, or any record with the same meta layout) the
+rig
+
+1. builds the record's scene (:func:`record_conditions`, :func:`condition_scene`): the rig's
+   scene (``config_rig.yaml``: bearing, material, radial load, clearance, cage slip) with the
+   record's defect (location, diameter, outer-race position) and operation (its shaft rate, its
+   sampling rate, its length);
+2. simulates the contact history (:func:`simulate_excitations`): one contact table per defect
+   (location, size, position), shared by the records of every load and sampling rate, then the
+   acquisition of each record (the table is the cost, the synthesis is cheap);
+3. turns the contact force into an accelerometer record of *that* machine (:func:`rig_record`):
+   the record's own transfer path identified from it
+   (:func:`bearing_envelope.diagnosis.transfer_path.identify_path`: resonance, damping) with the
+   rig's one gain, plus the measured background (a healthy record of the same machine).
+
+Why a study module and not a Snakemake overlay: the sweep's dimensions are load x depth x
+width of one scene; the rig varies the defect location, the outer-race position, the shaft
+rate and the sampling rate per record and reads the measured records themselves, none of which
+the sweep's case grid names.
+"""
+
+from __future__ import annotations
+
+import copy
+import dataclasses
+import json
+import math
+import os
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from scipy import signal as sps
+
+from ..diagnosis.transfer_path import WELCH_SEGMENT, background_noise, identify_path
+from ..io.atomic import atomic_path
+from ..physics.history import simulate, synthesize_case
+from ..physics.kinematics import fault_frequencies
+from ..physics.scene import Scene
+from ..physics.transfer import Mode, apply_structure, excitation_from_history
+from .settings import read_yaml
+
+__all__ = ["RigCondition", "RigSettings", "record_conditions", "condition_scene",
+           "read_rig_config", "simulate_excitations", "INCH_UM", "POSITION_DEG"]
+
+#: micrometres per inch
+INCH_UM = 25400.0
+
+#: Outer-race clock positions of the CWRU records, degrees from the load direction (6:00).
+POSITION_DEG = {"6:00": 0.0, "3:00": 90.0, "12:00": 180.0}
+
+_LOCATIONS = {"inner_race": "inner_race", "outer_race": "outer_race", "ball": "rolling_element"}
+
+
+@dataclass(frozen=True)
+class RigCondition:
+    """One measured record and the scene that re-makes it.
+
+    Attributes
+    ----------
+    name : str
+        Record name (file name without ``.npz``).
+    path : str
+        The measured record.
+    location : str
+        ``inner_race`` | ``outer_race`` | ``rolling_element``.
+    diameter_in : float
+        Pit diameter, inch.
+    depth_um : float
+        Pit depth, um.
+    position_deg : float
+        Outer-race position from the load direction, deg (0 elsewhere).
+    load_hp : int
+        Motor load, hp.
+    shaft_hz : float
+        The record's shaft rate, Hz.
+    fs_hz : float
+        The record's sampling rate, Hz.
+    n_samples : int
+        The record's length.
+    """
+
+    name: str
+    path: str
+    location: str
+    diameter_in: float
+    depth_um: float
+    position_deg: float
+    load_hp: int
+    shaft_hz: float
+    fs_hz: float
+    n_samples: int
+
+    @property
+    def defect_key(self) -> str:
+        """The contact table's key: location, size and position (shared over loads and fs)."""
+        return f"{self.location}_{self.diameter_in * 1000:g}mil_{self.position_deg:g}deg"
+
+
+@dataclass(frozen=True)
+class RigSettings:
+    """The rig's parameters (``rig:`` section of the rig config) and its base scene mapping.
+
+    Attributes
+    ----------
+    scene : dict
+        The ``scene:`` mapping (validated by :meth:`Scene.from_mapping` per record).
+    load_kN : float
+        Radial load on the bearing, kN.
+    fidelity : str
+        Fidelity preset of the contact tables.
+    depth_um : dict
+        Pit depth per diameter (mils as a string key), um.
+    ball_spin_axis : str
+        ``defect.spin_axis`` of the ball records (``fixed`` | ``wandering``).
+    """
+
+    scene: dict
+    load_kN: float
+    fidelity: str
+    depth_um: dict
+    ball_spin_axis: str = "fixed"
+
+
+def read_rig_config(path: str | os.PathLike) -> RigSettings:
+    """Read ``config_rig.yaml``: ``scene:`` (as in the sweep's config) and ``rig:``.
+
+    Parameters
+    ----------
+    path : path
+        The rig config.
+
+    Returns
+    -------
+    RigSettings
+    """
+    raw = read_yaml(path)
+    for key in ("scene", "rig"):
+        if not isinstance(raw, dict) or key not in raw:
+            raise ValueError(f"{path}: {key}: missing section; allowed: a mapping")
+    rig = raw["rig"]
+    load = float(rig.get("load_kN", "nan"))
+    if not (math.isfinite(load) and load > 0):
+        raise ValueError(f"{path}: rig.load_kN: got {rig.get('load_kN')!r}; allowed: > 0 kN")
+    depth = {str(k): float(v) for k, v in (rig.get("depth_um") or {}).items()}
+    if not depth:
+        raise ValueError(f"{path}: rig.depth_um: missing; allowed: a mapping mils -> um")
+    return RigSettings(raw["scene"], load, str(rig.get("fidelity", "standard")), depth,
+                       str(rig.get("ball_spin_axis", "fixed")))
+
+
+def _meta(path: str) -> dict:
+    with np.load(path, allow_pickle=False) as z:
+        meta = json.loads(str(z["meta_json"])) if "meta_json" in z.files else {}
+        meta["_fs"] = float(z["fs"]) if "fs" in z.files else meta.get("fs_hz")
+        meta["_n"] = int(z["x"].size)
+    return meta
+
+
+def record_conditions(paths, settings: RigSettings) -> list[RigCondition]:
+    """The rig condition of each measured fault record (normal records are left out).
+
+    Parameters
+    ----------
+    paths : sequence of str
+        ``.npz`` records with ``x``, ``fs`` and ``meta_json`` (fault, fault_diameter_in,
+        outer_race_position, shaft_hz, load_hp), as in /work/shared/data/real.
+    settings : RigSettings
+
+    Returns
+    -------
+    list of RigCondition
+    """
+    out = []
+    for p in sorted(paths):
+        meta = _meta(p)
+        fault = meta.get("fault")
+        if fault not in _LOCATIONS:
+            continue
+        mils = f"{float(meta['fault_diameter_in']) * 1000:g}"
+        if mils not in settings.depth_um:
+            raise ValueError(f"{p}: fault_diameter_in {meta['fault_diameter_in']}: no "
+                             f"rig.depth_um entry; allowed: {sorted(settings.depth_um)} mils")
+        pos = str(meta.get("outer_race_position") or "").split(" ")[0]
+        out.append(RigCondition(
+            Path(p).stem, str(p), _LOCATIONS[fault], float(meta["fault_diameter_in"]),
+            settings.depth_um[mils], POSITION_DEG.get(pos, 0.0), int(meta.get("load_hp", 0)),
+            float(meta["shaft_hz"]), float(meta["_fs"]), int(meta["_n"])))
+    return out
+
+
+def condition_scene(cond: RigCondition, settings: RigSettings) -> Scene:
+    """The scene of one condition: the rig's scene with the record's defect and operation."""
+    m = copy.deepcopy(settings.scene)
+    d = m.setdefault("defect", {})
+    d.update(location=cond.location, position_deg=cond.position_deg,
+             length_um=cond.diameter_in * INCH_UM, width_um=cond.diameter_in * INCH_UM)
+    if cond.location == "rolling_element":
+        d["spin_axis"] = settings.ball_spin_axis
+    op = m.setdefault("operation", {})
+    op.update(shaft_rate_hz=cond.shaft_hz, fs_hz=cond.fs_hz,
+              revolutions=(cond.n_samples + 0.5) / cond.fs_hz * cond.shaft_hz)
+    return Scene.from_mapping(m, load_kN=settings.load_kN, depth_um=cond.depth_um)
+
+
+def _excitation_path(out_dir: Path, cond: RigCondition) -> Path:
+    return out_dir / f"{cond.name}_contact.npz"
+
+
+def simulate_excitations(conditions, settings: RigSettings, out_dir, *, log=print) -> dict:
+    """Contact history of every condition, one contact table per defect key.
+
+    Parameters
+    ----------
+    conditions : sequence of RigCondition
+    settings : RigSettings
+    out_dir : path
+        Where ``<record>_contact.npz`` (time, contact_force, removed_force, p_max) is written;
+        an existing file is kept (delete it to re-simulate).
+    log : callable
+        Progress lines.
+
+    Returns
+    -------
+    dict
+        ``{record name: path}``, and ``cpu_s`` per defect key under ``"_cpu_s"``.
+    """
+    out_dir = Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    groups: dict[str, list[RigCondition]] = {}
+    for c in conditions:
+        groups.setdefault(c.defect_key, []).append(c)
+    paths: dict[str, Any] = {"_cpu_s": {}}
+    for key, conds in groups.items():
+        todo = [c for c in conds if not _excitation_path(out_dir, c).exists()]
+        t0 = _cpu()
+        if todo:
+            first = condition_scene(todo[0], settings)
+            hist = simulate(first, settings.fidelity)
+            for c in todo:
+                scene = condition_scene(c, settings)
+                tables = hist.table if scene.defect.location == "inner_race" else hist.tables
+                t, sig, _ = synthesize_case(scene, tables, hist.load_distribution, hist.fidelity)
+                _write_excitation(_excitation_path(out_dir, c), t, sig, c)
+        paths["_cpu_s"][key] = _cpu() - t0
+        log(f"rig: {key}: {len(todo)} of {len(conds)} simulated, {paths['_cpu_s'][key]:.1f} CPU s")
+        for c in conds:
+            paths[c.name] = str(_excitation_path(out_dir, c))
+    return paths
+
+
+def _cpu() -> float:
+    t = os.times()
+    return t.user + t.system + t.children_user + t.children_system
+
+
+def _write_excitation(path: Path, t, sig: dict, cond: RigCondition) -> None:
+    arrays = {"time": t, "fs": np.float64(cond.fs_hz),
+              **{k: np.asarray(sig[k]) for k in ("contact_force", "removed_force", "p_max",
+                                                 "roller_load") if k in sig}}
+
+    with atomic_path(path, ".npz") as tmp:
+        with open(tmp, "wb") as fh:
+            np.savez(fh, **arrays)
+
+
+# ------------------------------------------------------------------ simulated records
+def _unit_response(cond: RigCondition, contact: dict, path) -> np.ndarray:
+    """The mode's response (gain 1 per N at resonance) to the force the defect removes from
+    the contact (the blocked-force deficit; the roller load's own sweep through the load zone
+    is a rotating load, not a force on the housing)."""
+    e = excitation_from_history(-contact["removed_force"][:cond.n_samples])
+    return apply_structure(e, cond.fs_hz, [Mode(path.f_n_hz, path.zeta, 1.0)])
+
+
+def record_paths(conditions, *, log=print) -> dict:
+    """The transfer path of every record: its own where identified, else the rig's common one
+    (median f_n and zeta of the identified records without flags at its fs, else at any fs)
+    with its own background (the whole record's spectrum).
+
+    Returns
+    -------
+    dict
+        ``{name: (TransferPath, "identified" | reason it was not)}``
+    """
+    out = {}
+    for c in conditions:
+        x, _ = _read_x(c.path)
+        try:
+            p = identify_path(x, c.fs_hz, _rates(c.shaft_hz))
+        except ValueError as exc:
+            out[c.name] = (None, str(exc))
+            continue
+        unresolved = [f for f in p.flags if "not resolved" in f]
+        out[c.name] = (None, unresolved[0]) if unresolved else (p, "identified")
+    for c in conditions:
+        if out[c.name][0] is not None:
+            continue
+        ident = [p for p, st in out.values() if st == "identified"]
+        if not ident:
+            raise ValueError("records: no record's transfer path could be identified")
+        same = ([p for p in ident if p.fs_hz == c.fs_hz and not p.flags]
+                or [p for p in ident if not p.flags] or ident)
+        x, _ = _read_x(c.path)
+        f, psd = sps.welch(x - x.mean(), c.fs_hz, nperseg=WELCH_SEGMENT)
+        common = dataclasses.replace(
+            same[0], fs_hz=c.fs_hz, f_n_hz=float(np.median([p.f_n_hz for p in same])),
+            zeta=float(np.median([p.zeta for p in same])), background_freq_hz=list(map(float, f)),
+            background_psd=list(map(float, psd)), background_source="record (no events found)",
+            flags=[f"rig's common path: {out[c.name][1]}"])
+        out[c.name] = (common, out[c.name][1])
+    log(f"rig: {sum(1 for _, s in out.values() if s == 'identified')} of {len(out)} paths "
+        "identified")
+    return out
+
+
+def _read_x(path: str):
+    with np.load(path, allow_pickle=False) as z:
+        return np.asarray(z["x"], dtype=float), json.loads(str(z["meta_json"]))
+
+
+def _rates(fr: float) -> dict:
+    ff = fault_frequencies(fr, 9, 7.94, 39.04, 0.0)
+    return {"bpfo": ff.bpfo, "bpfi": ff.bpfi, "bsf": ff.bsf, "bsf2": 2 * ff.bsf}
+
+
+def rig_gain(conditions, paths: dict, contact_paths: dict, reference: str) -> tuple:
+    """The rig's one gain (acceleration per N at resonance): measured event amplitude over the
+    simulated one at unit gain, on the reference records (names containing ``reference``).
+
+    Returns
+    -------
+    (float, float, float)
+        Median, min and max over the reference records.
+    """
+    ratios = []
+    for c in conditions:
+        p, status = paths[c.name]
+        if reference not in c.name or status != "identified":
+            continue
+        with np.load(contact_paths[c.name]) as z:
+            y = _unit_response(c, dict(z), p)
+        tiny = 1e-3 * np.std(y) * np.random.default_rng(1).standard_normal(y.size)
+        own = {p.event_name: _rates(c.shaft_hz)[p.event_name]} if p.event_name in _rates(1.0) \
+            else {p.event_name: p.event_hz}
+        a = identify_path(y + tiny, c.fs_hz, own).amplitude
+        ratios.append(p.amplitude / a)
+    if not ratios:
+        raise ValueError(f"rig.gain_reference: {reference!r} names no identified record")
+    return float(np.median(ratios)), float(min(ratios)), float(max(ratios))
+
+
+def write_rig_record(cond: RigCondition, contact_path: str, path, gain: float, out_dir,
+                     *, seed: int = 0) -> str:
+    """Simulated record of one condition: the contact force through the record's mode at the
+    rig's gain, plus its background; written like the measured record (x, fs, meta_json)."""
+    with np.load(contact_path) as z:
+        y = gain * _unit_response(cond, dict(z), path)
+    x = y + background_noise(path, y.size, seed=seed)
+    _, meta = _read_x(cond.path)
+    meta.update(simulated=True, source_record=cond.name, transfer_path={
+        "f_n_hz": path.f_n_hz, "zeta": path.zeta, "gain_per_N": gain,
+        "background": path.background_source, "flags": path.flags})
+    out = Path(out_dir) / f"{cond.name}_sim.npz"
+    with atomic_path(out, ".npz") as tmp:
+        with open(tmp, "wb") as fh:
+            np.savez(fh, x=x, fs=np.float64(cond.fs_hz), meta_json=json.dumps(meta))
+    return str(out)
+
+
+# ------------------------------------------------------------------ scorecard
+#: The family each defect location is judged on (analyze's family names).
+TRUTH_FAMILY = {"inner_race": "bpfi", "outer_race": "bpfo", "rolling_element": "bsf2"}
+#: Tolerances of the pass rules (docs/virtual_rig.md), dB or fraction.
+TOL_DB, TOL_LINE = 6.0, 0.005
+
+
+def _class(diag, conf, family) -> str:
+    if diag != family:
+        return "nothing" if not isinstance(diag, str) or not diag else f"other:{diag}"
+    return "named" if conf in ("medium", "high") else "low"
+
+
+def record_features(table, lines, name: str, family: str) -> dict:
+    """The scorecard's features of one record from analyze's verdict table and lines CSV."""
+    rows = table[(table.record == name) & (table.family == family)]
+    if rows.empty:
+        return {"diagnosis": None, "confidence": None}
+    r = rows.iloc[0]
+    diag = r.record_diagnosis if isinstance(r.record_diagnosis, str) else ""
+    out = {"diagnosis": diag, "confidence": r.record_confidence,
+           "class": _class(diag, r.record_confidence, family), "detected": bool(r.detected),
+           "band_low_hz": float(r.band_low_hz), "band_high_hz": float(r.band_high_hz),
+           "fr_hz": float(r.fr_hz)}
+    if not r.detected:
+        return out
+    fr = float(r.fr_hz)
+    out.update(line_orders=float(r.h1_hz) / fr, height_db=float(r.h1_db),
+               h1=float(r.h1_amplitude),
+               h2_db=20 * math.log10(max(r.h2_amplitude, 1e-300) / r.h1_amplitude),
+               h3_db=20 * math.log10(max(r.h3_amplitude, 1e-300) / r.h1_amplitude))
+    ln = lines[(lines.file.str.contains(name)) & (lines.band == r.band) &
+               (lines.base == family) & (lines.order == 1)]
+    sb = ln[ln.sideband.abs() == 1].amplitude  # the +-1 sidebands (the written rule)
+    if family != "bpfo" and len(sb):
+        out["sideband_db"] = 20 * math.log10(max(sb.mean(), 1e-300) / r.h1_amplitude)
+    return out
+
+
+def _pass(key, m, s) -> str:
+    if m.get(key) is None or s.get(key) is None:
+        return "n/a"
+    tol = TOL_LINE * m[key] if key == "line_orders" else TOL_DB
+    return "PASS" if abs(m[key] - s[key]) <= tol else "FAIL"
+
+
+def scorecard(conditions, measured_table, measured_lines, sim_table, sim_lines):
+    """One row per record: measured and simulated features and each rule's outcome.
+
+    Parameters
+    ----------
+    conditions : sequence of RigCondition
+    measured_table, sim_table : pandas.DataFrame
+        ``analyze --table`` of the measured and of the simulated records.
+    measured_lines, sim_lines : pandas.DataFrame
+        ``analyze --csv`` of the same.
+
+    Returns
+    -------
+    pandas.DataFrame
+    """
+    import pandas as pd  # lazy: pandas ~1.8 s, only the scorecard needs it
+
+    rows = []
+    for c in conditions:
+        fam = TRUTH_FAMILY[c.location]
+        m = record_features(measured_table, measured_lines, c.name, fam)
+        s = record_features(sim_table, sim_lines, c.name + "_sim", fam)
+        row = {"record": c.name, "family": fam, "load_hp": c.load_hp, "fs_hz": c.fs_hz,
+               "position_deg": c.position_deg, "diameter_in": c.diameter_in}
+        for k in ("diagnosis", "confidence", "class", "line_orders", "sideband_db", "h2_db",
+                  "h3_db", "height_db", "h1", "band_low_hz", "band_high_hz", "fr_hz"):
+            row[f"meas_{k}"], row[f"sim_{k}"] = m.get(k), s.get(k)
+        row["rule_family"] = ("PASS" if m.get("diagnosis") == s.get("diagnosis") else "FAIL")
+        row["rule_class"] = "PASS" if m.get("class") == s.get("class") else "FAIL"
+        gate = m.get("detected", False)
+        for k in ("line_orders", "sideband_db", "h2_db", "h3_db", "height_db"):
+            row[f"rule_{k}"] = _pass(k, m, s) if gate else "n/a"
+        rows.append(row)
+    return pd.DataFrame(rows)
+
+
+def _ratio_db(a, b):
+    """20 log10(a / b), None where either is missing (no line detected)."""
+    try:
+        a, b = float(a), float(b)
+    except (TypeError, ValueError):
+        return None
+    return 20 * math.log10(a / b) if np.isfinite(a) and np.isfinite(b) and a > 0 and b > 0 \
+        else None
+
+
+def load_trends(card, *, flat_db_per_hp: float = 1.0) -> list:
+    """Slope of the outer race's line height over the motor load (dB/hp, least squares over the
+    records of one position, size and fs with a line on both sides) and the written rule:
+    same sign, or both within +-``flat_db_per_hp``."""
+    out = []
+    or_ = card[card.family == "bpfo"]
+    for (pos, dia, fs), g in or_.groupby(["position_deg", "diameter_in", "fs_hz"]):
+        g = g[g.meas_height_db.notna() & g.sim_height_db.notna()]
+        if g.load_hp.nunique() < 2:
+            continue
+        hp = g.load_hp.to_numpy(float)
+        m, s = (float(np.polyfit(hp, g[k].to_numpy(float), 1)[0])
+                for k in ("meas_height_db", "sim_height_db"))
+        flat = abs(m) <= flat_db_per_hp and abs(s) <= flat_db_per_hp
+        out.append({"position_deg": pos, "diameter_in": dia, "fs_hz": fs, "n": len(g),
+                    "meas_db_per_hp": m, "sim_db_per_hp": s,
+                    "rule": "PASS" if flat or m * s > 0 else "FAIL"})
+    return out
+
+
+def outer_race_ratios(card) -> list:
+    """BPFO fundamental at 3:00 over 6:00 (same size, load, fs), measured and simulated, dB."""
+    out = []
+    or_ = card[card.family == "bpfo"]
+    for _, r3 in or_[or_.position_deg == 90.0].iterrows():
+        r6 = or_[(or_.position_deg == 0.0) & (or_.load_hp == r3.load_hp) &
+                 (or_.diameter_in == r3.diameter_in) & (or_.fs_hz == r3.fs_hz)]
+        if r6.empty:
+            continue
+        r6 = r6.iloc[0]
+        meas, sim = _ratio_db(r3.meas_h1, r6.meas_h1), _ratio_db(r3.sim_h1, r6.sim_h1)
+        rule = "n/a" if meas is None else (
+            "FAIL: no simulated line" if sim is None else
+            "PASS" if abs(meas - sim) <= TOL_DB else "FAIL")
+        out.append({"record_3": r3.record, "record_6": r6.record, "meas_db": meas,
+                    "sim_db": sim, "rule": rule})
+    return out
+
+
+def _analyze(files, out_prefix: Path):
+    """``bearing-envelope analyze`` (defaults, --bearing 6205) over the files, one process:
+    the verdict table and the lines, read back."""
+    import subprocess
+    import sys
+
+    import pandas as pd  # lazy: pandas ~1.8 s
+
+    table, lines = f"{out_prefix}_table.csv", f"{out_prefix}_lines.csv"
+    cmd = [sys.executable, "-m", "bearing_envelope", "analyze", *files, "--bearing", "6205",
+           "--jobs", "1", "--table", table, "--csv", lines]
+    subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
+    return pd.read_csv(table), pd.read_csv(lines)
+
+
+def run_scorecard(conditions, contact: dict, out_dir, gain_reference: str, *, log=print):
+    """Paths, gain, simulated records, analyze on both sides, the scorecard and its files.
+
+    Parameters
+    ----------
+    conditions : sequence of RigCondition
+    contact : dict
+        :func:`simulate_excitations`'s result.
+    out_dir : path
+        ``paths.json``, ``sim/`` (the simulated records), ``scorecard.csv``,
+        ``outer_race.csv``, ``summary.json``.
+    gain_reference : str
+        Records (name contains) the rig's gain is identified on.
+    log : callable
+
+    Returns
+    -------
+    pandas.DataFrame
+        The scorecard.
+    """
+    import pandas as pd  # lazy: pandas ~1.8 s
+
+    out_dir = Path(out_dir)
+    conditions = [c for c in conditions if c.name in contact]
+    paths = record_paths(conditions, log=log)
+    gain = rig_gain(conditions, paths, contact, gain_reference)
+    log(f"rig: gain {gain[0]:.4g} (m/s^2 or g)/N at resonance, {gain[1]:.4g}-{gain[2]:.4g} "
+        f"over the {gain_reference} records")
+    sim = [write_rig_record(c, contact[c.name], paths[c.name][0], gain[0], out_dir / "sim",
+                            seed=i) for i, c in enumerate(conditions)]
+    with open(out_dir / "paths.json", "w", encoding="utf-8") as fh:
+        json.dump({n: {"status": s, **{k: v for k, v in p.to_dict().items()
+                                       if not k.startswith("background_")}}
+                   for n, (p, s) in paths.items()}, fh, indent=1)
+    mt, ml = _analyze([c.path for c in conditions], out_dir / "measured")
+    st, sl = _analyze(sim, out_dir / "simulated")
+    card = scorecard(conditions, mt, ml, st, sl)
+    ratios = pd.DataFrame(outer_race_ratios(card))
+    card.to_csv(out_dir / "scorecard.csv", index=False)
+    trends = pd.DataFrame(load_trends(card))
+    trends.to_csv(out_dir / "outer_race_trend.csv", index=False)
+    ratios.to_csv(out_dir / "outer_race.csv", index=False)
+    with open(out_dir / "summary.json", "w", encoding="utf-8") as fh:
+        json.dump({"gain": gain, "pass_rates": pass_rates(card)}, fh, indent=1)
+    (out_dir / "scorecard.md").write_text(scorecard_markdown(card, ratios, trends),
+                                          encoding="utf-8")
+    with open(out_dir / "paths.json", encoding="utf-8") as fh:
+        sizes = size_ranking(card, conditions, contact, json.load(fh))
+    pd.DataFrame(sizes).to_csv(out_dir / "size.csv", index=False)
+    (out_dir / "size.md").write_text(size_summary(sizes), encoding="utf-8")
+    zero = [c for c in conditions if c.load_hp == 0 and c.fs_hz == 12000.0]
+    if zero:
+        plot_side_by_side(card, zero, out_dir / "sim", out_dir / "side_by_side.png")
+    return card
+
+
+def pass_rates(card) -> dict:
+    """Per rule: records passed, records compared."""
+    out = {}
+    for col in [c for c in card.columns if c.startswith("rule_")]:
+        v = card[col]
+        n = int((v != "n/a").sum())
+        out[col[5:]] = [int((v == "PASS").sum()), n]
+    return out
+
+
+def plot_side_by_side(card, conditions, sim_dir, out_png, *, max_order: float = 12.0) -> str:
+    """Envelope spectra (orders of fr) of measured and simulated records, side by side: one
+    row per record, each in its own best band of its truth family (``card``'s bands).
+
+    Parameters
+    ----------
+    card : pandas.DataFrame
+        :func:`scorecard`'s result.
+    conditions : sequence of RigCondition
+        The records to draw (one row each).
+    sim_dir : path
+        Folder of the simulated records (``<name>_sim.npz``).
+    out_png : path
+    max_order : float
+
+    Returns
+    -------
+    str
+        The figure's path.
+    """
+    import matplotlib  # lazy: matplotlib ~1.5 s, only to draw
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from ..signal.envelope import envelope_spectrum
+
+    fig, axes = plt.subplots(len(conditions), 2, figsize=(11, 1.7 * len(conditions) + 0.6),
+                             squeeze=False, sharex=True)
+    for i, c in enumerate(conditions):
+        row = card[card.record == c.name].iloc[0]
+        for j, (side, path) in enumerate((("meas", c.path),
+                                          ("sim", Path(sim_dir) / f"{c.name}_sim.npz"))):
+            x, _ = _read_x(str(path))
+            lo, hi, fr = row[f"{side}_band_low_hz"], row[f"{side}_band_high_hz"], row.meas_fr_hz
+            ax = axes[i, j]
+            if lo is None or not np.isfinite(lo):
+                ax.text(0.5, 0.5, "no band", transform=ax.transAxes, ha="center")
+                continue
+            f, a = envelope_spectrum(x - x.mean(), c.fs_hz, (lo, hi), clamp=True,
+                                     fmax_hz=max_order * fr)[:2]
+            ax.plot(f / fr, a, lw=0.6, color="k" if side == "meas" else "C1")
+            ax.set_xlim(0, max_order)
+            ax.set_title(f"{c.name} {'measured' if side == 'meas' else 'simulated'}: "
+                         f"{row[side + '_diagnosis'] or 'nothing'} "
+                         f"({row[side + '_confidence'] if row[side + '_diagnosis'] else '-'}), "
+                         f"band {lo:.0f}-{hi:.0f} Hz", fontsize=7)
+            ax.tick_params(labelsize=6)
+    for ax in axes[-1]:
+        ax.set_xlabel("envelope frequency / fr (orders)", fontsize=7)
+    fig.tight_layout()
+    fig.savefig(out_png, dpi=110)
+    plt.close(fig)
+    return str(out_png)
+
+
+def scorecard_markdown(card, ratios, trends=()) -> str:
+    """The scorecard as a markdown table (docs/virtual_rig.md), pass rates and OR ratios."""
+    def num(v, fmt):
+        return "-" if v is None or (isinstance(v, float) and not np.isfinite(v)) else fmt % v
+
+    head = ("| record | measured | simulated | line (orders) m / s | sideband dB m / s | "
+            "2x/1x dB m / s | 3x/1x dB m / s | height dB m / s | rules F C L S 2 3 H |\n"
+            "|---|---|---|---|---|---|---|---|---|\n")
+    rows = []
+    for _, r in card.iterrows():
+        rules = " ".join({"PASS": "P", "FAIL": "x", "n/a": "-"}[r[c]] for c in
+                         ("rule_family", "rule_class", "rule_line_orders", "rule_sideband_db",
+                          "rule_h2_db", "rule_h3_db", "rule_height_db"))
+        cells = [r.record, f"{r.meas_diagnosis or 'nothing'} ({r.meas_confidence or '-'})",
+                 f"{r.sim_diagnosis or 'nothing'} ({r.sim_confidence or '-'})"]
+        for k, fmt in (("line_orders", "%.4f"), ("sideband_db", "%.1f"), ("h2_db", "%.1f"),
+                       ("h3_db", "%.1f"), ("height_db", "%.1f")):
+            cells.append(f"{num(r['meas_' + k], fmt)} / {num(r['sim_' + k], fmt)}")
+        rows.append("| " + " | ".join(cells) + f" | {rules} |")
+    rates = pass_rates(card)
+    lines = [head + "\n".join(rows), "",
+             "Pass rates (passed / compared): " + "; ".join(
+                 f"{k} {v[0]}/{v[1]}" for k, v in rates.items())]
+    if len(ratios):
+        lines += ["", "| 3:00 record | 6:00 record | measured dB | simulated dB | rule |",
+                  "|---|---|---|---|---|"]
+        lines += [f"| {r.record_3} | {r.record_6} | {num(r.meas_db, '%.1f')} | "
+                  f"{num(r.sim_db, '%.1f')} | {r.rule} |" for _, r in ratios.iterrows()]
+    if len(trends):
+        lines += ["", "| OR position deg | size in | fs Hz | records | measured dB/hp | "
+                  "simulated dB/hp | rule |", "|---|---|---|---|---|---|---|"]
+        lines += [f"| {r.position_deg:g} | {r.diameter_in:g} | {r.fs_hz:g} | {r.n} | "
+                  f"{r.meas_db_per_hp:.2f} | {r.sim_db_per_hp:.2f} | {r.rule} |"
+                  for _, r in trends.iterrows()]
+    return "\n".join(lines) + "\n"
+
+
+# ------------------------------------------------------------------ size
+#: Size pairs compared record by record: (location, small in, large in).
+SIZE_PAIRS = (("outer_race", 0.007, 0.014), ("rolling_element", 0.007, 0.014),
+              ("inner_race", 0.007, 0.028))
+
+
+def _pulse_features(contact_path: str, fs: float) -> dict:
+    """Removed-force pulses of a simulated record: median peak (N) and width above half the
+    peak (s)."""
+    with np.load(contact_path) as z:
+        rf = np.asarray(z["removed_force"], dtype=float)
+    top = float(np.max(rf))
+    if top <= 0:
+        return {"model_removed_N": 0.0, "model_width_s": 0.0}
+    k = np.flatnonzero((rf[1:-1] > rf[:-2]) & (rf[1:-1] >= rf[2:]) & (rf[1:-1] > 0.5 * top)) + 1
+    peaks = rf[k]
+    return {"model_removed_N": float(np.median(peaks)),
+            "model_width_s": float(np.count_nonzero(rf > 0.5 * top) / max(k.size, 1) / fs)}
+
+
+def size_ranking(card, conditions, contact: dict, paths_json: dict) -> list:
+    """Does a feature rank the pit sizes right, record by record (same location, load, fs)?
+
+    Features of the measured record (identified event amplitude, line height, 2x/1x, 3x/1x)
+    and of the model (median removed force per event, pulse width). A pair is ranked right
+    when the larger pit has the larger value.
+
+    Returns
+    -------
+    list of dict
+        One row per pair and feature: values of the small and the large pit, ``right``.
+    """
+    by = {c.name: c for c in conditions}
+    rows = []
+    for loc, small, large in SIZE_PAIRS:
+        for c in [c for c in conditions if c.location == loc and c.diameter_in == small
+                  and c.position_deg == 0.0]:
+            big = [d for d in conditions if d.location == loc and d.diameter_in == large
+                   and d.load_hp == c.load_hp and d.fs_hz == c.fs_hz and d.position_deg == 0.0]
+            if not big:
+                continue
+            d = big[0]
+            feats = {}
+            for name in (c.name, d.name):
+                r = card[card.record == name].iloc[0]
+                p = paths_json.get(name, {})
+                f = {"meas_amplitude": p.get("amplitude") if p.get("status") == "identified"
+                     else None, "meas_height_db": r.meas_height_db, "meas_h2_db": r.meas_h2_db,
+                     "meas_h3_db": r.meas_h3_db, "sim_height_db": r.sim_height_db}
+                if name in contact:
+                    f.update(_pulse_features(contact[name], by[name].fs_hz))
+                feats[name] = f
+            for key in feats[c.name]:
+                a, b = feats[c.name].get(key), feats[d.name].get(key)
+                ok = None if a is None or b is None or not (np.isfinite(a) and np.isfinite(b)) \
+                    else bool(b > a)
+                rows.append({"location": loc, "load_hp": c.load_hp, "fs_hz": c.fs_hz,
+                             "small": c.name, "large": d.name, "feature": key, "small_value": a,
+                             "large_value": b, "right": ok})
+    return rows
+
+
+# ------------------------------------------------------------------ rig-common clearance
+def removed_force_exponent(contact_3: str, contact_6: str) -> float:
+    """Exponent ``b`` of ``F_removed ~ Q^b`` through the two simulated points (the 3:00 and
+    6:00 records of one pit: each event's removed force and the roller load it met)."""
+    pts = []
+    for path in (contact_3, contact_6):
+        with np.load(path) as z:
+            pts.append((float(np.max(z["roller_load"])), float(np.max(z["removed_force"]))))
+    (q1, f1), (q2, f2) = pts
+    if min(q1, q2, f1, f2) <= 0 or q1 == q2:
+        raise ValueError(f"contact: roller loads {q1:g}, {q2:g} N and removed forces {f1:g}, "
+                         f"{f2:g} N; allowed: two positive, different points")
+    return math.log(f2 / f1) / math.log(q2 / q1)
+
+
+def clearance_for_ratio(cond: RigCondition, settings: RigSettings, ratio_db: float,
+                        exponent: float, *, bounds_um=(-30.0, 20.0)) -> float:
+    """The radial clearance (um) whose load at 3:00 over 6:00 gives the measured BPFO level
+    ratio: ``20 log10((Q(90 deg)/Q(0))^b) = ratio_db`` (the path is linear in the removed
+    force, ``F_removed ~ Q^b``: :func:`removed_force_exponent`).
+
+    Parameters
+    ----------
+    cond : RigCondition
+        A 3:00 record (its shaft rate sets the centrifugal force).
+    settings : RigSettings
+    ratio_db : float
+        Measured BPFO 1x at 3:00 over 6:00, dB.
+    exponent : float
+    bounds_um : (float, float)
+
+    Returns
+    -------
+    float
+        Clearance, um (negative: preload).
+    """
+    from scipy import optimize  # lazy: only this function needs it
+
+    from ..physics.loads import scene_load_distribution
+
+    def model_db(c_um):
+        m = copy.deepcopy(settings)
+        m.scene.setdefault("bearing", {})["radial_clearance_um"] = c_um
+        ld = scene_load_distribution(condition_scene(cond, m))
+        q0, q90 = float(ld.load_at(0.0, "outer")), float(ld.load_at(math.pi / 2, "outer"))
+        return 20 * exponent * math.log10(max(q90 / q0, 1e-12))  # unloaded at 3:00: -240 b
+
+    lo, hi = bounds_um
+    f_lo, f_hi = model_db(lo) - ratio_db, model_db(hi) - ratio_db
+    if f_lo * f_hi > 0:
+        raise ValueError(f"ratio_db: {ratio_db:g} dB is outside what clearances {lo:g}..{hi:g} "
+                         f"um give ({model_db(hi):.1f}..{model_db(lo):.1f} dB)")
+    return float(optimize.brentq(lambda c: model_db(c) - ratio_db, lo, hi, xtol=0.01))
+
+
+def size_summary(rows) -> str:
+    """Markdown: per pit pair and feature, pairs ranked right / pairs compared."""
+    agg: dict = {}
+    for r in rows:
+        if r["right"] is None:
+            continue
+        key = (r["location"], int(r["fs_hz"]), r["feature"])
+        n_ok, n = agg.get(key, (0, 0))
+        agg[key] = (n_ok + int(r["right"]), n + 1)
+    out = ["| location | fs Hz | feature | larger pit ranked larger |", "|---|---|---|---|"]
+    out += [f"| {loc} | {fs} | {feat} | {ok}/{n} |" for (loc, fs, feat), (ok, n) in
+            sorted(agg.items())]
+    return "\n".join(out) + "\n"

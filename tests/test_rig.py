@@ -1,0 +1,156 @@
+"""The virtual rig on tiny inputs: record conditions and scenes, a simulated record made of a
+known excitation through an identified path, the scorecard's rules."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from bearing_envelope.diagnosis.transfer_path import identify_path
+from bearing_envelope.study import rig
+
+FS = 12_000.0
+
+
+def _settings():
+    return rig.RigSettings(scene={}, load_kN=1.0, fidelity="draft",
+                           depth_um={"7": 279.4, "28": 1270.0})
+
+
+def _write_record(path, x, fault="outer_race", diameter=0.007, position="3:00", hp=2,
+                  shaft_hz=29.17):
+    meta = {"fault": fault, "fault_diameter_in": diameter, "outer_race_position": position,
+            "load_hp": hp, "shaft_hz": shaft_hz}
+    np.savez(path, x=x, fs=np.float64(FS), meta_json=json.dumps(meta))
+    return str(path)
+
+
+def test_conditions_read_the_record_meta(tmp_path):
+    a = _write_record(tmp_path / "a.npz", np.zeros(1000))
+    b = _write_record(tmp_path / "b.npz", np.zeros(500), fault="inner_race", diameter=0.028,
+                      position=None, hp=0, shaft_hz=29.95)
+    _write_record(tmp_path / "n.npz", np.zeros(10), fault="normal")
+    conds = rig.record_conditions([a, b, str(tmp_path / "n.npz")], _settings())
+    assert [c.name for c in conds] == ["a", "b"]
+    assert conds[0].location == "outer_race" and conds[0].position_deg == 90.0
+    assert conds[0].n_samples == 1000 and conds[0].load_hp == 2
+    assert conds[1].location == "inner_race" and conds[1].depth_um == 1270.0
+    assert conds[1].defect_key == "inner_race_28mil_0deg"
+
+
+def test_unknown_diameter_is_refused_in_one_line(tmp_path):
+    a = _write_record(tmp_path / "a.npz", np.zeros(10), diameter=0.021)
+    with pytest.raises(ValueError, match=r"fault_diameter_in 0.021: no rig.depth_um entry"):
+        rig.record_conditions([a], _settings())
+
+
+def test_condition_scene_takes_the_record_operation_and_defect(tmp_path):
+    a = _write_record(tmp_path / "a.npz", np.zeros(12_000))
+    cond = rig.record_conditions([a], _settings())[0]
+    scene = rig.condition_scene(cond, _settings())
+    assert scene.defect.location == "outer_race"
+    assert scene.defect.position_deg == 90.0
+    assert scene.defect.width_um == pytest.approx(177.8)
+    assert scene.operation.shaft_rate_hz == pytest.approx(29.17)
+    assert scene.n_samples >= cond.n_samples
+
+
+def test_simulated_record_rings_the_identified_mode(tmp_path):
+    """A removed-force pulse train through a path identified from a synthetic record: the
+    simulated record's own identification finds the same mode and the pulse rate."""
+    n = int(3 * FS)
+    rng = np.random.default_rng(0)
+    # the "measured" record: 107 Hz impulses ringing a 3300 Hz, zeta 0.03 mode, in noise
+    wn, z = 2 * math.pi * 3300.0, 0.03
+    t = np.arange(n) / FS
+    meas = 0.5 * rng.standard_normal(n)
+    for t0 in np.arange(0.01, 2.99, 1 / 107.0):
+        tau = t[t >= t0] - t0
+        meas[t >= t0] += 5 * np.exp(-z * wn * tau) * np.cos(wn * math.sqrt(1 - z * z) * tau)
+    src = _write_record(tmp_path / "m.npz", meas, shaft_hz=107.0 / 3.5848)
+    path = identify_path(meas, FS, {"bpfo": 107.0})
+    cond = rig.record_conditions([src], _settings())[0]
+    # the simulated excitation: 3 N removed for one sample at 111 Hz (a different rate)
+    rf = np.zeros(n)
+    rf[(np.arange(0.005, 2.99, 1 / 111.0) * FS).astype(int)] = 3.0
+    contact = tmp_path / "c.npz"
+    np.savez(contact, removed_force=rf)
+    gain = path.mode(impulse_area=3.0 / FS).gain  # each pulse rings as the measured events
+    out = rig.write_rig_record(cond, str(contact), path, gain, tmp_path / "sim", seed=2)
+    with np.load(out) as zf:
+        x, meta = zf["x"], json.loads(str(zf["meta_json"]))
+    assert meta["simulated"] and meta["transfer_path"]["f_n_hz"] == path.f_n_hz
+    again = identify_path(x, FS, {"a": 111.0, "b": 107.0})
+    assert again.event_name == "a"
+    assert again.f_n_hz == pytest.approx(3300.0, rel=0.03)
+    assert again.zeta == pytest.approx(path.zeta, rel=0.25)
+    assert again.amplitude == pytest.approx(path.amplitude, rel=0.25)
+
+
+def _table(name, diag, conf, fam, h1, h2, h3, db, detected=True):
+    return {"record": name, "record_diagnosis": diag, "record_confidence": conf,
+            "family": fam, "detected": detected, "fr_hz": 30.0, "h1_hz": 30.0 * 3.58,
+            "h1_amplitude": h1, "h2_amplitude": h2, "h3_amplitude": h3, "h1_db": db,
+            "band": "b", "band_low_hz": 3000.0, "band_high_hz": 4000.0}
+
+
+def test_scorecard_rules_follow_the_written_tolerances():
+    cond = rig.RigCondition("r", "r.npz", "outer_race", 0.007, 279.4, 0.0, 0, 30.0, FS, 100)
+    mt = pd.DataFrame([_table("r", "bpfo", "high", "bpfo", 1.0, 0.5, 0.25, 30.0)])
+    # simulated: 2x/1x -6.0 dB vs measured -6.0 (pass), 3x/1x -20 vs -12 (fail), height +5 dB
+    st = pd.DataFrame([_table("r_sim", "bpfo", "medium", "bpfo", 1.0, 0.5, 0.1, 35.0)])
+    lines = pd.DataFrame(columns=["file", "band", "base", "order", "sideband", "amplitude"])
+    card = rig.scorecard([cond], mt, lines, st, lines)
+    r = card.iloc[0]
+    assert r.rule_family == "PASS" and r.rule_class == "PASS"
+    assert r.rule_h2_db == "PASS" and r.rule_h3_db == "FAIL" and r.rule_height_db == "PASS"
+    assert r.rule_sideband_db == "n/a"  # BPFO: no sidebands expected
+    assert rig.pass_rates(card)["h3_db"] == [0, 1]
+
+
+def test_outer_race_ratio_in_db():
+    rows = []
+    for pos, m, s in ((0.0, 1.0, 1.0), (90.0, 0.1, 0.5)):
+        rows.append({"record": f"p{pos:g}", "family": "bpfo", "position_deg": pos,
+                     "load_hp": 1, "diameter_in": 0.007, "fs_hz": FS, "meas_h1": m,
+                     "sim_h1": s})
+    out = rig.outer_race_ratios(pd.DataFrame(rows))
+    assert out[0]["meas_db"] == pytest.approx(-20.0)
+    assert out[0]["sim_db"] == pytest.approx(20 * math.log10(0.5))
+    assert out[0]["rule"] == "FAIL"
+    rows[1]["sim_h1"] = None  # no simulated line at 3:00
+    assert rig.outer_race_ratios(pd.DataFrame(rows))[0]["rule"] == "FAIL: no simulated line"
+
+
+def test_removed_force_exponent_of_a_power_law(tmp_path):
+    for name, q in (("a", 0.5), ("b", 500.0)):
+        np.savez(tmp_path / f"{name}.npz", roller_load=np.array([0.0, q]),
+                 removed_force=np.array([0.0, 2.0 * q ** 0.4]))
+    b = rig.removed_force_exponent(str(tmp_path / "a.npz"), str(tmp_path / "b.npz"))
+    assert b == pytest.approx(0.4, rel=1e-9)
+
+
+def test_clearance_for_an_impossible_ratio_is_refused(tmp_path):
+    a = _write_record(tmp_path / "a.npz", np.zeros(12_000))
+    cond = rig.record_conditions([a], _settings())[0]
+    with pytest.raises(ValueError, match="ratio_db: 20 dB is outside"):
+        rig.clearance_for_ratio(cond, _settings(), 20.0, 0.4)
+
+
+def test_load_trend_rule():
+    rows = []
+    for hp in range(4):
+        rows.append({"family": "bpfo", "position_deg": 0.0, "diameter_in": 0.007, "fs_hz": FS,
+                     "load_hp": hp, "meas_height_db": 50.0 - 2.0 * hp,
+                     "sim_height_db": 40.0 + 0.5 * hp})
+    out = rig.load_trends(pd.DataFrame(rows))
+    assert out[0]["meas_db_per_hp"] == pytest.approx(-2.0)
+    assert out[0]["sim_db_per_hp"] == pytest.approx(0.5)
+    assert out[0]["rule"] == "FAIL"  # opposite signs, not both flat
+    for r in rows:
+        r["meas_height_db"] = 50.0 - 0.8 * r["load_hp"]
+    assert rig.load_trends(pd.DataFrame(rows))[0]["rule"] == "PASS"  # both within 1 dB/hp

@@ -1,0 +1,117 @@
+"""Transfer path identified from a record: synthetic records with a known mode, noise alone,
+the healthy CWRU record, bad input."""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+from scipy import signal as sps
+
+from bearing_envelope.cli import main
+from bearing_envelope.diagnosis.transfer_path import (MIN_EVENTS, NoImpulsesError, TransferPath,
+                                                      background_noise, identify_path)
+
+FS = 12_000.0
+REAL = Path("/work/shared/data/real")
+RATES = {"bpfo": 107.0, "bpfi": 162.0, "bsf2": 141.0}
+
+
+def _ringing(n, fs, times_s, area, f_n, zeta, gain):
+    """Sum of the analog resonator's impulse responses (written out, not the package's
+    filter): ``g 2 zeta wn exp(-sigma t) (cos wd t - sigma/wd sin wd t)`` per impulse."""
+    wn = 2 * math.pi * f_n
+    sigma, wd = zeta * wn, wn * math.sqrt(1 - zeta ** 2)
+    t = np.arange(n) / fs
+    y = np.zeros(n)
+    for t0 in times_s:
+        tau = t - t0
+        on = tau >= 0
+        y[on] += area * gain * 2 * zeta * wn * np.exp(-sigma * tau[on]) * (
+            np.cos(wd * tau[on]) - sigma / wd * np.sin(wd * tau[on]))
+    return y
+
+
+def _record(f_n=3300.0, zeta=0.03, gain=40.0, area=1e-3, noise=5.0, seconds=3.0, seed=1):
+    n = int(seconds * FS)
+    times = np.arange(0.01, seconds - 0.01, 1 / 107.0)
+    y = _ringing(n, FS, times, area, f_n, zeta, gain)
+    return y + noise * np.random.default_rng(seed).standard_normal(n)
+
+
+def test_known_mode_is_identified():
+    f_n, zeta, gain, area, noise = 3300.0, 0.03, 40.0, 1e-3, 5.0
+    p = identify_path(_record(f_n, zeta, gain, area, noise), FS, RATES)
+    assert p.event_name == "bpfo"
+    assert p.event_hz == pytest.approx(107.0, rel=0.01)
+    assert p.n_events >= 0.9 * p.n_periods
+    assert p.f_n_hz == pytest.approx(f_n, rel=0.03)
+    assert p.zeta == pytest.approx(zeta, rel=0.2)
+    assert p.zeta_range[0] <= p.zeta * 1.2 and p.zeta_range[1] >= p.zeta / 1.2
+    # the amplitude of one event's ringing: g 2 zeta wn A
+    assert p.amplitude == pytest.approx(gain * 2 * zeta * 2 * math.pi * f_n * area, rel=0.2)
+    assert p.mode(area).gain == pytest.approx(gain, rel=0.25)
+    # the background: the white noise's rms
+    assert p.background_rms == pytest.approx(noise, rel=0.2)
+
+
+@pytest.mark.parametrize("zeta", [0.015, 0.08])
+def test_damping_is_followed(zeta):
+    p = identify_path(_record(zeta=zeta, f_n=4000.0), FS, RATES)
+    assert p.zeta == pytest.approx(zeta, rel=0.25)
+
+
+def test_result_round_trips_through_json():
+    p = identify_path(_record(), FS, RATES)
+    q = TransferPath.from_dict(json.loads(p.to_json()))
+    assert q == p
+
+
+def test_background_noise_has_the_identified_spectrum():
+    p = identify_path(_record(noise=8.0), FS, RATES)
+    y = background_noise(p, 60_000, seed=3)
+    assert np.std(y) == pytest.approx(8.0, rel=0.15)
+
+
+def test_shaped_noise_identifies_nothing():
+    rng = np.random.default_rng(5)
+    b, a = sps.iirpeak(3300.0, 10.0, fs=FS)
+    x = sps.lfilter(b, a, rng.standard_normal(int(3 * FS)))
+    with pytest.raises(NoImpulsesError, match="nothing identified"):
+        identify_path(x, FS, RATES)
+
+
+def test_too_short_is_refused_before_work():
+    x = _record(seconds=0.1)
+    with pytest.raises(ValueError, match=f"too short; allowed: >= {MIN_EVENTS} periods"):
+        identify_path(x, FS, RATES)
+
+
+def test_bad_rate_is_refused():
+    with pytest.raises(ValueError, match=r"event_rates\['bpfo'\]"):
+        identify_path(_record(), FS, {"bpfo": -1.0})
+
+
+@pytest.mark.skipif(not (REAL / "cwru_097_normal_0hp.npz").exists(), reason="no real data")
+def test_healthy_cwru_record_is_refused_in_one_line(capsys):
+    rc = main(["identify-path", str(REAL / "cwru_097_normal_0hp.npz"), "--bearing", "6205"])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert rc == 2
+    assert len(err) == 1 and "nothing identified" in err[0]
+
+
+@pytest.mark.skipif(not (REAL / "cwru_130_OR007at6_0hp_DE12.npz").exists(),
+                    reason="no real data")
+def test_cwru_outer_race_record_gives_bpfo_events(tmp_path):
+    out = tmp_path / "path.json"
+    rc = main(["identify-path", str(REAL / "cwru_130_OR007at6_0hp_DE12.npz"), "--bearing",
+               "6205", "-o", str(out)])
+    assert rc == 0
+    d = json.loads(out.read_text())
+    # CWRU's published BPFO multiplier 3.5848 x 29.95 Hz = 107.36 Hz; lines sit within 0.5 %
+    assert d["event_name"] == "bpfo"
+    assert d["event_hz"] == pytest.approx(107.36, rel=0.005)
+    assert 0.0 < d["zeta"] < 0.1
