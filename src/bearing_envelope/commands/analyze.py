@@ -42,7 +42,18 @@ _MM_PER_INCH = 25.4
 
 def plain_text(text: str) -> str:
     """Help text without reStructuredText markup: ``:func:`x``` -> ``x``, double back-quotes
-    and ``::`` removed, escaped backslashes unescaped."""
+    and ``::`` removed, escaped backslashes unescaped.
+
+    Parameters
+    ----------
+    text : str
+        reStructuredText (a module docstring's paragraphs).
+
+    Returns
+    -------
+    str
+        The plain text.
+    """
     text = re.sub(r":[a-z]+:`~?([^`]+)`", r"\1", text)
     text = text.replace("``", "").replace("::", ":").replace("\\\\", "\\")
     return text
@@ -50,7 +61,13 @@ def plain_text(text: str) -> str:
 
 # ------------------------------------------------------------------------------- parser
 def register(subparsers) -> None:
-    """Add the ``analyze`` sub-command."""
+    """Add the ``analyze`` sub-command.
+
+    Parameters
+    ----------
+    subparsers : argparse._SubParsersAction
+        The sub-parsers of the top-level parser (:func:`bearing_envelope.cli.build_parser`).
+    """
     doc = __doc__.split("\n\n")
     p = subparsers.add_parser(
         "analyze",
@@ -228,6 +245,11 @@ def check_args(args) -> None:
     at another depth, ``--harmonics`` is checked again against each record's Nyquist
     frequency); every output must be writable; ``--bands`` is read here. Sets
     ``args.faults``, ``args.band_specs`` and ``args.geometry``.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        Parsed ``analyze`` arguments; modified in place (also ``args.routes``).
     """
     for opt in ("--fs", "--fr", "--bpfi", "--roller-diameter-mm", "--pitch-diameter-mm",
                 "--roller-diameter-in", "--pitch-diameter-in", "--min-bandwidth", "--fmax"):
@@ -258,7 +280,18 @@ def check_args(args) -> None:
 
 def parse_routes(text: str | None) -> tuple[str, ...] | None:
     """``--routes``: the comma-separated route names (checked against diagnosis.routes.ROUTES
-    where the chain runs), None for the default."""
+    where the chain runs), None for the default.
+
+    Parameters
+    ----------
+    text : str or None
+        The ``--routes`` value.
+
+    Returns
+    -------
+    tuple of str or None
+        The route names, ``envelope`` left out (it always runs); ``None`` when not given.
+    """
     if text is None:
         return None
     # the layers load here, before any record is read (the chain needs them next anyway)
@@ -295,7 +328,19 @@ def _check_counts(args) -> None:
 
 
 def geometry_args(args) -> dict | None:
-    """The bearing of ``--bearing`` or of the geometry options (mm), or None."""
+    """The bearing of ``--bearing`` or of the geometry options (mm), or None.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        Parsed ``analyze`` arguments (``bearing``, ``n_rollers``, ``roller_diameter_mm``/``_in``, ``pitch_diameter_mm``/``_in``, ``contact_angle_deg``).
+
+    Returns
+    -------
+    dict or None
+        ``designation``, ``n_rollers``, ``roller_diameter_mm``, ``pitch_diameter_mm``,
+        ``contact_angle_deg`` (inch options converted to mm); ``None`` when no bearing is given.
+    """
     for unit in ("roller", "pitch"):
         if getattr(args, f"{unit}_diameter_mm") is not None and \
                 getattr(args, f"{unit}_diameter_in") is not None:
@@ -352,14 +397,31 @@ def _writable(opt: str, path: str | None, *, directory: bool = False) -> None:
 
 
 def check_outputs(args) -> None:
-    """Every output (``--csv``, ``--json``, ``--table``, ``--html``, ``--plot``) writable."""
+    """Every output (``--csv``, ``--json``, ``--table``, ``--html``, ``--plot``) writable.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        Parsed ``analyze`` arguments.
+    """
     for opt in ("--csv", "--json", "--table", "--html"):
         _writable(opt, getattr(args, opt[2:]))
     _writable("--plot", args.plot, directory=True)
 
 
 def parse_faults(items) -> dict[str, float]:
-    """``["bpfi=162.2", "gear=87"]`` -> ``{"bpfi": 162.2, "gear": 87.0}`` (``--fault``)."""
+    """``["bpfi=162.2", "gear=87"]`` -> ``{"bpfi": 162.2, "gear": 87.0}`` (``--fault``).
+
+    Parameters
+    ----------
+    items : iterable of str or None
+        ``NAME=HZ`` items.
+
+    Returns
+    -------
+    dict of str to float
+        Lower-cased name -> frequency, Hz; a malformed item raises ``ValueError``.
+    """
     out: dict[str, float] = {}
     for item in items or []:
         name, sep, value = str(item).partition("=")
@@ -380,7 +442,18 @@ def parse_faults(items) -> dict[str, float]:
 
 
 def load_bands(text: str | None):
-    """Band list from a YAML/JSON file or an inline JSON list (None: the defaults)."""
+    """Band list from a YAML/JSON file or an inline JSON list (None: the defaults).
+
+    Parameters
+    ----------
+    text : str or None
+        The ``--bands`` value: a file path or inline JSON.
+
+    Returns
+    -------
+    list of dict or None
+        The band mappings (a mapping's ``bands`` entry); ``None`` when not given.
+    """
     if text is None:
         return None
     if os.path.exists(text):
@@ -412,7 +485,19 @@ def load_bands(text: str | None):
 
 # ---------------------------------------------------------------------------------- run
 def record_tasks(args) -> list[dict]:
-    """The records to analyse: the manifest's rows, then the files (folders expanded)."""
+    """The records to analyse: the manifest's rows, then the files (folders expanded).
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        Parsed ``analyze`` arguments (``manifest``, ``files``).
+
+    Returns
+    -------
+    list of dict
+        One task per record: ``file``, ``fs``, ``shaft_hz``, ``bearing``, ``column``,
+        ``channel`` (``None`` for plain files) and a unique ``name`` (the file's stem).
+    """
     from bearing_envelope.io.records import collect_records, read_manifest  # numpy: start-up
 
     tasks = read_manifest(args.manifest) if args.manifest is not None else []
@@ -445,7 +530,18 @@ _OPTION_FIELDS = {"n_harmonics": "harmonics", "n_sidebands": "sidebands",
 
 
 def build_options(args):
-    """The library's options of a recording (``RECORD_OPTIONS``) with the options given."""
+    """The library's options of a recording (``RECORD_OPTIONS``) with the options given.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        Parsed ``analyze`` arguments (after :func:`check_args`).
+
+    Returns
+    -------
+    AnalysisOptions
+        ``RECORD_OPTIONS`` with every option given on the command line replaced.
+    """
     from dataclasses import replace
 
     from bearing_envelope.diagnosis.records import RECORD_OPTIONS
@@ -466,7 +562,19 @@ def build_options(args):
 
 
 def library_arguments(args) -> dict:
-    """The keyword arguments of the library call, the same for every record."""
+    """The keyword arguments of the library call, the same for every record.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        Parsed ``analyze`` arguments (after :func:`check_args`).
+
+    Returns
+    -------
+    dict
+        ``shaft_hz``, ``bearing``, ``bpfi``, ``faults``, ``options``, ``fixed_band``, ``clamp``,
+        ``names`` and ``reader`` (a ``read_task`` partial with the reading options).
+    """
     from functools import partial
 
     from bearing_envelope.io.analysis import read_task
@@ -481,14 +589,40 @@ def library_arguments(args) -> dict:
 
 def analyze_record(task: dict, args, library: dict):
     """One record through the library (:func:`bearing_envelope.diagnosis.batch.analyze_item`:
-    the task's own fs, shaft rate and bearing win over the options)."""
+    the task's own fs, shaft rate and bearing win over the options).
+
+    Parameters
+    ----------
+    task : dict
+        One task of :func:`record_tasks`.
+    args : argparse.Namespace
+        Parsed ``analyze`` arguments (``args.fs``, Hz).
+    library : dict
+        :func:`library_arguments`.
+
+    Returns
+    -------
+    RecordAnalysis
+        The record's full analysis.
+    """
     from bearing_envelope.diagnosis.batch import analyze_item
 
     return analyze_item(task, fs=args.fs, **library)
 
 
 def run(args) -> int:
-    """Execute ``bearing-envelope analyze``."""
+    """Execute ``bearing-envelope analyze``.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        Parsed ``analyze`` arguments.
+
+    Returns
+    -------
+    int
+        0 for one record; for a batch, 0, or 1 if any record failed.
+    """
     if (args.files or args.manifest) and is_batch(args) and args.jobs != 1:
         single_threaded()  # before numpy is imported: every worker one thread
     check_args(args)
@@ -505,7 +639,15 @@ def run(args) -> int:
 
 def print_record(args, res) -> None:
     """The header, the full line table and the verdict of one record (stdout; stderr when
-    ``--json -`` takes stdout)."""
+    ``--json -`` takes stdout).
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        Parsed ``analyze`` arguments.
+    res : RecordAnalysis
+        The record's analysis.
+    """
     import pandas as pd
 
     opt = res.options
@@ -545,7 +687,15 @@ def print_record(args, res) -> None:
 
 
 def write_record_outputs(args, res) -> None:
-    """``--csv``, ``--json OUT``, ``--table``, ``--plot`` and ``--html`` of one record."""
+    """``--csv``, ``--json OUT``, ``--table``, ``--plot`` and ``--html`` of one record.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        Parsed ``analyze`` arguments.
+    res : RecordAnalysis
+        The record's analysis.
+    """
     out = sys.stderr if args.json == "-" else sys.stdout
     if args.csv:
         os.makedirs(os.path.dirname(os.path.abspath(args.csv)), exist_ok=True)

@@ -54,6 +54,18 @@ def fault_frequency_map(bpfi=None, fault_frequencies=None) -> dict[str, float]:
     ``bpfo``, ``bpfi``, ``ftf``, ``bsf`` (:class:`bearing_envelope.physics.kinematics.FaultFrequencies`;
     its ``bsf2`` = 2 BSF joins in :func:`~bearing_envelope.diagnosis.faults.fault_families`).
     ``bpfi`` overrides the mapping's ``"bpfi"``.
+
+    Parameters
+    ----------
+    bpfi : float, optional
+        Ball-pass frequency of the inner race, Hz (> 0).
+    fault_frequencies : mapping or FaultFrequencies, optional
+        Named fault frequencies, Hz (each > 0).
+
+    Returns
+    -------
+    dict of str to float
+        Name -> frequency, Hz; neither argument given raises ``ValueError``.
     """
     out: dict[str, float] = {}
     if fault_frequencies is not None:
