@@ -30,6 +30,9 @@ REGISTRY: dict[str, str] = {
                     "fault set and confidence) and false alarms on shaped noise",
     "reference": "the converged reference, the error model per load, its coverage on held-out "
                  "cases, the cost of the presets",
+    "routes": "what each route of the verdict sees on the CWRU 12 kHz records (route x family x "
+              "margin, CPU), combination variants, leave one fault set out, shaped-noise false "
+              "alarms with every route",
     "sweep_cost": "CPU per rule of a finished sweep, from Snakemake's benchmark files",
     "result_digests": "sha256 of every array and table of a sweep's results/ (bit-identity)",
     "hostile_configs": "bad and hostile configs: each refused before any job in one line naming "

@@ -10,8 +10,8 @@ its records, and ``cwru_097_normal_0hp.npz``.
 
 Records: the 28 of ``cwru_de12/`` (seven fault sets x four loads; truth in its ``index.csv``)
 and the normal record ``cwru_097_normal_0hp.npz`` (48 kHz). Each goes through
-``analyze_signal`` with the ``bearing-envelope analyze`` defaults (default bands, 3 harmonics,
-1 sideband, pfa 1 %) and the fault frequencies of the SKF 6205 at the record's nominal speed,
+``analyze_signal`` with the ``bearing-envelope analyze`` defaults (``RECORD_OPTIONS``: default
+bands, 3 harmonics, 2 sidebands, 3 raw orders, pfa 1 %) and the fault frequencies of the SKF 6205 at the record's nominal speed,
 twice: before (:data:`NOMINAL_OPTIONS`: nominal speed, fundamentals within +- 1 %) and after
 (:data:`OPTIONS`: ``measure_speed=True``, the shaft rate read from the raw spectrum and the
 fundamentals searched within 0.5 % of their kinematic value at it).
@@ -46,8 +46,8 @@ import numpy as np
 import pandas as pd
 from scipy import signal as sps
 
-from bearing_envelope.diagnosis import (KURTOGRAM_MIN_ORDERS, AnalysisOptions, analyze_signal,
-                                        faults)
+from bearing_envelope.diagnosis import (KURTOGRAM_MIN_ORDERS, RECORD_OPTIONS, AnalysisOptions,
+                                        analyze_signal, faults)
 from bearing_envelope.diagnosis.detection import clopper_pearson
 from bearing_envelope.physics.kinematics import fault_frequencies
 from bearing_envelope.signal import DEFAULT_BANDS
@@ -59,9 +59,9 @@ TRUTH = {"inner_race": "bpfi", "outer_race": "bpfo", "ball": "bsf", "normal": No
 CLEAR_SETS = ("IR007", "OR007@6", "OR007@3")
 #: Issue 24 (h24c): the shaft rate measured from the raw spectrum's shaft harmonics, the
 #: fundamentals searched within the slip of the rolling elements around its kinematic values.
-OPTIONS = AnalysisOptions(n_harmonics=3, measure_speed=True)
+OPTIONS = RECORD_OPTIONS
 #: The former settings (nominal speed, +- 1 % search), for the before/after table.
-NOMINAL_OPTIONS = AnalysisOptions(n_harmonics=3)
+NOMINAL_OPTIONS = dataclasses.replace(RECORD_OPTIONS, measure_speed=False)
 #: Fundamental search half-widths (%) at the measured speed for the leave-one-fault-set-out
 #: choice (``--lofo``).
 SPEED_WINDOW_GRID = (0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 1.0, 1.5)
@@ -317,10 +317,10 @@ def main(argv=None) -> int:
         _print_mc(records, args.trials)
         return 0
     before = evaluate(records, NOMINAL_OPTIONS)[0]
-    _print_evaluation("before: nominal speed, +- 1 % (AnalysisOptions(n_harmonics=3))", before)
+    _print_evaluation("before: nominal speed, +- 1 % (RECORD_OPTIONS, measure_speed=False)",
+                      before)
     df, stored = evaluate(records, OPTIONS)
-    _print_evaluation("measured speed, +- 0.5 % (AnalysisOptions(n_harmonics=3, "
-                      "measure_speed=True))", df)
+    _print_evaluation("measured speed, +- 0.5 % (RECORD_OPTIONS)", df)
     print("\n" + df.drop(columns=["cpu_s", "truth_in_candidates"]).to_markdown(index=False))
     if args.variants:
         _print_evaluation("without the band-count tie-break (faults.BAND_TIE_BREAK = False)",

@@ -6,7 +6,8 @@
    side by side in one process, interleaved, best of N. Also checks that both give the same
    kurtogram (rows 1.. ; row 0 differs by convention: analytic vs real signal).
 2. The whole chain (``analyze_signal`` with the default bands: kurtogram, fs/4-3fs/8,
-   3-6 x BPFI, 10-13 x BPFI; K = 2 harmonics, M = 1 sideband) on the same signal.
+   3-6 x BPFI, 10-13 x BPFI; AnalysisOptions' defaults: K = 3 harmonics, M = 2 sidebands, 3
+   raw orders) on the same signal.
 
 The machine is shared: quote ratios measured side by side, not absolute times alone.
 

@@ -17,7 +17,14 @@ from . import __version__, commands
 
 
 def build_parser() -> argparse.ArgumentParser:
-    """Return the top-level parser with every sub-command registered."""
+    """Return the top-level parser with every sub-command registered.
+
+    Returns
+    -------
+    argparse.ArgumentParser
+        The ``bearing-envelope`` parser; each public module of :mod:`bearing_envelope.commands`
+        has added its sub-parser through ``register``.
+    """
     parser = argparse.ArgumentParser(
         prog="bearing-envelope",
         description="Contact simulation and envelope analysis of a damaged roller bearing.",
@@ -33,7 +40,20 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Run the command line; returns the process exit code."""
+    """Run the command line; returns the process exit code.
+
+    Parameters
+    ----------
+    argv : list of str or None, optional
+        Arguments without the program name; ``None`` reads ``sys.argv[1:]``.
+
+    Returns
+    -------
+    int
+        The sub-command's exit code (``None`` from it counts as 0); 2 when no sub-command is
+        given (help is printed) or when it raises ``ValueError``, ``KeyError`` or ``OSError``
+        (one error line on stderr).
+    """
     parser = build_parser()
     args = parser.parse_args(argv)
     if not getattr(args, "func", None):

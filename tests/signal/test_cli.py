@@ -141,3 +141,18 @@ def test_full_band_and_clamp(tmp_path, x, capsys):
     assert main([*base, "--fixed-band", "0", "12000"]) == 2
     assert "add --clamp" in capsys.readouterr().err
     assert main([*base, "--fixed-band", "0", "12000", "--clamp"]) == 0
+
+
+def test_routes_option(tmp_path, x, capsys):
+    # the routes join the verdict by default (their lines in the summary); --routes envelope
+    # leaves the envelope bands alone; a route that does not exist is refused before any work
+    np.save(tmp_path / "c.npy", x)
+    base = ["analyze", str(tmp_path / "c.npy"), "--fs", str(FS), "--fr", str(FR),
+            "--bpfi", str(BPFI)]
+    assert main(base) == 0
+    out = capsys.readouterr().out
+    assert "decided by:" in out and "route pre-whitened SES" in out
+    assert main([*base, "--routes", "envelope"]) == 0
+    assert "decided by:" not in capsys.readouterr().out
+    assert main([*base, "--routes", "cpw,nope"]) == 2
+    assert "--routes" in capsys.readouterr().err

@@ -42,7 +42,18 @@ _MM_PER_INCH = 25.4
 
 def plain_text(text: str) -> str:
     """Help text without reStructuredText markup: ``:func:`x``` -> ``x``, double back-quotes
-    and ``::`` removed, escaped backslashes unescaped."""
+    and ``::`` removed, escaped backslashes unescaped.
+
+    Parameters
+    ----------
+    text : str
+        reStructuredText (a module docstring's paragraphs).
+
+    Returns
+    -------
+    str
+        The plain text.
+    """
     text = re.sub(r":[a-z]+:`~?([^`]+)`", r"\1", text)
     text = text.replace("``", "").replace("::", ":").replace("\\\\", "\\")
     return text
@@ -50,7 +61,13 @@ def plain_text(text: str) -> str:
 
 # ------------------------------------------------------------------------------- parser
 def register(subparsers) -> None:
-    """Add the ``analyze`` sub-command."""
+    """Add the ``analyze`` sub-command.
+
+    Parameters
+    ----------
+    subparsers : argparse._SubParsersAction
+        The sub-parsers of the top-level parser (:func:`bearing_envelope.cli.build_parser`).
+    """
     doc = __doc__.split("\n\n")
     p = subparsers.add_parser(
         "analyze",
@@ -131,8 +148,9 @@ def _add_analysis_args(p) -> None:
                    help="clamp a fixed band's upper edge above Nyquist to 0.98 fs/2 instead of "
                         "refusing it")
     p.add_argument("--speed", choices=("measured", "nominal"), default=None,
-                   help="measured (default for a recording, RECORD_OPTIONS): the shaft rate is read from the record's shaft "
-                        "harmonics (diagnosis.speed) and every fault frequency is scaled to it, "
+                   help="measured (default for a recording, RECORD_OPTIONS): the shaft rate is "
+                        "read from the record's shaft harmonics (diagnosis.speed) and every "
+                        "fault frequency is scaled to it, "
                         "fundamentals then searched within 0.5 %%; nominal: the given --fr / rpm "
                         "as is, fundamentals searched within --search-percent (the rates of "
                         "README 'What the confidence means' are with measured)")
@@ -141,6 +159,13 @@ def _add_analysis_args(p) -> None:
                         "nominal frequency (default: the library's, AnalysisOptions; real lines "
                         "sit 0.2-0.7 %% off when the nominal speed is not the actual one); "
                         "harmonics are searched around k x the frequency found")
+    p.add_argument("--routes", default=None, metavar="ROUTE[,ROUTE...]",
+                   help="evidence routes of the verdict besides the envelope bands "
+                        "(diagnosis.routes): cpw (cepstrum pre-whitened squared envelope "
+                        "spectrum), drs_sk (discrete/random separation, kurtogram band, squared "
+                        "envelope spectrum), ees (enhanced envelope spectrum); 'envelope' for "
+                        "the envelope bands alone; default: the library's for a recording "
+                        "(RECORD_OPTIONS: every route)")
     p.add_argument("--pfa", type=float, default=None,
                    help="record-wise false-alarm probability of the verdict (default: the "
                         "library's, AnalysisOptions); each family x band test runs at pfa / "
@@ -220,6 +245,11 @@ def check_args(args) -> None:
     at another depth, ``--harmonics`` is checked again against each record's Nyquist
     frequency); every output must be writable; ``--bands`` is read here. Sets
     ``args.faults``, ``args.band_specs`` and ``args.geometry``.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        Parsed ``analyze`` arguments; modified in place (also ``args.routes``).
     """
     for opt in ("--fs", "--fr", "--bpfi", "--roller-diameter-mm", "--pitch-diameter-mm",
                 "--roller-diameter-in", "--pitch-diameter-in", "--min-bandwidth", "--fmax"):
@@ -230,13 +260,14 @@ def check_args(args) -> None:
         raise ValueError(f"--search-percent: got {sp!r}; allowed: 0 < percent < 50")
     if args.pfa is not None and not (math.isfinite(args.pfa) and 0 < args.pfa < 1):
         raise ValueError(f"--pfa: got {args.pfa!r}; allowed: 0 < pfa < 1")
+    args.routes = parse_routes(args.routes)
     args.faults = parse_faults(args.fault)
     args.geometry = geometry_args(args)
     _check_counts(args)
     if args.fixed_band is not None:
-        lo, hi = args.fixed_band
-        if not (math.isfinite(lo) and math.isfinite(hi) and 0 <= lo < hi):
-            raise ValueError(f"--fixed-band: got {lo!r} {hi!r}; allowed: 0 <= LOW_HZ < HIGH_HZ")
+        from bearing_envelope.diagnosis.records import check_fixed_band  # start-up time
+
+        check_fixed_band(args.fixed_band, OPTION_NAMES)
     if not args.files and args.manifest is None:
         raise ValueError("file: give a signal file, several, a folder, or --manifest CSV")
     if len(args.files) == 1 and args.manifest is None and os.path.isdir(args.files[0]) \
@@ -245,6 +276,32 @@ def check_args(args) -> None:
                          f"file or a folder of them")
     check_outputs(args)
     args.band_specs = load_bands(args.bands)
+
+
+def parse_routes(text: str | None) -> tuple[str, ...] | None:
+    """``--routes``: the comma-separated route names (checked against diagnosis.routes.ROUTES
+    where the chain runs), None for the default.
+
+    Parameters
+    ----------
+    text : str or None
+        The ``--routes`` value.
+
+    Returns
+    -------
+    tuple of str or None
+        The route names, ``envelope`` left out (it always runs); ``None`` when not given.
+    """
+    if text is None:
+        return None
+    # the layers load here, before any record is read (the chain needs them next anyway)
+    from bearing_envelope.diagnosis.routes import ROUTES
+
+    names = tuple(r.strip() for r in str(text).split(",") if r.strip())
+    if not names or any(r not in ROUTES for r in names):
+        raise ValueError(f"--routes: got {text!r}; allowed: a comma-separated list of "
+                         f"{', '.join(ROUTES)}")
+    return tuple(r for r in names if r != "envelope")
 
 
 def _check_counts(args) -> None:
@@ -271,7 +328,19 @@ def _check_counts(args) -> None:
 
 
 def geometry_args(args) -> dict | None:
-    """The bearing of ``--bearing`` or of the geometry options (mm), or None."""
+    """The bearing of ``--bearing`` or of the geometry options (mm), or None.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        Parsed ``analyze`` arguments (``bearing``, ``n_rollers``, ``roller_diameter_mm``/``_in``, ``pitch_diameter_mm``/``_in``, ``contact_angle_deg``).
+
+    Returns
+    -------
+    dict or None
+        ``designation``, ``n_rollers``, ``roller_diameter_mm``, ``pitch_diameter_mm``,
+        ``contact_angle_deg`` (inch options converted to mm); ``None`` when no bearing is given.
+    """
     for unit in ("roller", "pitch"):
         if getattr(args, f"{unit}_diameter_mm") is not None and \
                 getattr(args, f"{unit}_diameter_in") is not None:
@@ -328,14 +397,31 @@ def _writable(opt: str, path: str | None, *, directory: bool = False) -> None:
 
 
 def check_outputs(args) -> None:
-    """Every output (``--csv``, ``--json``, ``--table``, ``--html``, ``--plot``) writable."""
+    """Every output (``--csv``, ``--json``, ``--table``, ``--html``, ``--plot``) writable.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        Parsed ``analyze`` arguments.
+    """
     for opt in ("--csv", "--json", "--table", "--html"):
         _writable(opt, getattr(args, opt[2:]))
     _writable("--plot", args.plot, directory=True)
 
 
 def parse_faults(items) -> dict[str, float]:
-    """``["bpfi=162.2", "gear=87"]`` -> ``{"bpfi": 162.2, "gear": 87.0}`` (``--fault``)."""
+    """``["bpfi=162.2", "gear=87"]`` -> ``{"bpfi": 162.2, "gear": 87.0}`` (``--fault``).
+
+    Parameters
+    ----------
+    items : iterable of str or None
+        ``NAME=HZ`` items.
+
+    Returns
+    -------
+    dict of str to float
+        Lower-cased name -> frequency, Hz; a malformed item raises ``ValueError``.
+    """
     out: dict[str, float] = {}
     for item in items or []:
         name, sep, value = str(item).partition("=")
@@ -356,7 +442,18 @@ def parse_faults(items) -> dict[str, float]:
 
 
 def load_bands(text: str | None):
-    """Band list from a YAML/JSON file or an inline JSON list (None: the defaults)."""
+    """Band list from a YAML/JSON file or an inline JSON list (None: the defaults).
+
+    Parameters
+    ----------
+    text : str or None
+        The ``--bands`` value: a file path or inline JSON.
+
+    Returns
+    -------
+    list of dict or None
+        The band mappings (a mapping's ``bands`` entry); ``None`` when not given.
+    """
     if text is None:
         return None
     if os.path.exists(text):
@@ -388,7 +485,19 @@ def load_bands(text: str | None):
 
 # ---------------------------------------------------------------------------------- run
 def record_tasks(args) -> list[dict]:
-    """The records to analyse: the manifest's rows, then the files (folders expanded)."""
+    """The records to analyse: the manifest's rows, then the files (folders expanded).
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        Parsed ``analyze`` arguments (``manifest``, ``files``).
+
+    Returns
+    -------
+    list of dict
+        One task per record: ``file``, ``fs``, ``shaft_hz``, ``bearing``, ``column``,
+        ``channel`` (``None`` for plain files) and a unique ``name`` (the file's stem).
+    """
     from bearing_envelope.io.records import collect_records, read_manifest  # numpy: start-up
 
     tasks = read_manifest(args.manifest) if args.manifest is not None else []
@@ -421,7 +530,18 @@ _OPTION_FIELDS = {"n_harmonics": "harmonics", "n_sidebands": "sidebands",
 
 
 def build_options(args):
-    """The library's options of a recording (``RECORD_OPTIONS``) with the options given."""
+    """The library's options of a recording (``RECORD_OPTIONS``) with the options given.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        Parsed ``analyze`` arguments (after :func:`check_args`).
+
+    Returns
+    -------
+    AnalysisOptions
+        ``RECORD_OPTIONS`` with every option given on the command line replaced.
+    """
     from dataclasses import replace
 
     from bearing_envelope.diagnosis.records import RECORD_OPTIONS
@@ -436,11 +556,25 @@ def build_options(args):
         given["interpolate"] = True
     if args.speed is not None:
         given["measure_speed"] = args.speed == "measured"
+    if args.routes is not None:
+        given["routes"] = args.routes
     return replace(RECORD_OPTIONS, **given)
 
 
 def library_arguments(args) -> dict:
-    """The keyword arguments of the library call, the same for every record."""
+    """The keyword arguments of the library call, the same for every record.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        Parsed ``analyze`` arguments (after :func:`check_args`).
+
+    Returns
+    -------
+    dict
+        ``shaft_hz``, ``bearing``, ``bpfi``, ``faults``, ``options``, ``fixed_band``, ``clamp``,
+        ``names`` and ``reader`` (a ``read_task`` partial with the reading options).
+    """
     from functools import partial
 
     from bearing_envelope.io.analysis import read_task
@@ -455,14 +589,40 @@ def library_arguments(args) -> dict:
 
 def analyze_record(task: dict, args, library: dict):
     """One record through the library (:func:`bearing_envelope.diagnosis.batch.analyze_item`:
-    the task's own fs, shaft rate and bearing win over the options)."""
+    the task's own fs, shaft rate and bearing win over the options).
+
+    Parameters
+    ----------
+    task : dict
+        One task of :func:`record_tasks`.
+    args : argparse.Namespace
+        Parsed ``analyze`` arguments (``args.fs``, Hz).
+    library : dict
+        :func:`library_arguments`.
+
+    Returns
+    -------
+    RecordAnalysis
+        The record's full analysis.
+    """
     from bearing_envelope.diagnosis.batch import analyze_item
 
     return analyze_item(task, fs=args.fs, **library)
 
 
 def run(args) -> int:
-    """Execute ``bearing-envelope analyze``."""
+    """Execute ``bearing-envelope analyze``.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        Parsed ``analyze`` arguments.
+
+    Returns
+    -------
+    int
+        0 for one record; for a batch, 0, or 1 if any record failed.
+    """
     if (args.files or args.manifest) and is_batch(args) and args.jobs != 1:
         single_threaded()  # before numpy is imported: every worker one thread
     check_args(args)
@@ -479,7 +639,15 @@ def run(args) -> int:
 
 def print_record(args, res) -> None:
     """The header, the full line table and the verdict of one record (stdout; stderr when
-    ``--json -`` takes stdout)."""
+    ``--json -`` takes stdout).
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        Parsed ``analyze`` arguments.
+    res : RecordAnalysis
+        The record's analysis.
+    """
     import pandas as pd
 
     opt = res.options
@@ -519,7 +687,15 @@ def print_record(args, res) -> None:
 
 
 def write_record_outputs(args, res) -> None:
-    """``--csv``, ``--json OUT``, ``--table``, ``--plot`` and ``--html`` of one record."""
+    """``--csv``, ``--json OUT``, ``--table``, ``--plot`` and ``--html`` of one record.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        Parsed ``analyze`` arguments.
+    res : RecordAnalysis
+        The record's analysis.
+    """
     out = sys.stderr if args.json == "-" else sys.stdout
     if args.csv:
         os.makedirs(os.path.dirname(os.path.abspath(args.csv)), exist_ok=True)

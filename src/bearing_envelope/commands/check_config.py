@@ -20,7 +20,13 @@ import sys
 
 
 def register(subparsers) -> None:
-    """Add the ``check-config`` sub-command."""
+    """Add the ``check-config`` sub-command.
+
+    Parameters
+    ----------
+    subparsers : argparse._SubParsersAction
+        The sub-parsers of the top-level parser (:func:`bearing_envelope.cli.build_parser`).
+    """
     p = subparsers.add_parser(
         "check-config",
         help="validate a config file as the workflow does (no simulation)",
@@ -34,6 +40,19 @@ def register(subparsers) -> None:
 
 
 def run(args) -> int:
+    """Validate the config as the workflow would and print the cases it defines.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        Parsed arguments; ``args.config`` is the YAML file (``None``: ``./config.yaml`` alone).
+
+    Returns
+    -------
+    int
+        0 when the config is valid; an invalid one raises ``ValueError`` (exit 2 via
+        :func:`bearing_envelope.cli.main`).
+    """
     # lazy: keeps `bearing-envelope --help` ~0.4 s (numba, pandas: ~4 s)
     from bearing_envelope.study.limits import precheck
     from bearing_envelope.study.settings import workflow_settings

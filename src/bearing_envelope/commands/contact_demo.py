@@ -7,7 +7,13 @@ import time
 
 
 def register(subparsers) -> None:
-    """Add the ``contact-demo`` sub-command."""
+    """Add the ``contact-demo`` sub-command.
+
+    Parameters
+    ----------
+    subparsers : argparse._SubParsersAction
+        The sub-parsers of the top-level parser (:func:`bearing_envelope.cli.build_parser`).
+    """
     p = subparsers.add_parser(
         "contact-demo",
         help="solve a Hertz sphere-on-flat contact and print p0 and a against Hertz",

@@ -22,7 +22,13 @@ import sys
 
 
 def register(subparsers) -> None:
-    """Add the ``identify-path`` sub-command."""
+    """Add the ``identify-path`` sub-command.
+
+    Parameters
+    ----------
+    subparsers : argparse._SubParsersAction
+        The sub-parsers of the top-level parser (:func:`bearing_envelope.cli.build_parser`).
+    """
     p = subparsers.add_parser(
         "identify-path",
         help="identify the transfer path (resonance, damping, amplitude, background) from "
@@ -62,6 +68,20 @@ def _rates(args, fr):
 
 
 def run(args) -> int:
+    """Identify the transfer path of one record and write it as JSON.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        Parsed arguments: ``record``, ``bearing``, ``shaft_hz`` (Hz), ``fs`` (Hz),
+        ``event_hz`` (Hz, list), ``column``, ``background``, ``output`` (``-``: stdout).
+
+    Returns
+    -------
+    int
+        0; a missing sampling rate, shaft rate or event rate, or a background at another fs,
+        raises ``ValueError``.
+    """
     # lazy: keeps `bearing-envelope --help` ~0.4 s (numba, pandas: ~4 s)
     from bearing_envelope.diagnosis.transfer_path import identify_path
     from bearing_envelope.io.records import read_record

@@ -19,7 +19,13 @@ import argparse
 
 
 def register(subparsers) -> None:
-    """Add the ``rig`` sub-command."""
+    """Add the ``rig`` sub-command.
+
+    Parameters
+    ----------
+    subparsers : argparse._SubParsersAction
+        The sub-parsers of the top-level parser (:func:`bearing_envelope.cli.build_parser`).
+    """
     p = subparsers.add_parser(
         "rig",
         help="virtual CWRU rig: simulated records beside the measured ones, and the scorecard",
@@ -50,6 +56,19 @@ def _collect(paths) -> list[str]:
 
 
 def run(args) -> int:
+    """Simulate the contact histories of the records' scenes and write the rig scorecard.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        Parsed arguments: ``records``, ``config``, ``output``, ``gain_reference``,
+        ``simulate_only``, ``score_only`` (see :func:`register`).
+
+    Returns
+    -------
+    int
+        0; no fault record among the files raises ``ValueError``.
+    """
     # lazy: keeps `bearing-envelope --help` ~0.4 s (numba, pandas: ~4 s)
     from pathlib import Path
 

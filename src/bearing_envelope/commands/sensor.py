@@ -25,7 +25,13 @@ if TYPE_CHECKING:
 
 
 def register(subparsers) -> None:
-    """Add the ``sensor`` sub-command."""
+    """Add the ``sensor`` sub-command.
+
+    Parameters
+    ----------
+    subparsers : argparse._SubParsersAction
+        The sub-parsers of the top-level parser (:func:`bearing_envelope.cli.build_parser`).
+    """
     p = subparsers.add_parser(
         "sensor",
         help="synthetic accelerometer signal (modes + noise at an SNR + tones) of a case",
@@ -55,7 +61,18 @@ def _read_case(path: str):
 
 def load_sensor_config(path: str) -> TransferModel:
     """The typed ``sensor:`` section of a config file, validated by the one loader
-    (:func:`bearing_envelope.study.settings.load_settings`, partial); ValueError if absent."""
+    (:func:`bearing_envelope.study.settings.load_settings`, partial); ValueError if absent.
+
+    Parameters
+    ----------
+    path : str
+        YAML config file.
+
+    Returns
+    -------
+    TransferModel
+        The validated ``sensor:`` section.
+    """
     from bearing_envelope.study.settings import load_settings  # lazy: CLI start-up time
 
     settings = load_settings(path, partial=True)
@@ -73,6 +90,32 @@ def write_sensor_case(case_path, model: TransferModel, output, *, snr_db="model"
     ``signals/acceleration``; ``.npz``: the signal alone; atomic). ``config_label`` (where the
     section came from) is recorded in the provenance. Returns the provenance (achieved SNR in
     ``snr_db_achieved``).
+
+    Parameters
+    ----------
+    case_path : str or path-like
+        Case file (.h5) to read.
+    model : TransferModel
+        The ``sensor:`` section (:func:`load_sensor_config`).
+    output : str or path-like
+        Output file, ``.h5`` or ``.npz``.
+    snr_db : float, "model" or None, optional
+        Target SNR in dB; ``"model"``: the model's own; ``None``: no noise.
+    seed : int or None, optional
+        Noise seed.
+    excitation : str or None, optional
+        Contact signal to use (``pressure``, ``pressure_defect``, ``force``); ``None``: the
+        model's.
+    reference : str or path-like or None, optional
+        Case file passed to ``case_acceleration`` as the reference case.
+    config_label : str or None, optional
+        Where the section came from, recorded in the provenance.
+
+    Returns
+    -------
+    dict
+        The provenance written with the signal (``n_samples``, ``excitation_signal``,
+        ``snr_db_achieved``, source and reference case, config, command, ...).
     """
     # lazy: keeps `bearing-envelope --help` ~0.4 s (numba, pandas: ~4 s)
     from bearing_envelope.io import check_sensor_output, write_sensor_case as write
@@ -90,7 +133,19 @@ def write_sensor_case(case_path, model: TransferModel, output, *, snr_db="model"
 
 
 def run(args: argparse.Namespace) -> int:
-    """Entry point of ``bearing-envelope sensor``."""
+    """Entry point of ``bearing-envelope sensor``.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        Parsed arguments (``case``, ``config``, ``output``, ``snr_db``, ``no_noise``, ``seed``,
+        ...; see :func:`register`).
+
+    Returns
+    -------
+    int
+        0.
+    """
     model = load_sensor_config(args.config)
     snr = None if args.no_noise else ("model" if args.snr_db is None else args.snr_db)
     info = write_sensor_case(args.case, model, args.output, snr_db=snr, seed=args.seed,

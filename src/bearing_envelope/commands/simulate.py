@@ -21,7 +21,13 @@ import sys
 
 
 def register(subparsers) -> None:
-    """Add the ``simulate`` sub-command."""
+    """Add the ``simulate`` sub-command.
+
+    Parameters
+    ----------
+    subparsers : argparse._SubParsersAction
+        The sub-parsers of the top-level parser (:func:`bearing_envelope.cli.build_parser`).
+    """
     p = subparsers.add_parser(
         "simulate",
         help="pressure time history of one load x depth case (HDF5)",
@@ -46,6 +52,11 @@ def register(subparsers) -> None:
 def check_output(path: str) -> None:
     """Refuse an output path that cannot become a case file, before any solve.
 
+    Parameters
+    ----------
+    path : str
+        The ``-o`` path.
+
     Raises
     ------
     ValueError
@@ -62,7 +73,18 @@ def check_output(path: str) -> None:
 
 
 def resolve_config(path: str | None):
-    """The config file simulate reads: ``--config``, else ``./config.yaml`` when present, else none."""
+    """The config file simulate reads: ``--config``, else ``./config.yaml`` when present, else none.
+
+    Parameters
+    ----------
+    path : str or None
+        The ``--config`` value.
+
+    Returns
+    -------
+    str or None
+        The config path, or ``None`` (the built-in scene).
+    """
     # lazy: keeps `bearing-envelope --help` ~0.4 s (numba, pandas: ~4 s)
     from bearing_envelope.study.settings import default_config_path
 
@@ -73,6 +95,19 @@ def resolve_config(path: str | None):
 
 
 def run(args) -> int:
+    """Simulate one load x depth case and write its case file.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        Parsed arguments: ``config``, ``load_kn`` (kN), ``depth_um`` (um), ``width_um`` (um or
+        ``None``), ``fidelity``, ``numpy``, ``quiet``, ``output`` (.h5).
+
+    Returns
+    -------
+    int
+        0; an invalid config, case or output path raises ``ValueError``.
+    """
     # lazy: keeps `bearing-envelope --help` ~0.4 s (numba, pandas: ~4 s)
     from bearing_envelope.physics.fidelity import fidelity_from
     from bearing_envelope.physics.history import simulate

@@ -16,6 +16,7 @@ from .faults import (DEFAULT_SEARCH_PERCENT, FaultFamily, fault_families, fault_
                      search_lines)
 from ..signal.kurtogram import fast_kurtogram, max_kurtogram_level
 from ..signal.spectrum import TOLERANCE_MIN_BINS, amplitude_spectrum, prewhiten
+from .routes import ROUTES, apply_routes, combine_routes, run_routes
 from .speed import MEASURED_SPEED_SEARCH_PERCENT, estimate_shaft_rate
 
 __all__ = ["COLUMNS", "DEFAULT_PFA", "KURTOGRAM_MIN_ORDERS", "AnalysisOptions", "analyze_signal",
@@ -53,6 +54,18 @@ def fault_frequency_map(bpfi=None, fault_frequencies=None) -> dict[str, float]:
     ``bpfo``, ``bpfi``, ``ftf``, ``bsf`` (:class:`bearing_envelope.physics.kinematics.FaultFrequencies`;
     its ``bsf2`` = 2 BSF joins in :func:`~bearing_envelope.diagnosis.faults.fault_families`).
     ``bpfi`` overrides the mapping's ``"bpfi"``.
+
+    Parameters
+    ----------
+    bpfi : float, optional
+        Ball-pass frequency of the inner race, Hz (> 0).
+    fault_frequencies : mapping or FaultFrequencies, optional
+        Named fault frequencies, Hz (each > 0).
+
+    Returns
+    -------
+    dict of str to float
+        Name -> frequency, Hz; neither argument given raises ``ValueError``.
     """
     out: dict[str, float] = {}
     if fault_frequencies is not None:
@@ -167,6 +180,11 @@ class AnalysisOptions:
     measured_speed_search_percent : float, default 0.5
         :data:`~bearing_envelope.diagnosis.speed.MEASURED_SPEED_SEARCH_PERCENT`: what remains
         once the speed is measured is the slip of the rolling elements.
+    routes : tuple of str, default ()
+        Routes of :mod:`~bearing_envelope.diagnosis.routes` besides the envelope bands
+        (``cpw``, ``drs_sk``, ``ees``; ``envelope`` is always one): the verdict is then
+        :func:`~bearing_envelope.diagnosis.routes.combine_routes` of them (the ``analyze``
+        command runs every route by default; the simulation sweep none).
     """
 
     bands: tuple[Mapping, ...] | None = None
@@ -190,6 +208,7 @@ class AnalysisOptions:
     pfa: float = DEFAULT_PFA
     measure_speed: bool = False
     measured_speed_search_percent: float = MEASURED_SPEED_SEARCH_PERCENT
+    routes: tuple[str, ...] = ()
 
     def __post_init__(self):
         if self.bands is not None:
@@ -210,6 +229,10 @@ class AnalysisOptions:
         _option_float("pfa", self.pfa, 0.0, 1.0)
         _option_float("measured_speed_search_percent", self.measured_speed_search_percent, 0.0,
                       50.0)
+        routes = (self.routes,) if isinstance(self.routes, str) else tuple(self.routes)
+        if any(r not in ROUTES for r in routes):
+            raise ValueError(f"AnalysisOptions.routes = {self.routes!r}: allowed any of {ROUTES}")
+        object.__setattr__(self, "routes", routes)
         if self.level0 not in _LEVEL0:
             raise ValueError(f"AnalysisOptions.level0 = {self.level0!r}: allowed {_LEVEL0}")
 
@@ -251,7 +274,8 @@ def analyze_signal(x, fs: float, *, fr: float, bpfi: float | None = None,
         Also return a dict with the kurtogram, the bands with provenance and every spectrum
         (for plots): ``{"kurtogram", "bands": {name: {"band", "provenance", "f",
         "amplitude", "peak", "lines"}}, "raw": (f, amplitude), "frequencies", "families",
-        "verdict", "fr", "fs", "squared", "options", "speed"}`` (``speed``: the
+        "verdict", "fr", "fs", "squared", "options", "speed"}`` (and ``"routes"``:
+        ``route -> RouteResult`` with ``options.routes``) (``speed``: the
         :class:`~bearing_envelope.diagnosis.speed.ShaftRate` with ``measure_speed``, else None;
         ``fr`` and ``frequencies`` are then the measured-speed values) (``verdict``: a
         :class:`~bearing_envelope.diagnosis.faults.Verdict`).
@@ -315,6 +339,11 @@ def analyze_signal(x, fs: float, *, fr: float, bpfi: float | None = None,
     table = _table(ctx["records"])
     details["verdict"] = fault_verdict(table, families, pfa=opt.pfa, n_tests=n_tests, fr=fr,
                                        df_hz=fs / x.size)
+    if opt.routes:
+        routes = ("envelope",) + tuple(r for r in opt.routes if r != "envelope")
+        details["routes"] = run_routes(x, fs, details, routes)
+        details["verdict"] = apply_routes(details["verdict"], combine_routes(details["routes"]),
+                                          details["routes"])
     return (table, details) if full_output else table
 
 

@@ -57,6 +57,9 @@ def _split(item, index: int) -> tuple[object, dict]:
         path = os.fspath(item)
         return path, {"file": path}
     if isinstance(item, Mapping) and "x" not in item:  # a task: {"file", "fs", ...}
+        if item.get("file") is None:
+            raise ValueError(f"item {index}: a mapping needs 'x' (a record read) or 'file' "
+                             f"(a task); got keys {sorted(item)}")
         path = os.fspath(item["file"])
         per = {k: item[k] for k in _ITEM_KEYS if item.get(k) is not None}
         return item, {"file": path, **per}
@@ -120,8 +123,9 @@ def analyze_item(item, *, reader: Callable | None = None, index: int = 0, **kwar
 
 def _work(index: int, item, kwargs: dict, reader, fig_dir, figure_options):
     """One record: analysed (and drawn), compact; any error becomes a failure (one line)."""
-    _, per = _split(item, index)
+    per: dict = {"name": f"item_{index}"}
     try:
+        _, per = _split(item, index)
         res = analyze_item(item, reader=reader, index=index, **kwargs)
         if fig_dir is not None:
             res = replace(res, figure=record_figure(res, fig_dir, figure_options))

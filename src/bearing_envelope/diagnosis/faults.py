@@ -482,7 +482,13 @@ class FamilyVerdict:
         return self.modulation is None or self.sideband_name == self.modulation
 
     def evidence(self) -> list[str]:
-        """The evidence behind :attr:`level`, one short phrase each."""
+        """The evidence behind :attr:`level`, one short phrase each.
+
+        Returns
+        -------
+        list of str
+            Bands agreeing, harmonics found, modulation, margin above threshold (dB).
+        """
         out = [f"detected at one frequency in {len(self.bands_agreeing)} of "
                f"{self.n_bands_held} bands that can hold it"
                + (f" ({self.n_bands} distinct)" if self.n_bands != len(self.bands_agreeing)
@@ -500,7 +506,14 @@ class FamilyVerdict:
 
     def summary(self) -> str:
         """One line, e.g. ``inner race fault: BPFI 161.7 Hz, harmonics 1-3, fr sidebands,
-        37.1 dB above floor (threshold 12.0 dB), in band kurtogram (0-5880 Hz)``."""
+        37.1 dB above floor (threshold 12.0 dB), in band kurtogram (0-5880 Hz)``.
+
+        Returns
+        -------
+        str
+            The line; for a family not detected, its best line against the threshold; for one
+            not searched, ``not searched``.
+        """
         name = display_name(self.family)
         if self.band is None:
             return f"{name}: not searched (no band could hold it)"
@@ -548,6 +561,16 @@ def evidence_level(v: FamilyVerdict) -> str | None:
     :data:`HIGH_MIN_BANDS` agreeing bands without the rest, or >= :data:`MEDIUM_MIN_BANDS`
     with the fundamental >= :data:`MEDIUM_MIN_MARGIN_DB` dB above its threshold. ``low``: any
     other detection (one band, or two with weak lines).
+
+    Parameters
+    ----------
+    v : FamilyVerdict
+        One family's verdict.
+
+    Returns
+    -------
+    str or None
+        ``"high"``, ``"medium"`` or ``"low"``; ``None`` when the family was not detected.
     """
     if not v.detected:
         return None
@@ -583,6 +606,12 @@ class Verdict:
         The families between which the verdict cannot tell (else empty).
     statistic : str
         Statement of the statistic, the threshold and the decision rule.
+    routes : tuple of str
+        With the routes of :mod:`~bearing_envelope.diagnosis.routes`: which route found
+        what, one phrase per route (else empty).
+    decided_by : str or None
+        With the routes: ``"envelope"``, ``"envelope, high needs a second route"`` or
+        ``"routes"`` (:func:`~bearing_envelope.diagnosis.routes.combine_routes`).
     """
 
     families: tuple[FamilyVerdict, ...]
@@ -598,6 +627,8 @@ class Verdict:
         "and it is a local maximum; a family is detected in a band if its fundamental and "
         "its second harmonic are; confidence from the bands that agree, the harmonics, the "
         "expected modulation and the margin (faults.evidence_level)"))
+    routes: tuple[str, ...] = ()
+    decided_by: str | None = None
 
     def _role(self, role: str) -> tuple[FamilyVerdict, ...]:
         return tuple(v for v in self.families if v.role == role)
@@ -626,7 +657,13 @@ class Verdict:
 
     def summary_lines(self) -> list[str]:
         """The diagnosis line with its confidence, then ``second finding`` and ``explained``
-        lines; or one ``no bearing fault detected`` / ``cannot tell`` line."""
+        lines; or one ``no bearing fault detected`` / ``cannot tell`` line.
+
+        Returns
+        -------
+        list of str
+            The lines; ``decided by`` and one line per route last (when routes ran).
+        """
         d = self.diagnosis
         if d is None and not self.candidates:
             best = max((v for v in self.families if v.band is not None),
@@ -636,7 +673,7 @@ class Verdict:
                 f"{best.threshold_db:.1f} dB in band {best.band}, harmonics detected "
                 f"{_ranges(best.harmonics) if best.harmonics else 'none'})")
             return [f"no bearing fault detected at a record-wise false-alarm probability of "
-                    f"{self.pfa:g}{tail}"]
+                    f"{self.pfa:g}{tail}"] + self._route_lines()
         if d is None:
             names = " or ".join(display_name(c) for c in self.candidates)
             lines = [f"cannot tell: {names} ({self.confidence} evidence each)"]
@@ -648,10 +685,25 @@ class Verdict:
                   for v in self._role("second finding")]
         lines += [f"explained: {v.summary()}" for v in self._role("explained")]
         lines += [f"weak, not a finding: {v.summary()}" for v in self._role("weak")]
-        return lines
+        return lines + self._route_lines()
+
+    def _route_lines(self) -> list[str]:
+        """``decided by ...`` and one line per route (empty without the routes)."""
+        if not self.routes:
+            return []
+        return [f"decided by: {self.decided_by}"] + [f"route {r}" for r in self.routes]
 
     def to_dict(self) -> dict:
-        """Plain JSON-able form."""
+        """Plain JSON-able form.
+
+        Returns
+        -------
+        dict
+            ``diagnosis``, ``diagnosis_label``, ``confidence``, ``candidates``, ``evidence``,
+            ``second_findings``, ``pfa``, ``n_tests``, ``pfa_test``, ``statistic``, ``summary``,
+            ``families`` (one dict per family, non-finite floats as ``None``), ``routes``,
+            ``decided_by``.
+        """
         fams = []
         for v in self.families:
             d = {k: getattr(v, k) for k in v.__dataclass_fields__}
@@ -671,7 +723,8 @@ class Verdict:
                 "candidates": list(self.candidates), "evidence": self.evidence,
                 "second_findings": [v.family for v in self._role("second finding")],
                 "pfa": self.pfa, "n_tests": self.n_tests, "pfa_test": self.pfa_test,
-                "statistic": self.statistic, "summary": self.summary_lines(), "families": fams}
+                "statistic": self.statistic, "summary": self.summary_lines(), "families": fams,
+                "routes": list(self.routes), "decided_by": self.decided_by}
 
 
 def _tolerance(f0: float, df_hz: float) -> float:
@@ -750,7 +803,20 @@ def distinct_bands(limits: Sequence[tuple[float, float]],
     largest subset in which no two bands share more than ``overlap`` (default
     :data:`DISTINCT_BAND_OVERLAP`) of the narrower one's width. A band inside another (the
     kurtogram's 3-4 kHz inside 3-4.5 kHz) counts once with it; disjoint bands count each.
-    Exact for up to 12 bands (every subset), greedy (narrowest first) beyond."""
+    Exact for up to 12 bands (every subset), greedy (narrowest first) beyond.
+
+    Parameters
+    ----------
+    limits : sequence of (float, float)
+        Band limits ``(low, high)``, Hz.
+    overlap : float, optional
+        Fraction of the narrower band's width two bands may share and stay distinct.
+
+    Returns
+    -------
+    int
+        Number of distinct bands (0 for none).
+    """
     frac = DISTINCT_BAND_OVERLAP if overlap is None else float(overlap)
     bands = [(float(lo), float(hi)) for lo, hi in limits]
 
@@ -944,6 +1010,12 @@ def fault_verdict(table, families: Sequence[FaultFamily], *, pfa: float, n_tests
     df_hz : float, default 0
         Bin spacing of the envelope spectra (Hz): two lines within ``max(2 df, 0.2 %)`` are
         one line.
+
+    Returns
+    -------
+    Verdict
+        One :class:`FamilyVerdict` per family, the confidence and the candidates; ``pfa_test``
+        = ``pfa / n_tests``.
     """
     env = table[table["quantity"] == "envelope_spectrum"]
     out = [_family_verdict(fam, env[env["base"] == fam.name], float(df_hz)) for fam in families]

@@ -212,6 +212,31 @@ def save_analysis_figures(details: dict, outdir, *, prefix: str = "", base: str 
     ``{prefix}envelope_{band name}.{fmt}``. Every fault family's harmonics and sidebands are
     marked where they were found (:func:`plot_fault_lines`); with ``base`` (a family name) only
     that family's nominal ``k x base`` and ``+- m x fr`` (:func:`plot_envelope_spectrum`).
+
+    Parameters
+    ----------
+    details : dict
+        The details mapping (``kurtogram``, ``frequencies``, ``fr``, ``bands``, ``verdict``).
+    outdir : str or path-like
+        Output folder, created if missing.
+    prefix : str, default ""
+        Prefix of every file name.
+    base : str, optional
+        A family name (a key of ``details["frequencies"]``): plot only its nominal lines.
+    n_harmonics, n_sidebands : int, default 5, 1
+        Harmonics and shaft-rate sidebands marked when ``base`` is used (or a band has no
+        ``lines``).
+    unit : str, default ""
+        Unit of the amplitude axis.
+    dpi : int, default 120
+        Resolution of the figures.
+    fmt : str, default "png"
+        File format (extension).
+
+    Returns
+    -------
+    list of str
+        The paths written, the kurtogram first.
     """
     os.makedirs(outdir, exist_ok=True)
     paths = []
@@ -251,7 +276,18 @@ def save_analysis_figures(details: dict, outdir, *, prefix: str = "", base: str 
 def shown_family(details: dict) -> tuple[str | None, str | None]:
     """``(band, family)`` a record's figure shows: the diagnosis, else the first candidate of a
     "cannot tell", else the family closest to its threshold, else the first band and no
-    family."""
+    family.
+
+    Parameters
+    ----------
+    details : dict
+        The details mapping of a record (``verdict``, ``bands``).
+
+    Returns
+    -------
+    tuple of (str or None, str or None)
+        Band name and family name; ``(None, None)`` without verdict or bands.
+    """
     verdict = details.get("verdict")
     if verdict is not None:
         diag = verdict.diagnosis

@@ -41,12 +41,14 @@ from ..physics.kinematics import fault_frequencies
 from ..signal.bands import DEFAULT_BANDS
 from ..signal.kurtogram import max_kurtogram_level
 from .analysis import AnalysisOptions, analyze_signal
+from .routes import DEFAULT_ROUTES
 from .detection import fault_band_metrics
 from .faults import Verdict
 
 __all__ = ["MIN_BINS", "RECORD_OPTIONS", "RecordAnalysis", "RecordFailure", "Source",
            "analyze_record", "bearing_geometry", "known_bearings", "fault_sources",
-           "record_nlevel", "record_bands", "check_record", "check_frequencies", "check_orders"]
+           "record_nlevel", "record_bands", "check_fixed_band", "check_record",
+           "check_frequencies", "check_orders"]
 
 #: A frequency must lie at least this many bins (fs / n) above 0 Hz: the floor around a line
 #: is measured over [0.5, 1.5] x its frequency.
@@ -54,8 +56,10 @@ MIN_BINS = 10
 
 #: The options of a measured recording: the shared defaults of :class:`AnalysisOptions` (the
 #: sweep's), with the shaft rate measured from the record (a nominal speed is off by a fraction
-#: of a percent on a real machine; the sweep knows its speed exactly and keeps it off).
-RECORD_OPTIONS = AnalysisOptions(measure_speed=True)
+#: of a percent on a real machine; the sweep knows its speed exactly and keeps it off) and
+#: every route of :mod:`~bearing_envelope.diagnosis.routes` in the verdict (the sweep runs
+#: none).
+RECORD_OPTIONS = AnalysisOptions(measure_speed=True, routes=DEFAULT_ROUTES)
 
 
 class Source(NamedTuple):
@@ -288,6 +292,28 @@ def record_nlevel(nlevel: int | None, n_samples: int, *, follow: bool = False,
     return int(nlevel)
 
 
+def check_fixed_band(fixed_band, names: Mapping[str, str] | None = None) -> tuple[float, float]:
+    """A fixed band's edges, finite and ordered (before any record is read).
+
+    Parameters
+    ----------
+    fixed_band : (float, float)
+        ``(low_hz, high_hz)``.
+    names : mapping, optional
+        Parameter -> the caller's name of it, for the message.
+
+    Returns
+    -------
+    (float, float)
+        ``0 <= low_hz < high_hz``.
+    """
+    lo, hi = (float(v) for v in fixed_band)
+    if not (math.isfinite(lo) and math.isfinite(hi) and 0 <= lo < hi):
+        raise ValueError(f"{_namer(names)('fixed_band')}: got {lo!r} {hi!r}; allowed: 0 <= "
+                         f"LOW_HZ < HIGH_HZ")
+    return lo, hi
+
+
 def record_bands(bands, fixed_band, fs: float, *, clamp: bool = False,
                  names: Mapping[str, str] | None = None):
     """The band list for a record at ``fs``: ``bands`` (None: the defaults) plus an optional
@@ -316,10 +342,7 @@ def record_bands(bands, fixed_band, fs: float, *, clamp: bool = False,
     if fixed_band is None:
         return bands
     n = _namer(names)
-    lo, hi = (float(v) for v in fixed_band)
-    if not (math.isfinite(lo) and math.isfinite(hi) and 0 <= lo < hi):
-        raise ValueError(f"{n('fixed_band')}: got {lo!r} {hi!r}; allowed: 0 <= LOW_HZ < "
-                         f"HIGH_HZ")
+    lo, hi = check_fixed_band(fixed_band, names)
     nyq = fs / 2.0
     if lo >= nyq:
         raise ValueError(f"{n('fixed_band')}: LOW_HZ {lo:g} is at or above the Nyquist "

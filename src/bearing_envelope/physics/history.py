@@ -85,6 +85,21 @@ def kinematics(scene: Scene, t: np.ndarray, *, t_end: float | None = None) -> di
     ``theta_cage`` (rad), ``offset`` (m), ``roller`` (index of the nearest roller) and
     ``theta_roller`` (rad, that roller's angle from the load direction). ``t_end`` (s): end of
     the whole record when ``t`` is one block of it (keeps the seeded slip process the same).
+
+    Parameters
+    ----------
+    scene : Scene
+        The case's scene.
+    t : ndarray
+        Times, s, shape ``(n,)``.
+    t_end : float, optional
+        End of the whole record, s, when ``t`` is one block of it.
+
+    Returns
+    -------
+    dict of str to ndarray
+        ``theta_shaft``, ``theta_cage``, ``offset``, ``roller`` (int64), ``theta_roller``; each
+        of shape ``(n,)``.
     """
     b = scene.bearing
     z = b.rollers_per_row
@@ -105,6 +120,20 @@ def cage_angle(scene: Scene, t: np.ndarray, *, t_end: float | None = None) -> np
     ``t_end`` (s): the record's end when ``t`` is a block of it (the slip draws depend only on
     the seed and ``t_end``, so blocks of one record agree). Times slightly before 0 (the
     anti-alias filter's lead-in) continue the first period's rate.
+
+    Parameters
+    ----------
+    scene : Scene
+        The case's scene.
+    t : ndarray
+        Times, s.
+    t_end : float, optional
+        End of the whole record, s, when ``t`` is one block of it.
+
+    Returns
+    -------
+    ndarray
+        Cage angle, rad, shape of ``t``; ``2 pi f_c t`` without slip.
     """
     op = scene.operation
     fc = scene.cage_rate_hz
@@ -131,6 +160,25 @@ def synthesize_numpy(scene: Scene, table: PressureTable, ld: LoadDistribution, t
 
     The roller load is the load-zone law at the defect's angle (``load.roller_load: smooth``)
     or at the angle of the roller over the defect (``discrete``).
+
+    Parameters
+    ----------
+    scene : Scene
+        The case's scene.
+    table : PressureTable
+        The inner-race contact table.
+    ld : LoadDistribution
+        The load-zone law.
+    t : ndarray
+        Times, s, shape ``(n,)``.
+    t_end : float, optional
+        End of the whole record, s, when ``t`` is one block of it.
+
+    Returns
+    -------
+    tuple of ndarray
+        ``p_max`` (Pa), ``p_max_defect`` (Pa), ``roller_load`` (N), ``offset`` (m); each of
+        shape ``(n,)``.
     """
     kin = kinematics(scene, t, t_end=t_end)
     psi = kin["theta_roller"] if scene.load.roller_load == "discrete" else kin["theta_shaft"]
@@ -143,7 +191,27 @@ def synthesize(scene: Scene, table: PressureTable, ld: LoadDistribution, t: np.n
                *, t_end: float | None = None):
     """Per-sample synthesis with the numba kernel (falls back to numpy without numba).
 
-    Same outputs as :func:`synthesize_numpy`: ``(p_max, p_max_defect, roller_load, offset)``.
+    Same outputs as :func:`synthesize_numpy`: ``(p_max, p_max_defect, roller_load, offset)``;
+    the pressures are capped at ``table.p_cap`` when set.
+
+    Parameters
+    ----------
+    scene : Scene
+        The case's scene.
+    table : PressureTable
+        The inner-race contact table.
+    ld : LoadDistribution
+        The load-zone law.
+    t : ndarray
+        Times, s, shape ``(n,)``.
+    t_end : float, optional
+        End of the whole record, s, when ``t`` is one block of it.
+
+    Returns
+    -------
+    tuple of ndarray
+        ``p_max`` (Pa), ``p_max_defect`` (Pa), ``roller_load`` (N), ``offset`` (m); each of
+        shape ``(n,)``.
     """
     if not HAVE_NUMBA:  # pragma: no cover
         return synthesize_numpy(scene, table, ld, t, t_end=t_end)
@@ -179,7 +247,28 @@ def evaluate_signals(scene: Scene, table: PressureTable, ld: LoadDistribution, t
     (s): pressures from :meth:`PressureTable.evaluate`, integrals from
     :meth:`PressureTable.evaluate_integrals`. An outer-race or rolling-element defect
     (``table`` then the dict of :func:`~.locations.location_tables`):
-    :func:`~.locations.location_signals`."""
+    :func:`~.locations.location_signals`.
+
+    Parameters
+    ----------
+    scene : Scene
+        The case's scene.
+    table : PressureTable or dict of str to PressureTable
+        The contact table (inner race), or the location's tables.
+    ld : LoadDistribution
+        The load-zone law.
+    t : ndarray
+        Times, s, shape ``(n,)``.
+    t_end : float, optional
+        End of the whole record, s, when ``t`` is one block of it.
+    use_numba : bool, default True
+        Use the numba kernels (the numpy path for a centrifugal load law).
+
+    Returns
+    -------
+    dict of str to ndarray
+        Signal name -> values at ``t`` (SI units, :data:`SIGNAL_UNITS`), each of shape ``(n,)``.
+    """
     if scene.defect.location != "inner_race":
         return location_signals(scene, table, ld, cage_angle(scene, t, t_end=t_end),
                                 use_numba=use_numba)
@@ -219,7 +308,33 @@ def synthesize_case(scene: Scene, table: PressureTable, ld: LoadDistribution,
                     fidelity: Fidelity, *, use_numba: bool = True,
                     acquisition: dict | None = None) -> tuple[np.ndarray, dict, dict]:
     """All signals of a case at ``fs`` with the scene's acquisition (or ``acquisition``, a dict
-    like :func:`acquisition_settings`). Returns ``(time, signals, acquisition)``."""
+    like :func:`acquisition_settings`). Returns ``(time, signals, acquisition)``.
+
+    Parameters
+    ----------
+    scene : Scene
+        The case's scene.
+    table : PressureTable or dict of str to PressureTable
+        The contact table(s), as :func:`evaluate_signals`.
+    ld : LoadDistribution
+        The load-zone law.
+    fidelity : Fidelity
+        Resolves the acquisition when ``acquisition`` is not given.
+    use_numba : bool, default True
+        Use the numba kernels.
+    acquisition : dict, optional
+        The acquisition settings; default :func:`acquisition_settings` of the scene.
+
+    Returns
+    -------
+    time : ndarray
+        ``arange(n) / fs``, s, ``n = scene.n_samples``.
+    signals : dict of str to ndarray
+        Every signal at ``fs``, each of shape ``(n,)``.
+    acquisition : dict
+        The settings used; for ``antialiased`` also ``internal_range`` and
+        ``undershoot_bound``.
+    """
     op = scene.operation
     acq = acquisition or acquisition_settings(scene, fidelity)
     n = scene.n_samples

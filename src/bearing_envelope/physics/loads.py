@@ -75,6 +75,18 @@ def palmgren_stiffness(length_m: float, contacts: int = 2) -> float:
 
     Palmgren's line contact ``delta = 3.84e-5 Q^0.9 / l^0.8`` (delta, l in mm; Q in N) per contact,
     ``contacts`` contacts (inner + outer raceway) in series.
+
+    Parameters
+    ----------
+    length_m : float
+        Effective roller length, m.
+    contacts : int, default 2
+        Contacts in series.
+
+    Returns
+    -------
+    float
+        ``K``, N m^-10/9.
     """
     lmm = length_m * 1e3
     c = contacts * 3.84e-5 / lmm ** 0.8          # delta_mm = c * Q^0.9
@@ -87,6 +99,18 @@ def load_zone_integral(eps: float, n: float = 10.0 / 9.0) -> float:
 
     ``Q_max = F / (Z J_r cos(alpha))`` for many rollers. ``1/J_r(0.5) = 4.08`` (n = 10/9),
     ``4.37`` (n = 3/2).
+
+    Parameters
+    ----------
+    eps : float
+        Load-zone parameter (0.5: half the bearing loaded; >= 1: all of it).
+    n : float, default 10/9
+        Load-deflection exponent.
+
+    Returns
+    -------
+    float
+        ``J_r(eps)``.
     """
     lim = math.pi if eps >= 1 else math.acos(max(-1.0, 1.0 - 2.0 * eps))
 
@@ -161,6 +185,19 @@ class LoadDistribution:
 
         ``race``: the contact whose load is returned: ``inner`` (``Q_i``) or ``outer``
         (``Q_i + F_c cos(alpha)``); the two are equal without the centrifugal force.
+
+        Parameters
+        ----------
+        psi : float or ndarray
+            Angle(s) from the load direction, rad.
+        race : {"inner", "outer"}, default "inner"
+            The contact.
+
+        Returns
+        -------
+        float or ndarray
+            Element load, N, shape of ``psi`` (0 outside the load zone, plus the centrifugal
+            force for ``outer``).
         """
         d = (self.delta_r * np.cos(psi) - 0.5 * self.clearance) * math.cos(self.contact_angle_rad)
         if self.law_nodes is None:
@@ -170,7 +207,18 @@ class LoadDistribution:
         return q + self.centrifugal if race == "outer" else q
 
     def shape(self, psi):
-        """``Q(psi) / Q_max``."""
+        """``Q(psi) / Q_max``.
+
+        Parameters
+        ----------
+        psi : float or ndarray
+            Angle(s) from the load direction, rad.
+
+        Returns
+        -------
+        float or ndarray
+            Inner-contact load over ``q_max``, shape of ``psi``.
+        """
         return self.load_at(psi) / self.q_max
 
 
@@ -283,6 +331,18 @@ def hertz_point_stiffness(bearing, e_star: float) -> float:
     the contact at 1 N (:func:`bearing_envelope.contact.hertz.elliptical` with the race's
     ``R_x``, ``R_y``); the inner and outer contacts in series,
     ``K = (c_i + c_o)^(-3/2)`` (Harris & Kotzalas 2007, eqs. 7.3-7.4).
+
+    Parameters
+    ----------
+    bearing : Bearing
+        A ball bearing (``rx_for``, ``ry_for``).
+    e_star : float
+        Composite modulus, Pa.
+
+    Returns
+    -------
+    float
+        ``K``, N m^-3/2.
     """
     c = sum(hertz.elliptical(_PROBE_LOAD_N, bearing.rx_for(race), bearing.ry_for(race),
                              e_star).approach for race in ("inner", "outer"))
@@ -292,7 +352,20 @@ def hertz_point_stiffness(bearing, e_star: float) -> float:
 def contact_law(scene) -> tuple[float, float]:
     """``(K, n)`` of the rolling elements of ``scene``: Palmgren's line contact with ``n = 10/9``
     (rollers, :func:`palmgren_stiffness`) or Hertz point contact with ``n = 3/2`` (balls,
-    :func:`hertz_point_stiffness`)."""
+    :func:`hertz_point_stiffness`).
+
+    Parameters
+    ----------
+    scene : Scene
+        The scene (its bearing and material).
+
+    Returns
+    -------
+    K : float
+        Load-deflection constant, N m^-n.
+    n : float
+        Exponent of ``Q = K delta^n``.
+    """
     b = scene.bearing
     if getattr(b, "kind", "roller") == "ball":
         return hertz_point_stiffness(b, scene.material.e_star_pa), POINT_CONTACT_EXPONENT
@@ -336,7 +409,18 @@ def race_compliances(scene) -> tuple[float, float]:
     """``(c_i, c_o)`` of each raceway contact's deflection ``delta_j = c_j Q^(1/n)`` (m N^(-1/n)):
     Hertz approaches at 1 N (balls, as :func:`hertz_point_stiffness`) or Palmgren's
     ``3.84e-5 / l^0.8`` mm per contact (rollers, as :func:`palmgren_stiffness`); in series they
-    give :func:`contact_law`'s ``K = (c_i + c_o)^(-n)``."""
+    give :func:`contact_law`'s ``K = (c_i + c_o)^(-n)``.
+
+    Parameters
+    ----------
+    scene : Scene
+        The scene (its bearing and material).
+
+    Returns
+    -------
+    tuple of float
+        ``(c_i, c_o)``; equal for rollers.
+    """
     b = scene.bearing
     if getattr(b, "kind", "roller") == "ball":
         e = scene.material.e_star_pa
@@ -358,6 +442,18 @@ def operating_clearance(bearing, *, shaft_interference_um: float = 0.0,
     (``a`` = :data:`STEEL_EXPANSION_PER_K`). Harris & Kotzalas (2007), vol. 1 ch. 8 (fits and
     clearance); the fractions (0.80 and 0.87 for the 6205) lie in the 70-90 % that bearing
     makers quote for the clearance taken up by a fit.
+
+    Parameters
+    ----------
+    bearing : Bearing
+        Its ``radial_clearance_um``, ``pitch_diameter_mm``, ``roller_diameter_mm``, ``bore_mm``
+        and ``outside_diameter_mm``.
+    shaft_interference_um : float, default 0
+        Diametral interference of the inner ring on the shaft, um.
+    housing_interference_um : float, default 0
+        Diametral interference of the outer ring in the housing, um.
+    inner_warmer_by_K : float, default 0
+        Temperature of the inner ring above the outer, K.
 
     Returns
     -------
@@ -385,6 +481,16 @@ def row_load_distribution(scene) -> LoadDistribution:
     The radial load ``scene.load.value_N`` is shared equally by ``scene.bearing.rows`` rows;
     the law is :func:`contact_law` (line contact for rollers, point contact for balls), with
     the centrifugal force when ``load.centrifugal`` is on.
+
+    Parameters
+    ----------
+    scene : Scene
+        The scene (``load.value_N``, N: the radial load of the bearing).
+
+    Returns
+    -------
+    LoadDistribution
+        The loaded row's distribution.
     """
     b = scene.bearing
     k, n = contact_law(scene)
@@ -398,6 +504,16 @@ def scene_load_distribution(scene) -> LoadDistribution:
     ``bearing``: :func:`row_load_distribution`. ``contact``: the row load is found (Brent) such
     that the roller at the load-zone centre carries exactly ``scene.load.value_N``; with zero
     clearance this is just a scaling of the same shape.
+
+    Parameters
+    ----------
+    scene : Scene
+        The scene (``load.mode``, ``load.value_N`` in N).
+
+    Returns
+    -------
+    LoadDistribution
+        The loaded row's distribution.
     """
     if scene.load.mode == "bearing":
         return row_load_distribution(scene)

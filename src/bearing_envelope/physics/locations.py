@@ -105,7 +105,18 @@ def event_frequencies(fr: float, bpfi: float, z: int, d_mm: float, pitch_mm: flo
 
 
 def scene_event_frequencies(scene: Scene) -> dict[str, float]:
-    """:func:`event_frequencies` of a scene."""
+    """:func:`event_frequencies` of a scene.
+
+    Parameters
+    ----------
+    scene : Scene
+        The scene (shaft rate, BPFI used, bearing geometry).
+
+    Returns
+    -------
+    dict of str to float
+        ``fr``, ``bpfi``, ``bpfo``, ``ftf``, ``bsf``, ``bsf2``, Hz.
+    """
     b = scene.bearing
     return event_frequencies(scene.operation.shaft_rate_hz, scene.bpfi_hz, b.rollers_per_row,
                              b.roller_diameter_mm, b.pitch_diameter_mm, b.contact_angle_deg)
@@ -126,6 +137,11 @@ def outer_race_kinematics(scene: Scene, theta_c: np.ndarray) -> dict[str, np.nda
         ``defect.location == "outer_race"``.
     theta_c : ndarray
         Cage angle (rad) at each instant (:func:`bearing_envelope.physics.history.cage_angle`).
+
+    Returns
+    -------
+    dict of str to ndarray
+        ``offset`` (m) and ``psi`` (rad), shape of ``theta_c``.
     """
     b = scene.bearing
     phi_d = math.radians(scene.defect.position_deg)
@@ -140,6 +156,19 @@ def rolling_element_kinematics(scene: Scene, theta_c: np.ndarray) -> dict[str, n
 
     ``beta = theta_c (D + d cos alpha)/d`` (the element's turn relative to the cage), offsets
     ``x_o = (d/2) wrap(beta)``, ``x_i = (d/2) wrap(beta - pi)``.
+
+    Parameters
+    ----------
+    scene : Scene
+        ``defect.location == "rolling_element"``.
+    theta_c : ndarray
+        Cage angle (rad) at each instant.
+
+    Returns
+    -------
+    dict of str to ndarray
+        ``psi`` (rad, = ``theta_c``), ``offset_outer``, ``offset_inner`` and ``track_offset``
+        (m; zero unless ``defect.spin_axis == "wandering"``), shape of ``theta_c``.
     """
     b = scene.bearing
     d = 1e-3 * b.roller_diameter_mm
@@ -206,7 +235,31 @@ def location_tables(scene: Scene, fid: Fidelity, exposure: dict, stats: SolveSta
     :func:`~.exposure.exposure`): up to the largest; from the smallest when every passage is
     loaded (a fixed outer-race defect, or the outer race with the centrifugal force), else from
     the default first node. Returns ``(tables, nodes, snapshots)`` (nodes and snapshots of the
-    first table)."""
+    first table).
+
+    Parameters
+    ----------
+    scene : Scene
+        An outer-race or rolling-element defect.
+    fid : Fidelity
+        The fidelity of the solves.
+    exposure : dict
+        :func:`~.exposure.exposure` of the scene (``races`` -> ``q_min_N``, ``q_max_N``,
+        ``loaded_fraction``).
+    stats : SolveStats
+        Accumulates the solve statistics.
+    progress : bool, default False
+        Show progress.
+
+    Returns
+    -------
+    tables : dict of str to PressureTable
+        ``"outer"`` (and ``"inner"`` for a rolling element).
+    nodes : list of LoadNode
+        The first table's per-load solutions (:func:`~.table.build_table`).
+    snapshots : dict
+        The first table's pressure fields at a few offsets per load.
+    """
     races = ("outer",) if scene.defect.location == "outer_race" else ("inner", "outer")
     tables, nodes, snaps = {}, None, None
     for race in races:
@@ -230,7 +283,27 @@ def _contact(table: PressureTable, Q: np.ndarray, x: np.ndarray, use_numba: bool
 def location_signals(scene: Scene, tables: dict[str, PressureTable], ld: LoadDistribution,
                      theta_c: np.ndarray, *, use_numba: bool = True) -> dict[str, np.ndarray]:
     """Every contact and state signal at the instants of ``theta_c`` (cage angle, rad) for an
-    outer-race or rolling-element defect (module docstring)."""
+    outer-race or rolling-element defect (module docstring).
+
+    Parameters
+    ----------
+    scene : Scene
+        An outer-race or rolling-element defect.
+    tables : dict of str to PressureTable
+        :func:`location_tables`.
+    ld : LoadDistribution
+        The load-zone law.
+    theta_c : ndarray
+        Cage angle, rad, shape ``(n,)``.
+    use_numba : bool, default True
+        Use the numba kernels for the integrals.
+
+    Returns
+    -------
+    dict of str to ndarray
+        Every contact and state signal (SI units), each of shape ``(n,)``; for a rolling
+        element the two contacts combined (``p_max`` the larger, the others summed).
+    """
     if scene.defect.location == "outer_race":
         kin = outer_race_kinematics(scene, theta_c)
         Q = ld.load_at(kin["psi"], "outer")

@@ -129,7 +129,13 @@ DEFAULT_SCENE: dict[str, Any] = {
 
 
 def default_scene_mapping() -> dict[str, Any]:
-    """A deep copy of :data:`DEFAULT_SCENE` (the source study's scene)."""
+    """A deep copy of :data:`DEFAULT_SCENE` (the source study's scene).
+
+    Returns
+    -------
+    dict
+        The ``scene:`` layout (``bearing``, ``material``, ``operation``, ``load``, ``defect``).
+    """
     return copy.deepcopy(DEFAULT_SCENE)
 
 
@@ -325,7 +331,18 @@ class Bearing:
 
     def race_radius_m(self, race: str) -> float:
         """Kinematic raceway radius (m) of ``race`` (``inner`` | ``outer``): arc length per radian
-        of the contact point along the race."""
+        of the contact point along the race.
+
+        Parameters
+        ----------
+        race : {"inner", "outer"}
+            The raceway.
+
+        Returns
+        -------
+        float
+            ``inner_race_radius_m`` or ``outer_race_radius_m`` (anything but ``inner``: outer).
+        """
         return self.inner_race_radius_m if race == "inner" else self.outer_race_radius_m
 
     def rx_for(self, race: str) -> float:
@@ -336,6 +353,16 @@ class Bearing:
         for the inner race). Balls: the race radius along the contact normal,
         ``(D -+ d cos(alpha)) / (2 cos(alpha))`` (Harris & Kotzalas 2007, eqs. 2.27-2.33;
         design.md section 5).
+
+        Parameters
+        ----------
+        race : {"inner", "outer"}
+            The raceway.
+
+        Returns
+        -------
+        float
+            ``R_x``, m.
         """
         r = self.roller_radius_m
         rr = self.race_radius_m(race)
@@ -349,6 +376,16 @@ class Bearing:
         Rollers: ``1/R_y = 1/c_r - 1/c_race`` (crown against the concave raceway generatrix;
         ``c_o`` = ``outer_raceway_profile_radius_mm``, null = ``c_i``). Balls:
         ``1/R_y = 1/r - 1/(f d)`` with the groove conformity ``f`` of that race.
+
+        Parameters
+        ----------
+        race : {"inner", "outer"}
+            The raceway.
+
+        Returns
+        -------
+        float
+            ``R_y``, m; ``math.inf`` when the curvature sum is <= 0.
         """
         if self.kind == "ball":
             f = self.inner_groove_conformity if race == "inner" else self.outer_groove_conformity
@@ -377,6 +414,16 @@ class Bearing:
         ``inner_race``: ``(D - d)/2 - bore/2`` (groove bottom to bore), ``outer_race``:
         ``OD/2 - (D + d)/2``, ``rolling_element``: ``d/2``. A simple bound (the groove bottom
         of a ball race; the roller raceway of a roller bearing).
+
+        Parameters
+        ----------
+        location : {"inner_race", "outer_race", "rolling_element"}
+            The defect location.
+
+        Returns
+        -------
+        float
+            Thickness, m.
         """
         d, pd = self.roller_diameter_mm, self.pitch_diameter_mm
         mm = {"inner_race": 0.5 * (pd - d) - 0.5 * self.bore_mm,
@@ -614,7 +661,13 @@ class Scene:
 
     # derived -----------------------------------------------------------------------------
     def frequencies(self) -> FaultFrequencies:
-        """Geometric fault frequencies (:func:`bearing_envelope.physics.kinematics.fault_frequencies`)."""
+        """Geometric fault frequencies (:func:`bearing_envelope.physics.kinematics.fault_frequencies`).
+
+        Returns
+        -------
+        FaultFrequencies
+            At the scene's shaft rate, Hz (no BPFI override applied).
+        """
         b = self.bearing
         return fault_frequencies(self.operation.shaft_rate_hz, b.rollers_per_row,
                                  b.roller_diameter_mm, b.pitch_diameter_mm, b.contact_angle_deg)
@@ -646,7 +699,14 @@ class Scene:
         return int(round(op.revolutions / op.shaft_rate_hz * op.fs_hz))
 
     def to_mapping(self) -> dict[str, Any]:
-        """The mapping layout (as in the config) plus ``load.value_kN`` and ``defect.depth_um``."""
+        """The mapping layout (as in the config) plus ``load.value_kN`` and ``defect.depth_um``.
+
+        Returns
+        -------
+        dict
+            ``bearing``, ``material``, ``operation``, ``load``, ``defect``; ``defect.spin_*``
+            only when wandering, ``load.centrifugal`` only when on.
+        """
         b = dataclasses.asdict(self.bearing)
         b.pop("contact_race")
         b["end_relief"] = {k: v for k, v in b["end_relief"].items() if v is not None}
@@ -682,6 +742,12 @@ class Scene:
         depth_um : float
             Defect depth, um (>= 0; 0 = no defect).
 
+        Returns
+        -------
+        Scene
+            The validated scene (SI units inside); an outer-race defect's contact is the outer
+            race.
+
         Raises
         ------
         ValueError
@@ -702,12 +768,36 @@ class Scene:
 
     def for_race(self, race: str) -> "Scene":
         """This scene with the modelled contact on ``race`` (``inner`` | ``outer``): the
-        curvature of that contact in the gap (:attr:`Bearing.rx_m`, :attr:`Bearing.ry_m`)."""
+        curvature of that contact in the gap (:attr:`Bearing.rx_m`, :attr:`Bearing.ry_m`).
+
+        Parameters
+        ----------
+        race : {"inner", "outer"}
+            The contact to model.
+
+        Returns
+        -------
+        Scene
+            A copy with ``bearing.contact_race = race``.
+        """
         return dataclasses.replace(self, bearing=dataclasses.replace(self.bearing, contact_race=race))
 
     @classmethod
     def default(cls, *, load_kN: float = 500.0, depth_um: float = 50.0) -> "Scene":
-        """The source study's scene (:data:`DEFAULT_SCENE`)."""
+        """The source study's scene (:data:`DEFAULT_SCENE`).
+
+        Parameters
+        ----------
+        load_kN : float, default 500
+            Load value, kN.
+        depth_um : float, default 50
+            Defect depth, um.
+
+        Returns
+        -------
+        Scene
+            :meth:`from_mapping` of ``None``.
+        """
         return cls.from_mapping(None, load_kN=load_kN, depth_um=depth_um)
 
 

@@ -160,7 +160,13 @@ class PressureTable:
         return np.interp(np.cbrt(self.q_nodes), np.cbrt(self.q_out), self.p_out)
 
     def p_max_nodes(self) -> np.ndarray:
-        """``P(Q_i, x_j) = max(W0 R, P_out)`` at the nodes (Pa), shape (nq, nx)."""
+        """``P(Q_i, x_j) = max(W0 R, P_out)`` at the nodes (Pa), shape (nq, nx).
+
+        Returns
+        -------
+        ndarray
+            Pressure at the table's nodes, Pa, shape ``(nq, nx)``.
+        """
         return np.maximum(self.w0[:, None] * self.ratio, self.p_out_nodes[:, None])
 
     def _q2_rule(self, v, v_out, Q):
@@ -172,19 +178,50 @@ class PressureTable:
         return np.interp(q, qn, vs / qn ** 2) * q ** 2
 
     def approach_no_defect(self, Q) -> np.ndarray:
-        """No-defect approach ``delta0(Q)`` (m) at roller loads ``Q`` (N)."""
+        """No-defect approach ``delta0(Q)`` (m) at roller loads ``Q`` (N).
+
+        Parameters
+        ----------
+        Q : float or ndarray
+            Roller loads, N.
+
+        Returns
+        -------
+        ndarray
+            Approach, m, shape of ``Q``; a table without ``approach0`` raises ``ValueError``.
+        """
         if self.approach0 is None:
             raise ValueError("this table has no approach0 (no-defect approach per load node)")
         return self._q2_rule(self.approach0, self.approach_out, Q)
 
     def area_no_defect(self, Q) -> np.ndarray:
-        """No-defect contact area ``A0(Q)`` (m^2) at roller loads ``Q`` (N)."""
+        """No-defect contact area ``A0(Q)`` (m^2) at roller loads ``Q`` (N).
+
+        Parameters
+        ----------
+        Q : float or ndarray
+            Roller loads, N.
+
+        Returns
+        -------
+        ndarray
+            Area, m^2, shape of ``Q``; a table without ``area0`` raises ``ValueError``.
+        """
         if self.area0 is None:
             raise ValueError("this table has no area0 (no-defect contact area per load node)")
         return self._q2_rule(self.area0, self.area_out, Q)
 
     def evaluate_integrals(self, Q, x, *, use_numba: bool = True) -> dict[str, np.ndarray]:
         """Integral signals at roller loads ``Q`` (N) and defect offsets ``x`` (m).
+
+        Parameters
+        ----------
+        Q : float or ndarray
+            Roller loads, N.
+        x : float or ndarray
+            Defect offsets, m, shape of ``Q``.
+        use_numba : bool, default True
+            Use the numba kernel for the ratio interpolation.
 
         Returns
         -------
@@ -223,22 +260,60 @@ class PressureTable:
                 "approach_change": d - d0, "contact_area": area}
 
     def scale(self, Q):
-        """``s(Q) = kappa a_coef Q^(1/3) + s_const`` (m)."""
+        """``s(Q) = kappa a_coef Q^(1/3) + s_const`` (m).
+
+        Parameters
+        ----------
+        Q : float or ndarray
+            Roller loads, N.
+
+        Returns
+        -------
+        float or ndarray
+            ``s(Q)``, m, shape of ``Q``.
+        """
         return self.kappa * self.a_coef * np.cbrt(Q) + self.s_const
 
     def offsets(self) -> np.ndarray:
-        """Offsets of the nodes (m)."""
+        """Offsets of the nodes (m).
+
+        Returns
+        -------
+        ndarray
+            ``xi_nodes * s_max``, m, shape ``(nx,)``.
+        """
         return self.xi_nodes * self.s_max
 
     def args(self):
-        """Arrays and scalars of the interpolation (for the kernels)."""
+        """Arrays and scalars of the interpolation (for the kernels).
+
+        Returns
+        -------
+        tuple
+            ``(cbrt(q_nodes), offsets(), w0, ratio, ratio_defect, kappa a_coef, s_const,
+            cbrt(q_out), p_out)``, arrays C-contiguous.
+        """
         return (np.ascontiguousarray(np.cbrt(self.q_nodes)), np.ascontiguousarray(self.offsets()),
                 np.ascontiguousarray(self.w0), np.ascontiguousarray(self.ratio),
                 np.ascontiguousarray(self.ratio_defect), self.kappa * self.a_coef, self.s_const,
                 np.ascontiguousarray(np.cbrt(self.q_out)), np.ascontiguousarray(self.p_out))
 
     def evaluate(self, Q, x):
-        """Interpolated ``(P, P_d)`` (Pa) at roller loads ``Q`` (N) and offsets ``x`` (m)."""
+        """Interpolated ``(P, P_d)`` (Pa) at roller loads ``Q`` (N) and offsets ``x`` (m).
+
+        Parameters
+        ----------
+        Q : float or ndarray
+            Roller loads, N.
+        x : float or ndarray
+            Defect offsets, m, shape of ``Q``.
+
+        Returns
+        -------
+        P, P_d : ndarray
+            Maximum pressure of the contact and at the defect, Pa, shape of ``Q``; capped at
+            ``p_cap`` when set.
+        """
         Q = np.asarray(Q, dtype=float)
         x = np.asarray(x, dtype=float)
         P, Pd = _table_eval_numpy(Q, x, *self.args())
@@ -343,7 +418,18 @@ def unloaded_table(scene: Scene) -> PressureTable:
     """The table of a contact that never carries load (:func:`~.exposure.exposure`: the defect
     never meets a loaded element): every reading at ``Q = 0`` is 0 (pressure, force, approach,
     area) without a solve. Its load nodes (1 and 2 N) are placeholders: reading it at ``Q > 0``
-    is refused."""
+    is refused.
+
+    Parameters
+    ----------
+    scene : Scene
+        The scene (its defect extent, Hertz estimate and hardness).
+
+    Returns
+    -------
+    PressureTable
+        The placeholder table, ``info["unloaded"] = True``.
+    """
     qn = np.array([1.0, 2.0])
     q_out = np.linspace(1.0, 2.0, OUTSIDE_LOAD_DENSITY + 1)
     z2, zo = np.zeros((2, 2)), np.zeros(q_out.size)
@@ -613,6 +699,23 @@ def build_table(scene: Scene, fidelity: Fidelity, *, q_max: float,
     roller-end maxima on a denser load grid (:func:`_outside_maxima`); the interpolation checks
     against direct solves (:func:`_interpolation_checks`).
 
+    Parameters
+    ----------
+    scene : Scene
+        The scene, its modelled contact (``for_race``) included.
+    fidelity : Fidelity
+        Grid and node counts.
+    q_max : float
+        Largest roller load, N.
+    stats : SolveStats, optional
+        Accumulates the solve counters.
+    progress : bool, default False
+        Show a progress bar.
+    check_seed : int, default 20261122
+        Seed of the interpolation checks' random loads and offsets.
+    q_min : float, optional
+        Smallest roller load the defect meets, N.
+
     Returns
     -------
     table : PressureTable
@@ -681,7 +784,29 @@ def build_table(scene: Scene, fidelity: Fidelity, *, q_max: float,
 
 def direct_pressure(scene: Scene, fidelity: Fidelity, q_load: float, x_d: float,
                     *, kappa: float = 1.0, stats: SolveStats | None = None) -> tuple[float, float]:
-    """``(P, P_d)`` (Pa) from a direct zoom solve at roller load ``q_load`` and offset ``x_d``."""
+    """``(P, P_d)`` (Pa) from a direct zoom solve at roller load ``q_load`` and offset ``x_d``.
+
+    Parameters
+    ----------
+    scene : Scene
+        The scene.
+    fidelity : Fidelity
+        Grid settings.
+    q_load : float
+        Roller load, N.
+    x_d : float
+        Defect offset, m.
+    kappa : float, default 1
+        Solved/Hertz contact half-width ratio of the zoom window.
+    stats : SolveStats, optional
+        Accumulates the solve counters.
+
+    Returns
+    -------
+    tuple of float
+        ``(P, P_d)``, Pa: maximum pressure and pressure at the defect (the neighbourhood maximum
+        without a defect).
+    """
     fid = fidelity
     stats = stats or SolveStats()
     node = solve_load(scene, fid, q_load, kappa, stats)
