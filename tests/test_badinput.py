@@ -154,7 +154,8 @@ def _one_line(msg: str, pattern: str) -> None:
 
     lines = [ln for ln in msg.strip().splitlines() if ln.strip()]
     assert len(lines) == 1, msg
-    assert len(lines[0]) < 500, msg
+    # short, not a schema dump; the file names it starts with depend on where the test runs
+    assert len(re.sub(r"\S*/\S*", "", lines[0])) < 500, msg
     assert re.search(pattern, lines[0]), msg
     assert "$schema" not in msg and "additionalProperties" not in msg, msg
 

@@ -148,7 +148,10 @@ def test_one_default_of_the_analysis_options():
                 "filter_order", "window", "level0", "speed"):
         assert getattr(args, opt) is None, opt  # the library's default
     assert RECORD_OPTIONS.measure_speed and not AnalysisOptions().measure_speed
-    assert replace(RECORD_OPTIONS, measure_speed=False) == d
+    # a recording's options differ from the sweep's only in measuring the speed and running
+    # every route of the verdict
+    assert RECORD_OPTIONS.routes and not d.routes
+    assert replace(RECORD_OPTIONS, measure_speed=False, routes=d.routes) == d
 
 
 @pytest.mark.skipif(not REAL.exists(), reason="tests/data/real not present")
