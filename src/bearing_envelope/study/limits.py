@@ -30,7 +30,7 @@ from ..physics.solves import window_spec
 from ..signal.kurtogram import max_kurtogram_level
 from .settings import DEFAULT_MAX_CASES, ConfigError
 from ..physics.fidelity import fidelity_from
-from .tradeoff import TRADEOFF_DEFAULTS, _apply_knob
+from .tradeoff import TRADEOFF_DEFAULTS, apply_knob
 
 __all__ = ["DEFAULT_LIMITS", "MIN_HARDNESS_GPA", "MAX_CASE_NAME_CHARS", "ResourceEstimate",
            "estimate_case", "check_case", "min_revolutions", "available_memory_bytes", "precheck",
@@ -257,7 +257,7 @@ def _check_tradeoff(section: Mapping) -> None:
                 raise ValueError(f"tradeoff.knobs.{knob}: got {values!r}; allowed: a list of "
                                  f"values, coarse to fine")
             for v in values:
-                _apply_knob(base, str(knob), v)
+                apply_knob(base, str(knob), v)
         presets = section["presets"]
         for p in (presets.values() if isinstance(presets, Mapping) else presets):
             fidelity_from(p)

@@ -179,7 +179,6 @@ def apply_knob(base: Fidelity, knob: str, value) -> tuple[Fidelity, dict]:
     return _replace(base, **{knob: v}), {}
 
 
-_apply_knob = apply_knob  # the former name (study.limits reads it)
 
 
 def _base_value(base: Fidelity, scene_map: Mapping, knob: str):
@@ -405,7 +404,7 @@ def _expand_knobs(knobs: Mapping[str, Sequence], element_series: Sequence[str], 
         vals = list(vals)
         if not vals:
             raise ValueError(f"tradeoff.knobs.{k}: give at least one value")
-        _apply_knob(base_f, k, vals[0])  # validates the knob name and value early
+        apply_knob(base_f, k, vals[0])  # validates the knob name and value early
         bv = _base_value(base_f, scene_map, k)
         if k == "element":
             if any(v not in ("uniform", "linear") for v in vals):
@@ -428,7 +427,7 @@ def _reference_fidelity(reference, base_f: Fidelity, all_knobs: Mapping[str, lis
             if k in ("element",) or k in _SCENE_KNOBS or k.endswith("[linear]"):
                 continue
             fine = vals[-1]
-            ref_f, _ = _apply_knob(ref_f, k, fine)
+            ref_f, _ = apply_knob(ref_f, k, fine)
         return dataclasses.replace(ref_f, name="reference")
     if isinstance(reference, str) and reference == "per_knob":
         return None
@@ -443,7 +442,7 @@ def _variants(all_knobs: Mapping[str, list], base_f: Fidelity, preset_f: Mapping
     variants: list[tuple[str, str, Fidelity, dict, Any]] = []
     for k, vals in all_knobs.items():
         for v in vals:
-            fid, sc_over = _apply_knob(base_f, k, v)
+            fid, sc_over = apply_knob(base_f, k, v)
             fid = dataclasses.replace(fid, name=f"{k}={v}")
             variants.append((k, _fmt(v), fid, sc_over, v))
     for n, f in preset_f.items():
