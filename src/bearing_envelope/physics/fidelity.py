@@ -209,12 +209,24 @@ class Fidelity:
             raise ValueError(f"fidelity.{spacing} needs element 'uniform', got {self.element!r}")
 
     def to_dict(self) -> dict[str, Any]:
-        """Plain dict of all fields (for YAML/JSON/HDF5 attributes)."""
+        """Plain dict of all fields (for YAML/JSON/HDF5 attributes).
+
+        Returns
+        -------
+        dict of str to Any
+            Every field of the dataclass by name (um fields in um, ``name`` included).
+        """
         return dataclasses.asdict(self)
 
     def to_json(self) -> str:
         """The canonical serialisation (every field, sorted keys): what a workflow job receives
-        and a case file stores; :meth:`from_json` rebuilds the same object."""
+        and a case file stores; :meth:`from_json` rebuilds the same object.
+
+        Returns
+        -------
+        str
+            JSON object of :meth:`to_dict`, keys sorted.
+        """
         return json.dumps(self.to_dict(), sort_keys=True)
 
     @classmethod
@@ -223,6 +235,21 @@ class Fidelity:
 
         Fields a case file of an older version lacks take their defaults; keys no longer
         known are ignored (reading old files), everything else is checked as in the constructor.
+
+        Parameters
+        ----------
+        text : str or mapping
+            The JSON text :meth:`to_json` wrote, or the mapping it parses to.
+
+        Returns
+        -------
+        Fidelity
+            The rebuilt settings.
+
+        Raises
+        ------
+        ValueError
+            A known field with a bad value (the message names ``fidelity.<field>``).
         """
         d = json.loads(text) if isinstance(text, str) else dict(text)
         known = {f.name for f in dataclasses.fields(cls)}
@@ -320,7 +347,16 @@ def fidelity_from(spec: str | Mapping[str, Any] | Fidelity | None = None) -> Fid
         ``None`` -> ``standard``. A string names a preset (``draft``, ``fast``, ``standard``,
         ``accurate``, ``paper``).
         A mapping may hold ``preset`` (default ``standard``) and any field of :class:`Fidelity`
-        to override; the result is named ``custom`` unless ``name`` is given.
+        to override; the result is named ``custom`` unless ``name`` is given (a mapping
+        holding only ``preset`` keeps the preset's name). A :class:`Fidelity` is returned
+        unchanged.
+
+    Returns
+    -------
+    Fidelity
+        The preset object itself for a name or ``None`` (presets are frozen and shared), else a
+        validated copy of the preset with the overrides; integer fields given as integral
+        floats (``5.0`` from YAML) become ``int``.
 
     Raises
     ------
