@@ -79,7 +79,20 @@ FAR_FIELD_SIGNALS = ("removed_force", "contact_force", "approach", "approach_cha
 def quantity_class(quantity: str, sideband: int = 0) -> str:
     """The class an amplitude's error is estimated for: ``peak`` and ``rms`` of the signal, the
     tidy quantity (``raw_dc``, ``raw_fr``, ``raw_bpfi``, ``envelope_bpfi``, ``bandpass_peak``,
-    ...) for lines at their harmonics, and ``<quantity>_sideband`` for shaft-rate sidebands."""
+    ...) for lines at their harmonics, and ``<quantity>_sideband`` for shaft-rate sidebands.
+
+    Parameters
+    ----------
+    quantity : str
+        The tidy table's ``quantity`` (``peak``, ``rms``, ``raw_bpfi``, ``envelope_bpfi``, ...).
+    sideband : int, default 0
+        The row's sideband order (multiples of the shaft rate; 0 = the line itself).
+
+    Returns
+    -------
+    str
+        ``quantity`` itself, or ``"<quantity>_sideband"`` for a non-zero ``sideband``.
+    """
     return f"{quantity}_sideband" if int(sideband) != 0 else str(quantity)
 
 
@@ -98,14 +111,38 @@ def _load() -> tuple[dict[str, Any], pd.DataFrame]:
 
 def measured_far_field() -> str:
     """The far-field model every measured point was run with (the header's ``far_field``; a
-    model written before issue 25 has none and was measured ``frozen``)."""
+    model written before issue 25 has none and was measured ``frozen``).
+
+    Returns
+    -------
+    str
+        ``"responds"`` or ``"frozen"`` (:attr:`Fidelity.far_field`'s values).
+    """
     return str(_load()[0].get("far_field", "frozen"))
 
 
 def rows_at_load(rows: pd.DataFrame, load_kN: float | None) -> tuple[pd.DataFrame, str]:
     """The errors of one point and case kind at a load: ``(table, rule)``, the table with columns
     ``signal, quantity_class, rel_error, n_values``. At a model load its rows; between two model
-    loads the larger of the two; outside them the nearest; ``None``: the worst over all."""
+    loads the larger of the two; outside them the nearest; ``None``: the worst over all.
+
+    Parameters
+    ----------
+    rows : pandas.DataFrame
+        The model's rows of one fidelity point and case kind (columns ``load_kN, signal,
+        quantity_class, rel_error, n_values``; ``load_kN`` all NaN for a model pooled over
+        loads, whose rows are then used whatever ``load_kN``).
+    load_kN : float or None
+        The case's load, kN; None reads the worst over every model load.
+
+    Returns
+    -------
+    table : pandas.DataFrame
+        One row per ``(signal, quantity_class)``, sorted: ``rel_error`` the largest over the
+        loads used (a fraction), ``n_values`` the sum of theirs.
+    rule : str
+        Which load's rows were read, in words (for the error basis).
+    """
     loads = np.sort(rows["load_kN"].dropna().unique())
     if loads.size == 0:
         use, rule = rows["load_kN"].unique(), "pooled over the model's loads"
@@ -133,7 +170,29 @@ def lookup_rel_error(table: pd.DataFrame, point: str, load_kN: float | None, kin
                      signal: str, qclass: str) -> float:
     """The estimated relative error of one amplitude (NaN where none was measured): the rows of
     ``table`` (the model's columns) for ``point`` and ``kind`` read at ``load_kN`` by
-    :func:`rows_at_load`."""
+    :func:`rows_at_load`.
+
+    Parameters
+    ----------
+    table : pandas.DataFrame
+        The error model's table (columns ``point, load_kN, kind, signal, quantity_class,
+        rel_error, n_values``).
+    point : str
+        The measured fidelity point's name.
+    load_kN : float or None
+        The case's load, kN (None: the worst over the model's loads).
+    kind : {"defect", "healthy"}
+        The case kind.
+    signal : str
+        The signal's name (``p_max``, ``removed_force``, ...).
+    qclass : str
+        The amplitude's class (:func:`quantity_class`).
+
+    Returns
+    -------
+    float
+        The relative error (a fraction), NaN where the class was not measured.
+    """
     rows = table[(table["point"] == point) & (table["kind"] == kind)]
     t, _ = rows_at_load(rows, load_kN)
     hit = t[(t["signal"] == signal) & (t["quantity_class"] == qclass)]
@@ -141,7 +200,14 @@ def lookup_rel_error(table: pd.DataFrame, point: str, load_kN: float | None, kin
 
 
 def measured_points() -> dict[str, Fidelity]:
-    """The measured fidelity points of the error model, by name."""
+    """The measured fidelity points of the error model, by name.
+
+    Returns
+    -------
+    dict of str to Fidelity
+        Each point of the model file's header, built with :func:`fidelity_from` and named by
+        its key.
+    """
     header, _ = _load()
     return {name: fidelity_from({**{k: v for k, v in spec.items() if k != "name"},
                                  "name": name})
@@ -184,7 +250,21 @@ def _flat(d: Any, prefix: str = "") -> dict[str, Any]:
 def scene_differences(scene: Any, depth_um: float) -> list[str]:
     """The keys (``section.key: value vs default``) in which a scene mapping differs from the
     default scene the error model was measured on, with the same depth (and so the default width
-    ``w = 2 h``); the sweep values, duration, noise and seeds are not compared."""
+    ``w = 2 h``); the sweep values, duration, noise and seeds are not compared.
+
+    Parameters
+    ----------
+    scene : mapping
+        The case's nested scene mapping (:meth:`Scene.to_mapping` sections and keys).
+    depth_um : float
+        The case's defect depth, um (the default scene is built at it).
+
+    Returns
+    -------
+    list of str
+        ``"section.key: value vs default"`` for each differing key (a key missing on one side
+        reads ``None``), sorted by key; empty when the scene is the default one.
+    """
     flat = _flat(scene)
     ref = _flat(Scene.from_mapping({}, load_kN=float(flat.get("load.value_kN", 500.0)),
                                    depth_um=float(depth_um)).to_mapping())
@@ -229,6 +309,19 @@ def error_model(fidelity: Fidelity, depth_um: float,
         loads.
     load_rule : {"worst", "per_load"}
         :data:`LOAD_RULES`: the worst over the model's loads (default), or the case's load.
+
+    Returns
+    -------
+    ErrorModel
+        ``point`` the matching measured fidelity point's name and ``table`` its rows for the
+        case kind, read by ``load_rule`` (without the far-field signals, listed in
+        ``withheld``, when the case's far field is not the model's); or ``point`` None and an
+        empty table when the scene or the fidelity was not measured, ``basis`` saying why.
+
+    Raises
+    ------
+    ValueError
+        ``load_rule`` not in :data:`LOAD_RULES`.
     """
     if load_rule not in LOAD_RULES:
         raise ValueError(f"load_rule must be one of {LOAD_RULES}, got {load_rule!r}")
@@ -268,7 +361,18 @@ def error_model(fidelity: Fidelity, depth_um: float,
 def case_error_model(history) -> ErrorModel:
     """The error model of a simulated case (:class:`~bearing_envelope.physics.history.History`):
     :func:`error_model` at its fidelity, defect depth and scene; what
-    :func:`bearing_envelope.io.write_case` stores as the ``discretisation_error`` group."""
+    :func:`bearing_envelope.io.write_case` stores as the ``discretisation_error`` group.
+
+    Parameters
+    ----------
+    history : bearing_envelope.physics.history.History
+        The simulated case (its ``fidelity`` and ``scene`` are read).
+
+    Returns
+    -------
+    ErrorModel
+        As :func:`error_model` with the default load rule (``worst``).
+    """
     return error_model(history.fidelity, history.scene.defect.depth_um, history.scene.to_mapping())
 
 
@@ -277,6 +381,21 @@ def attach_errors(table: pd.DataFrame, model: ErrorModel, signal: str) -> pd.Dat
 
     A row gets the measured error of the same signal and :func:`quantity_class`; a class that
     was not measured gets none, and says so.
+
+    Parameters
+    ----------
+    table : pandas.DataFrame
+        Tidy harmonic table with at least ``quantity``, ``sideband`` and ``amplitude``.
+    model : ErrorModel
+        The case's error model (:func:`error_model`, :func:`case_error_model`).
+    signal : str
+        The signal the table's rows belong to.
+
+    Returns
+    -------
+    pandas.DataFrame
+        A copy of ``table`` plus ``rel_error_est`` (fraction, NaN where none), ``error_est``
+        (:func:`absolute_error`, in the amplitude's unit) and ``error_basis`` (str, never empty).
     """
     out = table.copy()
     rel = np.full(len(out), np.nan)
@@ -302,7 +421,20 @@ def attach_errors(table: pd.DataFrame, model: ErrorModel, signal: str) -> pd.Dat
 def absolute_error(rel_error, amplitude):
     """The absolute error bound of an amplitude ``a`` whose relative error against the converged
     value ``a*`` is at most ``e``: ``|a - a*| <= e |a*| <= e / (1 - e) |a|`` (``|a*| <= |a| / (1 -
-    e)``); ``inf`` for ``e >= 1`` (no bound), NaN where ``e`` is NaN."""
+    e)``); ``inf`` for ``e >= 1`` (no bound), NaN where ``e`` is NaN.
+
+    Parameters
+    ----------
+    rel_error : float or array_like
+        Relative error bounds ``e`` (fractions).
+    amplitude : float or array_like
+        Amplitudes ``a`` (any unit), broadcast against ``rel_error``.
+
+    Returns
+    -------
+    ndarray
+        ``e / (1 - e) * |a|``, in the amplitude's unit (0-d for scalar inputs).
+    """
     e = np.asarray(rel_error, dtype=float)
     a = np.abs(np.asarray(amplitude, dtype=float))
     with np.errstate(divide="ignore", invalid="ignore"):
