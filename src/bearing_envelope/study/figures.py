@@ -137,7 +137,23 @@ def _note(fig, case, y=-0.02):
 
 
 def save_figure(fig, path: str | os.PathLike, dpi: int = 120) -> Path:
-    """Save ``fig`` as PNG through a temporary file and close it."""
+    """Save ``fig`` as PNG through a temporary file and close it.
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+        The figure; closed afterwards, also when saving fails.
+    path : str or os.PathLike
+        The PNG file; its folder is created if missing. Replaced atomically (a temporary file
+        in the same folder, given the mode a plain ``open`` would, then renamed).
+    dpi : int, default 120
+        Resolution, dots per inch (``bbox_inches="tight"``).
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
+    """
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=".png", dir=path.parent)
@@ -195,6 +211,20 @@ def draw_peak_pressure(cases: pd.DataFrame, *, grid: str = "stored in each case 
     """Fig. 6: peak contact pressure against depth, one line per load (whole contact and defect).
 
     ``grid`` is printed in the elastic/grid-dependence note under the panels.
+
+    Parameters
+    ----------
+    cases : pandas.DataFrame
+        The per-case summary table: ``load_kN``, ``depth_um``, ``p_max_peak_Pa`` and
+        ``p_max_defect_peak_Pa`` (Pa; drawn in GPa), and ``location`` (one line per location
+        and load) or ``width_um`` (axis label) where the sweep has them.
+    grid : str, keyword-only
+        The grid spacings, as text, for :data:`ELASTIC_NOTE`.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Two panels (whole contact, defect neighbourhood), a dotted line at 4 GPa; not saved.
     """
     fig, axes = plt.subplots(1, 2, figsize=(10, 4.2), sharey=True)
     _per_load(axes[0], cases, "p_max_peak_Pa", 1e-9)
@@ -214,13 +244,46 @@ def draw_peak_pressure(cases: pd.DataFrame, *, grid: str = "stored in each case 
 
 
 def fig_peak_pressure(cases: pd.DataFrame, path, *, grid: str = "stored in each case file") -> Path:
-    """Fig. 6 (:func:`draw_peak_pressure`) saved as PNG."""
+    """Fig. 6 (:func:`draw_peak_pressure`) saved as PNG.
+
+    Parameters
+    ----------
+    cases : pandas.DataFrame
+        As in :func:`draw_peak_pressure`.
+    path : str or os.PathLike
+        The PNG file (:func:`save_figure`).
+    grid : str, keyword-only
+        As in :func:`draw_peak_pressure`.
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``, the PNG written.
+    """
     return save_figure(draw_peak_pressure(cases, grid=grid), path)
 
 
 def fig_harmonics_vs_depth(tidy: pd.DataFrame, band: str, path, *, orders=(1, 2)) -> Path:
     """Figs 12-20: envelope harmonic amplitudes k x BPFI against depth, one line per load
-    (k x each location's fault frequency, one line per location and load, in a location sweep)."""
+    (k x each location's fault frequency, one line per location and load, in a location sweep).
+
+    Parameters
+    ----------
+    tidy : pandas.DataFrame
+        The sweep's tidy harmonic table; the rows of ``band`` whose ``quantity`` starts with
+        ``envelope_`` and whose ``sideband`` is 0 are drawn (``amplitude`` in Pa, drawn in MPa).
+    band : str
+        Band name.
+    path : str or os.PathLike
+        The PNG file (:func:`save_figure`).
+    orders : sequence of int, keyword-only, default (1, 2)
+        Harmonic orders ``k``, one panel each.
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``, the PNG written.
+    """
     env = tidy["quantity"].astype(str).str.startswith("envelope_")
     sel = tidy[(tidy["band"] == band) & env & (tidy["sideband"] == 0)]
     family = _family_title(sel["quantity"].unique(), "envelope_")
@@ -314,7 +377,22 @@ def draw_band_limits(bands: pd.DataFrame, *, fs: float | None = None):
 
 
 def fig_band_limits(bands: pd.DataFrame, path, *, fs: float | None = None) -> Path:
-    """Fig. 10 (:func:`draw_band_limits`) saved as PNG."""
+    """Fig. 10 (:func:`draw_band_limits`) saved as PNG.
+
+    Parameters
+    ----------
+    bands : pandas.DataFrame
+        The sweep's band table, as in :func:`draw_band_limits`.
+    path : str or os.PathLike
+        The PNG file (:func:`save_figure`).
+    fs : float, optional, keyword-only
+        Sampling rate (Hz): Nyquist is marked.
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``, the PNG written.
+    """
     return save_figure(draw_band_limits(bands, fs=fs), path)
 
 
@@ -365,7 +443,20 @@ def draw_pressure_maps(pairs):
 
 
 def fig_pressure_maps(pairs, path) -> Path:
-    """Fig. 4 (:func:`draw_pressure_maps`) saved as PNG."""
+    """Fig. 4 (:func:`draw_pressure_maps`) saved as PNG.
+
+    Parameters
+    ----------
+    pairs : sequence of (healthy Case, defect Case)
+        As in :func:`draw_pressure_maps`.
+    path : str or os.PathLike
+        The PNG file (:func:`save_figure`).
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``, the PNG written.
+    """
     return save_figure(draw_pressure_maps(pairs), path)
 
 
@@ -423,7 +514,22 @@ def _darker(colour: str) -> tuple:
 
 
 def fig_time_histories(pairs, path, *, periods: float = 6.0) -> Path:
-    """Fig. 5 (:func:`draw_time_histories`) saved as PNG."""
+    """Fig. 5 (:func:`draw_time_histories`) saved as PNG.
+
+    Parameters
+    ----------
+    pairs : sequence of (healthy Case, defect Case)
+        As in :func:`draw_time_histories`.
+    path : str or os.PathLike
+        The PNG file (:func:`save_figure`).
+    periods : float, keyword-only, default 6.0
+        Width of the zoom in BPFI periods.
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``, the PNG written.
+    """
     return save_figure(draw_time_histories(pairs, periods=periods), path)
 
 
@@ -435,7 +541,31 @@ def _spectra(spectra_file):
 def fig_raw_spectrum(spectra_file, case: str, fr: float, bpfi: float, path, *, fmax=None,
                      line_name: str = "BPFI") -> Path:
     """Fig. 7: raw amplitude spectrum of one case with k x fr and k x BPFI marked (``bpfi``:
-    the case's fault frequency, named ``line_name``: BPFO, 2xBSF for other locations)."""
+    the case's fault frequency, named ``line_name``: BPFO, 2xBSF for other locations).
+
+    Parameters
+    ----------
+    spectra_file : str or os.PathLike
+        The case's spectra file (``.npz`` with ``raw_f``, Hz, and ``raw_a``, Pa; drawn in MPa
+        on a log axis, the 0 Hz term quoted in GPa in the title).
+    case : str
+        Case name (title).
+    fr : float
+        Shaft rate, Hz (1-3 x fr marked).
+    bpfi : float
+        The fault frequency, Hz (its multiples up to ``fmax`` marked).
+    path : str or os.PathLike
+        The PNG file (:func:`save_figure`).
+    fmax : float, optional, keyword-only
+        Highest frequency drawn, Hz; default ``6 * bpfi``.
+    line_name : str, keyword-only, default "BPFI"
+        The fault line's display name (legend).
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``, the PNG written.
+    """
     s = _spectra(spectra_file)
     f, a = s["raw_f"], s["raw_a"]
     fmax = fmax or 6 * bpfi
@@ -462,6 +592,18 @@ def sk_window(level: float, min_points: int = SK_MIN_POINTS) -> int:
     kurtogram often picks (L = 2-3) that is 8-16 samples, i.e. 5-9 frequency points over
     0 - fs/2, too coarse to see where the kurtosis lies. The window is therefore the larger of
     ``2^ceil(L+1)`` and ``2 (min_points - 1)`` (256 samples, 129 points, by default).
+
+    Parameters
+    ----------
+    level : float
+        The kurtogram level ``L`` (may be fractional: the 1/3-binary levels).
+    min_points : int, default :data:`SK_MIN_POINTS`
+        Fewest frequency points of the panel (0 - fs/2).
+
+    Returns
+    -------
+    int
+        The window, samples.
     """
     return int(max(2 ** int(np.ceil(float(level) + 1.0)), 2 * (int(min_points) - 1)))
 
@@ -521,7 +663,28 @@ def draw_kurtogram(kurtogram, case: str, *, signal=None, fs=None, nperseg=None):
 
 
 def fig_kurtogram(kurtogram_file, case: str, path, *, signal=None, fs=None, nperseg=None) -> Path:
-    """Fig. 9 (:func:`draw_kurtogram` of the kurtogram file ``kurtogram_file``) saved as PNG."""
+    """Fig. 9 (:func:`draw_kurtogram` of the kurtogram file ``kurtogram_file``) saved as PNG.
+
+    Parameters
+    ----------
+    kurtogram_file : str or os.PathLike
+        The case's kurtogram file (``.npz``; the arrays :func:`draw_kurtogram` reads).
+    case : str
+        Case name (title).
+    path : str or os.PathLike
+        The PNG file (:func:`save_figure`).
+    signal : array_like, optional, keyword-only
+        The analysed signal: draws the spectral-kurtosis panel.
+    fs : float, optional, keyword-only
+        Sampling rate (Hz), with ``signal``.
+    nperseg : int, optional, keyword-only
+        STFT window, samples; default :func:`sk_window` of the best level.
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``, the PNG written.
+    """
     with np.load(kurtogram_file) as k:
         arrays = {key: k[key] for key in k.files}
     return save_figure(draw_kurtogram(arrays, case, signal=signal, fs=fs, nperseg=nperseg), path)
@@ -532,7 +695,35 @@ def fig_envelope_spectrum(spectra_file, case: str, band: str, fr: float, bpfi: f
                           spacing_name: str = "fr") -> Path:
     """Fig. 11: envelope spectrum of one case and band, BPFI harmonics and fr sidebands marked
     (another location: its fault frequency ``bpfi`` named ``line_name`` and its sideband
-    spacing ``fr`` named ``spacing_name``)."""
+    spacing ``fr`` named ``spacing_name``).
+
+    Parameters
+    ----------
+    spectra_file : str or os.PathLike
+        The case's spectra file (``.npz`` with ``env_{band}_f``, Hz, and ``env_{band}_a``, Pa;
+        drawn in MPa).
+    case : str
+        Case name (title).
+    band : str
+        Band name.
+    fr : float
+        Sideband spacing, Hz (the shaft rate for the inner race).
+    bpfi : float
+        The fault frequency, Hz.
+    path : str or os.PathLike
+        The PNG file (:func:`save_figure`).
+    n_harmonics : int, keyword-only, default 3
+        Harmonics ``k x bpfi`` marked.
+    n_sidebands : int, keyword-only, default 2
+        Sidebands ``+- m x fr`` marked around each harmonic.
+    line_name, spacing_name : str, keyword-only
+        Display names of the fault line (default ``"BPFI"``) and of the spacing (``"fr"``).
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``, the PNG written.
+    """
     s = _spectra(spectra_file)
     f, a = s[f"env_{band}_f"], s[f"env_{band}_a"]
     fig, ax = plt.subplots(figsize=(10, 4))
@@ -570,7 +761,13 @@ def make_figures(*, harmonics, cases, bands, case_files, kurtogram_files, spectr
     analysis : bearing_envelope.study.settings.AnalysisSettings
         The config's ``analysis`` section, typed.
     outdir : path
-        Output folder.
+        Output folder (replaced whole, :func:`bearing_envelope.io.atomic_dir`).
+
+    Returns
+    -------
+    list of pathlib.Path
+        The PNGs written, under ``outdir``: Figs 4-7, 9 (only when the analysis uses the
+        kurtogram), 10, one Fig. 11 and one of Figs 12- per band, then Fig. 8.
     """
     outdir = Path(outdir)
     with atomic_dir(outdir) as tmp:
@@ -635,7 +832,25 @@ def draw_diagnosability_map(g: pd.DataFrame, band: str, *, vmax: float | None = 
     """Heat map of the BPFI detection statistic of one band: one panel per load, depth x SNR
     cells coloured by the statistic (dB) and marked where detected. Panels share the SNR axis,
     labelled once, so no label runs into the next panel. ``line_name``: the fault line tested
-    (a location sweep: the location's, e.g. ``"BPFO (outer_race)"``)."""
+    (a location sweep: the location's, e.g. ``"BPFO (outer_race)"``).
+
+    Parameters
+    ----------
+    g : pandas.DataFrame
+        The diagnosability rows of one band (and location): ``load_kN``, ``depth_um``,
+        ``snr_db``, ``statistic_db`` and ``detected``; one row per cell.
+    band : str
+        Band name (title).
+    vmax : float, optional, keyword-only
+        Top of the colour scale, dB (bottom 0 dB); default the largest statistic of ``g``.
+    line_name : str, keyword-only, default "BPFI"
+        The fault line tested (title, colour-bar label).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One panel per load; not saved.
+    """
     loads = sorted(g["load_kN"].unique())
     if vmax is None:
         vmax = float(np.nanmax(g["statistic_db"])) if len(g) else 1.0
@@ -665,7 +880,22 @@ def draw_diagnosability_map(g: pd.DataFrame, band: str, *, vmax: float | None = 
 
 def fig_diagnosability_maps(df: pd.DataFrame, outdir) -> list[Path]:
     """Heat maps of the BPFI detection statistic (:func:`draw_diagnosability_map`), one PNG per
-    band, written to a temporary folder, then renamed to ``outdir``."""
+    band, written to a temporary folder, then renamed to ``outdir``.
+
+    Parameters
+    ----------
+    df : pandas.DataFrame
+        The sweep's diagnosability table (columns as in :func:`draw_diagnosability_map`, plus
+        ``band`` and, in a location sweep, ``location``: then one map per band and location).
+        All maps share one colour scale, 0 dB to the largest statistic.
+    outdir : str or os.PathLike
+        Output folder (replaced whole, :func:`bearing_envelope.io.atomic_dir`).
+
+    Returns
+    -------
+    list of pathlib.Path
+        ``outdir/diagnosability_{band}.png`` (``_{band}_{location}.png``) per map.
+    """
     outdir = Path(outdir)
     with atomic_dir(outdir) as tmp:
         written = []

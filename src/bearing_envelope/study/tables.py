@@ -80,7 +80,17 @@ def public_mode(path) -> None:
 
 
 def write_csv_atomic(df: pd.DataFrame, path: str | os.PathLike, **kwargs) -> None:
-    """Write ``df`` to CSV atomically: :func:`bearing_envelope.io.write_csv_atomic`."""
+    """Write ``df`` to CSV atomically: :func:`bearing_envelope.io.write_csv_atomic`.
+
+    Parameters
+    ----------
+    df : pandas.DataFrame
+        The table.
+    path : str or os.PathLike
+        The CSV file to write.
+    **kwargs
+        Passed to :meth:`pandas.DataFrame.to_csv` (no index unless ``index=True``).
+    """
     _io_write_csv_atomic(df, path, **kwargs)
 
 
@@ -204,6 +214,18 @@ def band_table(bands: Iterable) -> pd.DataFrame:
 
     Columns :data:`bearing_envelope.io.BAND_TABLE_COLUMNS`: ``case, load_kN, depth_um, band,
     strategy, low_hz, high_hz, clamped``, in the order given.
+
+    Parameters
+    ----------
+    bands : iterable of bearing_envelope.io.CaseBands
+        Each case's chosen bands (``case``, ``load_kN``, ``depth_um`` and ``bands``, whose
+        items have ``name``, ``strategy``, ``low_hz``, ``high_hz`` in Hz and ``clamped``).
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per case and band, cases and bands in the order given (no columns when
+        ``bands`` is empty).
     """
     rows = []
     for doc in bands:
@@ -223,6 +245,15 @@ def pivot_tables(tidy: pd.DataFrame, *, sideband: int = 0) -> dict[str, pd.DataF
     sweep over defect widths) there is one pivot per width, named with ``__w{width}``; the
     healthy race (no width) is depth 0 of each. Every cell holds exactly one amplitude: two
     rows for one cell raise ``ValueError`` (nothing is dropped).
+
+    Parameters
+    ----------
+    tidy : pandas.DataFrame
+        The sweep's tidy table (:func:`concat_tidy`): ``band``, ``quantity``, ``order``,
+        ``sideband``, ``load_kN``, ``depth_um`` and ``amplitude``, and ``location`` or
+        ``width_um`` where the sweep has them.
+    sideband : int, keyword-only, default 0
+        The sideband index pivoted (0 = the lines themselves).
 
     Returns
     -------
@@ -275,7 +306,13 @@ def table_html(tables, title: str, caption: str = "") -> str:
     tables : mapping
         Section title -> DataFrame, shown in order.
     title, caption : str
-        Page title and a paragraph under it.
+        Page title and a paragraph under it (HTML-escaped; no paragraph for an empty caption).
+
+    Returns
+    -------
+    str
+        The page: one table per section (section headings only when there are several), no
+        index column, floats to 6 significant digits, NaN as an empty cell.
     """
     style = ("body{font-family:sans-serif;font-size:12px;margin:1em}"
              "table{border-collapse:collapse;margin-bottom:1.5em}"
