@@ -103,7 +103,22 @@ STUDY_LOCATION = "inner_race"
 
 def read_tables(cases, harmonics, bands, label: str = "default") -> Tables:
     """Read the three CSV tables of a sweep; of a location sweep (tables with a ``location``
-    column) only the study's location, the inner race, whose BPFI lines the findings read."""
+    column) only the study's location, the inner race, whose BPFI lines the findings read.
+
+    Parameters
+    ----------
+    cases, harmonics, bands : str or os.PathLike
+        The sweep's ``cases.csv`` (per-case summary), ``harmonics.csv`` (tidy amplitudes) and
+        ``bands.csv`` (band limits).
+    label : str, default "default"
+        Name of the run the tables come from (``"paper"`` for the paper-conventions run).
+
+    Returns
+    -------
+    Tables
+        The three tables (inner-race rows only where a ``location`` column exists, index reset)
+        and ``label``.
+    """
     frames = [pd.read_csv(p) for p in (cases, harmonics, bands)]
     frames = [f[f["location"] == STUDY_LOCATION].reset_index(drop=True)
               if "location" in f.columns else f for f in frames]
@@ -166,8 +181,25 @@ def flat_band(bands: pd.DataFrame, depths=(15.0, 50.0), band: str = "kurtogram")
     """The band common to the kurtogram bands of the cases with depth in ``depths`` (inclusive):
     the study's fixed band, taken from the flat region of its Fig. 10 for 15-50 um.
 
-    Returns the intersection ``(max low, min high)`` (Hz); when it is empty, the most frequent
-    band among those cases.
+    Parameters
+    ----------
+    bands : pandas.DataFrame
+        The sweep's band table (``band``, ``depth_um``, ``low_hz``, ``high_hz``).
+    depths : (float, float), default (15.0, 50.0)
+        Smallest and largest defect depth of the cases used, um (inclusive).
+    band : str, default "kurtogram"
+        The band name whose limits are intersected.
+
+    Returns
+    -------
+    (float, float)
+        The intersection ``(max low, min high)`` (Hz); when it is empty, the most frequent
+        ``(low, high)`` among those cases.
+
+    Raises
+    ------
+    ValueError
+        No row of ``band`` at a depth within ``depths``.
     """
     lo_d, hi_d = depths
     k = bands[(bands["band"] == band) & (bands["depth_um"] >= lo_d) & (bands["depth_um"] <= hi_d)]
@@ -194,7 +226,21 @@ class _Sweep:
 
 
 def findings(t: Tables) -> list[Finding]:
-    """Every finding of the study (Figs 4-20) measured on the tables ``t``."""
+    """Every finding of the study (Figs 4-20) measured on the tables ``t``.
+
+    Parameters
+    ----------
+    t : Tables
+        A sweep's tables (:func:`read_tables`) over at least two loads and two defect depths
+        (the kurtogram and band findings only where those bands are in the tables).
+
+    Returns
+    -------
+    list of Finding
+        In figure order: the pressure pattern (Fig. 4), peak pressure (6), the raw lines'
+        size (7), the 0 Hz term (8), the kurtogram bands (9-10, 12-13), raw 1 x fr and
+        1 x BPFI (8), the fixed band (14-15), 3-6 x BPFI (16-17), 10-13 x BPFI (18-20).
+    """
     c = t.cases.sort_values(["load_kN", "depth_um"])
     depths = sorted(c["depth_um"].unique())
     s = _Sweep(c, sorted(c["load_kN"].unique()), depths, [d for d in depths if d > 0])
@@ -449,6 +495,13 @@ def compare(cases, harmonics, bands, *, paper=None) -> list[tuple[Finding, Findi
         The default sweep's tables.
     paper : mapping, optional
         ``{"cases": path, "harmonics": path, "bands": path}`` of the paper-conventions run.
+
+    Returns
+    -------
+    list of (Finding, Finding or None)
+        Each finding of the default sweep (:func:`findings`) with the paper-conventions run's
+        finding of the same key (None without ``paper`` or where that run has none); empty
+        when the sweep has no inner-race rows.
     """
     t = read_tables(cases, harmonics, bands)
     if t.harmonics.empty:  # a sweep without inner-race cases: none of the study's findings apply
@@ -462,7 +515,25 @@ def compare(cases, harmonics, bands, *, paper=None) -> list[tuple[Finding, Findi
 
 
 def render_markdown(rows, *, flat: tuple[float, float] | None = None, run_note: str = "") -> str:
-    """The "study vs this model" page as Markdown."""
+    """The "study vs this model" page as Markdown.
+
+    Parameters
+    ----------
+    rows : sequence of (Finding, Finding or None)
+        As returned by :func:`compare`; a second column (paper conventions) is drawn when any
+        second item is given.
+    flat : (float, float), optional, keyword-only
+        The flat-region band of the sweep's kurtogram bands (:func:`flat_band`, Hz), quoted
+        under the rules.
+    run_note : str, keyword-only
+        A paragraph placed under the introduction (e.g. which runs the page compares).
+
+    Returns
+    -------
+    str
+        The page: summary counts, the findings table, the rules and reasons, and how to run the
+        paper-conventions sweep.
+    """
     lines = [
         "# The study vs this model",
         "",
@@ -513,7 +584,18 @@ def render_markdown(rows, *, flat: tuple[float, float] | None = None, run_note: 
 
 def render_html(markdown_text: str) -> str:
     """A self-contained HTML page of :func:`render_markdown`'s text (headings, tables, lists,
-    code blocks and paragraphs; enough for this page, no Markdown library needed)."""
+    code blocks and paragraphs; enough for this page, no Markdown library needed).
+
+    Parameters
+    ----------
+    markdown_text : str
+        The Markdown of :func:`render_markdown` (``**bold**`` and backticked code inline).
+
+    Returns
+    -------
+    str
+        A complete HTML document (text HTML-escaped, inline style sheet).
+    """
     def inline(t):
         t = html.escape(t)
         t = re.sub(r"\*\*(.+?)\*\*", r"<b>\1</b>", t)
@@ -564,7 +646,20 @@ def render_html(markdown_text: str) -> str:
 
 
 def write_page(text: str, path: str | os.PathLike) -> Path:
-    """Write ``text`` atomically (:func:`bearing_envelope.io.atomic_path`)."""
+    """Write ``text`` atomically (:func:`bearing_envelope.io.atomic_path`).
+
+    Parameters
+    ----------
+    text : str
+        The page, written as UTF-8.
+    path : str or os.PathLike
+        The file to (re)place.
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
+    """
     path = Path(path)
     with atomic_path(path) as tmp:
         with open(tmp, "w", encoding="utf-8") as fh:

@@ -47,6 +47,18 @@ def module_imports(path: str | os.PathLike) -> set[Path]:
     ``import bearing_envelope.x``, ``from bearing_envelope.x import y`` (``y`` a submodule or a
     name of ``x``) and relative imports inside the package are followed; the parent packages'
     ``__init__.py`` files, which Python runs on such an import, are included.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        A Python source file, inside the package or not (relative imports are followed only
+        inside it).
+
+    Returns
+    -------
+    set of pathlib.Path
+        Resolved source files of this package (``path`` itself excluded); imports of other
+        packages are ignored.
     """
     path = Path(path).resolve()
     tree = ast.parse(path.read_text(encoding="utf-8"), filename=str(path))
@@ -85,6 +97,21 @@ def code_dependencies(*paths: str | os.PathLike) -> list[str]:
     The closure of :func:`module_imports`: every package module reachable through imports
     (including imports inside functions, so the list errs on the side of rerunning). Package
     modules given in ``paths`` are included themselves.
+
+    Parameters
+    ----------
+    *paths : str or os.PathLike
+        Scripts or modules (files that must exist).
+
+    Returns
+    -------
+    list of str
+        Absolute paths of the package's source files, sorted.
+
+    Raises
+    ------
+    FileNotFoundError
+        A path that is not a file.
 
     Examples
     --------

@@ -120,6 +120,18 @@ def is_dry_run(argv: list[str] | None = None, workflow=None) -> bool:
     :data:`NON_EXECUTING_ARGS` set means no job runs. When that parser cannot read ``argv``,
     the flags decide (:func:`_flags_say_dry_run`); either way a flag named on the command line
     counts.
+
+    Parameters
+    ----------
+    argv : list of str, optional
+        The command line, program name first (default :data:`sys.argv`).
+    workflow : snakemake.workflow.Workflow, optional
+        The running workflow; its ``dryrun`` attribute counts when set.
+
+    Returns
+    -------
+    bool
+        True when no job runs (dry run, touch, listings, summaries, ...).
     """
     if workflow is not None and getattr(workflow, "dryrun", False):
         return True
@@ -131,12 +143,38 @@ def is_dry_run(argv: list[str] | None = None, workflow=None) -> bool:
 
 
 def rebuild_marker(stage: str, case: str) -> str:
-    """Path of the rebuild marker of ``results/{stage}/{case}.h5``."""
+    """Path of the rebuild marker of ``results/{stage}/{case}.h5``.
+
+    Parameters
+    ----------
+    stage : str
+        The case file's stage folder (``cases``, ``sensor``).
+    case : str
+        Case name.
+
+    Returns
+    -------
+    str
+        ``results/.rebuild/{stage}/{case}``, relative to the working folder.
+    """
     return f"{MARKER_DIR}/{stage}/{case}"
 
 
 def marker_if_present(stage: str, case: str) -> list[str]:
-    """``[marker]`` when the case's rebuild marker exists, else ``[]`` (a rule input)."""
+    """``[marker]`` when the case's rebuild marker exists, else ``[]`` (a rule input).
+
+    Parameters
+    ----------
+    stage : str
+        The case file's stage folder (``cases``, ``sensor``).
+    case : str
+        Case name.
+
+    Returns
+    -------
+    list of str
+        ``[rebuild_marker(stage, case)]`` or ``[]``.
+    """
     path = rebuild_marker(stage, case)
     return [path] if os.path.exists(path) else []
 
@@ -171,6 +209,13 @@ def recover_case_files(stages: dict[str, list[str]], consumers, *, dry_run: bool
         Change nothing; the warnings say what a real run would do.
     warn : callable, optional
         Receives each one-line warning (default: stderr).
+
+    Returns
+    -------
+    Recovery
+        ``set_aside``: the corrupt files moved aside (on a dry run: that would be);
+        ``rebuilt_missing``: the missing files whose consumers exist; ``dry_run`` as given.
+        Each file of either list gets its rebuild marker touched (not on a dry run).
     """
     say = warn or (lambda m: print(m, file=sys.stderr))
     found = Recovery([], [], dry_run)

@@ -193,7 +193,23 @@ def record_conditions(paths, settings: RigSettings) -> list[RigCondition]:
 
 
 def condition_scene(cond: RigCondition, settings: RigSettings) -> Scene:
-    """The scene of one condition: the rig's scene with the record's defect and operation."""
+    """The scene of one condition: the rig's scene with the record's defect and operation.
+
+    Parameters
+    ----------
+    cond : RigCondition
+        The record: its defect location, position and pit diameter (inch; the defect's
+        length and width, in um) and depth (um), shaft rate and sampling rate (Hz), length.
+    settings : RigSettings
+        The rig's base scene mapping (not modified), load (kN) and the ball records'
+        ``spin_axis``.
+
+    Returns
+    -------
+    Scene
+        The validated scene, its duration (``operation.revolutions``) covering the record's
+        ``n_samples`` (plus half a sample).
+    """
     m = copy.deepcopy(settings.scene)
     d = m.setdefault("defect", {})
     d.update(location=cond.location, position_deg=cond.position_deg,
