@@ -231,15 +231,16 @@ def findings(t: Tables) -> list[Finding]:
     Parameters
     ----------
     t : Tables
-        A sweep's tables (:func:`read_tables`) over at least two loads and two defect depths
-        (the kurtogram and band findings only where those bands are in the tables).
+        A sweep's tables (:func:`read_tables`).
 
     Returns
     -------
     list of Finding
-        In figure order: the pressure pattern (Fig. 4), peak pressure (6), the raw lines'
+        In this order: the pressure pattern (Fig. 4), peak pressure (6), the raw lines'
         size (7), the 0 Hz term (8), the kurtogram bands (9-10, 12-13), raw 1 x fr and
-        1 x BPFI (8), the fixed band (14-15), 3-6 x BPFI (16-17), 10-13 x BPFI (18-20).
+        1 x BPFI (8), the fixed band (14-15), 3-6 x BPFI (16-17), 10-13 x BPFI (18-20); the
+        findings of the ``kurtogram``, ``fixed``, ``bpfi_3_6`` and ``bpfi_10_13`` bands only
+        where the tables have that band.
     """
     c = t.cases.sort_values(["load_kN", "depth_um"])
     depths = sorted(c["depth_um"].unique())
