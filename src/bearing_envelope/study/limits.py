@@ -105,11 +105,30 @@ class ResourceEstimate:
     cpu_parts: tuple = ()
 
     def culprit(self, kind: str) -> str:
-        """The config field behind the largest part of the ``memory`` or ``cpu`` estimate."""
+        """The config field behind the largest part of the ``memory`` or ``cpu`` estimate.
+
+        Parameters
+        ----------
+        kind : {"memory", "cpu"}
+            Which estimate (any other value reads the CPU parts).
+
+        Returns
+        -------
+        str
+            The dotted config field(s) of the largest part (``"scene"`` when there are none).
+        """
         parts = dict(self.memory_parts if kind == "memory" else self.cpu_parts)
         return max(parts, key=parts.get) if parts else "scene"
 
     def describe(self) -> str:
+        """The estimate in one phrase, for the refusal messages.
+
+        Returns
+        -------
+        str
+            Samples x oversampling, global and window cells x solves, then the memory (GB) and
+            CPU seconds; counts of 10^12 and more in 3 significant digits.
+        """
         def count(v: int) -> str:      # 1e300 samples in 3 significant digits, not 300
             return f"{v:,}" if v < 10 ** 12 else f"{float(v):.3g}"
 
@@ -138,6 +157,21 @@ def estimate_case(name: str, scene, fidelity) -> ResourceEstimate:
     grid cells x solves for the contact table (``n_loads`` global solves, and per load node the
     window solves at the table's offsets). An order-of-magnitude estimate: within a factor
     of 3 of the measured cases, enough to refuse what cannot fit.
+
+    Parameters
+    ----------
+    name : str
+        The case's name (carried into the estimate and the messages).
+    scene : bearing_envelope.physics.scene.Scene
+        The case's validated scene (record length, sampling, acquisition, bearing, load).
+    fidelity : bearing_envelope.physics.fidelity.Fidelity
+        The grids and table densities.
+
+    Returns
+    -------
+    ResourceEstimate
+        Samples, oversampling, cells, solves, ``memory_bytes`` (bytes) and ``cpu_seconds``
+        (CPU s), with the config fields each part comes from.
     """
     op = scene.operation
     n = int(math.ceil(op.revolutions / op.shaft_rate_hz * op.fs_hz))
@@ -168,7 +202,13 @@ def estimate_case(name: str, scene, fidelity) -> ResourceEstimate:
 
 
 def available_memory_bytes() -> float:
-    """Memory available to new processes (``MemAvailable`` of /proc/meminfo; else physical)."""
+    """Memory available to new processes (``MemAvailable`` of /proc/meminfo; else physical).
+
+    Returns
+    -------
+    float
+        Bytes.
+    """
     try:
         with open("/proc/meminfo", encoding="ascii") as fh:
             for line in fh:
@@ -183,7 +223,18 @@ def min_revolutions(scene) -> float:
     """Shortest record (shaft revolutions) the bands job can analyse: the fast kurtogram needs
     :data:`MIN_KURTOGRAM_SAMPLES` samples for its first level
     (:func:`bearing_envelope.signal.max_kurtogram_level` >= 1); shorter records fail in the job
-    with ``nlevel must be an integer >= 1``."""
+    with ``nlevel must be an integer >= 1``.
+
+    Parameters
+    ----------
+    scene : bearing_envelope.physics.scene.Scene
+        Its ``operation.fs_hz`` and ``operation.shaft_rate_hz`` are read.
+
+    Returns
+    -------
+    float
+        Shaft revolutions.
+    """
     return MIN_KURTOGRAM_SAMPLES / scene.operation.fs_hz * scene.operation.shaft_rate_hz
 
 
@@ -270,6 +321,16 @@ def _check_tradeoff(section: Mapping) -> None:
 
 def precheck(settings) -> list[ResourceEstimate]:
     """The checks of this module on validated settings; returns each case's estimate.
+
+    Parameters
+    ----------
+    settings : bearing_envelope.study.settings.Settings
+        The loader's settings (:func:`~bearing_envelope.study.settings.workflow_settings`).
+
+    Returns
+    -------
+    list of ResourceEstimate
+        One per sweep case, in sweep order; empty without a ``sweep:`` section.
 
     Raises
     ------
@@ -419,7 +480,18 @@ def _check_map_background(scene, case) -> None:
 def profile_files(settings) -> list[str]:
     """Files the cases depend on besides the config (``scene.bearing.profile_file``): inputs of
     the simulate rule, so that editing one reruns the simulations (its SHA-256 is stored in
-    each case as ``profile_file_sha256``)."""
+    each case as ``profile_file_sha256``).
+
+    Parameters
+    ----------
+    settings : bearing_envelope.study.settings.Settings
+        Its ``scene_mapping`` is read.
+
+    Returns
+    -------
+    list of str
+        ``[profile_file]`` as the config gives it, or ``[]``.
+    """
     profile = (settings.scene_mapping.get("bearing") or {}).get("profile_file")
     return [os.fspath(profile)] if profile else []
 
@@ -428,6 +500,25 @@ def check_case(case, scene, fidelity, config: Mapping | None = None, analysis=No
     """The per-case checks of :func:`precheck` for one case outside the workflow
     (``bearing-envelope simulate``): lower bounds and the resource estimate against the
     available memory and the ``limits:`` of ``config`` (defaults :data:`DEFAULT_LIMITS`).
+
+    Parameters
+    ----------
+    case : bearing_envelope.study.settings.CaseId
+        The case (its name's length is checked).
+    scene : bearing_envelope.physics.scene.Scene
+        The case's validated scene.
+    fidelity : bearing_envelope.physics.fidelity.Fidelity
+        The fidelity it will run at.
+    config : mapping, optional
+        A config mapping; only its ``limits:`` section is read.
+    analysis : bearing_envelope.study.settings.AnalysisSettings, optional
+        When given, the record must be long enough for the kurtogram
+        (:func:`min_revolutions`).
+
+    Returns
+    -------
+    ResourceEstimate
+        The case's estimate (:func:`estimate_case`), within the limits.
 
     Raises
     ------

@@ -87,6 +87,21 @@ def format_number(value: float) -> str:
 
     ``50.0 -> '50'``, ``333.3333 -> '333.3333'``, ``50.0000001 -> '50.0000001'`` (never ``%g``,
     which writes 333.333 for 333.3333). ``float(format_number(v)) == v`` for every finite ``v``.
+
+    Parameters
+    ----------
+    value : float
+        A finite number (``-0.0`` is written ``0``).
+
+    Returns
+    -------
+    str
+        Positional decimal text, no exponent, no trailing zeros or point.
+
+    Raises
+    ------
+    ValueError
+        ``value`` is NaN or infinite.
     """
     v = float(value)
     if not math.isfinite(v):
@@ -163,6 +178,17 @@ class CaseId:
     def parse(cls, name: str | os.PathLike) -> "CaseId":
         """Parse a case name (or a path whose file stem is one: ``results/cases/F500kN_h50um.h5``).
 
+        Parameters
+        ----------
+        name : str or os.PathLike
+            A case name, or a path whose last component is one, optionally ending in ``.h5``,
+            ``.csv``, ``.json`` or ``.npz``.
+
+        Returns
+        -------
+        CaseId
+            The case whose :attr:`name` is that name.
+
         Raises
         ------
         ValueError
@@ -190,7 +216,14 @@ class CaseId:
 
     def attrs(self) -> dict[str, str]:
         """The case-file attributes that record this case: ``case`` (its name, for people) and
-        ``case_json`` (the typed fields, what :meth:`from_case` reads back)."""
+        ``case_json`` (the typed fields, what :meth:`from_case` reads back).
+
+        Returns
+        -------
+        dict of str to str
+            ``{"case": name, "case_json": JSON of load_kN, depth_um, width_um, location}``
+            (sorted keys).
+        """
         return {"case": self.name, "case_json": json.dumps(dataclasses.asdict(self),
                                                            sort_keys=True)}
 
@@ -201,6 +234,18 @@ class CaseId:
         Uses the typed ``case_json`` attribute the writers store (:meth:`attrs`; never the name);
         for older files, load and depth (and the width when it is not the default 2 x depth, the
         location when it is not the inner race).
+
+        Parameters
+        ----------
+        case : bearing_envelope.io.Case
+            A read case file (or an object with ``attrs``, ``scene``, ``load_kN`` and
+            ``depth_um``).
+
+        Returns
+        -------
+        CaseId
+            The case's id (``width_um`` and ``location`` None where the file's are the
+            defaults).
         """
         attrs = getattr(case, "attrs", {}) or {}
         if attrs.get("case_json"):
@@ -217,7 +262,18 @@ class CaseId:
 
     def scene_mapping(self, scene: Mapping[str, Any] | None) -> dict[str, Any]:
         """The ``scene:`` mapping of this case (a copy; ``defect.width_um`` and
-        ``defect.location`` set when given)."""
+        ``defect.location`` set when given).
+
+        Parameters
+        ----------
+        scene : mapping or None
+            The config's ``scene:`` section (not modified; None = empty).
+
+        Returns
+        -------
+        dict
+            A deep copy of ``scene`` with this case's width (um) and location in ``defect``.
+        """
         m = copy.deepcopy(dict(scene or {}))
         if self.width_um is not None or self.location is not None:
             m["defect"] = dict(m.get("defect") or {})
@@ -233,7 +289,23 @@ class CaseId:
         return CaseId(self.load_kN, 0.0, None, self.location)
 
     def scene(self, scene: Mapping[str, Any] | None = None):
-        """Build and validate this case's :class:`bearing_envelope.physics.scene.Scene`."""
+        """Build and validate this case's :class:`bearing_envelope.physics.scene.Scene`.
+
+        Parameters
+        ----------
+        scene : mapping, optional
+            The config's ``scene:`` section (:meth:`scene_mapping`); None: the default scene.
+
+        Returns
+        -------
+        Scene
+            At this case's load (kN) and defect depth (um).
+
+        Raises
+        ------
+        ValueError
+            A scene value out of range (the message names the field).
+        """
         return Scene.from_mapping(self.scene_mapping(scene), load_kN=self.load_kN,
                                   depth_um=self.depth_um)
 
@@ -272,6 +344,26 @@ class SweepSettings:
 
     @classmethod
     def from_mapping(cls, m: Mapping[str, Any]) -> "SweepSettings":
+        """Check and type the ``sweep:`` section.
+
+        Parameters
+        ----------
+        m : mapping
+            ``loads_kN`` (numbers > 0), ``depths_um`` (numbers >= 0), optionally ``widths_um``
+            (numbers > 0) and ``locations``; each a non-empty list of distinct values.
+
+        Returns
+        -------
+        SweepSettings
+            The values as floats (``-0.0`` as ``0.0``), in the order given.
+
+        Raises
+        ------
+        ConfigError
+            One line naming the entry (``sweep.depths_um[2]``), the value and what is allowed;
+            also a value whose exact text (:func:`format_number`) is longer than
+            :data:`MAX_VALUE_CHARS`.
+        """
         def values(key, lo, lo_open):
             raw = m.get(key)
             if not isinstance(raw, Sequence) or isinstance(raw, str) or not raw:
@@ -308,7 +400,14 @@ class SweepSettings:
         return len(self.locations or (None,)) * len(self.loads_kN) * per_load
 
     def cases(self) -> list[CaseId]:
-        """Every case: locations outermost (when set), then loads, depths, widths innermost."""
+        """Every case: locations outermost (when set), then loads, depths, widths innermost.
+
+        Returns
+        -------
+        list of CaseId
+            :attr:`n_cases` cases; the healthy race (depth 0) once per load and location,
+            without a width.
+        """
         out = []
         for loc in (self.locations or (None,)):
             for f in self.loads_kN:
@@ -357,6 +456,13 @@ class BandSpec:
     clamp: bool | None = None
 
     def to_mapping(self) -> dict[str, Any]:
+        """The band as ``analysis.bands`` writes it (the resolver's input).
+
+        Returns
+        -------
+        dict
+            The fields that are set (None fields left out).
+        """
         return {k: v for k, v in dataclasses.asdict(self).items() if v is not None}
 
 
@@ -385,7 +491,31 @@ class AnalysisSettings:
     def from_mapping(cls, m: Mapping[str, Any], *, fs: float, freqs: Mapping[str, float],
                      has_sensor: bool) -> "AnalysisSettings":
         """Build and cross-check (needs the sampling rate and base frequencies of the scene).
-        Keys missing from ``m`` take the schema's defaults."""
+        Keys missing from ``m`` take the schema's defaults.
+
+        Parameters
+        ----------
+        m : mapping
+            The ``analysis:`` section (schema-validated).
+        fs : float, keyword-only
+            The scene's sampling rate, Hz (bands, bandwidths and harmonics below Nyquist).
+        freqs : mapping, keyword-only
+            The scene's base frequencies, Hz (``fr``, ``bpfi``, ...;
+            :func:`~bearing_envelope.physics.locations.scene_event_frequencies`), for the
+            ``orders`` bands and the harmonics.
+        has_sensor : bool, keyword-only
+            Whether the config has a ``sensor:`` section (needed by ``signal: acceleration``).
+
+        Returns
+        -------
+        AnalysisSettings
+
+        Raises
+        ------
+        ConfigError
+            One line naming the field (a repeated band name, a band that does not resolve
+            below Nyquist, ``max_level > nlevel``, ...).
+        """
         m = {**section_defaults("analysis"), **dict(m)}
         kw = {f.name: m[f.name] for f in dataclasses.fields(cls) if f.name != "bands"}
         bands = tuple(BandSpec(**dict(b)) for b in m["bands"])
@@ -417,17 +547,42 @@ class AnalysisSettings:
         return a
 
     def to_mapping(self) -> dict[str, Any]:
+        """The section as a plain mapping (what :meth:`from_mapping` reads back).
+
+        Returns
+        -------
+        dict
+            Every field; ``bands`` a list of :meth:`BandSpec.to_mapping`.
+        """
         d = dataclasses.asdict(self)
         d["bands"] = [b.to_mapping() for b in self.bands]
         return d
 
     def to_json(self) -> str:
-        """The canonical serialisation (sorted keys) a workflow job receives as a param."""
+        """The canonical serialisation (sorted keys) a workflow job receives as a param.
+
+        Returns
+        -------
+        str
+            JSON of :meth:`to_mapping`.
+        """
         return json.dumps(self.to_mapping(), sort_keys=True)
 
     @classmethod
     def from_json(cls, text: str) -> "AnalysisSettings":
-        """The object :meth:`to_json` serialised (already checked when it was built)."""
+        """The object :meth:`to_json` serialised (already checked when it was built).
+
+        Parameters
+        ----------
+        text : str
+            The JSON of :meth:`to_json`.
+
+        Returns
+        -------
+        AnalysisSettings
+            Equal to the object serialised; the cross-checks of :meth:`from_mapping` are not
+            run again.
+        """
         d = json.loads(text)
         bands = tuple(BandSpec(**b) for b in d.pop("bands"))
         return cls(bands=bands, **d)
@@ -450,6 +605,17 @@ class DiagnosabilitySettings:
 
     @classmethod
     def from_mapping(cls, m: Mapping[str, Any] | None) -> "DiagnosabilitySettings":
+        """Type the ``diagnosability:`` section.
+
+        Parameters
+        ----------
+        m : mapping or None
+            The section (schema-validated); missing keys take the schema's defaults.
+
+        Returns
+        -------
+        DiagnosabilitySettings
+        """
         m = {**section_defaults("diagnosability"), **dict(m or {})}
         return cls(bool(m["enabled"]), tuple(float(x) for x in m["snr_db"]),
                    int(m["false_alarm_trials"]), str(m["kurtogram_from"]))
@@ -468,16 +634,46 @@ class SimulationSetup:
     fidelity: Fidelity
 
     def to_json(self) -> str:
+        """The canonical serialisation a simulation job receives as a param.
+
+        Returns
+        -------
+        str
+            JSON ``{"scene": scene mapping, "fidelity": every Fidelity field}``, sorted keys.
+        """
         return json.dumps({"scene": self.scene_mapping, "fidelity": self.fidelity.to_dict()},
                           sort_keys=True)
 
     @classmethod
     def from_json(cls, text: str) -> "SimulationSetup":
+        """The object :meth:`to_json` serialised.
+
+        Parameters
+        ----------
+        text : str
+            The JSON of :meth:`to_json`.
+
+        Returns
+        -------
+        SimulationSetup
+            The scene mapping as given and the fidelity rebuilt by :meth:`Fidelity.from_json`.
+        """
         d = json.loads(text)
         return cls(d["scene"], Fidelity.from_json(d["fidelity"]))
 
     def scene(self, case: "CaseId") -> Scene:
-        """The validated scene of one case."""
+        """The validated scene of one case.
+
+        Parameters
+        ----------
+        case : CaseId
+            The case (load, depth, width, location).
+
+        Returns
+        -------
+        Scene
+            Built now from :attr:`scene_mapping` (:meth:`CaseId.scene`).
+        """
         return case.scene(self.scene_mapping)
 
 
@@ -528,7 +724,18 @@ class Settings:
 
     def scene(self, case: CaseId):
         """The validated scene of one case: built once, when the settings were (a sweep case),
-        else now."""
+        else now.
+
+        Parameters
+        ----------
+        case : CaseId
+            A case of the sweep, or any other case of this scene section.
+
+        Returns
+        -------
+        Scene
+            The loader's scene of a sweep case (the same object each call), else a new one.
+        """
         sc = self.scenes.get(case)
         return sc if sc is not None else case.scene(self.scene_mapping)
 
@@ -538,7 +745,14 @@ class Settings:
 
 
 def default_config_path() -> Path | None:
-    """``./config.yaml`` when it exists (the file ``simulate`` reads without ``--config``)."""
+    """``./config.yaml`` when it exists (the file ``simulate`` reads without ``--config``).
+
+    Returns
+    -------
+    pathlib.Path or None
+        The relative path :data:`DEFAULT_CONFIG_NAME` when it is a file in the working
+        folder, else None.
+    """
     p = Path(DEFAULT_CONFIG_NAME)
     return p if p.is_file() else None
 
@@ -612,6 +826,18 @@ def _number_form(text: str) -> str:
 
 def read_yaml(path: str | os.PathLike) -> dict[str, Any]:
     """Read a YAML config strictly: a mapping, no duplicate keys, errors with line numbers.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The config file (size bounded by
+        :data:`~bearing_envelope.io.yamlsafe.MAX_DOCUMENT_BYTES`; numbers must be plain
+        decimals, not YAML 1.1 octal, hexadecimal or base-60 forms).
+
+    Returns
+    -------
+    dict
+        The parsed top-level mapping, not yet validated (empty for an empty file).
 
     Raises
     ------
@@ -807,7 +1033,18 @@ def _coerce_integers(instance: Any, schema: Mapping[str, Any], root: Mapping[str
 
 def section_defaults(section: str) -> dict[str, Any]:
     """The schema's defaults of one top-level section (``analysis``, ``diagnosability``, ...):
-    the one place defaults live, read by the typed settings for keys a mapping leaves out."""
+    the one place defaults live, read by the typed settings for keys a mapping leaves out.
+
+    Parameters
+    ----------
+    section : str
+        A top-level key of the schema (:func:`full_schema`).
+
+    Returns
+    -------
+    dict
+        Key -> default of the section's properties that have one (nested defaults filled).
+    """
     schema = _schema(partial=True)
     out: dict[str, Any] = {}
     _fill_defaults(out, schema["properties"][section], schema)
@@ -848,6 +1085,21 @@ def validate_mapping(config: Mapping[str, Any], *, source: str = "<mapping>",
 def settings_from_mapping(config: Mapping[str, Any], *, source: str = "<mapping>",
                           partial: bool = False) -> Settings:
     """Validate a config mapping and build the typed :class:`Settings` (no contact solve).
+
+    Parameters
+    ----------
+    config : mapping
+        A merged config (:func:`read_configs`); not modified.
+    source : str, keyword-only
+        Where it came from, the first word of every error message.
+    partial : bool, keyword-only
+        Accept a config without the top-level required sections (``simulate --config`` needs
+        only ``scene:``).
+
+    Returns
+    -------
+    Settings
+        Every section typed and cross-checked, the scene of every sweep case built once.
 
     Raises
     ------
