@@ -63,7 +63,23 @@ AMPLITUDE_ESTIMATORS = {
 
 
 def amplitude_estimator(analysis: AnalysisSettings) -> str:
-    """``analysis.amplitude`` (default: AnalysisOptions'; the default sweep chooses ``interpolated``), checked."""
+    """``analysis.amplitude`` (default: AnalysisOptions'; the default sweep chooses ``interpolated``), checked.
+
+    Parameters
+    ----------
+    analysis : AnalysisSettings
+        The config's ``analysis`` section, typed.
+
+    Returns
+    -------
+    str
+        A key of :data:`AMPLITUDE_ESTIMATORS` (``interpolated`` or ``peak_bin``).
+
+    Raises
+    ------
+    ValueError
+        Any other name.
+    """
     name = analysis.amplitude
     if name not in AMPLITUDE_ESTIMATORS:
         raise ValueError(f"analysis.amplitude: got {name!r}; allowed: "
@@ -80,7 +96,21 @@ def _case_id(case) -> str:
 def history_case(history):
     """A simulated :class:`bearing_envelope.physics.history.History` as the in-memory case the functions
     of this module take (what reading its case file gives them: signals, rates, fault
-    frequencies, the sweep values and the scene), without writing a file."""
+    frequencies, the sweep values and the scene), without writing a file.
+
+    Parameters
+    ----------
+    history : bearing_envelope.physics.history.History
+        The return of :func:`bearing_envelope.physics.history.simulate`.
+
+    Returns
+    -------
+    types.SimpleNamespace
+        ``signals`` (name -> array), ``fs`` and ``fr`` (Hz), ``bpfi``, ``bpfo``, ``ftf``,
+        ``bsf`` (the scene's event rates, Hz), ``load_kN``, ``depth_um``, ``scene`` (the scene
+        mapping), ``attrs`` (``fidelity_json``) and ``error_model``
+        (:func:`bearing_envelope.study.accuracy.case_error_model`).
+    """
     from types import SimpleNamespace
 
     sc = history.scene
@@ -96,7 +126,25 @@ def history_case(history):
 def case_signal(case, name: str = "p_max") -> np.ndarray:
     """The named 1-D signal of a case: ``p_max``, ``p_max_defect``, an integral signal
     (``removed_force``, ``contact_force``, ``approach``, ``approach_change``, ``contact_area``;
-    format 2 case files) or any other stored signal."""
+    format 2 case files) or any other stored signal.
+
+    Parameters
+    ----------
+    case : bearing_envelope.io.Case
+        The case (its ``signals`` mapping is read).
+    name : str, default "p_max"
+        The signal's name.
+
+    Returns
+    -------
+    ndarray
+        The signal as float64, in its own unit (Pa for the pressures, N, m, m^2).
+
+    Raises
+    ------
+    ValueError
+        The case holds no such signal, or it has a non-finite value.
+    """
     if name not in case.signals:
         raise ValueError(f"analysis.signal = {name!r}; the case holds {sorted(case.signals)}")
     x = np.asarray(case.signals[name], dtype=float)
@@ -108,14 +156,36 @@ def case_signal(case, name: str = "p_max") -> np.ndarray:
 def case_frequencies(case) -> dict[str, float]:
     """Base frequencies (Hz) of a case as its file states them: fr and the rates its events run
     at (BPFI used, BPFO, FTF = the cage rate used, BSF;
-    :func:`bearing_envelope.physics.locations.scene_event_frequencies`)."""
+    :func:`bearing_envelope.physics.locations.scene_event_frequencies`).
+
+    Parameters
+    ----------
+    case : bearing_envelope.io.Case
+        The case (``fr``, ``bpfi``, ``bpfo``, ``ftf``, ``bsf`` are read).
+
+    Returns
+    -------
+    dict of str to float
+        ``{"fr", "bpfi", "bpfo", "ftf", "bsf"}`` -> Hz.
+    """
     return {"fr": float(case.fr), "bpfi": float(case.bpfi), "bpfo": float(case.bpfo),
             "ftf": float(case.ftf), "bsf": float(case.bsf)}
 
 
 def case_location(case) -> str:
     """The defect location of a case (``defect.location`` of its scene; the inner race for a
-    case file that records none)."""
+    case file that records none).
+
+    Parameters
+    ----------
+    case : bearing_envelope.io.Case
+        The case (its ``scene`` mapping is read).
+
+    Returns
+    -------
+    str
+        ``inner_race``, ``outer_race`` or ``rolling_element``.
+    """
     defect = (getattr(case, "scene", None) or {}).get("defect") or {}
     return str(defect.get("location") or DEFECT_LOCATIONS[0])
 
@@ -128,6 +198,11 @@ def case_fault_lines(case) -> tuple[dict[str, float], dict[str, tuple[str, float
     ``{"bsf2": 2 BSF}`` with FTF sidebands (:data:`bearing_envelope.physics.locations.
     LOCATION_FAMILIES`). The rates are those the case file states (:func:`case_frequencies`:
     the history's own event rates).
+
+    Parameters
+    ----------
+    case : bearing_envelope.io.Case
+        The case (its scene's defect location and its stated frequencies are read).
 
     Returns
     -------
@@ -319,6 +394,14 @@ SPECTRA_MARGIN_ORDERS = 1.5
 def case_envelope(case, analysis: AnalysisSettings, bands) -> tuple[pd.DataFrame, CaseSpectra]:
     """Tidy harmonic table (:func:`case_harmonics`) and the spectra the figures draw.
 
+    Parameters
+    ----------
+    case : bearing_envelope.io.Case
+    analysis : AnalysisSettings
+        The config's ``analysis`` section, typed (as in :func:`case_harmonics`).
+    bands : bearing_envelope.io.CaseBands
+        The case's band limits (a mapping as in the bands file is accepted too).
+
     Returns
     -------
     table : DataFrame
@@ -339,7 +422,25 @@ def case_envelope(case, analysis: AnalysisSettings, bands) -> tuple[pd.DataFrame
 
 
 def case_summary(case) -> dict[str, Any]:
-    """One summary row of a case: peak pressures, loads, frequencies and simulation diagnostics."""
+    """One summary row of a case: peak pressures, loads, frequencies and simulation diagnostics.
+
+    Parameters
+    ----------
+    case : bearing_envelope.io.Case
+        A read case file (``attrs``, ``table``, ``snapshots``, ``p_max``, ``p_max_defect``,
+        ``roller_load`` are read).
+
+    Returns
+    -------
+    dict
+        ``case``, ``load_kN``, ``depth_um``; ``p_max_peak_Pa``, ``p_max_mean_Pa``,
+        ``p_max_defect_peak_Pa`` (Pa); ``roller_load_max_N`` (N); ``bpfi_used_hz``,
+        ``bpfi_geometry_hz``, ``fs_hz`` (Hz); ``n_samples``; ``n_solves`` and
+        ``simulate_wall_s`` (s) from the stored statistics; the table's
+        ``interp_max_rel_error_p_max``; ``snapshot_roller_load_N``, ``p_centre_Pa``,
+        ``p_end_Pa`` and ``edge_ratio`` of the healthy contact's axial profile; ``git_commit``.
+        NaN where the file stores no value.
+    """
 
     stats = json.loads(case.attrs.get("stats_json", "{}"))
     tinfo = case.table or {}
@@ -510,9 +611,22 @@ def diagnosability_bands(case, sensor: TransferModel, analysis: AnalysisSettings
     makes the kurtogram prefer the short transients of the top cell over the resonance band
     (issue 16).
 
+    Parameters
+    ----------
+    case : bearing_envelope.io.Case
+    sensor : bearing_envelope.physics.transfer.TransferModel
+        The config's ``sensor`` section, typed.
+    analysis : AnalysisSettings
+        The config's ``analysis`` section, typed (its bands and kurtogram settings).
+    reference : Case, optional, keyword-only
+        As in :func:`case_diagnosability` (sets the noise-free record's reference excitation).
+    record : ndarray, optional, keyword-only
+        A noisy acceleration at the case's ``fs``: its own kurtogram chooses the kurtogram band.
+
     Returns
     -------
-    list of (band spec, low_hz, high_hz)
+    list of (BandSpec, float, float)
+        Each band of ``analysis.bands``, in order, with its limits ``low_hz``, ``high_hz`` (Hz).
     """
     fs = float(case.fs)
     if record is None:
@@ -642,6 +756,24 @@ def case_false_alarms(case, sensor: TransferModel, analysis: AnalysisSettings, s
     the seed derives from ``sensor.seed``, :data:`FALSE_ALARM_SEED_OFFSET`, the case, the trial
     and the SNR (:func:`_trial_seed`), so trials are independent across cases, trials and SNRs
     (the map's own cells share one realisation per case).
+
+    Parameters
+    ----------
+    case : bearing_envelope.io.Case
+        A healthy case (depth 0).
+    sensor : bearing_envelope.physics.transfer.TransferModel
+        The config's ``sensor`` section, typed.
+    analysis : AnalysisSettings
+        The config's ``analysis`` section, typed.
+    snr_db : sequence of float
+        SNR levels (dB).
+    n_trials : int
+        Noise realisations per SNR.
+    reference : Case, optional, keyword-only
+        The shallowest defect case of the same load (its *peer*), as in
+        :func:`case_diagnosability`.
+    kurtogram_from : {"clean", "record"}, keyword-only
+        As in :func:`case_diagnosability`.
 
     Returns
     -------

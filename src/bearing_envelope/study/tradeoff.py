@@ -211,8 +211,23 @@ def _clear_kernel_cache() -> None:
 def run_variant(scene, fidelity: Fidelity, analysis) -> dict[str, Any]:
     """Simulate one variant and evaluate the metrics.
 
-    Returns a dict with ``cpu_s``, ``wall_s``, ``n_solves``, ``n_iterations``, ``p_max``
-    (the history, Pa), and ``metrics``: ``{(metric, band): estimate}``.
+    Parameters
+    ----------
+    scene : bearing_envelope.physics.scene.Scene
+        The variant's validated scene.
+    fidelity : Fidelity
+        The variant's fidelity.
+    analysis : AnalysisSettings or mapping
+        The analysis section, typed; a mapping is built into one against ``scene`` (no
+        sensor).
+
+    Returns
+    -------
+    dict
+        ``cpu_s`` (process CPU s) and ``wall_s`` (s) of the simulation alone, ``n_solves``,
+        ``n_iterations``, ``p_max`` (the analysed signal's history, in its unit, Pa for the
+        pressures), ``metrics``: ``{(metric, band): estimate}`` (band ``""`` for the
+        band-free metrics) and ``bands``: the chosen band limits (``BandLimits.to_dict``).
     """
     _clear_kernel_cache()
     c0, w0 = time.process_time(), time.perf_counter()
@@ -559,7 +574,19 @@ def _fmt(v) -> str:
 
 
 def metric_labels(df: pd.DataFrame) -> list[tuple[str, str]]:
-    """The (metric, band) pairs of a tradeoff table, in a stable order."""
+    """The (metric, band) pairs of a tradeoff table, in a stable order.
+
+    Parameters
+    ----------
+    df : pandas.DataFrame
+        A tradeoff table (:func:`tradeoff_study`; ``metric`` and ``band`` are read).
+
+    Returns
+    -------
+    list of (str, str)
+        Distinct pairs, by metric in the order of the module's table (unknown metrics last),
+        then by band name.
+    """
     order = {"peak_pressure": 0, "p_max_rms": 1, "raw_bpfi_1": 2, "envelope_bpfi_1": 3,
              "envelope_bpfi_2": 4}
     pairs = df[["metric", "band"]].drop_duplicates().itertuples(index=False)
@@ -573,6 +600,31 @@ def pareto_table(df: pd.DataFrame, metric: str, band: str = "", *, error: str = 
     Cases where the error is undefined (NaN: BPFI metrics of a healthy case) are left out of
     the worst error but not of the time. Columns: ``knob, value, time_s, error, n_cases,
     is_base, is_reference, pareto``.
+
+    Parameters
+    ----------
+    df : pandas.DataFrame
+        A tradeoff table (:func:`tradeoff_study`).
+    metric : str
+        The metric (``peak_pressure``, ``p_max_rms``, ``raw_bpfi_1``, ``envelope_bpfi_1``,
+        ``envelope_bpfi_2``).
+    band : str, default ""
+        The band name of an envelope metric (``""`` for the others).
+    error : str, keyword-only, default "error"
+        The error column (``error`` or ``error_knob``).
+    time : str, keyword-only, default "cpu_s"
+        The time column (``cpu_s`` or ``wall_s``), seconds.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per (knob, value) in first-appearance order; the base point, repeated under
+        every knob, kept once as knob ``"base"`` (last); ``pareto`` from :func:`pareto_front`.
+
+    Raises
+    ------
+    ValueError
+        No row of ``metric`` and ``band``.
     """
     d = df[(df["metric"] == metric) & (df["band"] == band)]
     if d.empty:
@@ -599,6 +651,18 @@ def pareto_front(time_s, error) -> np.ndarray:
 
     A point is dominated when another point is no slower and no less accurate, and strictly
     better in one of the two. NaN errors are never on the front.
+
+    Parameters
+    ----------
+    time_s : array_like
+        Cost of each point (seconds).
+    error : array_like
+        Error of each point (same length).
+
+    Returns
+    -------
+    ndarray of bool
+        True for the points on the front.
     """
     t = np.asarray(time_s, float)
     e = np.asarray(error, float)
@@ -624,7 +688,23 @@ def plot_tradeoff(df: pd.DataFrame, path=None, *, metrics: Sequence[tuple[str, s
     colour, so the element that reaches a given error sooner is the curve further left. The
     front is the grey step line through the circled points.
 
-    Returns the matplotlib ``Figure`` (saved to ``path`` when given).
+    Parameters
+    ----------
+    df : pandas.DataFrame
+        A tradeoff table (:func:`tradeoff_study`).
+    path : str or os.PathLike, optional
+        Where the figure is saved (110 dpi, format from the suffix); None: not saved.
+    metrics : sequence of (metric, band), optional, keyword-only
+        The panels; default every pair of :func:`metric_labels`.
+    error, time : str, keyword-only
+        The error and time columns, as in :func:`pareto_table`.
+    ncols : int, keyword-only, default 4
+        Panels per row (at most the number of panels).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure (not attached to pyplot).
     """
     # lazy: matplotlib adds ~1.5 s to importing this module (the study runs need no plots)
     from matplotlib.figure import Figure
@@ -693,7 +773,20 @@ def plot_tradeoff(df: pd.DataFrame, path=None, *, metrics: Sequence[tuple[str, s
 
 def pareto_points(df: pd.DataFrame, *, error: str = "error", time: str = "cpu_s") -> pd.DataFrame:
     """:func:`pareto_table` of every metric of a tradeoff table, stacked (columns ``metric``,
-    ``band`` first)."""
+    ``band`` first).
+
+    Parameters
+    ----------
+    df : pandas.DataFrame
+        A tradeoff table (:func:`tradeoff_study`).
+    error, time : str, keyword-only
+        The error and time columns, as in :func:`pareto_table`.
+
+    Returns
+    -------
+    pandas.DataFrame
+        The points of every pair of :func:`metric_labels`, in that order.
+    """
     parts = []
     for metric, band in metric_labels(df):
         pt = pareto_table(df, metric, band, error=error, time=time)
@@ -711,6 +804,28 @@ def study_from_config(section: Mapping[str, Any] | None, *, scene: Mapping[str, 
     ``reference``, ``reference_element``, ``element_series``, ``knobs`` (name -> values, coarse
     to fine; replaces the default set), ``presets`` (list of preset names or mapping name ->
     fidelity mapping). See ``src/bearing_envelope/data/config.schema.yaml``.
+
+    Parameters
+    ----------
+    section : mapping or None
+        The ``tradeoff:`` section; keys left out take :data:`TRADEOFF_DEFAULTS`.
+    scene : mapping, optional, keyword-only
+        The config's ``scene:`` section (default scene if None).
+    analysis : mapping, optional, keyword-only
+        The config's ``analysis:`` section (as in :func:`tradeoff_study`).
+    progress : callable, optional, keyword-only
+        Called with a one-line message after every run.
+
+    Returns
+    -------
+    pandas.DataFrame
+        The tidy table of :func:`tradeoff_study`.
+
+    Raises
+    ------
+    ValueError
+        An unknown key, a case that is not ``[load_kN, depth_um]``, or what
+        :func:`tradeoff_study` refuses.
     """
     unknown = sorted(set(section or {}) - set(TRADEOFF_DEFAULTS))
     if unknown:
