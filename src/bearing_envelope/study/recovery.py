@@ -165,10 +165,8 @@ def marker_if_present(stage: str, case: str) -> list[str]:
 
     Parameters
     ----------
-    stage : str
-        The case file's stage folder (``cases``, ``sensor``).
-    case : str
-        Case name.
+    stage, case : str
+        As in :func:`rebuild_marker`.
 
     Returns
     -------
