@@ -16,6 +16,7 @@ from scipy.fft import next_fast_len
 
 from ..contact import (ContactConvergenceError, ContactGridError, ElasticHalfSpace,
                        solve_contact)
+from ..contact.halfspace import subcell_displacement
 from .fidelity import Fidelity
 from .geometry import Grid, gap_field, hertz_estimate, make_grid
 from .nodefect_cache import GlobalSolution, NoDefectCache, global_key
@@ -383,19 +384,19 @@ def solve_load(scene: Scene, fid: Fidelity, q_load: float, kappa: float, stats: 
         # the contact does not reach the defect's axial position at this load (e.g. a defect
         # near a roller end at a small load): nothing to zoom into
         approach0, pw0 = sol.approach, np.zeros(win.shape)
+    rows = contact_rows(scene, g0, approach0) if f_win > 0 else None
+    hs_rows = None if rows is None else \
+        _halfspace(Grid(win.x[rows[0]:rows[1]], win.y, win.dx, win.dy), e_star, "auto", fid.element)
     far = None
     if with_far and fid.far_field == "responds" and f_win > 0:
         far = far_response(scene, fid, grid, pg, win, j_lo, j_hi, m, stats,
-                           WindowState(g0, approach0, pw0, hs))
+                           WindowState(g0, approach0, pw0, hs, win, rows, hs_rows))
     strip = np.abs(win.y - yd) <= hy_read + 1e-12
     gstrip = np.abs(grid.y - yd) <= hy_read + 1e-12
     outside = float(pg[:, ~gstrip].max()) if np.any(~gstrip) else 0.0
     w0 = float(pw0[:, strip].max())
     p0 = max(w0, outside)
     cons = abs(w0 - float(p_in[:, strip].max())) / p0
-    rows = contact_rows(scene, g0, approach0) if f_win > 0 else None
-    hs_rows = None if rows is None else \
-        _halfspace(Grid(win.x[rows[0]:rows[1]], win.y, win.dx, win.dy), e_star, "auto", fid.element)
     return LoadNode(q_load, a, grid, pg.astype(np.float32), approach0, win, u_ext,
                     pw0, strip, outside, p0, w0, half_width, cons, hs,
                     approach_global=float(sol.approach), area_global=float(sol.contact_area),
@@ -471,8 +472,8 @@ def fast_rows(rows: int, limit: int) -> int:
     return min(limit, next_fast_len(int(rows)))
 
 
-def window_solve(node: LoadNode, g: np.ndarray, stats: SolveStats, e_star: float,
-                 p_init: np.ndarray | None, **kw) -> np.ndarray:
+def window_solve(node: "LoadNode | WindowState", g: np.ndarray, stats: SolveStats,
+                 e_star: float, p_init: np.ndarray | None, **kw) -> np.ndarray:
     """A defect window solve under displacement control (``kw["approach"]``) on the node's
     contact rows (:attr:`LoadNode.rows`; every row when None): returns the window pressure (Pa,
     window shape, zero outside the rows). The solution is checked on the whole window: where a
@@ -482,7 +483,7 @@ def window_solve(node: LoadNode, g: np.ndarray, stats: SolveStats, e_star: float
 
     Parameters
     ----------
-    node : LoadNode
+    node : LoadNode or WindowState
         The load node (window, its operators, the rows).
     g : numpy.ndarray
         The window's gap with the far field's displacement (m), window shape.
@@ -533,12 +534,16 @@ WINDOW_RESPONSE_STEP = 1e-8
 @dataclass
 class WindowState:
     """The no-defect window of a load node (internal): gap with the far field's displacement,
-    approach, pressure and half-space operator."""
+    approach, pressure and half-space operator; the window and the rows its solves with a
+    defect use (:func:`window_solve`, as :class:`LoadNode`)."""
 
     gap: np.ndarray
     approach: float
     pressure: np.ndarray
     halfspace: Any
+    window: Grid | None = None
+    rows: tuple[int, int] | None = None
+    rows_halfspace: Any = None
 
 
 @dataclass
@@ -605,10 +610,9 @@ def far_response(scene: Scene, fid: Fidelity, grid: Grid, pg: np.ndarray, win: G
     u_ext = np.zeros(win.shape)
     fin = np.isfinite(g_none)
     u_ext[fin] = w0.gap[fin] - g_none[fin]
-    cen = stats.solve(gap_field(scene, win, 0.0) + u_ext,
-                      win.dx, win.dy, None, e_star, approach=w0.approach, p_init=w0.pressure,
-                      halfspace=w0.halfspace, hardness=scene.material.hardness_pa, **kw)
-    lost = _on_global_cells(grid, win, j_lo, m, w0.pressure - cen.pressure)
+    cen = window_solve(w0, gap_field(scene, win, 0.0) + u_ext, stats, e_star, w0.pressure,
+                       approach=w0.approach, hardness=scene.material.hardness_pa, **kw)
+    lost = _on_global_cells(grid, win, j_lo, m, w0.pressure - cen)
     u_lost = hs_g.displacement(lost)
     shape = stats.solve(np.where(far, -u_lost, np.inf), grid.dx, grid.dy, None, e_star,
                         approach=0.0, halfspace=hs_g, **kw)
@@ -617,10 +621,9 @@ def far_response(scene: Scene, fid: Fidelity, grid: Grid, pg: np.ndarray, win: G
     z_c = np.nan_to_num(_far_field(grid, shape.pressure, win, j_lo, j_hi, m, e_star,
                                    fid.element), nan=0.0)
     step = WINDOW_RESPONSE_STEP / max(float(np.abs(z_c).max()), 1e-300)
-    resp = stats.solve(w0.gap + step * z_c, win.dx, win.dy, None, e_star, approach=w0.approach,
-                       p_init=w0.pressure, halfspace=w0.halfspace,
-                       hardness=scene.material.hardness_pa, **kw)
-    R = (resp.pressure - w0.pressure) / step
+    resp = window_solve(w0, w0.gap + step * z_c, stats, e_star, w0.pressure,
+                        approach=w0.approach, hardness=scene.material.hardness_pa, **kw)
+    R = (resp - w0.pressure) / step
     cell = win.dx * win.dy
     return FarResponse(z, float(shape.pressure.sum()) * grid.dx * grid.dy,
                        float(np.sum(z * R)) * cell, float(np.sum(R)) * cell)
@@ -1141,13 +1144,14 @@ def _solve_strip(scene: Scene, fid: Fidelity, node: LoadNode, x_d: float, p: np.
     sl_f[axis] = slice(i0 * m, i1 * m)
     p_rest = np.where(own, 0.0, p)
     if axis == 0 and node.rows is not None:
-        # the loaded rows and the strip's only: the same convolution at the strip's cells
+        # the same displacement at the strip's cells from the loaded rows and the strip's only,
+        # by m convolutions on the window's grid (subcell_displacement)
         lo, hi = _near_rows(node, p_rest, i0, i1)
-        fine = Grid(np.zeros((hi - lo) * m), win.y, d, win.dy)
-        p_rest = p_rest[lo:hi]
-        sl_f[0] = slice((i0 - lo) * m, (i1 - lo) * m)
-    u_near = _halfspace(fine, e_star, "scipy").displacement(
-        np.repeat(p_rest, m, axis=axis))[tuple(sl_f)]
+        u_near = subcell_displacement(p_rest[lo:hi], win.dx, win.dy, e_star, m,
+                                      rows=(i0 - lo, i1 - lo))[:, j0:j1]
+    else:
+        u_near = _halfspace(fine, e_star, "scipy").displacement(
+            np.repeat(p_rest, m, axis=axis))[tuple(sl_f)]
     fo = st.fine_own
     g = np.where(fo, gap_field(scene, grid, x_d), np.inf)
     u = u_near + u_far
