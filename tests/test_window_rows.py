@@ -12,10 +12,11 @@ import pytest
 
 from bearing_envelope.contact import halfspace as hs
 from bearing_envelope.physics.fidelity import fidelity_from
-from bearing_envelope.physics.geometry import Grid, gap_field
+from bearing_envelope.physics.geometry import gap_field
 from bearing_envelope.physics.scene import Scene
-from bearing_envelope.physics.solves import (SolveStats, _halfspace, defect_solve, fast_rows,
-                                             solve_load, window_solve)
+from bearing_envelope.contact import ElasticHalfSpace
+from bearing_envelope.physics.solves import (SolveStats, defect_solve, fast_rows, solve_load,
+                                             window_solve)
 
 INCH_UM = 25400.0
 Q_N = 500.0
@@ -72,8 +73,8 @@ def test_rows_too_narrow_are_solved_on_the_whole_window(ball_node):
     contact = np.flatnonzero((node.p_window0 > 0).any(axis=1))
     mid = int(contact.mean())
     rows = (mid - 10, mid + 10)                          # inside the contact: it reaches beyond
-    narrow = dataclasses.replace(node, rows=rows, rows_halfspace=_halfspace(
-        Grid(win.x[rows[0]:rows[1]], win.y, win.dx, win.dy), sc.material.e_star_pa, "auto"))
+    narrow = dataclasses.replace(node, rows=rows, rows_halfspace=ElasticHalfSpace(
+        (rows[1] - rows[0], win.shape[1]), win.dx, win.dy, sc.material.e_star_pa, workers=1))
     g = gap_field(sc, win, 0.0) + node.u_ext
     kw = dict(tol=fid.tol, max_iter=fid.max_iter, approach=node.approach, boundary="ignore",
               element=fid.element, hardness=sc.material.hardness_pa)
@@ -103,17 +104,13 @@ def test_fast_rows_is_the_next_count_without_large_prime_factors(rows):
 
 
 def test_kernel_spectrum_cache_keeps_the_grids_of_a_ball_case(monkeypatch):
-    hs._CACHE.clear()
-    shapes = [(20 + k, 18) for k in range(hs._CACHE_SIZE)]
-    first = hs.kernel_spectrum(shapes[0], 1e-6, 1e-5, 1e11)
-    for sh in shapes[1:]:
-        hs.kernel_spectrum(sh, 1e-6, 1e-5, 1e11)
-    assert hs.kernel_spectrum(shapes[0], 1e-6, 1e-5, 1e11) is first   # not evicted
-    hs.kernel_spectrum((60, 18), 1e-6, 1e-5, 1e11)
-    assert len(hs._CACHE) == hs._CACHE_SIZE
-    # the byte bound: a few small spectra's worth keeps the newest few
-    monkeypatch.setattr(hs, "_CACHE_BYTES", 3.5 * first.nbytes)
-    hs.kernel_spectrum((70, 18), 1e-6, 1e-5, 1e11)      # a new entry: the bound is applied
-    assert sum(v.nbytes for v in hs._CACHE.values()) <= 3.5 * first.nbytes
-    assert 1 <= len(hs._CACHE) <= 3 and (70, 18) in [k[0] for k in hs._CACHE]
-    hs._CACHE.clear()
+    hs.clear_kernel_cache()
+    shapes = [(20 + k, 18) for k in range(hs.KERNEL_CACHE_ENTRIES)]
+    specs = [hs.kernel_spectrum(sh, 1e-6, 1e-5, 1e11) for sh in shapes]
+    assert hs.kernel_spectrum(shapes[0], 1e-6, 1e-5, 1e11) is specs[0]   # none evicted
+    # the byte bound: room for three of these; a new entry evicts the oldest beyond it
+    monkeypatch.setattr(hs, "KERNEL_CACHE_BYTES", 3.5 * specs[0].nbytes)
+    hs.kernel_spectrum((70, 18), 1e-6, 1e-5, 1e11)
+    again = hs.kernel_spectrum(shapes[5], 1e-6, 1e-5, 1e11)
+    assert again is not specs[5] and np.array_equal(again, specs[5])
+    hs.clear_kernel_cache()

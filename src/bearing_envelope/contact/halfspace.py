@@ -226,8 +226,8 @@ _CACHE_LOCK = Lock()
 #: Spectra kept (LRU) and their total size: a rolling-element case cycles through about 30
 #: grids (two contacts' global grids, windows, rim strips and their refined neighbourhoods);
 #: with 8 entries a third of its spectra were computed again (0.4 CPU s).
-_CACHE_SIZE = 32
-_CACHE_BYTES = 64 * 2 ** 20
+KERNEL_CACHE_ENTRIES = 32
+KERNEL_CACHE_BYTES = 64 * 2 ** 20
 
 
 def kernel_spectrum(shape: tuple[int, int], dx: float, dy: float, e_star: float, element: str = "uniform") -> np.ndarray:
@@ -266,8 +266,8 @@ def kernel_spectrum(shape: tuple[int, int], dx: float, dy: float, e_star: float,
 
 
 def _cached_spectrum(key: tuple, compute) -> np.ndarray:
-    """The LRU cache of :func:`kernel_spectrum` (bounded by :data:`_CACHE_SIZE` entries and
-    :data:`_CACHE_BYTES`): ``key``'s array, ``compute()`` on a miss."""
+    """The LRU cache of :func:`kernel_spectrum` (bounded by :data:`KERNEL_CACHE_ENTRIES`
+    entries and :data:`KERNEL_CACHE_BYTES`): ``key``'s array, ``compute()`` on a miss."""
     with _CACHE_LOCK:
         if key in _CACHE:
             _CACHE.move_to_end(key)
@@ -277,8 +277,8 @@ def _cached_spectrum(key: tuple, compute) -> np.ndarray:
     with _CACHE_LOCK:
         _CACHE[key] = spec
         _CACHE.move_to_end(key)
-        while len(_CACHE) > 1 and (len(_CACHE) > _CACHE_SIZE or
-                                   sum(v.nbytes for v in _CACHE.values()) > _CACHE_BYTES):
+        while len(_CACHE) > 1 and (len(_CACHE) > KERNEL_CACHE_ENTRIES or
+                                   sum(v.nbytes for v in _CACHE.values()) > KERNEL_CACHE_BYTES):
             _CACHE.popitem(last=False)
     return spec
 
