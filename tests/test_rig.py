@@ -91,6 +91,44 @@ def test_simulated_record_rings_the_identified_mode(tmp_path):
     assert again.amplitude == pytest.approx(path.amplitude, rel=0.25)
 
 
+def test_simulated_record_rings_every_identified_mode_at_its_gain(tmp_path):
+    """A "measured" record of two analytic resonators (2.6 kHz and 3.4 kHz, as the CWRU 3:00
+    and 6:00 records ring), re-made from a pulse train through its identified path: the
+    simulated record's own identification finds both modes, each with the measured event
+    amplitude (the first mode's gain set from the measured record, the second's as
+    identified)."""
+    n = int(3 * FS)
+    rng = np.random.default_rng(0)
+    t = np.arange(n) / FS
+    meas = 0.5 * rng.standard_normal(n)
+    for f_n, z, a in ((2600.0, 0.04, 5.0), (3400.0, 0.025, 3.0)):
+        wn = 2 * math.pi * f_n
+        for t0 in np.arange(0.01, 2.99, 1 / 107.0):
+            tau = t[t >= t0] - t0
+            meas[t >= t0] += a * np.exp(-z * wn * tau) * np.cos(wn * math.sqrt(1 - z * z) * tau)
+    src = _write_record(tmp_path / "m.npz", meas, shaft_hz=107.0 / 3.5848)
+    path = identify_path(meas, FS, {"bpfo": 107.0})
+    assert len(path.modes) == 2
+    modes = rig.path_modes(path)
+    assert modes[0].gain == 1.0 and modes[1].gain > 0
+    cond = rig.record_conditions([src], _settings())[0]
+    rf = np.zeros(n)
+    rf[(np.arange(0.005, 2.99, 1 / 111.0) * FS).astype(int)] = 3.0
+    contact = tmp_path / "c.npz"
+    np.savez(contact, removed_force=rf)
+    gain = path.mode(impulse_area=3.0 / FS).gain
+    out = rig.write_rig_record(cond, str(contact), path, gain, tmp_path / "sim", seed=2)
+    with np.load(out) as zf:
+        x, meta = zf["x"], json.loads(str(zf["meta_json"]))
+    assert len(meta["transfer_path"]["modes"]) == 2
+    again = identify_path(x, FS, {"a": 111.0, "b": 107.0})
+    assert again.event_name == "a" and len(again.modes) == 2
+    for m, (f_n, a) in zip(sorted(again.modes, key=lambda m: m["f_n_hz"]),
+                           ((2600.0, 5.0), (3400.0, 3.0))):
+        assert m["f_n_hz"] == pytest.approx(f_n, rel=0.03)
+        assert m["amplitude"] == pytest.approx(a, rel=0.3)
+
+
 def _table(name, diag, conf, fam, h1, h2, h3, db, detected=True):
     return {"record": name, "record_diagnosis": diag, "record_confidence": conf,
             "family": fam, "detected": detected, "fr_hz": 30.0, "h1_hz": 30.0 * 3.58,

@@ -12,8 +12,8 @@ rig
    acquisition of each record (the table is the cost, the synthesis is cheap);
 3. turns the contact force into an accelerometer record of *that* machine (:func:`rig_record`):
    the record's own transfer path identified from it
-   (:func:`bearing_envelope.diagnosis.transfer_path.identify_path`: resonance, damping) with the
-   rig's one gain, plus the measured background (a healthy record of the same machine).
+   (:func:`bearing_envelope.diagnosis.transfer_path.identify_path`: every mode it holds, each
+   with its resonance, damping and gain relative to the first) with the rig's one gain, plus the measured background (a healthy record of the same machine).
 
 Why a study module and not a Snakemake overlay: the sweep's dimensions are load x depth x
 width of one scene; the rig varies the defect location, the outer-race position, the shaft
@@ -268,12 +268,30 @@ def _write_excitation(path: Path, t, sig: dict, cond: RigCondition) -> None:
 
 
 # ------------------------------------------------------------------ simulated records
+def path_modes(path) -> list:
+    """The record's identified modes with the first's gain 1 per N at resonance and each
+    further mode's gain relative to it as identified (:meth:`TransferPath.structure`: the
+    same impulses ring every mode, so the ratio of the gains is the record's).
+
+    Parameters
+    ----------
+    path : TransferPath
+
+    Returns
+    -------
+    list of Mode
+    """
+    modes = path.structure()
+    g0 = modes[0].gain
+    return [Mode(m.f_n_hz, m.zeta, m.gain / g0) for m in modes]
+
+
 def _unit_response(cond: RigCondition, contact: dict, path) -> np.ndarray:
-    """The mode's response (gain 1 per N at resonance) to the force the defect removes from
-    the contact (the blocked-force deficit; the roller load's own sweep through the load zone
-    is a rotating load, not a force on the housing)."""
+    """The modes' response (the first's gain 1 per N at resonance) to the force the defect
+    removes from the contact (the blocked-force deficit; the roller load's own sweep through
+    the load zone is a rotating load, not a force on the housing)."""
     e = excitation_from_history(-contact["removed_force"][:cond.n_samples])
-    return apply_structure(e, cond.fs_hz, [Mode(path.f_n_hz, path.zeta, 1.0)])
+    return apply_structure(e, cond.fs_hz, path_modes(path))
 
 
 def record_paths(conditions, *, log=print) -> dict:
@@ -310,7 +328,7 @@ def record_paths(conditions, *, log=print) -> dict:
             same[0], fs_hz=c.fs_hz, f_n_hz=float(np.median([p.f_n_hz for p in same])),
             zeta=float(np.median([p.zeta for p in same])), background_freq_hz=list(map(float, f)),
             background_psd=list(map(float, psd)), background_source="record (no events found)",
-            flags=[f"rig's common path: {out[c.name][1]}"])
+            flags=[f"rig's common path: {out[c.name][1]}"], modes=[], modes_rejected=[])
         out[c.name] = (common, out[c.name][1])
     log(f"rig: {sum(1 for _, s in out.values() if s == 'identified')} of {len(out)} paths "
         "identified")
@@ -363,6 +381,7 @@ def write_rig_record(cond: RigCondition, contact_path: str, path, gain: float, o
     _, meta = _read_x(cond.path)
     meta.update(simulated=True, source_record=cond.name, transfer_path={
         "f_n_hz": path.f_n_hz, "zeta": path.zeta, "gain_per_N": gain,
+        "modes": [dataclasses.asdict(m) for m in path_modes(path)],
         "background": path.background_source, "flags": path.flags})
     out = Path(out_dir) / f"{cond.name}_sim.npz"
     with atomic_path(out, ".npz") as tmp:
