@@ -164,6 +164,32 @@ def test_outer_race_ratio_in_db():
     assert rig.outer_race_ratios(pd.DataFrame(rows))[0]["rule"] == "FAIL: no simulated line"
 
 
+def test_outer_race_ratio_read_in_one_band_for_both_records():
+    # the rule's best bands differ; read in the same band: 0.1 / 1.0 measured (-20 dB) and
+    # 0.5 / 1.0 simulated (-6.02 dB) in fs4_3fs8; raw: 0.2 / 0.4 (-6.02 dB) vs 0.3 / 0.6
+    rows = [{"record": f"p{pos:g}", "family": "bpfo", "position_deg": pos, "load_hp": 1,
+             "diameter_in": 0.007, "fs_hz": FS, "meas_h1": 1.0, "sim_h1": 1.0}
+            for pos in (0.0, 90.0)]
+    amp = {("p0", "fs4_3fs8"): (1.0, 1.0), ("p90", "fs4_3fs8"): (0.1, 0.5),
+           ("p0", "raw"): (0.4, 0.6), ("p90", "raw"): (0.2, 0.3)}
+    lines = [[], []]
+    for (rec, band), pair in amp.items():
+        for side, (suffix, a) in enumerate((("", pair[0]), ("_sim", pair[1]))):
+            for base, order, sb, v in (("bpfo", 1, 0, a), ("bpfo", 2, 0, 9.0),
+                                       ("bpfi", 1, 0, 7.0), ("bpfo", 1, 1, 5.0)):
+                lines[side].append({"file": f"/x/{rec}{suffix}.npz", "band": band,
+                                    "base": base, "order": order, "sideband": sb,
+                                    "amplitude": v})
+    out = rig.outer_race_ratios_in_band(pd.DataFrame(rows), pd.DataFrame(lines[0]),
+                                        pd.DataFrame(lines[1]))
+    got = {r["band"]: r for r in out}
+    assert got["fs4_3fs8"]["meas_db"] == pytest.approx(-20.0)
+    assert got["fs4_3fs8"]["sim_db"] == pytest.approx(20 * math.log10(0.5))
+    assert got["fs4_3fs8"]["within_tol"] is False
+    assert got["raw"]["meas_db"] == pytest.approx(got["raw"]["sim_db"])
+    assert got["raw"]["within_tol"] is True
+
+
 def test_removed_force_exponent_of_a_power_law(tmp_path):
     for name, q in (("a", 0.5), ("b", 500.0)):
         np.savez(tmp_path / f"{name}.npz", roller_load=np.array([0.0, q]),

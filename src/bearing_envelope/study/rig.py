@@ -521,6 +521,51 @@ def outer_race_ratios(card) -> list:
     return out
 
 
+#: The bands the 3:00 / 6:00 ratio is also read in with both records in one band (not the
+#: rule: a second reading of the same lines): analyze's fixed fs/4-3fs/8 band and the raw
+#: signal's envelope.
+RATIO_BANDS = ("fs4_3fs8", "raw")
+
+
+def _line_amplitude(lines, name: str, band: str):
+    """The BPFO fundamental's amplitude in one of analyze's bands (None: no such row)."""
+    ln = lines[(lines.file.str.contains(name, regex=False)) & (lines.band == band) &
+               (lines.base == "bpfo") & (lines.order == 1) & (lines.sideband == 0)]
+    return float(ln.amplitude.iloc[0]) if len(ln) else None
+
+
+def outer_race_ratios_in_band(card, measured_lines, sim_lines, bands=RATIO_BANDS) -> list:
+    """BPFO fundamental at 3:00 over 6:00 with both records read in the same band (each of
+    ``bands``), measured and simulated, dB: the rule's ratio reads each record in its own
+    best band, which mixes bands where the two records ring different resonances.
+
+    Parameters
+    ----------
+    card : pandas.DataFrame
+        :func:`scorecard`'s result.
+    measured_lines, sim_lines : pandas.DataFrame
+        ``analyze --csv`` of the measured and of the simulated records.
+    bands : sequence of str
+        analyze's band names.
+
+    Returns
+    -------
+    list of dict
+        Per pair and band: ``meas_db``, ``sim_db``, ``within_tol`` (the rule's 6 dB).
+    """
+    out = []
+    for r in outer_race_ratios(card):
+        for band in bands:
+            a = [_line_amplitude(lines, rec + suffix, band)
+                 for lines, suffix in ((measured_lines, ""), (sim_lines, "_sim"))
+                 for rec in (r["record_3"], r["record_6"])]
+            meas, sim = _ratio_db(a[0], a[1]), _ratio_db(a[2], a[3])
+            ok = None if meas is None or sim is None else bool(abs(meas - sim) <= TOL_DB)
+            out.append({"record_3": r["record_3"], "record_6": r["record_6"], "band": band,
+                        "meas_db": meas, "sim_db": sim, "within_tol": ok})
+    return out
+
+
 def _analyze(files, out_prefix: Path):
     """``bearing-envelope analyze`` (defaults, --bearing 6205) over the files, one process:
     the verdict table and the lines, read back."""
@@ -578,6 +623,8 @@ def run_scorecard(conditions, contact: dict, out_dir, gain_reference: str, *, lo
     trends = pd.DataFrame(load_trends(card))
     trends.to_csv(out_dir / "outer_race_trend.csv", index=False)
     ratios.to_csv(out_dir / "outer_race.csv", index=False)
+    pd.DataFrame(outer_race_ratios_in_band(card, ml, sl)).to_csv(
+        out_dir / "outer_race_bands.csv", index=False)
     with open(out_dir / "summary.json", "w", encoding="utf-8") as fh:
         json.dump({"gain": gain, "pass_rates": pass_rates(card)}, fh, indent=1)
     (out_dir / "scorecard.md").write_text(scorecard_markdown(card, ratios, trends),
