@@ -137,8 +137,8 @@ class TransferPath:
         and ``prominence_z`` (the peak's prominence over its standard error; None for the
         first). Empty in a path written before modes were identified: the one mode above.
     modes_rejected : list of dict
-        Significant peaks that gave no mode (``f_n_hz``, ``reason``: too few events in the
-        band, damping at the fit's bound).
+        Significant peaks that gave no mode (``f_n_hz``, ``reason``: damping at the fit's
+        bound).
     """
 
     fs_hz: float
@@ -306,7 +306,8 @@ def identify_path(x, fs: float, event_rates: dict, *, background=None,
               "prominence_z": None}]
     rejected = []
     for f_k, ex_db, z in extra:
-        m = _extra_mode(x, fs, hz, f_k, _mode_band(f_k, centres, half, res, f_low, fs), n_post)
+        m = _extra_mode(x, fs, hz, f_k, _mode_band(f_k, centres, half, res, f_low, fs), n_post,
+                        peaks)
         if isinstance(m, str):
             rejected.append({"f_n_hz": f_k, "reason": m})
         else:
@@ -330,13 +331,17 @@ def _mode_band(f_n, centres, half, resolution, f_low, fs) -> tuple[float, float]
     return (max(f_n - half, f_low), min(f_n + half, 0.49 * fs))
 
 
-def _extra_mode(x, fs, hz, f_n, band, n_post):
-    """A further mode fitted in its own band: its parameters, or why it gave none (str)."""
+def _extra_mode(x, fs, hz, f_n, band, n_post, events):
+    """A further mode fitted in its own band: its parameters, or why it gave none (str).
+
+    The same impulses ring every mode, so the events are the first mode's, each moved to the
+    envelope's maximum in this band within a quarter of ``n_post`` of it (a weak mode's own
+    maxima rarely clear the background's bound one by one; their average does)."""
     env = np.abs(sps.hilbert(bandpass(x, fs, band, order=FILTER_ORDER)))
-    peaks, _ = _events(env, fs, hz, band)
-    if peaks.size < MIN_EVENTS:
-        return (f"{peaks.size} events in {band[0]:.0f}-{band[1]:.0f} Hz; allowed: "
-                f">= {MIN_EVENTS}")
+    w = max(n_post // 4, 1)
+    events = events[(events >= w) & (events + w < env.size)]
+    idx = events[:, None] + np.arange(-w, w + 1)[None, :]
+    peaks = events - w + np.argmax(env[idx], axis=1)
     zeta, amp, zr = _fit_mode(env, peaks, fs, band, n_post, hz, f_n)
     if zeta > 0.9 * ZETA_MAX or zeta < 1.1 * ZETA_MIN:
         return f"zeta {zeta:.3g} at the fit's bound [{ZETA_MIN:g}, {ZETA_MAX:g}]"
