@@ -138,7 +138,7 @@ class TransferPath:
         first). Empty in a path written before modes were identified: the one mode above.
     modes_rejected : list of dict
         Significant peaks that gave no mode (``f_n_hz``, ``reason``: damping at the fit's
-        bound).
+        bound, no power above the background at the events' peak).
     """
 
     fs_hz: float
@@ -342,7 +342,10 @@ def _extra_mode(x, fs, hz, f_n, band, n_post, events):
     events = events[(events >= w) & (events + w < env.size)]
     idx = events[:, None] + np.arange(-w, w + 1)[None, :]
     peaks = events - w + np.argmax(env[idx], axis=1)
-    zeta, amp, zr = _fit_mode(env, peaks, fs, band, n_post, hz, f_n)
+    try:
+        zeta, amp, zr = _fit_mode(env, peaks, fs, band, n_post, hz, f_n)
+    except NoImpulsesError as exc:
+        return str(exc).removeprefix("x: ")
     if zeta > 0.9 * ZETA_MAX or zeta < 1.1 * ZETA_MIN:
         return f"zeta {zeta:.3g} at the fit's bound [{ZETA_MIN:g}, {ZETA_MAX:g}]"
     return {"f_n_hz": f_n, "zeta": zeta, "zeta_range": list(zr), "amplitude": amp,
@@ -470,6 +473,9 @@ def _model_envelope(zeta, f_n, fs, band, n_post, pad) -> np.ndarray:
 def _fit_zeta(s2, f_n, fs, band, n_post, pad):
     """zeta and amplitude fitting the decay of the averaged squared envelope ``s2``."""
     top = s2[0]
+    if not top > 0:
+        raise NoImpulsesError(f"x: the events add no power above the background at their "
+                              f"peak around f_n {f_n:.0f} Hz; nothing to fit a decay to")
     m = int(np.argmax(s2 < top * DECAY_FLOOR ** 2)) or s2.size
     m = max(m, 3)
     y = np.log(np.maximum(s2[:m], top * 1e-6))
