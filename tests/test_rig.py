@@ -111,6 +111,13 @@ def test_simulated_record_rings_every_identified_mode_at_its_gain(tmp_path):
     assert len(path.modes) == 2
     modes = rig.path_modes(path)
     assert modes[0].gain == 1.0 and modes[1].gain > 0
+    # anchored on the rig's reference mode (3.4 kHz, within 3 %): that mode has gain 1, the
+    # other the analytic ratio g(2.6 kHz) / g(3.4 kHz) = (5 / (0.04 x 2600)) / (3 / (0.025 x
+    # 3400)) = 1.362 (a ringing amplitude a = g 2 zeta wn A)
+    by_f = sorted(rig.path_modes(path, reference_hz=3400.0 * 1.01), key=lambda m: m.f_n_hz)
+    assert by_f[1].gain == 1.0
+    assert by_f[0].gain == pytest.approx(1.362, rel=0.3)
+    assert rig.path_modes(path, reference_hz=5000.0) == modes  # no such mode: the first
     cond = rig.record_conditions([src], _settings())[0]
     rf = np.zeros(n)
     rf[(np.arange(0.005, 2.99, 1 / 111.0) * FS).astype(int)] = 3.0

@@ -268,30 +268,45 @@ def _write_excitation(path: Path, t, sig: dict, cond: RigCondition) -> None:
 
 
 # ------------------------------------------------------------------ simulated records
-def path_modes(path) -> list:
-    """The record's identified modes with the first's gain 1 per N at resonance and each
-    further mode's gain relative to it as identified (:meth:`TransferPath.structure`: the
-    same impulses ring every mode, so the ratio of the gains is the record's).
+#: A record's mode is the rig's reference mode (whose gain the reference records identify)
+#: when its f_n is within this fraction of the reference mode's (3 %: the identification's
+#: f_n tolerance).
+REFERENCE_MODE_TOL = 0.03
+
+
+def path_modes(path, reference_hz: float | None = None) -> list:
+    """The record's identified modes, each gain relative to the anchor mode's (gain 1 per N
+    at resonance) as identified (:meth:`TransferPath.structure`: the same impulses ring every
+    mode, so the ratio of the gains is the record's). The anchor is the record's mode at the
+    rig's reference mode ``reference_hz`` (the structural mode whose gain the rig identifies
+    on its reference records) where the record holds one, else its first mode.
 
     Parameters
     ----------
     path : TransferPath
+    reference_hz : float, optional
+        f_n of the rig's reference mode, Hz; None: the first mode is the anchor.
 
     Returns
     -------
     list of Mode
     """
     modes = path.structure()
-    g0 = modes[0].gain
-    return [Mode(m.f_n_hz, m.zeta, m.gain / g0) for m in modes]
+    anchor = modes[0]
+    if reference_hz is not None:
+        near = [m for m in modes
+                if abs(m.f_n_hz - reference_hz) <= REFERENCE_MODE_TOL * reference_hz]
+        anchor = min(near, key=lambda m: abs(m.f_n_hz - reference_hz)) if near else anchor
+    return [Mode(m.f_n_hz, m.zeta, m.gain / anchor.gain) for m in modes]
 
 
-def _unit_response(cond: RigCondition, contact: dict, path) -> np.ndarray:
-    """The modes' response (the first's gain 1 per N at resonance) to the force the defect
-    removes from the contact (the blocked-force deficit; the roller load's own sweep through
-    the load zone is a rotating load, not a force on the housing)."""
+def _unit_response(cond: RigCondition, contact: dict, path,
+                   reference_hz: float | None = None) -> np.ndarray:
+    """The modes' response (the anchor mode's gain 1 per N at resonance: :func:`path_modes`)
+    to the force the defect removes from the contact (the blocked-force deficit; the roller
+    load's own sweep through the load zone is a rotating load, not a force on the housing)."""
     e = excitation_from_history(-contact["removed_force"][:cond.n_samples])
-    return apply_structure(e, cond.fs_hz, path_modes(path))
+    return apply_structure(e, cond.fs_hz, path_modes(path, reference_hz))
 
 
 def record_paths(conditions, *, log=print) -> dict:
@@ -351,10 +366,11 @@ def rig_gain(conditions, paths: dict, contact_paths: dict, reference: str) -> tu
 
     Returns
     -------
-    (float, float, float)
-        Median, min and max over the reference records.
+    (float, float, float, float)
+        Median, min and max over the reference records, and the median f_n of their first
+        modes (Hz: the mode the gain belongs to, :func:`path_modes`'s ``reference_hz``).
     """
-    ratios = []
+    ratios, f_ref = [], []
     for c in conditions:
         p, status = paths[c.name]
         if reference not in c.name or status != "identified":
@@ -366,22 +382,26 @@ def rig_gain(conditions, paths: dict, contact_paths: dict, reference: str) -> tu
             else {p.event_name: p.event_hz}
         a = identify_path(y + tiny, c.fs_hz, own).amplitude
         ratios.append(p.amplitude / a)
+        f_ref.append(p.f_n_hz)
     if not ratios:
         raise ValueError(f"rig.gain_reference: {reference!r} names no identified record")
-    return float(np.median(ratios)), float(min(ratios)), float(max(ratios))
+    return (float(np.median(ratios)), float(min(ratios)), float(max(ratios)),
+            float(np.median(f_ref)))
 
 
 def write_rig_record(cond: RigCondition, contact_path: str, path, gain: float, out_dir,
-                     *, seed: int = 0) -> str:
-    """Simulated record of one condition: the contact force through the record's mode at the
-    rig's gain, plus its background; written like the measured record (x, fs, meta_json)."""
+                     *, seed: int = 0, reference_hz: float | None = None) -> str:
+    """Simulated record of one condition: the contact force through the record's modes, the
+    anchor mode (:func:`path_modes`) at the rig's gain, plus its background; written like the
+    measured record (x, fs, meta_json)."""
     with np.load(contact_path) as z:
-        y = gain * _unit_response(cond, dict(z), path)
+        y = gain * _unit_response(cond, dict(z), path, reference_hz)
     x = y + background_noise(path, y.size, seed=seed)
     _, meta = _read_x(cond.path)
     meta.update(simulated=True, source_record=cond.name, transfer_path={
         "f_n_hz": path.f_n_hz, "zeta": path.zeta, "gain_per_N": gain,
-        "modes": [dataclasses.asdict(m) for m in path_modes(path)],
+        "modes": [dataclasses.asdict(m) for m in path_modes(path, reference_hz)],
+        "reference_mode_hz": reference_hz,
         "background": path.background_source, "flags": path.flags})
     out = Path(out_dir) / f"{cond.name}_sim.npz"
     with atomic_path(out, ".npz") as tmp:
@@ -607,10 +627,10 @@ def run_scorecard(conditions, contact: dict, out_dir, gain_reference: str, *, lo
     conditions = [c for c in conditions if c.name in contact]
     paths = record_paths(conditions, log=log)
     gain = rig_gain(conditions, paths, contact, gain_reference)
-    log(f"rig: gain {gain[0]:.4g} (m/s^2 or g)/N at resonance, {gain[1]:.4g}-{gain[2]:.4g} "
-        f"over the {gain_reference} records")
+    log(f"rig: gain {gain[0]:.4g} (m/s^2 or g)/N at resonance of the {gain[3]:.0f} Hz mode, "
+        f"{gain[1]:.4g}-{gain[2]:.4g} over the {gain_reference} records")
     sim = [write_rig_record(c, contact[c.name], paths[c.name][0], gain[0], out_dir / "sim",
-                            seed=i) for i, c in enumerate(conditions)]
+                            seed=i, reference_hz=gain[3]) for i, c in enumerate(conditions)]
     with open(out_dir / "paths.json", "w", encoding="utf-8") as fh:
         json.dump({n: {"status": s, **{k: v for k, v in p.to_dict().items()
                                        if not k.startswith("background_")}}
