@@ -33,14 +33,16 @@ def _as_job(**params):
 def test_job_values_arrive_as_built_without_a_check(settings, monkeypatch):
     case = settings.cases[-1]
     params = {"simulation": settings.simulation_param(case),
-              "analysis": settings.analysis_param(), "sensor": settings.sensor_param()}
+              "analysis": settings.analysis_param(), "sensor": settings.sensor_param(),
+              "tradeoff": settings.tradeoff_param()}
     data = pickle.dumps(SimpleNamespace(params=SimpleNamespace(**params)))
 
     def refuse(*a, **k):
         raise AssertionError("a job validated a value again")
 
     for owner, name in ((Scene, "from_mapping"), (TransferModel, "from_mapping"),
-                        (st.AnalysisSettings, "from_mapping"), (st, "fidelity_from")):
+                        (st.AnalysisSettings, "from_mapping"), (st, "fidelity_from"),
+                        (st.TradeoffSettings, "from_mapping")):
         monkeypatch.setattr(owner, name, refuse)
     monkeypatch.setattr(type(settings.fidelity), "__post_init__", refuse)
     job = st.job_settings(pickle.loads(data))
@@ -49,7 +51,8 @@ def test_job_values_arrive_as_built_without_a_check(settings, monkeypatch):
     assert job.simulation.fidelity == settings.fidelity
     assert job.analysis == settings.analysis
     assert job.sensor == settings.sensor
-    assert job.tradeoff is None
+    assert job.tradeoff.settings == settings.tradeoff
+    assert job.tradeoff.analysis == settings.analysis
 
 
 def test_the_rerun_trigger_is_the_canonical_text(settings):

@@ -6,7 +6,7 @@ from bearing_envelope.study.tradeoff import pareto_points, plot_tradeoff, study_
 
 with log_to(snakemake.log[0]) as log:  # noqa: F821
     setup = job_settings(snakemake).tradeoff  # noqa: F821
-    df = study_from_config(setup.section, scene=setup.scene_mapping,
+    df = study_from_config(setup.settings, scene=setup.scene_mapping,
                            analysis=setup.analysis.to_mapping(),
                            progress=lambda msg: print(msg, file=log, flush=True))
     write_csv_atomic(df, snakemake.output.table)  # noqa: F821

@@ -52,6 +52,7 @@ from ..physics.scene import DEFECT_LOCATIONS, Scene
 from ..physics.transfer import TransferModel
 from ..signal.bands import DEFAULT_BANDS, resolve_band
 from .schema import SCHEMA_PATH
+from .tradeoff_settings import TradeoffSettings
 
 __all__ = [
     "ConfigError", "CaseId", "format_number", "CASE_NAME_REGEX", "LOCATION_CODES",
@@ -490,8 +491,9 @@ class Settings:
     analysis : AnalysisSettings or None
     sensor : bearing_envelope.physics.transfer.TransferModel or None
     diagnosability : DiagnosabilitySettings
-    tradeoff : dict
-        The ``tradeoff:`` section as given (read by :func:`bearing_envelope.study.tradeoff.study_from_config`).
+    tradeoff : bearing_envelope.study.tradeoff_settings.TradeoffSettings
+        The ``tradeoff:`` section, checked and typed once (its defaults where it is missing);
+        :func:`bearing_envelope.study.tradeoff.study_from_config` runs it unchecked.
     scenes : dict
         ``CaseId -> Scene`` of every sweep case, built (and validated) once by the loader;
         :meth:`scene` reads them.
@@ -505,7 +507,7 @@ class Settings:
     analysis: AnalysisSettings | None
     sensor: Any
     diagnosability: DiagnosabilitySettings
-    tradeoff: dict = field(default_factory=dict)
+    tradeoff: TradeoffSettings | None = None
     scenes: dict = field(default_factory=dict, repr=False, compare=False)
 
     @property
@@ -570,7 +572,7 @@ class Settings:
         -------
         JobValue
         """
-        text = json.dumps({"tradeoff": self.tradeoff, "scene": self.scene_mapping,
+        text = json.dumps({"tradeoff": self.tradeoff.section, "scene": self.scene_mapping,
                            "analysis": self.analysis.to_mapping()}, sort_keys=True)
         return JobValue(text, TradeoffSetup(self.tradeoff, self.scene_mapping, self.analysis))
 
@@ -613,10 +615,10 @@ class CaseSetup:
 
 @dataclass(frozen=True)
 class TradeoffSetup:
-    """What the trade-off job runs: the ``tradeoff:`` section, the ``scene:`` section and the
-    analysis settings."""
+    """What the trade-off job runs: the ``tradeoff:`` section (typed), the ``scene:`` section
+    and the analysis settings."""
 
-    section: dict
+    settings: TradeoffSettings
     scene_mapping: dict
     analysis: AnalysisSettings
 
@@ -1061,7 +1063,8 @@ def _build(cfg: dict, source: str, partial: bool) -> Settings:
     diag = DiagnosabilitySettings.from_mapping(cfg.get("diagnosability"))
     return Settings(source=source, config=cfg, sweep=sweep, fidelity=fidelity,
                     scene_mapping=scene_map, analysis=analysis, sensor=sensor,
-                    diagnosability=diag, tradeoff=dict(cfg.get("tradeoff") or {}),
+                    diagnosability=diag,
+                    tradeoff=TradeoffSettings.from_mapping(cfg.get("tradeoff")),
                     scenes=scenes if sweep is not None else {})
 
 
