@@ -69,7 +69,11 @@ def case_digests(path: Path) -> dict[str, str]:
 
 
 def table_digest(path: Path) -> str:
-    df = pd.read_csv(path)
+    """Digest of a CSV table's values (volatile columns dropped); a sealed table's first line
+    (``# content_sha256=...``, :func:`bearing_envelope.io.write_tidy`) is not part of it."""
+    with open(path, encoding="utf-8") as fh:
+        sealed = fh.readline().startswith("# content_sha256=")
+    df = pd.read_csv(path, skiprows=1 if sealed else 0)
     df = df[[c for c in df.columns if not _volatile(c)]]
     return _h(df.to_csv(index=False).encode())
 
