@@ -133,3 +133,15 @@ def test_bad_input():
         infogram(_two_bands()[:4096], FS, 2).rows("x")
     with pytest.raises(ValueError, match="SES bins"):
         infogram(_two_bands()[:4096], FS, 2, alpha_max_hz=1.0).best("spectral")
+
+
+def test_a_tone_beats_with_its_mirror_in_the_cells_at_0_hz():
+    # a real 300 Hz tone: the complex band signal of a cell starting at 0 Hz holds it and its
+    # image at -300 Hz, whose beat makes the squared envelope repeat at 600 Hz
+    t = np.arange(N) / FS
+    x = np.random.default_rng(3).standard_normal(N) + 5.0 * np.sin(2 * np.pi * 300.0 * t)
+    ig = infogram(x, FS, NLEVEL, alpha_max_hz=1000.0)
+    assert ig.best("spectral", min_bandwidth=1250.0).band[0] == 0.0
+    assert ig.best("spectral", min_bandwidth=1250.0).value > 2.0
+    clear = ig.best("spectral", min_bandwidth=1250.0, above_dc=True)
+    assert clear.band[0] > 0.0 and clear.value < 1.0

@@ -179,7 +179,7 @@ class Infogram:
         return np.vstack([np.repeat(v, ncol // v.size) for v in self.rows(kind)])
 
     def best(self, kind: str = "spectral", *, max_level: float | None = None,
-             min_bandwidth: float | None = None) -> InfogramCell:
+             min_bandwidth: float | None = None, above_dc: bool = False) -> InfogramCell:
         """The cell of the largest value of one map, searched where ``level <= max_level`` and
         ``bandwidth >= min_bandwidth``.
 
@@ -190,6 +190,10 @@ class Infogram:
             Deepest level searched.
         min_bandwidth : float, optional
             Narrowest cell searched (Hz).
+        above_dc : bool, default False
+            Leave out the cells that start at 0 Hz: there a real signal's band holds the
+            mirror image of each low-frequency tone, and a tone ``f0`` beating with its image
+            makes the squared envelope repeat at ``2 f0`` without any impulse.
 
         Returns
         -------
@@ -197,6 +201,9 @@ class Infogram:
             Ties go to the lower level, then the lower frequency.
         """
         rows = [np.nan_to_num(v, nan=-np.inf) for v in self.rows(kind)]
+        if above_dc:
+            for v in rows:
+                v[0] = -np.inf
         r, i, v = _best_cell(rows, self.levels, self.bandwidths, max_level, min_bandwidth)
         if not math.isfinite(v):
             raise ValueError(f"kind = {kind!r}: no cell allowed by max_level = {max_level} / "
