@@ -475,9 +475,9 @@ def background_mask(f, line: float, half: float, background: tuple[float, float]
     excl = np.asarray(excl, dtype=np.float64)
     j0s = np.searchsorted(f, excl - half - pad)
     j1s = np.searchsorted(f, excl + half + pad)
-    for c, j0, j1 in zip(excl, j0s, j1s):
-        if j1 > j0:
-            bg[j0:j1] &= np.abs(f[j0:j1] - c) > half
+    for k in np.flatnonzero(j1s > j0s):
+        j0, j1 = j0s[k], j1s[k]
+        bg[j0:j1] &= np.abs(f[j0:j1] - excl[k]) > half
     return bg
 
 
