@@ -11,7 +11,7 @@ envelope** is ``SE(n) = |x(n; f, Df)|^2`` and its **squared envelope spectrum** 
 ``SES(alpha) = |DFT_n[w(n) (SE(n) - <SE>)]|^2`` at the cyclic frequencies
 ``0 < alpha <= alpha_max``, ``w`` a Hann window (the paper takes the plain DFT: there a line
 between two bins leaks over many bins, and a cell's negentropy then depends on where its lines
-fall on the bin grid, by as much as the difference between two cells).
+fall on the bin grid: on the tests' record, dropping a few samples changed the winning cell).
 The spectral **negentropy** of a non-negative sequence ``p`` is
 
 .. math:: \Delta I(p) = \left\langle \frac{p}{\langle p \rangle}
@@ -29,7 +29,9 @@ few values. The infogram has three maps:
 
 Reference values (stationary Gaussian noise): the squared envelope of a complex Gaussian
 sub-band signal is exponentially distributed, so ``E[dI_e] = 1 - gamma = 0.4228`` (Euler's
-gamma) in every cell, whatever its width; the SES bins of such noise are exponentially
+gamma) in every cell, whatever its width, except the cells at 0 Hz and fs/2: there the band
+of a real signal holds its own mirror image, is not circular, and reads more (up to
+``2 - gamma - ln 2 = 0.73``, a real Gaussian's value); the SES bins of such noise are exponentially
 distributed about the spectrum of ``SE`` (flat for ``alpha`` well inside the band's width), so
 ``dI_E`` is about ``1 - gamma`` too when ``alpha_max`` is a small fraction of the bandwidth.
 """
