@@ -461,18 +461,18 @@ def background_mask(f, line: float, half: float, background: tuple[float, float]
     """
     lo, hi = background
     bg = (f >= lo * line) & (f <= hi * line) & (f > 0)
-    excl = []
-    kmax = int(math.ceil(hi)) + 1
-    for k in range(1, kmax + 1):
-        for m in range(-sidebands if fr else 0, (sidebands if fr else 0) + 1):
-            excl.append(k * line + m * (fr or 0.0))
+    # k line + m fr for k = 1 .. ceil(hi) + 1, |m| <= sidebands (with fr), the fr harmonics,
+    # exclude_hz
+    ks = np.arange(1, int(math.ceil(hi)) + 2)
+    ms = np.arange(-sidebands, sidebands + 1) if fr else np.zeros(1, dtype=int)
+    excl = [(ks[:, None] * line + ms[None, :] * (fr or 0.0)).ravel()]
     if fr is not None:
-        excl.extend(fr * np.arange(1, int(hi * line / fr) + 2))
-    excl.extend(float(x) for x in exclude_hz)
+        excl.append(fr * np.arange(1, int(hi * line / fr) + 2))
+    excl.append(np.fromiter((float(x) for x in exclude_hz), dtype=np.float64))
+    excl = np.concatenate(excl)
     # f ascending: each exclusion touches the bins within half of it, found by bisection
     # (a bin's margin either side, then the exact test on those bins alone)
     pad = 2.0 * (float(f[1] - f[0]) if f.size > 1 else 0.0)
-    excl = np.asarray(excl, dtype=np.float64)
     j0s = np.searchsorted(f, excl - half - pad)
     j1s = np.searchsorted(f, excl + half + pad)
     for k in np.flatnonzero(j1s > j0s):
