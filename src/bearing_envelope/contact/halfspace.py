@@ -22,6 +22,7 @@ __all__ = [
     "influence_coefficients",
     "influence_coefficients_linear",
     "kernel_spectrum",
+    "subcell_displacement",
     "ElasticHalfSpace",
     "get_halfspace",
     "clear_kernel_cache",
@@ -222,7 +223,11 @@ ELEMENTS = ("uniform", "linear")
 
 _CACHE: "OrderedDict[tuple, np.ndarray]" = OrderedDict()
 _CACHE_LOCK = Lock()
-_CACHE_SIZE = 8
+#: Spectra kept (LRU) and their total size: a rolling-element case cycles through about 30
+#: grids (two contacts' global grids, windows, rim strips and their refined neighbourhoods);
+#: with 8 entries a third of its spectra were computed again (0.4 CPU s).
+KERNEL_CACHE_ENTRIES = 32
+KERNEL_CACHE_BYTES = 64 * 2 ** 20
 
 
 def kernel_spectrum(shape: tuple[int, int], dx: float, dy: float, e_star: float, element: str = "uniform") -> np.ndarray:
@@ -230,7 +235,7 @@ def kernel_spectrum(shape: tuple[int, int], dx: float, dy: float, e_star: float,
 
     The kernel is even in both offsets, so its spectrum is real; it is stored as float64 of shape
     ``(2nx, ny + 1)`` and already carries the inverse-FFT normalisation. A small LRU cache
-    (8 entries) keyed by ``(shape, dx, dy, e_star, element)`` keeps it across solves.
+    (32 entries, at most 64 MiB) keyed by ``(shape, dx, dy, e_star, element)`` keeps it across solves.
 
     Parameters
     ----------
@@ -251,20 +256,95 @@ def kernel_spectrum(shape: tuple[int, int], dx: float, dy: float, e_star: float,
     if element not in ELEMENTS:
         raise ValueError(f"element must be one of {ELEMENTS}, got {element!r}")
     key = (tuple(int(s) for s in shape), float(dx), float(dy), float(e_star), element)
+
+    def compute():
+        k = _padded_kernel(key[0], key[1], key[2], key[3], element)
+        # threads as the solves (OMP_NUM_THREADS: a Snakemake job its declared `threads`)
+        return sfft.rfft2(k, workers=_default_workers()).real / (k.shape[0] * k.shape[1])
+
+    return _cached_spectrum(key, compute)
+
+
+def _cached_spectrum(key: tuple, compute) -> np.ndarray:
+    """The LRU cache of :func:`kernel_spectrum` (bounded by :data:`KERNEL_CACHE_ENTRIES`
+    entries and :data:`KERNEL_CACHE_BYTES`): ``key``'s array, ``compute()`` on a miss."""
     with _CACHE_LOCK:
         if key in _CACHE:
             _CACHE.move_to_end(key)
             return _CACHE[key]
-    k = _padded_kernel(key[0], key[1], key[2], key[3], element)
-    # threads as the solves (OMP_NUM_THREADS: a Snakemake job its declared `threads`)
-    spec = sfft.rfft2(k, workers=_default_workers()).real / (k.shape[0] * k.shape[1])
+    spec = compute()
     spec.setflags(write=False)
     with _CACHE_LOCK:
         _CACHE[key] = spec
         _CACHE.move_to_end(key)
-        while len(_CACHE) > _CACHE_SIZE:
+        while len(_CACHE) > 1 and (len(_CACHE) > KERNEL_CACHE_ENTRIES or
+                                   sum(v.nbytes for v in _CACHE.values()) > KERNEL_CACHE_BYTES):
             _CACHE.popitem(last=False)
     return spec
+
+
+def _subcell_spectra(shape: tuple[int, int], dx: float, dy: float, e_star: float,
+                     m: int) -> np.ndarray:
+    """Spectra (``m``, ``2nx``, ``ny + 1``) of the displacement at the centres of the ``m``
+    sub-rows of a cell (offsets ``(t + 1/2 - m/2) dx/m`` from its centre) under unit pressure
+    on a whole ``dx x dy`` cell, on the DC-FFT wrap-around grid, with the inverse's 1/N."""
+    nx, ny = shape
+
+    def compute():
+        ix = np.arange(2 * nx)
+        iy = np.arange(2 * ny)
+        ix = np.where(ix <= nx, ix, ix - 2 * nx)
+        iy = np.where(iy <= ny, iy, iy - 2 * ny)
+        out = np.empty((m, 2 * nx, ny + 1), dtype=complex)
+        for t in range(m):
+            k = influence_coefficients(ix[:, None] * dx + (t + 0.5 - 0.5 * m) * dx / m,
+                                       iy[None, :] * dy, dx, dy, e_star)
+            out[t] = sfft.rfft2(k, workers=1) / (4 * nx * ny)
+        return out
+
+    return _cached_spectrum(("subcell", (int(nx), int(ny)), float(dx), float(dy),
+                             float(e_star), int(m)), compute)
+
+
+def subcell_displacement(pressure: np.ndarray, dx: float, dy: float, e_star: float, m: int,
+                         rows: tuple[int, int] | None = None) -> np.ndarray:
+    """Surface displacement (m) at the centres of the ``m`` sub-rows of every cell, under a
+    pressure uniform on each ``dx x dy`` cell: what :class:`ElasticHalfSpace` gives on the grid
+    refined ``m`` times along ``x`` (spacing ``dx/m``) for the pressure repeated on each cell's
+    sub-rows, with ``m`` convolutions on the coarse grid (a cell is the union of its sub-cells:
+    the influence of the whole cell at each sub-row's offset) instead of one ``m`` times larger.
+
+    Parameters
+    ----------
+    pressure : numpy.ndarray
+        Pressure (Pa) on the coarse grid, shape ``(nx, ny)``, finite.
+    dx, dy : float
+        Coarse cell size (m).
+    e_star : float
+        Composite modulus (Pa).
+    m : int
+        Sub-rows per cell (>= 1).
+    rows : tuple of int, optional
+        Coarse rows ``[r0, r1)`` whose sub-rows are returned (default: every row).
+
+    Returns
+    -------
+    numpy.ndarray
+        Displacement (m), shape ``(m (r1 - r0), ny)``: sub-row ``t`` of coarse row ``i`` at
+        ``m (i - r0) + t``.
+    """
+    p = np.asarray(pressure, dtype=float)
+    nx, ny = p.shape
+    r0, r1 = (0, nx) if rows is None else (int(rows[0]), int(rows[1]))
+    spec = _subcell_spectra((nx, ny), float(dx), float(dy), float(e_star), int(m))
+    buf = np.zeros((2 * nx, ny + 1), dtype=complex)
+    buf[:nx] = sfft.rfft(p, n=2 * ny, axis=1, workers=1)
+    a = sfft.fft(buf, axis=0, workers=1, overwrite_x=True)
+    out = np.empty(((r1 - r0) * m, ny))
+    for t in range(m):
+        b = sfft.ifft(a * spec[t], axis=0, workers=1, overwrite_x=True, norm="forward")
+        out[t::m] = sfft.irfft(b[r0:r1], n=2 * ny, axis=1, workers=1, norm="forward")[:, :ny]
+    return out
 
 
 def clear_kernel_cache() -> None:

@@ -430,5 +430,9 @@ def simulate(scene: Scene, fidelity: Fidelity | str | None = None, *, progress: 
         "synthesis_seconds": t_synth, "wall_seconds": _time.perf_counter() - t_start,
         "exposure": exp, "exposure_note": exposure_line(scene, exp),
     }
+    if scene.defect.location != "inner_race":
+        # defect solves on the contact's rows that were solved again on the whole window
+        # (physics/solves.py, window_solve); the inner race solves every row
+        stats_d["n_rows_fallback"] = stats.n_rows_fallback
     return History(scene, fid, t, signals["p_max"], signals["p_max_defect"], Q, X, table, snaps,
                    ld, signals, stats_d, acq, tables)
