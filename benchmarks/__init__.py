@@ -37,6 +37,8 @@ REGISTRY: dict[str, str] = {
     "result_digests": "sha256 of every array and table of a sweep's results/ (bit-identity)",
     "hostile_configs": "bad and hostile configs: each refused before any job in one line naming "
                        "the field, or run to the end; the check's CPU per config",
+    "job_validations": "validations of one value per run: the workflow's loader (a dry run) and "
+                       "every job's loader, counted",
     "outside_zone": "outer-race pits at 3:00 / 12:00 against 6:00 per loading mechanism "
                     "(centrifugal force, preload): loads, events, BPFO level",
     "cwru_hardness": "what the hardness bound changes in the CWRU scenes (p_max, removed force, "

@@ -2,7 +2,8 @@
 
 For refactors that must not change a number: run the same sweep before and after, then
 ``python -m benchmarks result_digests results_before results_after``; prints one line per item
-and the items that differ. HDF5 datasets are hashed by their bytes (dtype and shape included);
+and the items that differ; for a differing numeric HDF5 dataset or CSV table of the same shape,
+also the largest difference relative to the item's largest magnitude. HDF5 datasets are hashed by their bytes (dtype and shape included);
 attributes holding provenance (creation time, host, git commit, package version, paths, wall
 times) are skipped, the others are hashed. CSV tables are hashed as text with columns named
 like wall or CPU times dropped.
@@ -69,9 +70,17 @@ def case_digests(path: Path) -> dict[str, str]:
 
 
 def table_digest(path: Path) -> str:
-    df = pd.read_csv(path)
-    df = df[[c for c in df.columns if not _volatile(c)]]
-    return _h(df.to_csv(index=False).encode())
+    """Digest of a CSV table's values (volatile columns dropped); a sealed table's first line
+    (``# content_sha256=...``, :func:`bearing_envelope.io.write_tidy`) is not part of it."""
+    return _h(table_digest_frame(path).to_csv(index=False).encode())
+
+
+def table_digest_frame(path: Path) -> pd.DataFrame:
+    """A CSV table without its seal line and its volatile columns."""
+    with open(path, encoding="utf-8") as fh:
+        sealed = fh.readline().startswith("# content_sha256=")
+    df = pd.read_csv(path, skiprows=1 if sealed else 0)
+    return df[[c for c in df.columns if not _volatile(c)]]
 
 
 def digests(results: Path) -> dict[str, str]:
@@ -99,8 +108,33 @@ def main(argv: list[str]) -> int:
     diff = [k for k in keys if a.get(k) != b.get(k)]
     print(f"{len(keys)} items, {len(diff)} differ")
     for k in diff:
-        print(f"  {k}: {a.get(k)} -> {b.get(k)}")
+        rel = relative_difference(Path(argv[0]), Path(argv[1]), k)
+        print(f"  {k}: {a.get(k)} -> {b.get(k)}" + ("" if rel is None else f" (max rel {rel:.2g})"))
     return 1 if diff else 0
+
+
+def _numeric(path: Path, item: str):
+    """The numeric values of one digest item (a dataset ``file.h5:name`` or a CSV table), or None."""
+    if item.endswith(".csv"):
+        p = path / item
+        if not p.exists():
+            return None
+        return table_digest_frame(p).select_dtypes("number").to_numpy(dtype=float)
+    file, _, name = item.partition(":")
+    if not file.endswith(".h5") or "@" in name or not (path / file).exists():
+        return None
+    with h5py.File(path / file, "r") as f:
+        a = np.asarray(f[name][()]) if name in f else None
+    return a.astype(float) if a is not None and a.dtype.kind in "fiub" else None
+
+
+def relative_difference(before: Path, after: Path, item: str) -> float | None:
+    """``max |after - before| / max |before|`` of a numeric item of equal shape, else None."""
+    x, y = _numeric(before, item), _numeric(after, item)
+    if x is None or y is None or x.shape != y.shape or x.size == 0:
+        return None
+    scale = float(np.nanmax(np.abs(x))) or 1.0
+    return float(np.nanmax(np.abs(y - x))) / scale
 
 
 def smoke() -> None:
@@ -120,6 +154,9 @@ def smoke() -> None:
                 tables / "harmonics.csv", index=False)
         assert main([str(Path(d, "a"))]) == 0
         assert main([str(Path(d, "a")), str(Path(d, "b"))]) == 1
+        # [0, 1] -> [0, 2]: the largest difference is the largest value of before
+        assert relative_difference(Path(d, "a"), Path(d, "b"), "cases/F1kN_h0um.h5:p_max") == 1.0
+        assert relative_difference(Path(d, "a"), Path(d, "b"), "tables/harmonics.csv") == 0.0
 
 
 if __name__ == "__main__":

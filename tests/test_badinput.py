@@ -356,3 +356,28 @@ def test_analyze_default_nlevel_follows_a_short_signal(signals, capsys, monkeypa
     assert main(["analyze", "x1.npy", "--fs", "1000", "--fr", "10", "--bpfi", "55",
                  "--bands", '[{"name": "kurtogram", "strategy": "kurtogram"}]']) == 0
     assert "kurtogram: level" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("field,option", [("n_harmonics", "--harmonics"),
+                                          ("n_sidebands", "--sidebands"),
+                                          ("n_raw_harmonics", "--raw-harmonics"),
+                                          ("nlevel", "--nlevel"),
+                                          ("filter_order", "--filter-order")])
+def test_analyze_option_ranges_are_analysis_options_own(signals, capsys, monkeypatch, field,
+                                                        option):
+    """The command holds no range of an analysis option: one past AnalysisOptions' bound is
+    refused in one line naming the option and the library's range, before any file is read;
+    the library names its own field."""
+    from bearing_envelope.cli import main
+    from bearing_envelope.diagnosis import AnalysisOptions
+    from bearing_envelope.diagnosis.analysis import OPTION_INT_RANGES
+
+    lo, hi = OPTION_INT_RANGES[field]
+    monkeypatch.chdir(signals)
+    for bad in (lo - 1, hi + 1):
+        assert main(["analyze", "none.npy", "--fs", "1000", "--fr", "10", "--bpfi", "55",
+                     option, str(bad)]) == 2
+        _one_line(capsys.readouterr().err,
+                  rf"{option}: got {bad}; allowed: an integer {lo} \.\. {hi}$")
+        with pytest.raises(ValueError, match=rf"^AnalysisOptions\.{field} = {bad}: allowed "):
+            AnalysisOptions(**{field: bad})

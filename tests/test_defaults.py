@@ -4,7 +4,7 @@ Homes (docs/architecture.md, "Where defaults live"): the scene in ``physics/scen
 (``DEFAULT_SCENE``) with the study bearing's values in its catalogue entry
 (``data/bearings.yaml``); the fidelity preset in ``physics/fidelity.py``; the analysis options in
 ``diagnosis.AnalysisOptions`` (the filter order in ``signal/envelope.py``); the trade-off study
-in ``study/tradeoff.py``; the pre-run limits in ``study/limits.py``. The schema file holds
+in ``study/tradeoff_settings.py``; the pre-run limits in ``study/limits.py``. The schema file holds
 defaults only for sections whose home it is (sensor, diagnosability, paper_run), and the
 loader fills the others in from their homes.
 """

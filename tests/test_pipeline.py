@@ -138,7 +138,9 @@ def test_case_summary_row():
     case.roller_load = np.full(N, 7.5e4)
     case.bpfi_geometry = 194.2
     case.table = {"attrs": {"interp_max_rel_error_p_max": 0.01}}
-    case.attrs = {"stats_json": '{"n_solves": 12, "wall_seconds": 3.5}', "git_commit": "abc"}
+    # as an io.Case holds them: each *_json attribute also as its value
+    case.attrs = {"stats_json": '{"n_solves": 12, "wall_seconds": 3.5}',
+                  "stats": {"n_solves": 12, "wall_seconds": 3.5}, "git_commit": "abc"}
     row = case_summary(case)
     assert row["p_max_peak_Pa"] == 4.0e9 and row["p_max_mean_Pa"] == pytest.approx(2.5e9)
     assert row["p_max_defect_peak_Pa"] == 2.0e9 and row["roller_load_max_N"] == 7.5e4

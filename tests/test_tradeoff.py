@@ -136,3 +136,30 @@ def test_element_series_and_presets_on_a_healthy_case():
     assert set(df[df["knob"] == "local_dx_um[linear]"]["element"]) == {"linear"}
     assert not df["is_reference"].any()
     assert isinstance(df, pd.DataFrame)
+
+
+def test_the_section_is_checked_once_by_the_loader_and_never_by_the_study(monkeypatch):
+    """The loader types the section (``Settings.tradeoff``) and refuses a bad one in one line
+    naming the key; ``study_from_config`` runs the typed section without checking it again."""
+    from bearing_envelope.study.settings import ConfigError, settings_from_mapping
+    from bearing_envelope.study.tradeoff import TradeoffSettings
+
+    sweep = {"sweep": {"loads_kN": [250], "depths_um": [0]}}
+    with pytest.raises(ConfigError, match=r"^<mapping>: tradeoff\.knobs: unknown knob 'warp'"):
+        settings_from_mapping({**sweep, "tradeoff": {"knobs": {"warp": [1.0]}}})
+    with pytest.raises(ConfigError, match=r"^<mapping>: tradeoff\.knobs\.tol: -1\.0: "):
+        settings_from_mapping({**sweep, "tradeoff": {"knobs": {"tol": [-1.0]}}})
+    with pytest.raises(ConfigError, match=r"tradeoff\.element_series: 'tol' is not one of"):
+        settings_from_mapping({**sweep, "tradeoff": {"knobs": {"n_loads": [3]},
+                                                     "element_series": ["tol"]}})
+    section = {"cases": [[250, 0]], "revolutions": 1, "base": "draft", "reference": "per_knob",
+               "element_series": [], "presets": [], "knobs": {"tol": [1e-4]}}
+    typed = settings_from_mapping({**sweep, "tradeoff": section}).tradeoff
+    assert isinstance(typed, TradeoffSettings) and typed.section == section
+
+    def refuse(*a, **k):
+        raise AssertionError("the study checked its section again")
+
+    monkeypatch.setattr(TradeoffSettings, "from_mapping", refuse)
+    df = study_from_config(typed)
+    assert set(df["knob"]) == {"tol"} and set(df["case"]) == {"F250kN_h0um"}

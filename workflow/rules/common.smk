@@ -73,21 +73,25 @@ def case_id(wildcards):
     return CASE_BY_NAME[wildcards.case]
 
 
-def scene_params(wildcards):
-    """The validated scene section and the resolved fidelity, as their one canonical JSON
-    (bearing_envelope.study.settings.SimulationSetup): a change reruns the simulations only."""
-    return SETTINGS.simulation.to_json()
+# Typed values reach the jobs as params (bearing_envelope.study.settings.JobValue): the canonical
+# JSON Snakemake compares to rerun a job when a value changes, carrying the value the loader
+# built; each script reads them with study.settings.job_settings (nothing validated again).
+
+
+def simulation_params(wildcards):
+    """The scene section and the resolved fidelity (a change reruns the simulations only),
+    carrying the job's case and its scene as the loader built it."""
+    return SETTINGS.simulation_param(case_id(wildcards))
 
 
 def sensor_params(wildcards):
-    """The typed transfer model (TransferModel.to_json); empty without a `sensor:` section."""
-    return SETTINGS.sensor.to_json() if SETTINGS.sensor is not None else "{}"
+    """The typed transfer model; "{}" (carrying None) without a `sensor:` section."""
+    return SETTINGS.sensor_param()
 
 
 def analysis_params(wildcards):
-    """The typed analysis settings as their one canonical JSON (AnalysisSettings.to_json): a
-    change reruns the analysis jobs only."""
-    return SETTINGS.analysis.to_json()
+    """The typed analysis settings (a change reruns the analysis jobs only)."""
+    return SETTINGS.analysis_param()
 
 
 def example_cases(wildcards=None):

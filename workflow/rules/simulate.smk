@@ -8,8 +8,7 @@ rule simulate:
     output:
         "results/cases/{case}.h5",
     params:
-        setup=scene_params,
-        case=case_id,
+        simulation=simulation_params,
     log:
         "logs/simulate/{case}.log",
     benchmark:

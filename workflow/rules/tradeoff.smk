@@ -19,13 +19,9 @@ rule tradeoff:
             labels={"what": "error vs CPU time per case, Pareto front"},
         ),
     params:
-        # the study's section, the scene and the typed analysis, validated, as canonical JSON:
-        # a change reruns the study
-        setup=lambda w: json.dumps(
-            {"tradeoff": SETTINGS.tradeoff, "scene": SETTINGS.scene_mapping,
-             "analysis": SETTINGS.analysis.to_mapping()},
-            sort_keys=True,
-        ),
+        # the study's section, the scene and the typed analysis, validated, as canonical JSON
+        # (a change reruns the study) carrying them typed (study.settings.TradeoffSetup)
+        tradeoff=lambda w: SETTINGS.tradeoff_param(),
     log:
         "logs/tradeoff.log",
     benchmark:

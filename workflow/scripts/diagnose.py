@@ -2,16 +2,15 @@
 from bearing_envelope.io import read_case
 from bearing_envelope.study.pipeline import case_diagnosability, log_to
 from bearing_envelope.study.tables import write_csv_atomic
-from bearing_envelope.study.settings import AnalysisSettings
-from bearing_envelope.physics.transfer import TransferModel
+from bearing_envelope.study.settings import job_settings
 
 with log_to(snakemake.log[0]):  # noqa: F821
-    inp = snakemake.input  # noqa: F821
+    inp, job = snakemake.input, job_settings(snakemake)  # noqa: F821
     ref = read_case(inp.reference) if inp.reference else None
     df = case_diagnosability(
         read_case(inp.case),
-        TransferModel.from_json(snakemake.params.sensor),  # noqa: F821
-        AnalysisSettings.from_json(snakemake.params.analysis),  # noqa: F821
+        job.sensor,
+        job.analysis,
         snakemake.params.snr_db,  # noqa: F821
         reference=ref,
         kurtogram_from=snakemake.params.kurtogram_from,  # noqa: F821

@@ -2,15 +2,14 @@
 from bearing_envelope.io import read_case
 from bearing_envelope.study.pipeline import case_false_alarms, log_to
 from bearing_envelope.study.tables import write_csv_atomic
-from bearing_envelope.study.settings import AnalysisSettings
-from bearing_envelope.physics.transfer import TransferModel
+from bearing_envelope.study.settings import job_settings
 
 with log_to(snakemake.log[0]):  # noqa: F821
-    inp = snakemake.input  # noqa: F821
+    inp, job = snakemake.input, job_settings(snakemake)  # noqa: F821
     df = case_false_alarms(
         read_case(inp.case),
-        TransferModel.from_json(snakemake.params.sensor),  # noqa: F821
-        AnalysisSettings.from_json(snakemake.params.analysis),  # noqa: F821
+        job.sensor,
+        job.analysis,
         snakemake.params.snr_db,  # noqa: F821
         int(snakemake.params.n_trials),  # noqa: F821
         reference=read_case(inp.reference) if inp.reference else None,

@@ -2,12 +2,12 @@
 from bearing_envelope.io import read_case, write_sensor_case
 from bearing_envelope.study.pipeline import case_acceleration
 from bearing_envelope.study.provenance import log_to
-from bearing_envelope.physics.transfer import TransferModel
+from bearing_envelope.study.settings import job_settings
 
 with log_to(snakemake.log[0]):  # noqa: F821
     inp, out = snakemake.input, snakemake.output[0]  # noqa: F821
     case = read_case(inp.case)
-    acc, info = case_acceleration(case, TransferModel.from_json(snakemake.params.sensor),  # noqa: F821
+    acc, info = case_acceleration(case, job_settings(snakemake).sensor,  # noqa: F821
                                   reference=read_case(inp.reference) if inp.reference else None)
     info.update(source_case=inp.case, reference_case=inp.reference or None,
                 config="config.yaml: sensor", command="workflow rule sensor")

@@ -5,17 +5,16 @@ from bearing_envelope.physics.history import simulate
 from bearing_envelope.io import write_case
 from bearing_envelope.study.accuracy import case_error_model
 from bearing_envelope.study.provenance import log_to
-from bearing_envelope.study.settings import SimulationSetup
+from bearing_envelope.study.settings import job_settings
 
 #: The content-addressed store of the no-defect global solves (bearing_envelope.physics.nodefect_cache).
 NODEFECT_CACHE = "results/cache/nodefect"
 
 with log_to(snakemake.log[0]) as log:  # noqa: F821
-    setup = SimulationSetup.from_json(snakemake.params.setup)  # noqa: F821
-    case = snakemake.params.case  # noqa: F821  (typed: CaseId)
+    setup = job_settings(snakemake).simulation  # noqa: F821  (case, scene, fidelity: typed)
+    case = setup.case
     # the no-defect solves of a load are shared by its depth cases (issue 25; bit-identical)
-    hist = simulate(setup.scene(case), setup.fidelity, progress=False,
-                    nodefect_cache=NODEFECT_CACHE)
+    hist = simulate(setup.scene, setup.fidelity, progress=False, nodefect_cache=NODEFECT_CACHE)
     if hist.stats.get("exposure_note"):
         # one line: a defect that never meets a loaded contact, or passages beyond the
         # validated pit bridging (physics/exposure.py); also in the case's stats

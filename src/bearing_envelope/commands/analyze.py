@@ -243,10 +243,11 @@ def _positive(opt: str, v, *, allow_zero: bool = False) -> None:
 def check_args(args) -> None:
     """Refuse bad arguments before any file is read; ``ValueError`` naming the option.
 
-    Numbers must be finite and in range (``--nlevel`` >= 1: the kurtogram is never silently run
-    at another depth, ``--harmonics`` is checked again against each record's Nyquist
-    frequency); every output must be writable; ``--bands`` is read here. Sets
-    ``args.faults``, ``args.band_specs`` and ``args.geometry``.
+    Numbers must be finite and in range; the analysis options' ranges (``--nlevel``,
+    ``--harmonics``, ``--search-percent``, ...) are AnalysisOptions' own, checked when
+    :func:`build_options` makes them, also before any file is read (``--harmonics`` is checked
+    again against each record's Nyquist frequency); every output must be writable;
+    ``--bands`` is read here. Sets ``args.faults``, ``args.band_specs`` and ``args.geometry``.
 
     Parameters
     ----------
@@ -257,11 +258,6 @@ def check_args(args) -> None:
                 "--roller-diameter-in", "--pitch-diameter-in", "--min-bandwidth", "--fmax"):
         _positive(opt, getattr(args, opt[2:].replace("-", "_")))
     _positive("--max-level", args.max_level, allow_zero=True)
-    sp = args.search_percent
-    if sp is not None and not (math.isfinite(sp) and 0 < sp < 50):
-        raise ValueError(f"--search-percent: got {sp!r}; allowed: 0 < percent < 50")
-    if args.pfa is not None and not (math.isfinite(args.pfa) and 0 < args.pfa < 1):
-        raise ValueError(f"--pfa: got {args.pfa!r}; allowed: 0 < pfa < 1")
     args.routes = parse_routes(args.routes)
     args.faults = parse_faults(args.fault)
     args.geometry = geometry_args(args)
@@ -313,17 +309,8 @@ def _check_counts(args) -> None:
                                                or not 0 <= args.contact_angle_deg < 90):
         raise ValueError(f"--contact-angle-deg: got {args.contact_angle_deg!r}; allowed: "
                          f"0 <= angle < 90")
-    for opt, v, lo, hi in (("--nlevel", 1 if args.nlevel is None else args.nlevel, 1, 30),
-                           ("--harmonics", args.harmonics, 1, 1000),
-                           ("--sidebands", args.sidebands, 0, 100),
-                           ("--raw-harmonics", args.raw_harmonics, 1, 1000),
-                           ("--filter-order", args.filter_order, 1, 20),
-                           ("--jobs", args.jobs, 0, 1024)):
-        if v is not None and not lo <= v <= hi:
-            allowed = f"an integer >= {lo}" if opt in ("--nlevel", "--harmonics",
-                                                         "--sidebands") and v < lo \
-                else f"an integer {lo} .. {hi}"
-            raise ValueError(f"{opt}: got {v}; allowed: {allowed}")
+    if args.jobs is not None and not 0 <= args.jobs <= 1024:
+        raise ValueError(f"--jobs: got {args.jobs}; allowed: an integer 0 .. 1024")
     if args.max_level is not None and args.nlevel is not None and args.max_level > args.nlevel:
         raise ValueError(f"--max-level: got {args.max_level:g}; allowed: <= --nlevel "
                          f"({args.nlevel})")
@@ -523,7 +510,8 @@ OPTION_NAMES = {"fs": "--fs", "shaft_hz": "--fr", "bpfi": "--bpfi", "faults": "-
                 "nlevel": "--nlevel", "fixed_band": "--fixed-band", "clamp": "--clamp",
                 "bands": "--bands", "record": "the case file"}
 
-#: ``AnalysisOptions`` field -> the option that sets it (None: not given, the library's).
+#: ``AnalysisOptions`` field -> the option that sets it (None: not given, the library's); the
+#: options' ranges are AnalysisOptions' own (``options_with`` names the option in its errors).
 _OPTION_FIELDS = {"n_harmonics": "harmonics", "n_sidebands": "sidebands",
                   "n_raw_harmonics": "raw_harmonics", "nlevel": "nlevel",
                   "max_level": "max_level", "min_bandwidth": "min_bandwidth",
@@ -543,9 +531,13 @@ def build_options(args):
     -------
     AnalysisOptions
         ``RECORD_OPTIONS`` with every option given on the command line replaced.
-    """
-    from dataclasses import replace
 
+    Raises
+    ------
+    ValueError
+        A value AnalysisOptions refuses, in one line naming the option (``--harmonics``).
+    """
+    from bearing_envelope.diagnosis import options_with
     from bearing_envelope.diagnosis.records import RECORD_OPTIONS
 
     given = {f: getattr(args, a) for f, a in _OPTION_FIELDS.items()
@@ -560,7 +552,8 @@ def build_options(args):
         given["measure_speed"] = args.speed == "measured"
     if args.routes is not None:
         given["routes"] = args.routes
-    return replace(RECORD_OPTIONS, **given)
+    names = {f: "--" + a.replace("_", "-") for f, a in _OPTION_FIELDS.items()}
+    return options_with(RECORD_OPTIONS, names={**names, "routes": "--routes"}, **given)
 
 
 def library_arguments(args) -> dict:

@@ -14,7 +14,7 @@ signal, and its plots.
 """
 
 from .analysis import (COLUMNS, KURTOGRAM_MIN_ORDERS, AnalysisOptions, analyze_signal,
-                       fault_frequency_map)
+                       fault_frequency_map, options_with)
 from .faults import (CANNOT_TELL, CONFIDENCE_LEVELS, DEFAULT_SEARCH_PERCENT, FamilyVerdict,
                      FaultFamily, Verdict, evidence_level, fault_families, fault_verdict,
                      search_lines)
@@ -23,7 +23,7 @@ from .records import RECORD_OPTIONS, RecordAnalysis, RecordFailure, analyze_reco
 from .batch import analyze_records, verdict_table
 from .speed import ShaftRate, estimate_shaft_rate
 
-__all__ = ["COLUMNS", "KURTOGRAM_MIN_ORDERS", "AnalysisOptions", "analyze_signal",
+__all__ = ["COLUMNS", "KURTOGRAM_MIN_ORDERS", "AnalysisOptions", "analyze_signal", "options_with",
            "fault_frequency_map", "CANNOT_TELL", "CONFIDENCE_LEVELS", "DEFAULT_SEARCH_PERCENT",
            "FamilyVerdict", "FaultFamily", "Verdict", "evidence_level", "fault_families",
            "fault_verdict",

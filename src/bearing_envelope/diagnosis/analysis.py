@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 from collections.abc import Mapping, Sequence
@@ -20,7 +21,7 @@ from .routes import ROUTES, apply_routes, combine_routes, run_routes
 from .speed import MEASURED_SPEED_SEARCH_PERCENT, estimate_shaft_rate
 
 __all__ = ["COLUMNS", "DEFAULT_PFA", "KURTOGRAM_MIN_ORDERS", "AnalysisOptions", "analyze_signal",
-           "fault_frequency_map"]
+           "fault_frequency_map", "OPTION_INT_RANGES", "OptionError", "options_with"]
 
 #: Columns of the table returned by :func:`analyze_signal`, in order.
 COLUMNS = [
@@ -93,9 +94,31 @@ KURTOGRAM_MIN_ORDERS = 2.0
 _LEVEL0 = ("analytic", "real")
 
 
+#: Ranges of the integer options (inclusive): the lower bounds are what the chain needs, the
+#: upper ones refuse a value no analysis means (a record's own limits, e.g. the kurtogram depth
+#: its length allows, are checked with the record).
+OPTION_INT_RANGES = {"n_harmonics": (1, 1000), "n_sidebands": (0, 100),
+                     "n_raw_harmonics": (1, 1000), "nlevel": (1, 30), "filter_order": (1, 20)}
+
+
+class OptionError(ValueError):
+    """A value :class:`AnalysisOptions` refuses: the field, the value and what is allowed.
+
+    Its message names ``AnalysisOptions.<field>``; :func:`options_with` names the field as the
+    caller does (``names``).
+    """
+
+    def __init__(self, field: str, value, allowed: str):
+        self.field, self.value, self.allowed = field, value, allowed
+        super().__init__(f"AnalysisOptions.{field} = {value!r}: allowed {allowed}")
+
+
 def _option_int(name, value, minimum):
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < minimum:
-        raise ValueError(f"AnalysisOptions.{name} = {value!r}: allowed an integer >= {minimum}")
+    lo, hi = OPTION_INT_RANGES.get(name, (minimum, None))
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < lo \
+            or (hi is not None and value > hi):
+        raise OptionError(name, value, f"an integer {lo} .. {hi}" if hi is not None
+                          else f"an integer >= {lo}")
     return int(value)
 
 
@@ -107,8 +130,7 @@ def _option_float(name, value, low, high, *, allow_none=False, closed_low=False)
     inside = (v >= low if closed_low else v > low) and v < high
     if not (math.isfinite(v) and inside):
         what = f"{'[' if closed_low else '('}{low:g}, {high:g})"
-        raise ValueError(f"AnalysisOptions.{name} = {value!r}: allowed a number in {what}"
-                         f"{' or None' if allow_none else ''}")
+        raise OptionError(name, value, f"a number in {what}{' or None' if allow_none else ''}")
     return v
 
 
@@ -235,6 +257,39 @@ class AnalysisOptions:
         object.__setattr__(self, "routes", routes)
         if self.level0 not in _LEVEL0:
             raise ValueError(f"AnalysisOptions.level0 = {self.level0!r}: allowed {_LEVEL0}")
+
+
+def options_with(base: AnalysisOptions | None = None, *,
+                 names: Mapping[str, str] | None = None, **given) -> AnalysisOptions:
+    """``base`` with the ``given`` fields replaced, checked by :class:`AnalysisOptions` (the one
+    place its ranges are written); an error names the field as the caller does.
+
+    Parameters
+    ----------
+    base : AnalysisOptions, optional
+        The options to start from (default ``AnalysisOptions()``).
+    names : mapping, optional
+        Field -> the caller's name for it (the command line's ``--harmonics``); the message is
+        then ``{name}: got {value}; allowed: {what}``.
+    **given
+        Fields of :class:`AnalysisOptions`.
+
+    Returns
+    -------
+    AnalysisOptions
+
+    Raises
+    ------
+    ValueError
+        One line naming the field (as ``names`` says), the value and what is allowed.
+    """
+    try:
+        return dataclasses.replace(base or AnalysisOptions(), **given)
+    except OptionError as exc:
+        if names is None or exc.field not in names:
+            raise
+        raise ValueError(f"{names[exc.field]}: got {exc.value!r}; allowed: {exc.allowed}") \
+            from None
 
 
 def analyze_signal(x, fs: float, *, fr: float, bpfi: float | None = None,

@@ -1,7 +1,10 @@
 """HDF5 case format: one file per load x depth case (layout in ``docs/file-format.md``).
 
-:func:`write_case` stores a :class:`bearing_envelope.physics.history.History` atomically (temporary file
-in the same directory, then :func:`os.replace`); :func:`read_case` returns a typed :class:`Case`.
+The one in-memory case type is :class:`Case`: :meth:`Case.from_history` turns the simulator's
+return (:class:`bearing_envelope.physics.history.History`) into one, the only place that
+conversion is made; :func:`write_case` stores a Case (or a History, through that method)
+atomically (temporary file in the same directory, then :func:`os.replace`); :func:`read_case`
+returns the Case the file stores: the two agree field by field.
 A file of another format version, or one missing a required dataset, raises :class:`CaseFormatError`
 (a ``ValueError``) naming the problem.
 """
@@ -19,6 +22,7 @@ from typing import Any
 import numpy as np
 
 from .. import __version__
+from ..physics.history import SIGNAL_UNITS
 from ..physics.locations import scene_event_frequencies
 from .atomic import clean_stale_temps, public_mode, temp_path_for
 from .integrity import (CHECKSUM_OPTIONS, seal, verify_file, DIGEST_ATTR, content_digest,
@@ -51,6 +55,8 @@ _SIGNAL_DESCRIPTIONS = {
     "approach": "approach delta(t) at the roller load (no-defect curve at Q + removed force)",
     "approach_change": "approach minus the no-defect approach at the same roller load (>= 0)",
     "contact_area": "contact area at the roller load",
+    "roller_load": "load of the roller at the defect",
+    "defect_offset": "arc-length offset of the defect from the nearest roller's contact centre",
 }
 
 
@@ -94,10 +100,11 @@ class Case:
     ----------
     fs, fr : float
         Sampling rate and shaft rate (Hz).
-    bpfi : float
-        BPFI used by the history (the override if any), Hz.
-    bpfi_geometry, bpfo, ftf, bsf : float
-        Geometric fault frequencies (Hz).
+    bpfi, bpfo, ftf, bsf : float
+        The rates the history's events run at (Hz; from the cage rate used, so with the BPFI
+        override if any); the geometric ones are ``attrs["*_geometry"]``.
+    bpfi_geometry : float
+        Geometric BPFI (Hz).
     time : ndarray
         Sample times (s).
     p_max, p_max_defect : ndarray
@@ -112,7 +119,8 @@ class Case:
     scene : dict
         Scene mapping (:meth:`bearing_envelope.physics.scene.Scene.to_mapping`).
     attrs : dict
-        All root attributes (versions, commit, fidelity, solver settings, diagnostics).
+        All root attributes (versions, commit, fidelity, solver settings, diagnostics); each
+        ``*_json`` one also as its value (``attrs["fidelity"]``: the fidelity's mapping).
     signals : dict
         Name -> 1-D array: ``p_max``, ``p_max_defect``, ``roller_load``, ``defect_offset``, the
         integral signals ``removed_force`` (N), ``contact_force`` (N), ``approach`` (m),
@@ -149,6 +157,33 @@ class Case:
     table: dict = field(default_factory=dict)
     other_tables: dict = field(default_factory=dict)
     error_model: ErrorModel | None = None
+
+    @classmethod
+    def from_history(cls, history, *, extra_attrs: dict | None = None,
+                     error_model: ErrorModel | None = None) -> "Case":
+        """The case a simulated history is: what :func:`read_case` gives back from the file
+        :func:`write_case` makes of it, without writing one (the only place a History becomes
+        a Case).
+
+        Parameters
+        ----------
+        history : bearing_envelope.physics.history.History
+            The return of :func:`bearing_envelope.physics.history.simulate`.
+        extra_attrs : dict, optional
+            More root attributes (the workflow's case id, the config file name).
+        error_model : ErrorModel, optional
+            The case's discretisation errors
+            (:func:`bearing_envelope.study.accuracy.case_error_model` makes it).
+
+        Returns
+        -------
+        Case
+            Field by field what reading its file gives (the digest attribute aside).
+        """
+        table, more = _history_tables(history)
+        return _case_of(_root_attrs(history, extra_attrs), history.time,
+                        _history_signals(history), table, more,
+                        _history_snapshots(history.snapshots), error_model)
 
 
 def git_commit(path: str | None = None) -> str:
@@ -224,121 +259,157 @@ def _json(obj) -> str:
     return json.dumps(jsonable(obj), sort_keys=True)
 
 
-def _write_root_attrs(f, history, extra_attrs: dict | None) -> None:
-    """Stage 1 of :func:`write_case`: format, provenance, sweep values, frequencies and the
-    JSON descriptions of scene, fidelity, solver, statistics, load distribution, acquisition."""
+#: Root attributes holding JSON text; a :class:`Case` also holds each as its value, under the
+#: name without ``_json`` (``attrs["fidelity"]``).
+_JSON_ATTRS = ("scene_json", "fidelity_json", "solver_json", "stats_json",
+               "load_distribution_json", "acquisition_json")
+
+#: Units and description of every dataset of a table group (other arrays: the table's
+#: diagnostics, no units).
+_TABLE_DATASETS = {
+    "roller_load": ("N", "roller-load nodes"),
+    "xi": ("1", "normalised offset nodes |x|/s(Q)"),
+    "offset": ("m", "offset nodes x = xi s(Q), (load, xi)"),
+    "p0": ("Pa", "no-defect maximum pressure P0(Q)"),
+    "w0": ("Pa", "no-defect maximum in the window's read strip W0(Q)"),
+    "q_out": ("N", "dense roller loads of p_out"),
+    "p_out": ("Pa", "no-defect maximum outside the read strip (ends)"),
+    "p_max": ("Pa", "P(Q, x), whole contact"),
+    "p_max_defect": ("Pa", "P_d(Q, x), defect neighbourhood"),
+    "removed_force": ("N", "force the defect removes at the no-defect approach, dF(Q, x)"),
+    "area_change": ("m^2", "contact-area change with the defect at the no-defect approach, "
+                           "dA(Q, x)"),
+    "approach0": ("m", "no-defect approach delta0(Q) (global solves)"),
+    "area0": ("m^2", "no-defect contact area A0(Q) (global solves)"),
+    "approach_out": ("m", "no-defect approach at q_out (the p_out global solves)"),
+    "area_out": ("m^2", "no-defect contact area at q_out (the p_out global solves)"),
+}
+
+_INTERP_COLUMNS = "Q_N, x_m, P_direct, Pd_direct, P_interp, Pd_interp, P0"
+
+
+def _stored(v):
+    """A value as a case file gives it back: arrays as they are, scalars as Python scalars."""
+    return v if isinstance(v, np.ndarray) else _attr(v)
+
+
+def _root_attrs(history, extra_attrs: dict | None) -> dict[str, Any]:
+    """The root attributes of a history's case: format, provenance, sweep values, frequencies,
+    the JSON text of scene, fidelity, solver, statistics, load distribution and acquisition,
+    and (what a :class:`Case` holds besides) each of those values under its name without
+    ``_json``."""
     sc = history.scene
     ff = sc.frequencies()
-    a = f.attrs
-    a["format"] = "bearing_envelope.case"
-    a["format_version"] = FORMAT_VERSION
-    a["package_version"] = __version__
-    a["git_commit"] = git_commit()
-    a["created_utc"] = _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds")
-    a["load_kN"] = sc.load.load_kN
-    a["depth_um"] = sc.defect.depth_um
-    a["load_mode"] = sc.load.mode
-    a["fs"] = sc.operation.fs_hz
-    a["fr"] = sc.operation.shaft_rate_hz
     # the rates the history's events run at (from the cage rate used: a BPFI override acts
     # through it), so that a file's fault frequencies are those of its own events; the
     # geometric ones beside them
     ev = scene_event_frequencies(sc)
-    a["bpfi"] = ev["bpfi"]
-    a["bpfo"] = ev["bpfo"]
-    a["ftf"] = ev["ftf"]
-    a["bsf"] = ev["bsf"]
-    a["bpfi_geometry"] = ff.bpfi
-    a["bpfo_geometry"] = ff.bpfo
-    a["ftf_geometry"] = ff.ftf
-    a["bsf_geometry"] = ff.bsf
-    a["cage_rate_used"] = sc.cage_rate_hz
-    a["scene_json"] = _json(sc.to_mapping())
-    a["fidelity_json"] = _json(history.fidelity.to_dict())
-    a["solver_json"] = _json({
-        "solver": "bearing_envelope.contact.solve_contact (Polonsky-Keer CG, DC-FFT)",
-        "tol": history.fidelity.tol, "max_iter": history.fidelity.max_iter,
-        "hardness_Pa": sc.material.hardness_pa,
-        "route": "zoom: global no-defect solve per roller load + local window under "
-                 "displacement control with far-field displacement and approach",
-    })
-    a["stats_json"] = _json(history.stats)
+    a: dict[str, Any] = {
+        "format": "bearing_envelope.case", "format_version": FORMAT_VERSION,
+        "package_version": __version__, "git_commit": git_commit(),
+        "created_utc": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
+        "load_kN": sc.load.load_kN, "depth_um": sc.defect.depth_um, "load_mode": sc.load.mode,
+        "fs": sc.operation.fs_hz, "fr": sc.operation.shaft_rate_hz,
+        "bpfi": ev["bpfi"], "bpfo": ev["bpfo"], "ftf": ev["ftf"], "bsf": ev["bsf"],
+        "bpfi_geometry": ff.bpfi, "bpfo_geometry": ff.bpfo, "ftf_geometry": ff.ftf,
+        "bsf_geometry": ff.bsf, "cage_rate_used": sc.cage_rate_hz}
     ld = history.load_distribution
-    a["load_distribution_json"] = _json({
-        "force_row_N": ld.force_row, "q_max_N": ld.q_max, "delta_r_m": ld.delta_r,
-        "epsilon": ld.epsilon, "half_angle_rad": ld.half_angle,
-        "clearance_m": ld.clearance, "stiffness_N_per_m_n": ld.stiffness,
-        "exponent": ld.exponent})
+    values = {
+        "scene": sc.to_mapping(),
+        "fidelity": history.fidelity.to_dict(),
+        "solver": {
+            "solver": "bearing_envelope.contact.solve_contact (Polonsky-Keer CG, DC-FFT)",
+            "tol": history.fidelity.tol, "max_iter": history.fidelity.max_iter,
+            "hardness_Pa": sc.material.hardness_pa,
+            "route": "zoom: global no-defect solve per roller load + local window under "
+                     "displacement control with far-field displacement and approach"},
+        "stats": history.stats,
+        "load_distribution": {
+            "force_row_N": ld.force_row, "q_max_N": ld.q_max, "delta_r_m": ld.delta_r,
+            "epsilon": ld.epsilon, "half_angle_rad": ld.half_angle,
+            "clearance_m": ld.clearance, "stiffness_N_per_m_n": ld.stiffness,
+            "exponent": ld.exponent},
+        "acquisition": getattr(history, "acquisition", {}),
+    }
+    for key in _JSON_ATTRS[:-1]:
+        a[key] = _json(values[key[:-5]])
     profile = getattr(sc.bearing, "profile_file", None)
     if profile:
         a["profile_file_sha256"] = file_sha256(profile)
-    for k, v in (extra_attrs or {}).items():
-        a[k] = v
-    a["acquisition_json"] = _json(getattr(history, "acquisition", {}))
+    a.update(extra_attrs or {})
+    a["acquisition_json"] = _json(values["acquisition"])
+    a.update({k: jsonable(v) for k, v in values.items()})
+    return a
 
 
-def _write_signals(f, history) -> None:
-    """Stage 2 of :func:`write_case`: ``/time`` and the ``/signals`` group."""
-    from ..physics.history import SIGNAL_UNITS
-
-    _dset(f, "time", history.time, "s", "sample times")
-    sg = f.create_group("signals")
-    for name, arr in history.signals.items():
-        base = name[:-6] if name.endswith("_clean") else name
-        _dset(sg, name, arr, SIGNAL_UNITS.get(base, ""), _SIGNAL_DESCRIPTIONS.get(base, ""))
-    _dset(sg, "roller_load", history.roller_load, "N", "load of the roller at the defect")
-    _dset(sg, "defect_offset", history.defect_offset, "m",
-          "arc-length offset of the defect from the nearest roller's contact centre")
+def _history_signals(history) -> dict[str, np.ndarray]:
+    """Every signal of a history, with the roller load and the defect offset."""
+    return {**history.signals, "roller_load": history.roller_load,
+            "defect_offset": history.defect_offset}
 
 
-def _write_tables(f, history) -> None:
-    """Stage 3 of :func:`write_case`: ``/table`` (the contact of the defect's race) and
-    ``/table_{race}`` for any other race's table (rolling-element defects)."""
+def _table_values(tb) -> dict[str, Any]:
+    """A ``P(Q, x)`` table as its group stores it: arrays (datasets, :data:`_TABLE_DATASETS`)
+    and scalars (attributes); the diagnostics of ``tb.info`` likewise."""
+    d: dict[str, Any] = {
+        "roller_load": tb.q_nodes, "xi": tb.xi_nodes, "offset": tb.offsets(), "p0": tb.p0,
+        "w0": tb.w0, "q_out": tb.q_out, "p_out": tb.p_out, "p_max": tb.p_max_nodes(),
+        "p_max_defect": tb.w0[:, None] * tb.ratio_defect, "out_density": tb.out_density,
+        "removed_force": tb.q_nodes[:, None] * tb.ratio_force,
+        "area_change": tb.area0[:, None] * tb.ratio_area,
+        "approach0": tb.approach0, "area0": tb.area0}
+    for k in ("approach_out", "area_out"):
+        if getattr(tb, k) is not None:
+            d[k] = getattr(tb, k)
+    d.update(a_coef=tb.a_coef, kappa=tb.kappa, s_const=tb.s_const, s_max=tb.s_max)
+    d.update(tb.info)
+    return {k: _stored(v) for k, v in d.items()}
+
+
+def _history_tables(history) -> tuple[dict, dict]:
+    """The group of the defect race's table (attribute ``race``) and those of any other race
+    (rolling-element defects), as :func:`read_case` gives them back."""
     races = getattr(history, "tables", {}) or {}
     first = next((r for r, t in races.items() if t is history.table), "inner")
-    _write_table(f.create_group("table"), history.table, first)
-    for race, tb in races.items():
-        if tb is not history.table:
-            _write_table(f.create_group(f"table_{race}"), tb, race)
+    table = {"race": first, **_table_values(history.table)}
+    more = {race: {"race": race, **_table_values(tb)} for race, tb in races.items()
+            if tb is not history.table}
+    return table, more
 
 
-def _write_table(tg, tb, race: str) -> None:
-    """The ``P(Q, x)`` table ``tb`` of the contact with the ``race`` (``inner``/``outer``) into
-    the group ``tg`` (layout: docs/file-format.md, ``/table``)."""
-    tg.attrs["race"] = race
-    _dset(tg, "roller_load", tb.q_nodes, "N", "roller-load nodes")
-    _dset(tg, "xi", tb.xi_nodes, "1", "normalised offset nodes |x|/s(Q)")
-    _dset(tg, "offset", tb.offsets(), "m", "offset nodes x = xi s(Q), (load, xi)")
-    _dset(tg, "p0", tb.p0, "Pa", "no-defect maximum pressure P0(Q)")
-    _dset(tg, "w0", tb.w0, "Pa", "no-defect maximum in the window's read strip W0(Q)")
-    _dset(tg, "q_out", tb.q_out, "N", "dense roller loads of p_out")
-    _dset(tg, "p_out", tb.p_out, "Pa", "no-defect maximum outside the read strip (ends)")
-    _dset(tg, "p_max", tb.p_max_nodes(), "Pa", "P(Q, x), whole contact")
-    _dset(tg, "p_max_defect", tb.w0[:, None] * tb.ratio_defect, "Pa",
-          "P_d(Q, x), defect neighbourhood")
-    tg.attrs["out_density"] = tb.out_density
-    _dset(tg, "removed_force", tb.q_nodes[:, None] * tb.ratio_force, "N",
-          "force the defect removes at the no-defect approach, dF(Q, x)")
-    _dset(tg, "area_change", tb.area0[:, None] * tb.ratio_area, "m^2",
-          "contact-area change with the defect at the no-defect approach, dA(Q, x)")
-    _dset(tg, "approach0", tb.approach0, "m", "no-defect approach delta0(Q) (global solves)")
-    _dset(tg, "area0", tb.area0, "m^2", "no-defect contact area A0(Q) (global solves)")
-    for k, unit, what in (("approach_out", "m", "no-defect approach"),
-                          ("area_out", "m^2", "no-defect contact area")):
-        if getattr(tb, k) is not None:
-            _dset(tg, k, getattr(tb, k), unit, f"{what} at q_out (the p_out global solves)")
-    tg.attrs["a_coef"] = tb.a_coef
-    tg.attrs["kappa"] = tb.kappa
-    tg.attrs["s_const"] = tb.s_const
-    tg.attrs["s_max"] = tb.s_max
-    for k, v in tb.info.items():
-        if isinstance(v, np.ndarray):
-            _dset(tg, k, v, "", "")
+def _history_snapshots(snapshots: dict) -> dict[str, dict]:
+    return {key: {**{k: _stored(v) for k, v in snap.items()}, "roller_load_units": "N"}
+            for key, snap in snapshots.items()}
+
+
+def _write_root_attrs(f, attrs: dict) -> None:
+    """Stage 1 of :func:`write_case`: the case's root attributes (not the parsed values of the
+    ``*_json`` ones, nor a read file's digest: :func:`seal` makes it)."""
+    skip = {k[:-5] for k in _JSON_ATTRS} | {DIGEST_ATTR}
+    for k, v in attrs.items():
+        if k not in skip:
+            f.attrs[k] = v
+
+
+def _write_signals(f, case: "Case") -> None:
+    """Stage 2 of :func:`write_case`: ``/time`` and the ``/signals`` group."""
+    _dset(f, "time", case.time, "s", "sample times")
+    sg = f.create_group("signals")
+    for name, arr in case.signals.items():
+        base = name[:-6] if name.endswith("_clean") else name
+        _dset(sg, name, arr, SIGNAL_UNITS.get(base, ""), _SIGNAL_DESCRIPTIONS.get(base, ""))
+
+
+def _write_table(tg, table: dict) -> None:
+    """One table group (layout: docs/file-format.md, ``/table``): arrays as datasets, scalars
+    as attributes."""
+    for k, v in table.items():
+        if isinstance(v, np.ndarray) and v.ndim > 0:
+            _dset(tg, k, v, *_TABLE_DATASETS.get(k, ("", "")))
         else:
             tg.attrs[k] = v
     if "interp_checks" in tg:
-        tg["interp_checks"].attrs["columns"] = ("Q_N, x_m, P_direct, Pd_direct, P_interp, "
-                                               "Pd_interp, P0")
+        tg["interp_checks"].attrs["columns"] = _INTERP_COLUMNS
 
 
 def _write_snapshots(f, snapshots: dict) -> None:
@@ -351,10 +422,9 @@ def _write_snapshots(f, snapshots: dict) -> None:
                 g.attrs[k] = v
             else:
                 _dset(g, k, v, "Pa" if "pressure" in k else "m")
-        g.attrs["roller_load_units"] = "N"
 
 
-def write_case(path: str | os.PathLike, history, *, extra_attrs: dict | None = None,
+def write_case(path: str | os.PathLike, case, *, extra_attrs: dict | None = None,
                error_model=None) -> str:
     """Write a simulated case atomically to ``path`` (HDF5; layout ``docs/file-format.md``).
 
@@ -366,11 +436,14 @@ def write_case(path: str | os.PathLike, history, *, extra_attrs: dict | None = N
     ----------
     path : path-like
         Output file; its directory is created if needed.
-    history : bearing_envelope.physics.history.History
+    case : Case or bearing_envelope.physics.history.History
+        The case; a History becomes one through :meth:`Case.from_history` (with
+        ``extra_attrs`` and ``error_model``).
     extra_attrs : dict, optional
-        More root attributes (e.g. the config file name).
-    error_model : bearing_envelope.study.accuracy.ErrorModel, optional
-        Stored as the ``discretisation_error`` group.
+        More root attributes (e.g. the config file name); only with a History.
+    error_model : ErrorModel, optional
+        Stored as the ``discretisation_error`` group; only with a History (a Case carries its
+        own).
 
     Returns
     -------
@@ -384,6 +457,11 @@ def write_case(path: str | os.PathLike, history, *, extra_attrs: dict | None = N
     """
     import h5py
 
+    if not isinstance(case, Case):
+        case = Case.from_history(case, extra_attrs=extra_attrs, error_model=error_model)
+    elif extra_attrs or error_model is not None:
+        raise TypeError("write_case: extra_attrs and error_model go with a History; a Case "
+                        "carries its own (Case.from_history)")
     path = os.fspath(path)
     directory = os.path.dirname(os.path.abspath(path))
     os.makedirs(directory, exist_ok=True)
@@ -393,12 +471,14 @@ def write_case(path: str | os.PathLike, history, *, extra_attrs: dict | None = N
     # 9.1 MB, the default case) and refused writes that fit.
     image = _io.BytesIO()  # built in memory: HDF5 never meets a full disk (write_image)
     with h5py.File(image, "w") as f:
-        _write_root_attrs(f, history, extra_attrs)
-        _write_signals(f, history)
-        _write_tables(f, history)
-        _write_snapshots(f, history.snapshots)
-        if error_model is not None:
-            _write_error_model(f, error_model)
+        _write_root_attrs(f, case.attrs)
+        _write_signals(f, case)
+        _write_table(f.create_group("table"), case.table)
+        for race, tb in case.other_tables.items():
+            _write_table(f.create_group(f"table_{race}"), tb)
+        _write_snapshots(f, case.snapshots)
+        if case.error_model is not None:
+            _write_error_model(f, case.error_model)
         seal(f)
     tmp = temp_path_for(path)
     public_mode(tmp)
@@ -644,10 +724,15 @@ def _read_case(path: str | os.PathLike) -> Case:
         snaps = _read_group(f["snapshots"]) if "snapshots" in f else {}
         time = f["time"][()]
         error_model = _error_model_of(f)
-    for k in ("scene_json", "fidelity_json", "solver_json", "stats_json", "load_distribution_json",
-              "acquisition_json"):
+    for k in _JSON_ATTRS:
         if k in attrs:
             attrs[k[:-5]] = json.loads(attrs[k])
+    return _case_of(attrs, time, signals, table, more, snaps, error_model)
+
+
+def _case_of(attrs: dict, time, signals: dict, table: dict, more: dict, snaps: dict,
+             error_model: ErrorModel | None) -> Case:
+    """The :class:`Case` of a file's (or a history's) parts."""
     return Case(
         fs=float(attrs["fs"]), fr=float(attrs["fr"]), bpfi=float(attrs["bpfi"]),
         bpfi_geometry=float(attrs["bpfi_geometry"]), bpfo=float(attrs["bpfo"]),

@@ -8,7 +8,6 @@ allowed:
 - a case whose name would be too long for a file name, or does not read back exactly;
 - a hardness below :data:`MIN_HARDNESS_GPA`, a record shorter than the analysis' longest
   kurtogram window (:func:`min_revolutions`);
-- a ``tradeoff:`` section that :func:`bearing_envelope.study.tradeoff.study_from_config` refuses;
 - a missing ``scene.bearing.profile_file``;
 - a case whose estimated memory or CPU time (:func:`estimate_case`) exceeds the machine's
   available memory or the stated limits (``limits.max_case_memory_GB``,
@@ -21,7 +20,7 @@ import math
 import os
 
 import numpy as np
-from collections.abc import Mapping, Sequence
+from collections.abc import Mapping
 from dataclasses import dataclass
 
 from ..physics.acquisition import auto_oversample
@@ -29,8 +28,6 @@ from ..physics.loads import scene_load_distribution
 from ..physics.solves import window_spec
 from ..signal.kurtogram import max_kurtogram_level
 from .settings import DEFAULT_MAX_CASES, ConfigError
-from ..physics.fidelity import fidelity_from
-from .tradeoff import TRADEOFF_DEFAULTS, apply_knob
 
 __all__ = ["DEFAULT_LIMITS", "MIN_HARDNESS_GPA", "MAX_CASE_NAME_CHARS", "ResourceEstimate",
            "estimate_case", "check_case", "min_revolutions", "available_memory_bytes", "precheck",
@@ -238,36 +235,6 @@ def _check_estimate(est: ResourceEstimate, limits: dict, memory_cap: float) -> N
                           f"<= {limits['max_case_cpu_s']:g} CPU s (limits.max_case_cpu_s)")
 
 
-def _check_tradeoff(section: Mapping) -> None:
-    """The ``tradeoff:`` section as the trade study will read it (without running it)."""
-    for key in section:
-        if key not in TRADEOFF_DEFAULTS:
-            raise ConfigError(f"tradeoff.{key}: unknown key; allowed: {', '.join(TRADEOFF_DEFAULTS)}")
-    section = {**TRADEOFF_DEFAULTS, **section}
-    try:
-        base = fidelity_from(section["base"])
-        for c in section["cases"]:
-            if len(c) != 2 or not all(isinstance(v, (int, float)) and v >= 0 for v in c):
-                raise ValueError(f"tradeoff.cases: got {c!r}; allowed: [load_kN, depth_um]")
-        rev = section["revolutions"]
-        if isinstance(rev, bool) or not isinstance(rev, (int, float)) or not rev > 0:
-            raise ValueError(f"tradeoff.revolutions: got {rev!r}; allowed: a number > 0")
-        for knob, values in (section.get("knobs") or {}).items():
-            if isinstance(values, str) or not isinstance(values, Sequence) or not values:
-                raise ValueError(f"tradeoff.knobs.{knob}: got {values!r}; allowed: a list of "
-                                 f"values, coarse to fine")
-            for v in values:
-                apply_knob(base, str(knob), v)
-        presets = section["presets"]
-        for p in (presets.values() if isinstance(presets, Mapping) else presets):
-            fidelity_from(p)
-        if section["reference"] not in ("finest", "per_knob"):
-            fidelity_from(section["reference"])
-    except (ValueError, TypeError, KeyError) as exc:
-        msg = str(exc)
-        raise ConfigError(msg if msg.startswith("tradeoff") else f"tradeoff: {msg}") from None
-
-
 def precheck(settings) -> list[ResourceEstimate]:
     """The checks of this module on validated settings; returns each case's estimate.
 
@@ -277,8 +244,6 @@ def precheck(settings) -> list[ResourceEstimate]:
         One line naming the field, the value and what is allowed.
     """
     cfg = settings.config
-    if settings.tradeoff:
-        _check_tradeoff(settings.tradeoff)
     limits = _limits(cfg)
     cap = available_memory_bytes()
     if limits["max_case_memory_GB"] is not None:

@@ -25,7 +25,6 @@ squared envelope).
 from __future__ import annotations
 
 import dataclasses
-import json
 from collections.abc import Mapping
 from typing import Any
 
@@ -34,8 +33,8 @@ import pandas as pd
 
 from ..diagnosis import AnalysisOptions, analyze_signal
 from ..diagnosis.detection import detection_statistic
-from ..io import BandLimits, CaseBands, CaseSpectra
-from ..physics.locations import LOCATION_FAMILIES, scene_event_frequencies
+from ..io import BandLimits, Case, CaseBands, CaseSpectra
+from ..physics.locations import LOCATION_FAMILIES
 from ..physics.scene import DEFECT_LOCATIONS
 from ..physics.transfer import (TransferModel, excitation_from_history, select_excitation,
                                 synthesize_acceleration)
@@ -77,20 +76,22 @@ def _case_id(case) -> str:
     return CaseId.from_case(case).name
 
 
-def history_case(history):
-    """A simulated :class:`bearing_envelope.physics.history.History` as the in-memory case the functions
-    of this module take (what reading its case file gives them: signals, rates, fault
-    frequencies, the sweep values and the scene), without writing a file."""
-    from types import SimpleNamespace
+def history_case(history) -> Case:
+    """A simulated case as the :class:`bearing_envelope.io.Case` the functions of this module
+    take, with the error model its file would store, without writing a file.
 
-    sc = history.scene
-    ev = scene_event_frequencies(sc)
-    return SimpleNamespace(
-        signals=dict(history.signals), fs=sc.operation.fs_hz, fr=sc.operation.shaft_rate_hz,
-        bpfi=ev["bpfi"], bpfo=ev["bpfo"], ftf=ev["ftf"], bsf=ev["bsf"], load_kN=sc.load.load_kN,
-        depth_um=sc.defect.depth_um, scene=sc.to_mapping(),
-        attrs={"fidelity_json": json.dumps(history.fidelity.to_dict())},
-        error_model=accuracy_case_error_model(history))
+    Parameters
+    ----------
+    history : bearing_envelope.physics.history.History
+        The return of :func:`bearing_envelope.physics.history.simulate`.
+
+    Returns
+    -------
+    bearing_envelope.io.Case
+        :meth:`bearing_envelope.io.Case.from_history` with
+        :func:`bearing_envelope.study.accuracy.case_error_model` of the history.
+    """
+    return Case.from_history(history, error_model=accuracy_case_error_model(history))
 
 
 def case_signal(case, name: str = "p_max") -> np.ndarray:
@@ -299,7 +300,7 @@ def case_error_model(case) -> ErrorModel:
 
     Parameters
     ----------
-    case : bearing_envelope.io.Case or the namespace of :func:`history_case`
+    case : bearing_envelope.io.Case
 
     Returns
     -------
@@ -341,7 +342,7 @@ def case_envelope(case, analysis: AnalysisSettings, bands) -> tuple[pd.DataFrame
 def case_summary(case) -> dict[str, Any]:
     """One summary row of a case: peak pressures, loads, frequencies and simulation diagnostics."""
 
-    stats = json.loads(case.attrs.get("stats_json", "{}"))
+    stats = case.attrs.get("stats") or {}
     tinfo = case.table or {}
     attrs = tinfo.get("attrs", tinfo) if isinstance(tinfo, Mapping) else {}
 

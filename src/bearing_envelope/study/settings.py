@@ -52,11 +52,13 @@ from ..physics.scene import DEFECT_LOCATIONS, Scene
 from ..physics.transfer import TransferModel
 from ..signal.bands import DEFAULT_BANDS, resolve_band
 from .schema import SCHEMA_PATH
+from .tradeoff_settings import TradeoffSettings
 
 __all__ = [
     "ConfigError", "CaseId", "format_number", "CASE_NAME_REGEX", "LOCATION_CODES",
     "BandSpec", "AnalysisSettings", "SweepSettings", "DiagnosabilitySettings", "Settings",
-    "SimulationSetup", "section_defaults",
+    "SimulationSetup", "section_defaults", "JobValue", "CaseSetup", "TradeoffSetup",
+    "JobSettings", "JOB_PARAMS", "job_settings",
     "read_yaml", "settings_from_mapping", "load_settings", "workflow_settings",
     "default_config_path", "merge_configs", "read_configs", "config_files", "analysis_defaults",
     "DEFAULT_CONFIG_NAME", "DEFAULT_MAX_CASES", "full_schema",
@@ -366,7 +368,8 @@ class AnalysisSettings:
     in the schema alone (:func:`section_defaults` fills a partial mapping from it).
 
     What every analysis job and :mod:`bearing_envelope.study.pipeline` function receives; it
-    travels to a workflow job as :meth:`to_json` and is rebuilt there by :meth:`from_json`.
+    travels to a workflow job as itself, with :meth:`to_json` as its rerun trigger
+    (:meth:`Settings.analysis_param`, :func:`job_settings`).
     """
 
     bands: tuple[BandSpec, ...]
@@ -425,13 +428,6 @@ class AnalysisSettings:
         """The canonical serialisation (sorted keys) a workflow job receives as a param."""
         return json.dumps(self.to_mapping(), sort_keys=True)
 
-    @classmethod
-    def from_json(cls, text: str) -> "AnalysisSettings":
-        """The object :meth:`to_json` serialised (already checked when it was built)."""
-        d = json.loads(text)
-        bands = tuple(BandSpec(**b) for b in d.pop("bands"))
-        return cls(bands=bands, **d)
-
     @property
     def needs_kurtogram(self) -> bool:
         """Whether any band is chosen by the kurtogram."""
@@ -460,8 +456,9 @@ class SimulationSetup:
     """What a simulation job needs besides its case: the ``scene:`` section (validated, defaults
     filled) and the resolved :class:`~bearing_envelope.physics.fidelity.Fidelity`.
 
-    Travels to the job as :meth:`to_json` (so that a change of either reruns exactly the
-    simulations) and is rebuilt there by :meth:`from_json`.
+    Its :meth:`to_json` is the simulate jobs' rerun trigger (a change of either reruns exactly
+    the simulations); the job receives its case's :class:`CaseSetup` with it
+    (:meth:`Settings.simulation_param`).
     """
 
     scene_mapping: dict
@@ -470,11 +467,6 @@ class SimulationSetup:
     def to_json(self) -> str:
         return json.dumps({"scene": self.scene_mapping, "fidelity": self.fidelity.to_dict()},
                           sort_keys=True)
-
-    @classmethod
-    def from_json(cls, text: str) -> "SimulationSetup":
-        d = json.loads(text)
-        return cls(d["scene"], Fidelity.from_json(d["fidelity"]))
 
     def scene(self, case: "CaseId") -> Scene:
         """The validated scene of one case."""
@@ -499,8 +491,9 @@ class Settings:
     analysis : AnalysisSettings or None
     sensor : bearing_envelope.physics.transfer.TransferModel or None
     diagnosability : DiagnosabilitySettings
-    tradeoff : dict
-        The ``tradeoff:`` section as given (read by :func:`bearing_envelope.study.tradeoff.study_from_config`).
+    tradeoff : bearing_envelope.study.tradeoff_settings.TradeoffSettings
+        The ``tradeoff:`` section, checked and typed once (its defaults where it is missing);
+        :func:`bearing_envelope.study.tradeoff.study_from_config` runs it unchecked.
     scenes : dict
         ``CaseId -> Scene`` of every sweep case, built (and validated) once by the loader;
         :meth:`scene` reads them.
@@ -514,7 +507,7 @@ class Settings:
     analysis: AnalysisSettings | None
     sensor: Any
     diagnosability: DiagnosabilitySettings
-    tradeoff: dict = field(default_factory=dict)
+    tradeoff: TradeoffSettings | None = None
     scenes: dict = field(default_factory=dict, repr=False, compare=False)
 
     @property
@@ -531,6 +524,155 @@ class Settings:
         else now."""
         sc = self.scenes.get(case)
         return sc if sc is not None else case.scene(self.scene_mapping)
+
+    # what the workflow hands its jobs (one ``params`` entry each; :func:`job_settings` reads)
+
+    def simulation_param(self, case: CaseId) -> "JobValue":
+        """A simulate job's ``simulation`` param: the scene section and fidelity's JSON (its
+        rerun trigger) carrying the case's :class:`CaseSetup` (its scene as the loader built it).
+
+        Parameters
+        ----------
+        case : CaseId
+            The job's case.
+
+        Returns
+        -------
+        JobValue
+        """
+        return JobValue(self.simulation.to_json(), CaseSetup(case, self.scene(case), self.fidelity))
+
+    def analysis_param(self) -> "JobValue":
+        """An analysis job's ``analysis`` param: :meth:`AnalysisSettings.to_json` carrying the
+        settings.
+
+        Returns
+        -------
+        JobValue
+        """
+        return JobValue(self.analysis.to_json(), self.analysis)
+
+    def sensor_param(self) -> "JobValue":
+        """A sensor job's ``sensor`` param: the transfer model's JSON carrying the model
+        (``"{}"`` carrying None without a ``sensor:`` section).
+
+        Returns
+        -------
+        JobValue
+        """
+        if self.sensor is None:
+            return JobValue("{}", None)
+        return JobValue(self.sensor.to_json(), self.sensor)
+
+    def tradeoff_param(self) -> "JobValue":
+        """The trade-off job's ``tradeoff`` param: its section, the scene and the analysis as
+        one canonical JSON, carrying a :class:`TradeoffSetup`.
+
+        Returns
+        -------
+        JobValue
+        """
+        text = json.dumps({"tradeoff": self.tradeoff.section, "scene": self.scene_mapping,
+                           "analysis": self.analysis.to_mapping()}, sort_keys=True)
+        return JobValue(text, TradeoffSetup(self.tradeoff, self.scene_mapping, self.analysis))
+
+
+# --------------------------------------------------------------------------------------------
+# handing typed values to workflow jobs
+
+
+class JobValue(str):
+    """A validated value on its way to a workflow job: its canonical JSON text, carrying the
+    value itself (:attr:`value`).
+
+    Snakemake decides that a job must rerun by comparing its ``params`` with the last run's, and
+    compares only plain values (a ``str`` by its text; a typed object is not compared at all),
+    so a typed value travels as this text. Snakemake pickles a job's params into its script,
+    so :attr:`value` arrives as the loader built it: :func:`job_settings` reads it without
+    parsing or checking anything again.
+    """
+
+    value: Any
+
+    def __new__(cls, text: str, value: Any) -> "JobValue":
+        obj = super().__new__(cls, text)
+        obj.value = value
+        return obj
+
+    def __reduce__(self):
+        return (JobValue, (str(self), self.value))
+
+
+@dataclass(frozen=True)
+class CaseSetup:
+    """What a simulate job runs: its case, the case's scene (built and validated by the loader)
+    and the fidelity."""
+
+    case: CaseId
+    scene: Scene
+    fidelity: Fidelity
+
+
+@dataclass(frozen=True)
+class TradeoffSetup:
+    """What the trade-off job runs: the ``tradeoff:`` section (typed), the ``scene:`` section
+    and the analysis settings."""
+
+    settings: TradeoffSettings
+    scene_mapping: dict
+    analysis: AnalysisSettings
+
+
+@dataclass(frozen=True)
+class JobSettings:
+    """The typed values a workflow job received (None: its rule hands none)."""
+
+    simulation: CaseSetup | None = None
+    analysis: AnalysisSettings | None = None
+    sensor: TransferModel | None = None
+    tradeoff: TradeoffSetup | None = None
+
+
+#: The params :func:`job_settings` reads: name -> the type of its value.
+JOB_PARAMS: dict[str, tuple[type, ...]] = {
+    "simulation": (CaseSetup,), "analysis": (AnalysisSettings,),
+    "sensor": (TransferModel, type(None)), "tradeoff": (TradeoffSetup,)}
+
+
+def job_settings(snakemake) -> JobSettings:
+    """The one loader of a workflow job: the typed values its rule handed it as params
+    (:class:`JobValue`: ``Settings.simulation_param`` / ``analysis_param`` / ``sensor_param``
+    / ``tradeoff_param``), as the workflow's loader built and validated them; nothing is parsed
+    or checked again.
+
+    Parameters
+    ----------
+    snakemake : object
+        The ``snakemake`` object of a script job (its ``params``).
+
+    Returns
+    -------
+    JobSettings
+
+    Raises
+    ------
+    TypeError
+        A param of :data:`JOB_PARAMS` that is not a :class:`JobValue` of the right type (a
+        rule handing plain text).
+    """
+    params = snakemake.params
+    values = {}
+    for name, kinds in JOB_PARAMS.items():
+        if not hasattr(params, name):
+            continue
+        p = getattr(params, name)
+        if not isinstance(p, JobValue) or not isinstance(p.value, kinds):
+            got = type(p.value if isinstance(p, JobValue) else p).__name__
+            raise TypeError(f"params.{name}: got a {got}; allowed: a JobValue of "
+                            f"{' | '.join(k.__name__ for k in kinds)} "
+                            f"(Settings.{name}_param)")
+        values[name] = p.value
+    return JobSettings(**values)
 
 
 # --------------------------------------------------------------------------------------------
@@ -921,7 +1063,8 @@ def _build(cfg: dict, source: str, partial: bool) -> Settings:
     diag = DiagnosabilitySettings.from_mapping(cfg.get("diagnosability"))
     return Settings(source=source, config=cfg, sweep=sweep, fidelity=fidelity,
                     scene_mapping=scene_map, analysis=analysis, sensor=sensor,
-                    diagnosability=diag, tradeoff=dict(cfg.get("tradeoff") or {}),
+                    diagnosability=diag,
+                    tradeoff=TradeoffSettings.from_mapping(cfg.get("tradeoff")),
                     scenes=scenes if sweep is not None else {})
 
 

@@ -64,34 +64,19 @@ import pandas as pd
 
 from ..contact.halfspace import clear_kernel_cache
 from ..diagnosis import AnalysisOptions
-from ..physics.fidelity import PRESETS, Fidelity, fidelity_from
+from ..physics.fidelity import Fidelity
 from ..physics.history import simulate
 from ..physics.locations import scene_event_frequencies
 from ..physics.scene import DEFAULT_SCENE, Scene
 from .pipeline import case_bands, case_harmonics, history_case
 from .settings import AnalysisSettings, CaseId
+from .tradeoff_settings import (_SCENE_KNOBS, DEFAULT_CASES, DEFAULT_KNOBS, TRADEOFF_DEFAULTS,
+                                TradeoffSettings, _replace, apply_knob)
 
 __all__ = ["DEFAULT_CASES", "DEFAULT_KNOBS", "DEFAULT_BANDS", "COLUMNS", "tradeoff_study",
            "study_from_config", "TRADEOFF_DEFAULTS", "pareto_front", "pareto_table",
            "pareto_points", "plot_tradeoff", "metric_labels", "run_variant", "apply_knob",
-           "analysis_used"]
-
-#: (load_kN, depth_um) of the representative cases.
-DEFAULT_CASES: tuple[tuple[float, float], ...] = (
-    (250.0, 0.0), (250.0, 15.0), (250.0, 100.0), (750.0, 0.0), (750.0, 15.0), (750.0, 100.0))
-
-#: Knob values, coarse to fine (the base value of each knob is added if missing).
-DEFAULT_KNOBS: dict[str, list] = {
-    "global_dx_um": [20.0, 10.0, 5.0],
-    "global_dy_um": [300.0, 150.0, 75.0],
-    "local_dx_um": [8.0, 4.0, 2.0],
-    "local_dy_um": [40.0, 20.0, 10.0],
-    "tol": [1e-4, 1e-5, 1e-6, 1e-8],
-    "n_loads": [3, 5, 8],
-    "offset_density": [0.5, 1.0, 2.0],
-    "element": ["uniform", "linear"],
-    "edge_radius_um": [40.0, 20.0, 10.0],
-}
+           "analysis_used", "TradeoffSettings"]
 
 #: The keys of an ``analysis:`` mapping :func:`tradeoff_study` reads (the others do not change
 #: its metrics).
@@ -110,76 +95,6 @@ DEFAULT_BANDS: list[dict[str, Any]] = [
 COLUMNS = ["case", "load_kN", "depth_um", "knob", "value", "is_base", "is_reference",
            "element", "edge_radius_um", "fidelity", "cpu_s", "wall_s", "n_solves", "n_iterations",
            "metric", "band", "estimate", "reference_value", "error", "error_knob"]
-
-_SCENE_KNOBS = ("edge_radius_um",)
-_OFFSET_FIELDS = ("n_offsets", "offsets_per_width", "max_offsets")
-
-
-# ---------------------------------------------------------------------------------------------
-# knobs
-
-
-def _replace(base: Fidelity, **kw) -> Fidelity:
-    """``base`` with ``kw``; the base's rim strips (and axial end strips) are dropped where they
-    cannot refine the new setting (linear elements, or a window spacing they do not divide by an
-    integer >= 2): the default has rim strips since issue 25, and a knob of the window must
-    still be measurable."""
-    for spacing, parent in (("rim_dx_um", "local_dx_um"), ("end_dy_um", "local_dy_um")):
-        if spacing not in kw and getattr(base, spacing) is not None:
-            d, el = kw.get(parent, getattr(base, parent)), kw.get("element", base.element)
-            r = d / getattr(base, spacing)
-            if el != "uniform" or r < 2 - 1e-9 or abs(r - round(r)) > 1e-6:
-                kw[spacing] = None
-    return dataclasses.replace(base, **kw)
-
-
-def apply_knob(base: Fidelity, knob: str, value) -> tuple[Fidelity, dict]:
-    """The fidelity of one knob value and the scene overrides it implies.
-
-    Parameters
-    ----------
-    base : Fidelity
-        The fidelity the knob is varied around.
-    knob : str
-        A fidelity field, ``offset_density`` (a factor on the table's offset nodes), a scene
-        knob (``edge_radius_um``), or any of these with ``[linear]`` (linear elements).
-    value : float or int
-        The knob's value (the factor for ``offset_density``).
-
-    Returns
-    -------
-    tuple of (Fidelity, dict)
-        The fidelity with the knob set, and the scene overrides (``{"defect": {...}}`` for a
-        scene knob, else empty).
-    """
-    if knob in _SCENE_KNOBS:
-        return base, {"defect": {knob: float(value)}}
-    if knob == "offset_density":
-        f = float(value)
-        if not f > 0:
-            raise ValueError(f"tradeoff.knobs.offset_density: factors must be > 0, got {value!r}")
-        return dataclasses.replace(
-            base, n_offsets=max(3, int(round(base.n_offsets * f))),
-            offsets_per_width=base.offsets_per_width * f,
-            max_offsets=max(3, int(round(base.max_offsets * f))),
-            offset_step_um=base.offset_step_um / f), {}
-    if knob.endswith("[linear]"):
-        fid, sc = apply_knob(base, knob[:-len("[linear]")], value)
-        return _replace(fid, element="linear"), sc
-    names = {f.name for f in dataclasses.fields(Fidelity)}
-    if knob not in names or knob in ("name",):
-        raise ValueError(f"tradeoff.knobs: unknown knob {knob!r}; allowed: fidelity fields "
-                         f"{sorted(names - {'name'})}, offset_density, edge_radius_um")
-    ftype = type(getattr(base, knob))
-    v = value
-    if ftype is int and isinstance(v, float) and v.is_integer():
-        v = int(v)
-    elif ftype is float and isinstance(v, int):
-        v = float(v)
-    return _replace(base, **{knob: v}), {}
-
-
-
 
 def _base_value(base: Fidelity, scene_map: Mapping, knob: str):
     k = knob[:-len("[linear]")] if knob.endswith("[linear]") else knob
@@ -255,15 +170,6 @@ def _error(metric: str, est: float, ref: float, x=None, xref=None, depth: float 
 # the study
 
 
-#: Defaults of the ``tradeoff:`` config section, written here only (the schema holds none;
-#: :func:`study_from_config` and the pre-run check read them). ``knobs`` None: :data:`DEFAULT_KNOBS`.
-TRADEOFF_DEFAULTS: dict[str, Any] = {
-    "cases": DEFAULT_CASES, "revolutions": 4.0, "base": "standard", "reference": "finest",
-    "reference_element": "uniform", "element_series": ("local_dx_um",),
-    "presets": ("draft", "standard", "paper"), "knobs": None,
-}
-
-
 def tradeoff_study(
     cases: Sequence[Sequence[float]] = DEFAULT_CASES,
     *,
@@ -327,22 +233,25 @@ def tradeoff_study(
         base point of each knob (repeated under every knob), ``knob = "reference"`` the
         reference run (error 0).
     """
-    if not (isinstance(revolutions, (int, float)) and revolutions > 0):
-        raise ValueError(f"tradeoff.revolutions must be > 0, got {revolutions!r}")
-    base_f = fidelity_from(base)
-    knobs = dict(DEFAULT_KNOBS if knobs is None else knobs)
-    scene_map = _merge(scene or {}, {"operation": {"revolutions": float(revolutions)}})
+    settings = TradeoffSettings.from_mapping({
+        "cases": cases, "knobs": knobs if knobs is not None else DEFAULT_KNOBS, "base": base,
+        "reference": reference, "reference_element": reference_element,
+        "element_series": element_series, "presets": presets or {}, "revolutions": revolutions})
+    return _study(settings, scene=scene, analysis=analysis, progress=progress, cache=cache)
+
+
+def _study(ts: TradeoffSettings, *, scene, analysis, progress, cache) -> pd.DataFrame:
+    """:func:`tradeoff_study` of checked settings (nothing is checked again)."""
+    base_f = ts.base
+    scene_map = _merge(scene or {}, {"operation": {"revolutions": ts.revolutions}})
     an = analysis_used(analysis)
-    if reference_element not in ("uniform", "linear"):
-        raise ValueError(f"tradeoff.reference_element must be uniform or linear, got {reference_element!r}")
-    all_knobs = _expand_knobs(knobs, element_series, base_f, scene_map)
-    ref_f = _reference_fidelity(reference, base_f, all_knobs, reference_element)
-    preset_f = {str(n): fidelity_from(s) for n, s in (presets or {}).items()}
+    all_knobs = _expand_knobs(ts.knobs, ts.element_series, base_f, scene_map)
+    ref_f = _reference_fidelity(ts.reference, base_f, all_knobs, ts.reference_element)
+    preset_f = ts.presets
 
     rows: list[dict] = []
     ref_keys: dict[str, str] = {}
-    for load_kN, depth_um in cases:
-        load_kN, depth_um = float(load_kN), float(depth_um)
+    for load_kN, depth_um in ts.cases:
         runs = _CaseRuns(load_kN, depth_um, an, scene_map, cache, progress)
         ref = runs.run(ref_f, {}) if ref_f is not None else None
         if ref is not None:
@@ -394,21 +303,12 @@ def analysis_used(analysis: Mapping[str, Any] | None) -> dict[str, Any]:
 
 def _expand_knobs(knobs: Mapping[str, Sequence], element_series: Sequence[str], base_f: Fidelity,
                   scene_map: Mapping) -> dict[str, list]:
-    """Every knob's values (checked, the base value inserted in order) and the ``[linear]``
-    repeats of ``element_series``."""
-    for k in element_series:
-        if k not in knobs:
-            raise ValueError(f"tradeoff.element_series: {k!r} is not one of the knobs {sorted(knobs)}")
+    """Every knob's values (checked by :class:`TradeoffSettings`), the base value inserted in
+    order, and the ``[linear]`` repeats of ``element_series``."""
     all_knobs: dict[str, list] = {}
     for k, vals in knobs.items():
         vals = list(vals)
-        if not vals:
-            raise ValueError(f"tradeoff.knobs.{k}: give at least one value")
-        apply_knob(base_f, k, vals[0])  # validates the knob name and value early
         bv = _base_value(base_f, scene_map, k)
-        if k == "element":
-            if any(v not in ("uniform", "linear") for v in vals):
-                raise ValueError(f"tradeoff.knobs.element: values must be uniform | linear, got {vals}")
         if not any(_same(v, bv) for v in vals):
             vals = _insert_sorted(vals, bv)
         all_knobs[k] = vals
@@ -420,21 +320,18 @@ def _expand_knobs(knobs: Mapping[str, Sequence], element_series: Sequence[str], 
 
 def _reference_fidelity(reference, base_f: Fidelity, all_knobs: Mapping[str, list],
                         reference_element: str) -> Fidelity | None:
-    """The common reference (None for ``"per_knob"``): see the module docstring."""
-    if isinstance(reference, str) and reference == "finest":
-        ref_f = _replace(base_f, name="reference", element=reference_element)
-        for k, vals in all_knobs.items():
-            if k in ("element",) or k in _SCENE_KNOBS or k.endswith("[linear]"):
-                continue
-            fine = vals[-1]
-            ref_f, _ = apply_knob(ref_f, k, fine)
-        return dataclasses.replace(ref_f, name="reference")
-    if isinstance(reference, str) and reference == "per_knob":
+    """The common reference (None for ``"per_knob"``; an explicit one as checked by
+    :class:`TradeoffSettings`): see the module docstring."""
+    if isinstance(reference, Fidelity):
+        return reference
+    if reference == "per_knob":
         return None
-    if isinstance(reference, (Mapping, Fidelity)) or reference in PRESETS:
-        return dataclasses.replace(fidelity_from(reference), name="reference")
-    raise ValueError(f"tradeoff.reference: got {reference!r}; allowed: finest | per_knob | "
-                     f"a preset name | a fidelity mapping")
+    ref_f = _replace(base_f, name="reference", element=reference_element)
+    for k, vals in all_knobs.items():
+        if k in ("element",) or k in _SCENE_KNOBS or k.endswith("[linear]"):
+            continue
+        ref_f, _ = apply_knob(ref_f, k, vals[-1])
+    return dataclasses.replace(ref_f, name="reference")
 
 
 def _variants(all_knobs: Mapping[str, list], base_f: Fidelity, preset_f: Mapping[str, Fidelity]):
@@ -703,7 +600,8 @@ def pareto_points(df: pd.DataFrame, *, error: str = "error", time: str = "cpu_s"
     return pd.concat(parts, ignore_index=True)
 
 
-def study_from_config(section: Mapping[str, Any] | None, *, scene: Mapping[str, Any] | None = None,
+def study_from_config(section: "TradeoffSettings | Mapping[str, Any] | None", *,
+                      scene: Mapping[str, Any] | None = None,
                       analysis: Mapping[str, Any] | None = None, progress=None) -> pd.DataFrame:
     """:func:`tradeoff_study` configured by the workflow's ``tradeoff:`` section.
 
@@ -711,21 +609,24 @@ def study_from_config(section: Mapping[str, Any] | None, *, scene: Mapping[str, 
     ``reference``, ``reference_element``, ``element_series``, ``knobs`` (name -> values, coarse
     to fine; replaces the default set), ``presets`` (list of preset names or mapping name ->
     fidelity mapping). See ``src/bearing_envelope/data/config.schema.yaml``.
+
+    Parameters
+    ----------
+    section : TradeoffSettings, mapping or None
+        The section as the loader typed it (``Settings.tradeoff``: not checked again), or a
+        mapping (checked here, once).
+    scene : mapping, optional
+        The ``scene:`` mapping.
+    analysis : mapping, optional
+        The ``analysis:`` mapping (:func:`analysis_used`).
+    progress : callable, optional
+        Called with a one-line message after every run.
+
+    Returns
+    -------
+    pandas.DataFrame
+        As :func:`tradeoff_study`.
     """
-    unknown = sorted(set(section or {}) - set(TRADEOFF_DEFAULTS))
-    if unknown:
-        raise ValueError(f"tradeoff: unknown key(s) {unknown}; allowed: "
-                         f"{sorted(TRADEOFF_DEFAULTS)}")
-    s = {**TRADEOFF_DEFAULTS, **dict(section or {})}
-    for c in s["cases"]:
-        if len(c) != 2:
-            raise ValueError(f"tradeoff.cases: each case is [load_kN, depth_um], got {c!r}")
-    presets = s["presets"]
-    if isinstance(presets, Sequence) and not isinstance(presets, str):
-        presets = {str(p): p for p in presets}
-    return tradeoff_study(
-        [tuple(c) for c in s["cases"]], knobs=s["knobs"], base=s["base"],
-        reference=s["reference"], reference_element=s["reference_element"],
-        element_series=s["element_series"], presets=presets,
-        revolutions=float(s["revolutions"]), scene=scene, analysis=analysis,
-        progress=progress)
+    ts = section if isinstance(section, TradeoffSettings) else \
+        TradeoffSettings.from_mapping(section)
+    return _study(ts, scene=scene, analysis=analysis, progress=progress, cache=None)
