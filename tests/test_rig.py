@@ -91,6 +91,51 @@ def test_simulated_record_rings_the_identified_mode(tmp_path):
     assert again.amplitude == pytest.approx(path.amplitude, rel=0.25)
 
 
+def test_simulated_record_rings_every_identified_mode_at_its_gain(tmp_path):
+    """A "measured" record of two analytic resonators (2.6 kHz and 3.4 kHz, as the CWRU 3:00
+    and 6:00 records ring), re-made from a pulse train through its identified path: the
+    simulated record's own identification finds both modes, each with the measured event
+    amplitude (the first mode's gain set from the measured record, the second's as
+    identified)."""
+    n = int(3 * FS)
+    rng = np.random.default_rng(0)
+    t = np.arange(n) / FS
+    meas = 0.5 * rng.standard_normal(n)
+    for f_n, z, a in ((2600.0, 0.04, 5.0), (3400.0, 0.025, 3.0)):
+        wn = 2 * math.pi * f_n
+        for t0 in np.arange(0.01, 2.99, 1 / 107.0):
+            tau = t[t >= t0] - t0
+            meas[t >= t0] += a * np.exp(-z * wn * tau) * np.cos(wn * math.sqrt(1 - z * z) * tau)
+    src = _write_record(tmp_path / "m.npz", meas, shaft_hz=107.0 / 3.5848)
+    path = identify_path(meas, FS, {"bpfo": 107.0})
+    assert len(path.modes) == 2
+    modes = rig.path_modes(path)
+    assert modes[0].gain == 1.0 and modes[1].gain > 0
+    # anchored on the rig's reference mode (3.4 kHz, within 3 %): that mode has gain 1, the
+    # other the analytic ratio g(2.6 kHz) / g(3.4 kHz) = (5 / (0.04 x 2600)) / (3 / (0.025 x
+    # 3400)) = 1.362 (a ringing amplitude a = g 2 zeta wn A)
+    by_f = sorted(rig.path_modes(path, reference_hz=3400.0 * 1.01), key=lambda m: m.f_n_hz)
+    assert by_f[1].gain == 1.0
+    assert by_f[0].gain == pytest.approx(1.362, rel=0.3)
+    assert rig.path_modes(path, reference_hz=5000.0) == modes  # no such mode: the first
+    cond = rig.record_conditions([src], _settings())[0]
+    rf = np.zeros(n)
+    rf[(np.arange(0.005, 2.99, 1 / 111.0) * FS).astype(int)] = 3.0
+    contact = tmp_path / "c.npz"
+    np.savez(contact, removed_force=rf)
+    gain = path.mode(impulse_area=3.0 / FS).gain
+    out = rig.write_rig_record(cond, str(contact), path, gain, tmp_path / "sim", seed=2)
+    with np.load(out) as zf:
+        x, meta = zf["x"], json.loads(str(zf["meta_json"]))
+    assert len(meta["transfer_path"]["modes"]) == 2
+    again = identify_path(x, FS, {"a": 111.0, "b": 107.0})
+    assert again.event_name == "a" and len(again.modes) == 2
+    for m, (f_n, a) in zip(sorted(again.modes, key=lambda m: m["f_n_hz"]),
+                           ((2600.0, 5.0), (3400.0, 3.0))):
+        assert m["f_n_hz"] == pytest.approx(f_n, rel=0.03)
+        assert m["amplitude"] == pytest.approx(a, rel=0.3)
+
+
 def _table(name, diag, conf, fam, h1, h2, h3, db, detected=True):
     return {"record": name, "record_diagnosis": diag, "record_confidence": conf,
             "family": fam, "detected": detected, "fr_hz": 30.0, "h1_hz": 30.0 * 3.58,
@@ -124,6 +169,32 @@ def test_outer_race_ratio_in_db():
     assert out[0]["rule"] == "FAIL"
     rows[1]["sim_h1"] = None  # no simulated line at 3:00
     assert rig.outer_race_ratios(pd.DataFrame(rows))[0]["rule"] == "FAIL: no simulated line"
+
+
+def test_outer_race_ratio_read_in_one_band_for_both_records():
+    # the rule's best bands differ; read in the same band: 0.1 / 1.0 measured (-20 dB) and
+    # 0.5 / 1.0 simulated (-6.02 dB) in fs4_3fs8; raw: 0.2 / 0.4 (-6.02 dB) vs 0.3 / 0.6
+    rows = [{"record": f"p{pos:g}", "family": "bpfo", "position_deg": pos, "load_hp": 1,
+             "diameter_in": 0.007, "fs_hz": FS, "meas_h1": 1.0, "sim_h1": 1.0}
+            for pos in (0.0, 90.0)]
+    amp = {("p0", "fs4_3fs8"): (1.0, 1.0), ("p90", "fs4_3fs8"): (0.1, 0.5),
+           ("p0", "raw"): (0.4, 0.6), ("p90", "raw"): (0.2, 0.3)}
+    lines = [[], []]
+    for (rec, band), pair in amp.items():
+        for side, (suffix, a) in enumerate((("", pair[0]), ("_sim", pair[1]))):
+            for base, order, sb, v in (("bpfo", 1, 0, a), ("bpfo", 2, 0, 9.0),
+                                       ("bpfi", 1, 0, 7.0), ("bpfo", 1, 1, 5.0)):
+                lines[side].append({"file": f"/x/{rec}{suffix}.npz", "band": band,
+                                    "base": base, "order": order, "sideband": sb,
+                                    "amplitude": v})
+    out = rig.outer_race_ratios_in_band(pd.DataFrame(rows), pd.DataFrame(lines[0]),
+                                        pd.DataFrame(lines[1]))
+    got = {r["band"]: r for r in out}
+    assert got["fs4_3fs8"]["meas_db"] == pytest.approx(-20.0)
+    assert got["fs4_3fs8"]["sim_db"] == pytest.approx(20 * math.log10(0.5))
+    assert got["fs4_3fs8"]["within_tol"] is False
+    assert got["raw"]["meas_db"] == pytest.approx(got["raw"]["sim_db"])
+    assert got["raw"]["within_tol"] is True
 
 
 def test_removed_force_exponent_of_a_power_law(tmp_path):

@@ -115,3 +115,55 @@ def test_cwru_outer_race_record_gives_bpfo_events(tmp_path):
     assert d["event_name"] == "bpfo"
     assert d["event_hz"] == pytest.approx(107.36, rel=0.005)
     assert 0.0 < d["zeta"] < 0.1
+
+
+# ------------------------------------------------------------------ more than one mode
+def _two_mode_record(modes, area=1e-3, noise=5.0, seconds=3.0, seed=2):
+    """Two analytic resonators rung by the same impulses, plus white noise."""
+    n = int(seconds * FS)
+    times = np.arange(0.01, seconds - 0.01, 1 / 107.0)
+    y = sum(_ringing(n, FS, times, area, f_n, zeta, gain) for f_n, zeta, gain in modes)
+    return y + noise * np.random.default_rng(seed).standard_normal(n)
+
+
+@pytest.mark.parametrize("modes", [
+    ((2600.0, 0.03, 40.0), (3800.0, 0.02, 20.0)),   # the second 5 dB below in added power
+    ((3400.0, 0.025, 40.0), (2600.0, 0.05, 30.0)),  # as CWRU 130 vs 144: 0.8 kHz apart
+])
+def test_two_known_modes_are_both_identified(modes):
+    area = 1e-3
+    p = identify_path(_two_mode_record(modes, area), FS, RATES)
+    assert len(p.modes) == 2
+    found = sorted(p.modes, key=lambda m: m["f_n_hz"])
+    for m, (f_n, zeta, gain) in zip(found, sorted(modes)):
+        assert m["f_n_hz"] == pytest.approx(f_n, rel=0.03)
+        assert m["zeta"] == pytest.approx(zeta, rel=0.25)
+        # one event's ringing of that resonator: g 2 zeta wn A
+        assert m["amplitude"] == pytest.approx(gain * 2 * zeta * 2 * math.pi * f_n * area,
+                                               rel=0.25)
+    gains = sorted((mo.f_n_hz, mo.gain) for mo in p.structure(area))
+    for (f, g), (_, _, gain) in zip(gains, sorted(modes)):
+        assert g == pytest.approx(gain, rel=0.3)
+    assert p.modes[0]["f_n_hz"] == p.f_n_hz and p.modes[0]["zeta"] == p.zeta
+
+
+@pytest.mark.parametrize("f_n, zeta", [(3300.0, 0.03), (4000.0, 0.015), (4000.0, 0.08),
+                                       (2600.0, 0.03)])
+def test_one_mode_record_keeps_one_mode(f_n, zeta):
+    p = identify_path(_record(f_n=f_n, zeta=zeta), FS, RATES)
+    assert len(p.modes) == 1 and p.modes[0]["f_n_hz"] == p.f_n_hz
+    assert len(p.structure()) == 1 and p.structure()[0] == p.mode()
+
+
+def test_a_weak_second_mode_below_the_floor_is_not_a_mode():
+    # 30 dB below the first in added power: under MODE_FLOOR (-20 dB), one mode
+    p = identify_path(_two_mode_record(((3000.0, 0.03, 40.0), (4500.0, 0.03, 0.9))), FS, RATES)
+    assert len(p.modes) == 1
+
+
+def test_path_without_modes_reads_as_its_one_mode():
+    p = identify_path(_record(), FS, RATES)
+    d = p.to_dict()
+    del d["modes"], d["modes_rejected"]  # a path written before modes were identified
+    q = TransferPath.from_dict(d)
+    assert q.structure(1e-3) == [p.mode(1e-3)]

@@ -113,4 +113,8 @@ def run(args) -> int:
           f"{path.band_hz[0]:.0f}-{path.band_hz[1]:.0f} Hz; f_n {path.f_n_hz:.0f} Hz, zeta "
           f"{path.zeta:.4f} ({path.zeta_range[0]:.4f}-{path.zeta_range[1]:.4f}); amplitude "
           f"{path.amplitude:.4g}; background rms {path.background_rms:.4g}", file=sys.stderr)
+    for m in path.modes[1:]:
+        print(f"# further mode: f_n {m['f_n_hz']:.0f} Hz, zeta {m['zeta']:.4f}; amplitude "
+              f"{m['amplitude']:.4g} ({m['excess_db']:.1f} dB of added power, prominence "
+              f"{m['prominence_z']:.1f} standard errors)", file=sys.stderr)
     return 0

@@ -17,6 +17,11 @@ machine's background. :func:`identify_path` recovers, from the record alone:
    through the same band-pass; ``zeta`` is fitted to that decay with the filter in the model
    (a 1-D least-squares fit of a damped sine, band-passed and demodulated like the record).
    ``f_n`` is the peak of the events' averaged spectrum over the background's, in the band.
+   **More than one mode**: every further peak of that spectrum (the power the events add) that
+   stands above its saddle by more than the false-alarm bound :data:`MODE_PFA` (the prominence
+   over its standard error across the events) and within :data:`MODE_FLOOR` of the strongest
+   is a mode of its own, fitted like the first in a band centred on it (narrowed to half the
+   distance to the next mode); a record whose second peak is not significant keeps one mode.
 4. **Amplitude**: the initial amplitude ``a`` of the mode's response to one event (record
    units), from the same fit. With an excitation impulse of area ``A`` (N s, say) the mode's
    gain at resonance is ``a / (A 2 zeta omega_n)`` (:meth:`TransferPath.mode`).
@@ -34,7 +39,7 @@ import math
 from dataclasses import asdict, dataclass, field
 
 import numpy as np
-from scipy import optimize, signal as sps
+from scipy import optimize, signal as sps, stats
 
 from ..physics.transfer import Mode
 from ..signal.envelope import bandpass
@@ -43,7 +48,8 @@ from ..signal.validation import check_fs, check_signal
 from .detection import threshold_db
 
 __all__ = ["TransferPath", "NoImpulsesError", "identify_path", "background_noise",
-           "MIN_EVENTS", "DEFAULT_PFA", "EVENT_PFA", "MAX_LEVEL"]
+           "MIN_EVENTS", "DEFAULT_PFA", "EVENT_PFA", "MAX_LEVEL", "MODE_PFA", "MODE_FLOOR",
+           "MAX_MODES"]
 
 #: Fewest detected events an identification accepts (a record shorter than this many periods
 #: of the event rate is refused before any work).
@@ -70,6 +76,15 @@ FILTER_ORDER = 4
 WELCH_SEGMENT = 1024
 #: The decay is fitted from the peak down to this fraction of the peak's amplitude.
 DECAY_FLOOR = 0.1
+#: False-alarm probability of a further mode: over the resolution cells searched (Bonferroni),
+#: a peak of the power the events add whose prominence over its standard error (across the
+#: events) exceeds the normal quantile is a mode, not the spread of noise.
+MODE_PFA = 0.001
+#: A further mode must add at least this fraction of the strongest mode's power (-20 dB: the
+#: decay fit's own floor, ``DECAY_FLOOR`` squared); weaker ones change no feature read.
+MODE_FLOOR = DECAY_FLOOR ** 2
+#: Most modes identified from one record (the strongest first).
+MAX_MODES = 4
 
 
 class NoImpulsesError(ValueError):
@@ -115,6 +130,15 @@ class TransferPath:
     flags : list of str
         Warnings to read with the numbers (resonance at the band's edge, damping at the fit's
         bound, halves disagreeing).
+    modes : list of dict
+        Every mode identified, the strongest (the one above) first: ``f_n_hz``, ``zeta``,
+        ``zeta_range``, ``amplitude`` (as above, in the mode's own band), ``band_hz``,
+        ``n_events``, ``excess_db`` (power the events add at ``f_n_hz``, re the first mode)
+        and ``prominence_z`` (the peak's prominence over its standard error; None for the
+        first). Empty in a path written before modes were identified: the one mode above.
+    modes_rejected : list of dict
+        Significant peaks that gave no mode (``f_n_hz``, ``reason``: damping at the fit's
+        bound, no power above the background at the events' peak).
     """
 
     fs_hz: float
@@ -135,6 +159,8 @@ class TransferPath:
     background_psd: list = field(repr=False)
     background_source: str = "record"
     flags: list = field(default_factory=list)
+    modes: list = field(default_factory=list)
+    modes_rejected: list = field(default_factory=list)
 
     def mode(self, impulse_area: float = 1.0) -> Mode:
         """The mode whose response to an impulse of area ``impulse_area`` starts at
@@ -154,6 +180,27 @@ class TransferPath:
             raise ValueError(f"impulse_area: got {impulse_area!r}; allowed: > 0")
         wn = 2.0 * math.pi * self.f_n_hz
         return Mode(self.f_n_hz, self.zeta, self.amplitude / (impulse_area * 2 * self.zeta * wn))
+
+    def structure(self, impulse_area: float = 1.0) -> list:
+        """Every identified mode, each with its gain for an impulse of area ``impulse_area``
+        (as :meth:`mode`; the first is :meth:`mode`'s).
+
+        Parameters
+        ----------
+        impulse_area : float
+            Area of one excitation impulse (e.g. N s), > 0.
+
+        Returns
+        -------
+        list of Mode
+        """
+        first = self.mode(impulse_area)
+        out = [first]
+        for m in self.modes[1:]:
+            wn = 2.0 * math.pi * m["f_n_hz"]
+            out.append(Mode(m["f_n_hz"], m["zeta"],
+                            m["amplitude"] / (impulse_area * 2 * m["zeta"] * wn)))
+        return out
 
     def to_dict(self) -> dict:
         """The path as plain types (JSON).
@@ -243,9 +290,10 @@ def identify_path(x, fs: float, event_rates: dict, *, background=None,
                               f"{int(x.size * hz / fs)} periods of {name} {hz:.4g} Hz; "
                               f"allowed: >= {MIN_EVENTS}")
     n_post = max(int(0.45 * fs / hz), 4)
-    f_n = _natural_frequency(x, peaks0, fs, (f_low, F_MAX * fs), n_post, fs / hz)
+    f_n, extra = _mode_peaks(x, peaks0, fs, (f_low, F_MAX * fs), n_post, fs / hz)
     half = max(band0[1] - band0[0], MIN_DECAY_BAND * fs) / 2
-    band = (max(f_n - half, f_low), min(f_n + half, 0.49 * fs))
+    centres, res = [f_n] + [e[0] for e in extra], fs / _segment_length(n_post)
+    band = _mode_band(f_n, centres, half, res, f_low, fs)
     env = np.abs(sps.hilbert(bandpass(x, fs, band, order=FILTER_ORDER)))
     peaks, n_periods = _events(env, fs, hz, band)
     if peaks.size < MIN_EVENTS:
@@ -253,13 +301,55 @@ def identify_path(x, fs: float, event_rates: dict, *, background=None,
                               f"periods of {name} {hz:.4g} Hz around f_n {f_n:.0f} Hz; "
                               f"allowed: >= {MIN_EVENTS}")
     zeta, amp, zr = _fit_mode(env, peaks, fs, band, n_post, hz, f_n)
+    modes = [{"f_n_hz": f_n, "zeta": zeta, "zeta_range": list(zr), "amplitude": amp,
+              "band_hz": list(band), "n_events": int(peaks.size), "excess_db": 0.0,
+              "prominence_z": None}]
+    rejected = []
+    for f_k, ex_db, z in extra:
+        m = _extra_mode(x, fs, hz, f_k, _mode_band(f_k, centres, half, res, f_low, fs), n_post,
+                        peaks)
+        if isinstance(m, str):
+            rejected.append({"f_n_hz": f_k, "reason": m})
+        else:
+            modes.append({**m, "excess_db": ex_db, "prominence_z": z})
     gate = _gate_samples(amp, zeta, f_n, fs, env, n_post, hz)
     freq, psd, src = _background(x, fs, peaks, gate, background, background_name)
     return TransferPath(fs, tuple(band), kurt, name, hz, line_db, thr,
                         int(peaks.size), int(n_periods), f_n, zeta, zr, amp,
                         float(math.sqrt(np.trapezoid(psd, freq))), list(map(float, freq)),
-                        list(map(float, psd)), src, _flags(band, f_n, zeta, zr, gate, fs / hz))
+                        list(map(float, psd)), src, _flags(band, f_n, zeta, zr, gate, fs / hz),
+                        modes, rejected)
 
+
+def _mode_band(f_n, centres, half, resolution, f_low, fs) -> tuple[float, float]:
+    """The band a mode's decay is read in: centred on ``f_n``, ``half`` wide each side, but
+    no closer than half-way to the next identified mode (nor narrower than one resolution
+    cell of the events' spectrum each side)."""
+    gaps = [abs(f_n - c) for c in centres if c != f_n]
+    if gaps:
+        half = min(half, max(0.5 * min(gaps), resolution))
+    return (max(f_n - half, f_low), min(f_n + half, 0.49 * fs))
+
+
+def _extra_mode(x, fs, hz, f_n, band, n_post, events):
+    """A further mode fitted in its own band: its parameters, or why it gave none (str).
+
+    The same impulses ring every mode, so the events are the first mode's, each moved to the
+    envelope's maximum in this band within a quarter of ``n_post`` of it (a weak mode's own
+    maxima rarely clear the background's bound one by one; their average does)."""
+    env = np.abs(sps.hilbert(bandpass(x, fs, band, order=FILTER_ORDER)))
+    w = max(n_post // 4, 1)
+    events = events[(events >= w) & (events + w < env.size)]
+    idx = events[:, None] + np.arange(-w, w + 1)[None, :]
+    peaks = events - w + np.argmax(env[idx], axis=1)
+    try:
+        zeta, amp, zr = _fit_mode(env, peaks, fs, band, n_post, hz, f_n)
+    except NoImpulsesError as exc:
+        return str(exc).removeprefix("x: ")
+    if zeta > 0.9 * ZETA_MAX or zeta < 1.1 * ZETA_MIN:
+        return f"zeta {zeta:.3g} at the fit's bound [{ZETA_MIN:g}, {ZETA_MAX:g}]"
+    return {"f_n_hz": f_n, "zeta": zeta, "zeta_range": list(zr), "amplitude": amp,
+            "band_hz": list(band), "n_events": int(peaks.size)}
 
 def _rayleigh_scale(env) -> float:
     """Rayleigh scale of the background's envelope from its 10th percentile (the events
@@ -383,6 +473,9 @@ def _model_envelope(zeta, f_n, fs, band, n_post, pad) -> np.ndarray:
 def _fit_zeta(s2, f_n, fs, band, n_post, pad):
     """zeta and amplitude fitting the decay of the averaged squared envelope ``s2``."""
     top = s2[0]
+    if not top > 0:
+        raise NoImpulsesError(f"x: the events add no power above the background at their "
+                              f"peak around f_n {f_n:.0f} Hz; nothing to fit a decay to")
     m = int(np.argmax(s2 < top * DECAY_FLOOR ** 2)) or s2.size
     m = max(m, 3)
     y = np.log(np.maximum(s2[:m], top * 1e-6))
@@ -414,24 +507,52 @@ def _fit_mode(env, peaks, fs, band, n_post, hz, f_n):
     return z, amp, (min(zs), max(zs))
 
 
-def _segments_power(x, starts, n, nfft, w) -> np.ndarray:
+def _segments_spectra(x, starts, n, nfft, w) -> np.ndarray:
     seg = np.stack([x[s:s + n] for s in starts if 0 <= s and s + n <= x.size]) * w
-    return np.mean(np.abs(np.fft.rfft(seg, nfft)) ** 2, axis=0)
+    return np.abs(np.fft.rfft(seg, nfft)) ** 2
 
 
-def _natural_frequency(x, peaks, fs, f_range, n_post, period) -> float:
-    """Peak, within ``f_range``, of the power the events add: the averaged spectrum of the
-    segments starting at the events minus that of the same segments half a period later."""
-    n = 1 << int(math.ceil(math.log2(max(n_post, 32))))
+def _segment_length(n_post: int) -> int:
+    """Samples per event segment of the events' spectrum (a power of two >= 32)."""
+    return 1 << int(math.ceil(math.log2(max(n_post, 32))))
+
+
+def _mode_peaks(x, peaks, fs, f_range, n_post, period):
+    """The power the events add: the averaged spectrum of the segments starting at the events
+    minus that of the same segments half a period later. Its maximum within ``f_range`` is
+    the first mode; every further peak in the range is a mode when its prominence over the
+    standard error of that prominence (the spread across the events, at the peak and at its
+    saddle) exceeds the normal quantile of :data:`MODE_PFA` over the range's resolution
+    cells, and its power is >= :data:`MODE_FLOOR` x the first's.
+
+    Returns
+    -------
+    (float, list of (f_n_hz, excess_db, prominence_z))
+        The first mode's f_n, and the further modes (strongest first, at most
+        :data:`MAX_MODES` - 1).
+    """
+    n = _segment_length(n_post)
     nfft = 16 * n
     w = np.hanning(2 * n)[n:]  # half window: the event's start carries the most
     start = peaks - n // 8
-    excess = (_segments_power(x, start, n, nfft, w)
-              - _segments_power(x, start + int(period / 2), n, nfft, w))
+    a = _segments_spectra(x, start, n, nfft, w)
+    b = _segments_spectra(x, start + int(period / 2), n, nfft, w)
+    excess = a.mean(axis=0) - b.mean(axis=0)
+    se = np.sqrt(a.var(axis=0, ddof=1) / len(a) + b.var(axis=0, ddof=1) / len(b))
     f = np.fft.rfftfreq(nfft, 1 / fs)
     inb = (f >= f_range[0]) & (f <= f_range[1])
-    return float(f[inb][np.argmax(excess[inb])])
-
+    i0 = int(np.flatnonzero(inb)[np.argmax(excess[inb])])
+    pk, props = sps.find_peaks(excess, prominence=0.0)
+    lb, rb = props["left_bases"], props["right_bases"]
+    saddle = np.where(excess[lb] > excess[rb], lb, rb)
+    z = props["prominences"] / np.sqrt(se[pk] ** 2 + se[saddle] ** 2)
+    cells = max((f_range[1] - f_range[0]) / (fs / n), 1.0)  # independent resolution cells
+    z_crit = stats.norm.isf(MODE_PFA / cells)
+    ok = (inb[pk] & (np.abs(f[pk] - f[i0]) > fs / n) & (z > z_crit)
+          & (excess[pk] >= MODE_FLOOR * excess[i0]))
+    extra = sorted(((float(f[k]), float(10 * math.log10(excess[k] / excess[i0])), float(zk))
+                    for k, zk in zip(pk[ok], z[ok])), key=lambda e: -e[1])
+    return float(f[i0]), extra[:MAX_MODES - 1]
 
 def _background(x, fs, peaks, gate, background, name):
     """Welch PSD of the healthy record, or of the record with its events gated out."""

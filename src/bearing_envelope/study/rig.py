@@ -12,8 +12,8 @@ rig
    acquisition of each record (the table is the cost, the synthesis is cheap);
 3. turns the contact force into an accelerometer record of *that* machine (:func:`rig_record`):
    the record's own transfer path identified from it
-   (:func:`bearing_envelope.diagnosis.transfer_path.identify_path`: resonance, damping) with the
-   rig's one gain, plus the measured background (a healthy record of the same machine).
+   (:func:`bearing_envelope.diagnosis.transfer_path.identify_path`: every mode it holds, each
+   with its resonance, damping and gain relative to the first) with the rig's one gain, plus the measured background (a healthy record of the same machine).
 
 Why a study module and not a Snakemake overlay: the sweep's dimensions are load x depth x
 width of one scene; the rig varies the defect location, the outer-race position, the shaft
@@ -268,12 +268,45 @@ def _write_excitation(path: Path, t, sig: dict, cond: RigCondition) -> None:
 
 
 # ------------------------------------------------------------------ simulated records
-def _unit_response(cond: RigCondition, contact: dict, path) -> np.ndarray:
-    """The mode's response (gain 1 per N at resonance) to the force the defect removes from
-    the contact (the blocked-force deficit; the roller load's own sweep through the load zone
-    is a rotating load, not a force on the housing)."""
+#: A record's mode is the rig's reference mode (whose gain the reference records identify)
+#: when its f_n is within this fraction of the reference mode's (3 %: the identification's
+#: f_n tolerance).
+REFERENCE_MODE_TOL = 0.03
+
+
+def path_modes(path, reference_hz: float | None = None) -> list:
+    """The record's identified modes, each gain relative to the anchor mode's (gain 1 per N
+    at resonance) as identified (:meth:`TransferPath.structure`: the same impulses ring every
+    mode, so the ratio of the gains is the record's). The anchor is the record's mode at the
+    rig's reference mode ``reference_hz`` (the structural mode whose gain the rig identifies
+    on its reference records) where the record holds one, else its first mode.
+
+    Parameters
+    ----------
+    path : TransferPath
+    reference_hz : float, optional
+        f_n of the rig's reference mode, Hz; None: the first mode is the anchor.
+
+    Returns
+    -------
+    list of Mode
+    """
+    modes = path.structure()
+    anchor = modes[0]
+    if reference_hz is not None:
+        near = [m for m in modes
+                if abs(m.f_n_hz - reference_hz) <= REFERENCE_MODE_TOL * reference_hz]
+        anchor = min(near, key=lambda m: abs(m.f_n_hz - reference_hz)) if near else anchor
+    return [Mode(m.f_n_hz, m.zeta, m.gain / anchor.gain) for m in modes]
+
+
+def _unit_response(cond: RigCondition, contact: dict, path,
+                   reference_hz: float | None = None) -> np.ndarray:
+    """The modes' response (the anchor mode's gain 1 per N at resonance: :func:`path_modes`)
+    to the force the defect removes from the contact (the blocked-force deficit; the roller
+    load's own sweep through the load zone is a rotating load, not a force on the housing)."""
     e = excitation_from_history(-contact["removed_force"][:cond.n_samples])
-    return apply_structure(e, cond.fs_hz, [Mode(path.f_n_hz, path.zeta, 1.0)])
+    return apply_structure(e, cond.fs_hz, path_modes(path, reference_hz))
 
 
 def record_paths(conditions, *, log=print) -> dict:
@@ -310,7 +343,7 @@ def record_paths(conditions, *, log=print) -> dict:
             same[0], fs_hz=c.fs_hz, f_n_hz=float(np.median([p.f_n_hz for p in same])),
             zeta=float(np.median([p.zeta for p in same])), background_freq_hz=list(map(float, f)),
             background_psd=list(map(float, psd)), background_source="record (no events found)",
-            flags=[f"rig's common path: {out[c.name][1]}"])
+            flags=[f"rig's common path: {out[c.name][1]}"], modes=[], modes_rejected=[])
         out[c.name] = (common, out[c.name][1])
     log(f"rig: {sum(1 for _, s in out.values() if s == 'identified')} of {len(out)} paths "
         "identified")
@@ -333,10 +366,11 @@ def rig_gain(conditions, paths: dict, contact_paths: dict, reference: str) -> tu
 
     Returns
     -------
-    (float, float, float)
-        Median, min and max over the reference records.
+    (float, float, float, float)
+        Median, min and max over the reference records, and the median f_n of their first
+        modes (Hz: the mode the gain belongs to, :func:`path_modes`'s ``reference_hz``).
     """
-    ratios = []
+    ratios, f_ref = [], []
     for c in conditions:
         p, status = paths[c.name]
         if reference not in c.name or status != "identified":
@@ -348,21 +382,26 @@ def rig_gain(conditions, paths: dict, contact_paths: dict, reference: str) -> tu
             else {p.event_name: p.event_hz}
         a = identify_path(y + tiny, c.fs_hz, own).amplitude
         ratios.append(p.amplitude / a)
+        f_ref.append(p.f_n_hz)
     if not ratios:
         raise ValueError(f"rig.gain_reference: {reference!r} names no identified record")
-    return float(np.median(ratios)), float(min(ratios)), float(max(ratios))
+    return (float(np.median(ratios)), float(min(ratios)), float(max(ratios)),
+            float(np.median(f_ref)))
 
 
 def write_rig_record(cond: RigCondition, contact_path: str, path, gain: float, out_dir,
-                     *, seed: int = 0) -> str:
-    """Simulated record of one condition: the contact force through the record's mode at the
-    rig's gain, plus its background; written like the measured record (x, fs, meta_json)."""
+                     *, seed: int = 0, reference_hz: float | None = None) -> str:
+    """Simulated record of one condition: the contact force through the record's modes, the
+    anchor mode (:func:`path_modes`) at the rig's gain, plus its background; written like the
+    measured record (x, fs, meta_json)."""
     with np.load(contact_path) as z:
-        y = gain * _unit_response(cond, dict(z), path)
+        y = gain * _unit_response(cond, dict(z), path, reference_hz)
     x = y + background_noise(path, y.size, seed=seed)
     _, meta = _read_x(cond.path)
     meta.update(simulated=True, source_record=cond.name, transfer_path={
         "f_n_hz": path.f_n_hz, "zeta": path.zeta, "gain_per_N": gain,
+        "modes": [dataclasses.asdict(m) for m in path_modes(path, reference_hz)],
+        "reference_mode_hz": reference_hz,
         "background": path.background_source, "flags": path.flags})
     out = Path(out_dir) / f"{cond.name}_sim.npz"
     with atomic_path(out, ".npz") as tmp:
@@ -502,6 +541,51 @@ def outer_race_ratios(card) -> list:
     return out
 
 
+#: The bands the 3:00 / 6:00 ratio is also read in with both records in one band (not the
+#: rule: a second reading of the same lines): analyze's fixed fs/4-3fs/8 band and the raw
+#: signal's envelope.
+RATIO_BANDS = ("fs4_3fs8", "raw")
+
+
+def _line_amplitude(lines, name: str, band: str):
+    """The BPFO fundamental's amplitude in one of analyze's bands (None: no such row)."""
+    ln = lines[(lines.file.str.contains(name, regex=False)) & (lines.band == band) &
+               (lines.base == "bpfo") & (lines.order == 1) & (lines.sideband == 0)]
+    return float(ln.amplitude.iloc[0]) if len(ln) else None
+
+
+def outer_race_ratios_in_band(card, measured_lines, sim_lines, bands=RATIO_BANDS) -> list:
+    """BPFO fundamental at 3:00 over 6:00 with both records read in the same band (each of
+    ``bands``), measured and simulated, dB: the rule's ratio reads each record in its own
+    best band, which mixes bands where the two records ring different resonances.
+
+    Parameters
+    ----------
+    card : pandas.DataFrame
+        :func:`scorecard`'s result.
+    measured_lines, sim_lines : pandas.DataFrame
+        ``analyze --csv`` of the measured and of the simulated records.
+    bands : sequence of str
+        analyze's band names.
+
+    Returns
+    -------
+    list of dict
+        Per pair and band: ``meas_db``, ``sim_db``, ``within_tol`` (the rule's 6 dB).
+    """
+    out = []
+    for r in outer_race_ratios(card):
+        for band in bands:
+            a = [_line_amplitude(lines, rec + suffix, band)
+                 for lines, suffix in ((measured_lines, ""), (sim_lines, "_sim"))
+                 for rec in (r["record_3"], r["record_6"])]
+            meas, sim = _ratio_db(a[0], a[1]), _ratio_db(a[2], a[3])
+            ok = None if meas is None or sim is None else bool(abs(meas - sim) <= TOL_DB)
+            out.append({"record_3": r["record_3"], "record_6": r["record_6"], "band": band,
+                        "meas_db": meas, "sim_db": sim, "within_tol": ok})
+    return out
+
+
 def _analyze(files, out_prefix: Path):
     """``bearing-envelope analyze`` (defaults, --bearing 6205) over the files, one process:
     the verdict table and the lines, read back."""
@@ -543,10 +627,10 @@ def run_scorecard(conditions, contact: dict, out_dir, gain_reference: str, *, lo
     conditions = [c for c in conditions if c.name in contact]
     paths = record_paths(conditions, log=log)
     gain = rig_gain(conditions, paths, contact, gain_reference)
-    log(f"rig: gain {gain[0]:.4g} (m/s^2 or g)/N at resonance, {gain[1]:.4g}-{gain[2]:.4g} "
-        f"over the {gain_reference} records")
+    log(f"rig: gain {gain[0]:.4g} (m/s^2 or g)/N at resonance of the {gain[3]:.0f} Hz mode, "
+        f"{gain[1]:.4g}-{gain[2]:.4g} over the {gain_reference} records")
     sim = [write_rig_record(c, contact[c.name], paths[c.name][0], gain[0], out_dir / "sim",
-                            seed=i) for i, c in enumerate(conditions)]
+                            seed=i, reference_hz=gain[3]) for i, c in enumerate(conditions)]
     with open(out_dir / "paths.json", "w", encoding="utf-8") as fh:
         json.dump({n: {"status": s, **{k: v for k, v in p.to_dict().items()
                                        if not k.startswith("background_")}}
@@ -559,6 +643,8 @@ def run_scorecard(conditions, contact: dict, out_dir, gain_reference: str, *, lo
     trends = pd.DataFrame(load_trends(card))
     trends.to_csv(out_dir / "outer_race_trend.csv", index=False)
     ratios.to_csv(out_dir / "outer_race.csv", index=False)
+    pd.DataFrame(outer_race_ratios_in_band(card, ml, sl)).to_csv(
+        out_dir / "outer_race_bands.csv", index=False)
     with open(out_dir / "summary.json", "w", encoding="utf-8") as fh:
         json.dump({"gain": gain, "pass_rates": pass_rates(card)}, fh, indent=1)
     (out_dir / "scorecard.md").write_text(scorecard_markdown(card, ratios, trends),
