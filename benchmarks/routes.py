@@ -31,7 +31,7 @@ import pandas as pd
 from bearing_envelope.diagnosis import analyze_signal
 from bearing_envelope.diagnosis.detection import clopper_pearson
 from bearing_envelope.diagnosis.records import RECORD_OPTIONS
-from bearing_envelope.diagnosis.routes import ROUTES, combine_routes, run_routes
+from bearing_envelope.diagnosis.routes import DEFAULT_ROUTES, ROUTES, combine_routes, run_routes
 from bearing_envelope.physics.kinematics import fault_frequencies
 
 from .real_records import INCH, load_records, outcome, shaped_noise
@@ -42,6 +42,14 @@ VARIANTS = (("envelope only", (), 99), ("ball, 2 routes", ("ball",), 2),
             ("ball, 3 routes", ("ball",), 3), ("any, 3 routes", ("ball", "bpfo", "bpfi"), 3),
             ("any, 2 routes", ("ball", "bpfo", "bpfi"), 2))
 FAMS = ("bpfo", "bpfi", "bsf", "bsf2", "ftf")
+#: Sets of routes compared (the default first): the infogram as the DRS route's band selector,
+#: and as a route of its own.
+ROUTE_SETS = {"default": DEFAULT_ROUTES,
+              "drs_info for drs_sk": tuple("drs_info" if r == "drs_sk" else r
+                                           for r in DEFAULT_ROUTES),
+              "default + drs_info": (*DEFAULT_ROUTES, "drs_info"),
+              "default + info": (*DEFAULT_ROUTES, "info"),
+              "default + drs_info + info": (*DEFAULT_ROUTES, "drs_info", "info")}
 #: The options of ``bearing-envelope analyze`` on a recording, the routes run one by one here
 #: (to time each).
 OPTIONS = dataclasses.replace(RECORD_OPTIONS, routes=())
@@ -79,10 +87,10 @@ def route_table(runs, grades) -> pd.DataFrame:
     return pd.DataFrame(rows)
 
 
-def score(runs, raises, min_routes) -> pd.DataFrame:
+def score(runs, raises, min_routes, routes=DEFAULT_ROUTES) -> pd.DataFrame:
     rows = []
     for rec, res, _ in runs:
-        v = combine_routes(res, raises=raises, min_routes=min_routes)
+        v = combine_routes({r: res[r] for r in routes}, raises=raises, min_routes=min_routes)
         rows.append({"record": rec["record"], "set": rec["set"], "diagnosis": v.diagnosis,
                      "confidence": v.confidence, "decided_by": v.decided_by,
                      "outcome": outcome(v.diagnosis, rec["truth"])})
@@ -180,9 +188,35 @@ def main(argv=None) -> int:
     print(scored[chosen].to_markdown(index=False))
     print("\n## leave one fault set out\n")
     print(lofo(scored).to_markdown(index=False))
+    _print_route_sets(runs, grades, chosen)
     if not args.no_mc:
         _print_mc(records, args.trials)
     return 0
+
+
+def _print_route_sets(runs, grades, chosen):
+    """The shipped rule and leave-one-fault-set-out with each set of :data:`ROUTE_SETS`, and
+    the records whose verdict a set changes against the default."""
+    rows, changed = [], []
+    base = None
+    for name, routes in ROUTE_SETS.items():
+        scored = {v: score(runs, raises, k, routes) for v, raises, k in VARIANTS}
+        lo = lofo(scored)
+        rows.append({"routes": name, **summary(scored[chosen], grades),
+                     "LOFO right/wrong at medium/high": f"{lo['right at medium/high'].sum()}/"
+                                                        f"{lo['wrong at medium/high'].sum()}"})
+        cur = scored[chosen]
+        if base is None:
+            base = cur
+            continue
+        diff = (cur.diagnosis.fillna("-") != base.diagnosis.fillna("-")) | (
+            cur.confidence.fillna("-") != base.confidence.fillna("-"))
+        changed.extend(f"{name}: {r.record} {b.diagnosis or '-'}/{b.confidence or 'none'} -> "
+                       f"{r.diagnosis or '-'}/{r.confidence or 'none'} ({r.outcome})"
+                       for (_, r), (_, b) in zip(cur[diff].iterrows(), base[diff].iterrows()))
+    print(f"\n## sets of routes ({chosen}; LOFO over the variants)\n")
+    print(pd.DataFrame(rows).to_markdown(index=False))
+    print("\nverdicts changed against the default: " + ("; ".join(changed) or "none"))
 
 
 def _print_mc(records, trials):

@@ -96,6 +96,20 @@ def test_every_route_names_the_outer_race_of_a_synthetic_record():
         run_routes(x, fs, det, ("nope",))
 
 
+def test_infogram_routes_demodulate_the_repeating_band():
+    # not default routes (measured, not kept): on request, the spectral infogram's band of the
+    # record (info) and of its random part (drs_info) holds the 3.5 kHz bursts at BPFO
+    x, fs = _outer_race_record()
+    _, det = analyze_signal(x, fs, fr=FR, fault_frequencies=FREQS,
+                            options=AnalysisOptions(n_harmonics=3), full_output=True)
+    res = run_routes(x, fs, det, ("envelope", "drs_info", "info"))
+    for r in ("drs_info", "info"):
+        lo, hi = res[r].band
+        assert lo <= 3500.0 <= hi and hi - lo >= 2 * 3 * FREQS["bpfi"], (r, res[r].band)
+        assert res[r].named == ("bpfo",), r
+    assert "drs_info" not in run_routes(x, fs, det)
+
+
 def test_ball_named_by_2xbsf_or_bsf_with_cage_sidebands_never_by_the_cage():
     bsf, ftf = FREQS["bsf"], FREQS["ftf"]
     cage = _result("cpw", _train(ftf, 40.0, k=4), 10)

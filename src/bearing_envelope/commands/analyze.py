@@ -163,9 +163,11 @@ def _add_analysis_args(p) -> None:
                    help="evidence routes of the verdict besides the envelope bands "
                         "(diagnosis.routes): cpw (cepstrum pre-whitened squared envelope "
                         "spectrum), drs_sk (discrete/random separation, kurtogram band, squared "
-                        "envelope spectrum), ees (enhanced envelope spectrum); 'envelope' for "
-                        "the envelope bands alone; default: the library's for a recording "
-                        "(RECORD_OPTIONS: every route)")
+                        "envelope spectrum), ees (enhanced envelope spectrum); not by default: "
+                        "drs_info, info (the spectral infogram's band of the random part or of "
+                        "the record, docs/diagnosis_routes.md); 'envelope' for the envelope "
+                        "bands alone; default: the library's for a recording (RECORD_OPTIONS: "
+                        "envelope,cpw,drs_sk,ees)")
     p.add_argument("--pfa", type=float, default=None,
                    help="record-wise false-alarm probability of the verdict (default: the "
                         "library's, AnalysisOptions); each family x band test runs at pfa / "

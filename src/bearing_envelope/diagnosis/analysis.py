@@ -375,8 +375,9 @@ def analyze_signal(x, fs: float, *, fr: float, bpfi: float | None = None,
     opt = AnalysisOptions() if options is None else options
     if not isinstance(opt, AnalysisOptions):
         raise ValueError(f"options = {opt!r}: allowed an AnalysisOptions or None")
+    raw = {}  # the raw spectrum, computed once for the speed and the raw rows
     speed, fr, bpfi, fault_frequencies = _measured_speed(x, fs, fr, bpfi, fault_frequencies,
-                                                         opt)
+                                                         opt, raw)
     fs, x, fr, families, bands = _check_inputs(x, fs, fr, bpfi, fault_frequencies, opt)
     n_tests = max(1, len(families) * len(bands))
     ctx = {"records": [], "search": dict(
@@ -384,7 +385,7 @@ def analyze_signal(x, fs: float, *, fr: float, bpfi: float | None = None,
                         if speed is not None and speed.measured else opt.search_percent), tolerance_hz=opt.tolerance_hz, pfa=opt.pfa / n_tests,
         interpolate=opt.interpolate, window=opt.window, n=x.size,
         min_search_bins=(TOLERANCE_MIN_BINS if speed is not None and speed.measured else 0.0))}
-    f_raw, a_raw = _raw_rows(ctx, x, fs, fr, families, opt)
+    f_raw, a_raw = _raw_rows(ctx, x, fs, fr, families, opt, raw.get("spectrum"))
     kg = _kurtogram(x, fs, families, bands, opt)
     details = {"kurtogram": kg, "bands": {}, "raw": (f_raw, a_raw), "options": opt,
                "frequencies": {"fr": fr, **{f.name: f.frequency_hz for f in families}},
@@ -402,15 +403,19 @@ def analyze_signal(x, fs: float, *, fr: float, bpfi: float | None = None,
     return (table, details) if full_output else table
 
 
-def _measured_speed(x, fs, fr, bpfi, fault_frequencies, opt):
+def _measured_speed(x, fs, fr, bpfi, fault_frequencies, opt, raw):
     """``(speed, fr, bpfi, fault_frequencies)``: with ``opt.measure_speed`` the measured
     :class:`~bearing_envelope.diagnosis.speed.ShaftRate` and the shaft rate and fault
     frequencies scaled to it (every kinematic frequency is proportional to the shaft rate);
-    else ``None`` and the inputs unchanged."""
+    else ``None`` and the inputs unchanged. The raw spectrum it reads goes to
+    ``raw["spectrum"]``."""
     if not opt.measure_speed:
         return None, fr, bpfi, fault_frequencies
-    speed = estimate_shaft_rate(check_signal(x, "x", min_length=16), check_fs(fs),
-                                check_positive(fr, "fr"), window=opt.window)
+    x = check_signal(x, "x", min_length=16)
+    fs = check_fs(fs)
+    raw["spectrum"] = amplitude_spectrum(x, fs, window=opt.window)
+    speed = estimate_shaft_rate(x, fs, check_positive(fr, "fr"), window=opt.window,
+                                spectrum=raw["spectrum"])
     scaled = {k: v * speed.ratio for k, v in fault_frequency_map(bpfi, fault_frequencies).items()}
     return speed, speed.hz, None, scaled
 
@@ -443,9 +448,10 @@ def _record(ctx, **kw):
     ctx["records"].append(base)
 
 
-def _raw_rows(ctx, x, fs, fr, families, opt):
-    """The raw spectrum's rows (0 Hz, k x fr, k x each fault frequency); returns it."""
-    f_raw, a_raw = amplitude_spectrum(x, fs, window=opt.window)
+def _raw_rows(ctx, x, fs, fr, families, opt, spectrum=None):
+    """The raw spectrum's rows (0 Hz, k x fr, k x each fault frequency); returns it
+    (``spectrum``: already computed)."""
+    f_raw, a_raw = amplitude_spectrum(x, fs, window=opt.window) if spectrum is None else spectrum
     common = dict(band="raw", band_strategy="raw", band_low_hz=0.0, band_high_hz=fs / 2.0,
                   clamped=False, quantity="raw_spectrum")
     _record(ctx, **common, base="dc", order=0, sideband=0, target_hz=0.0, frequency_hz=0.0,

@@ -260,21 +260,28 @@ def threshold_db(pfa: float = DEFAULT_PFA, n_bins: int = 1,
     return 10.0 * math.log10(_t2_estimated_median(pfa, n, groups, t2_inf))
 
 
-@lru_cache(maxsize=256)
+@lru_cache(maxsize=1024)
+def _median_ratio_nodes(count: int) -> np.ndarray:
+    """``r = m_hat / m`` of the sample median of ``count`` Rayleigh bins at the quadrature
+    nodes (cached: a record's lines share a few background counts; treat as read-only)."""
+    z = np.linspace(-_Z_MAX, _Z_MAX, _QUADRATURE_NODES)
+    half = 0.5 * (count + 1)
+    u = np.where(z < 0, beta.ppf(norm.cdf(z), half, half), beta.isf(norm.sf(z), half, half))
+    with np.errstate(divide="ignore"):  # U = 1: log 0 = -inf, exact
+        return np.sqrt(-np.log1p(-u) / math.log(2.0))
+
+
+@lru_cache(maxsize=8192)
 def _t2_estimated_median(pfa: float, n: int, groups: tuple[int, ...], t2_inf: float) -> float:
     """``t^2`` with ``pfa(t) = pfa`` for a level that is the mean of the sample medians of
-    ``groups`` (one or two counts) of background bins."""
+    ``groups`` (one or two counts) of background bins (cached: a record tests a few hundred
+    distinct ``(n, groups)``, and records of one machine share many)."""
     # E_U[g(U)] = E_Z[g(B^-1(Phi(Z)))], Z standard normal: the trapezoidal rule on a smooth,
     # rapidly decaying integrand (machine precision against adaptive quadrature, also for the
     # small per-test pfa of the record-wise verdict).
     z = np.linspace(-_Z_MAX, _Z_MAX, _QUADRATURE_NODES)
     w = norm.pdf(z) * (z[1] - z[0])
-    ratios = []  # r = m_hat / m at the nodes, per group
-    for count in groups:
-        half = 0.5 * (count + 1)
-        u = np.where(z < 0, beta.ppf(norm.cdf(z), half, half), beta.isf(norm.sf(z), half, half))
-        with np.errstate(divide="ignore"):  # U = 1: log 0 = -inf, exact
-            ratios.append(np.sqrt(-np.log1p(-u) / math.log(2.0)))
+    ratios = [_median_ratio_nodes(count) for count in groups]  # per group, at the nodes
     if len(ratios) == 1:
         r2, weight = ratios[0] ** 2, w
     else:
@@ -436,7 +443,7 @@ def background_mask(f, line: float, half: float, background: tuple[float, float]
     Parameters
     ----------
     f : numpy.ndarray
-        Frequencies of the spectrum (Hz).
+        Frequencies of the spectrum (Hz), ascending.
     line, half : float
         The line and the search half-width (Hz).
     background : (lo, hi)
@@ -454,16 +461,23 @@ def background_mask(f, line: float, half: float, background: tuple[float, float]
     """
     lo, hi = background
     bg = (f >= lo * line) & (f <= hi * line) & (f > 0)
-    excl = []
-    kmax = int(math.ceil(hi)) + 1
-    for k in range(1, kmax + 1):
-        for m in range(-sidebands if fr else 0, (sidebands if fr else 0) + 1):
-            excl.append(k * line + m * (fr or 0.0))
+    # k line + m fr for k = 1 .. ceil(hi) + 1, |m| <= sidebands (with fr), the fr harmonics,
+    # exclude_hz
+    ks = np.arange(1, int(math.ceil(hi)) + 2)
+    ms = np.arange(-sidebands, sidebands + 1) if fr else np.zeros(1, dtype=int)
+    excl = [(ks[:, None] * line + ms[None, :] * (fr or 0.0)).ravel()]
     if fr is not None:
-        excl.extend(fr * np.arange(1, int(hi * line / fr) + 2))
-    excl.extend(float(x) for x in exclude_hz)
-    for c in excl:
-        bg &= np.abs(f - c) > half
+        excl.append(fr * np.arange(1, int(hi * line / fr) + 2))
+    excl.append(np.fromiter((float(x) for x in exclude_hz), dtype=np.float64))
+    excl = np.concatenate(excl)
+    # f ascending: each exclusion touches the bins within half of it, found by bisection
+    # (a bin's margin either side, then the exact test on those bins alone)
+    pad = 2.0 * (float(f[1] - f[0]) if f.size > 1 else 0.0)
+    j0s = np.searchsorted(f, excl - half - pad)
+    j1s = np.searchsorted(f, excl + half + pad)
+    for k in np.flatnonzero(j1s > j0s):
+        j0, j1 = j0s[k], j1s[k]
+        bg[j0:j1] &= np.abs(f[j0:j1] - excl[k]) > half
     return bg
 
 

@@ -840,47 +840,64 @@ def distinct_bands(limits: Sequence[tuple[float, float]],
     return len(kept)
 
 
+def _columns(rows, keep=None) -> dict:
+    """The columns :func:`_family_verdict` reads, as numpy arrays (rows ``keep`` only)."""
+    cols = {"band": rows["band"].to_numpy(dtype=object),
+            "detected": rows["detected"].fillna(False).astype(bool).to_numpy()}
+    for c in ("band_low_hz", "band_high_hz", "order", "sideband", "frequency_hz", "amplitude",
+              "floor_ratio_db", "threshold_db"):
+        cols[c] = rows[c].to_numpy(dtype=float)
+    return cols if keep is None else {k: v[keep] for k, v in cols.items()}
+
+
+def _ok_bands(c: Mapping, held: Sequence) -> list:
+    """Bands (in order) where the fundamental is detected, and the second harmonic too when the
+    band holds one."""
+    out = []
+    h = c["sideband"] == 0
+    for band in held:
+        g = c["band"] == band
+        k1 = bool((c["detected"] & g & h & (c["order"] == 1)).any())
+        has2 = bool((g & h & (c["order"] == 2)).any())
+        k2 = bool((c["detected"] & g & h & (c["order"] == 2)).any())
+        if k1 and (k2 or not has2):
+            out.append(band)
+    return out
+
+
 def _family_verdict(fam: FaultFamily, rows, df_hz: float) -> FamilyVerdict:
     """One family's detection over the bands that can hold it (envelope rows of the table)."""
-    width = rows["band_high_hz"].astype(float) - rows["band_low_hz"].astype(float)
-    rows = rows[(width >= HOLD_ORDERS * fam.frequency_hz).to_numpy()]
-    held = list(dict.fromkeys(rows["band"]))
-    fund = rows[(rows["order"] == 1) & (rows["sideband"] == 0)]
-    fund = fund[np.isfinite(fund["floor_ratio_db"].to_numpy(dtype=float))]
+    width = rows["band_high_hz"].to_numpy(dtype=float) - rows["band_low_hz"].to_numpy(dtype=float)
+    c = _columns(rows, width >= HOLD_ORDERS * fam.frequency_hz)
+    held = list(dict.fromkeys(c["band"]))
+    fund = np.flatnonzero((c["order"] == 1) & (c["sideband"] == 0)
+                          & np.isfinite(c["floor_ratio_db"]))
     modulation = SIDEBAND_SPACING.get(fam.name) if fam.sideband_hz else None
-    if fund.empty:
+    if fund.size == 0:
         return FamilyVerdict(fam.name, fam.label, False, None, math.nan, math.nan, math.nan,
                              math.nan, math.nan, math.nan, (), None, (), modulation=modulation)
-    ok_bands = []
-    for band, g in rows.groupby("band", sort=False):
-        det = g["detected"].fillna(False).astype(bool)
-        h = g["sideband"] == 0
-        k1 = det[h & (g["order"] == 1)].any()
-        has2 = (h & (g["order"] == 2)).any()
-        k2 = det[h & (g["order"] == 2)].any()
-        if k1 and (k2 or not has2):
-            ok_bands.append(band)
-    det_rows = fund[fund["band"].isin(ok_bands)]
-    pick = det_rows if not det_rows.empty else fund
-    best = pick.loc[pick["floor_ratio_db"].astype(float).idxmax()]
-    band, f1 = best["band"], float(best["frequency_hz"])
-    agree = tuple(str(b) for b, f in zip(det_rows["band"], det_rows["frequency_hz"].astype(float))
-                  if abs(f - f1) <= _tolerance(f1, df_hz))
-    limits = rows.groupby("band", sort=False)[["band_low_hz", "band_high_hz"]].first()
-    n_distinct = distinct_bands([(float(limits.loc[b, "band_low_hz"]),
-                                  float(limits.loc[b, "band_high_hz"])) for b in agree])
-    inb = rows[rows["band"] == band]
-    found = inb[inb["detected"].fillna(False).astype(bool)]
-    harmonics = tuple(int(k) for k in sorted(set(found.loc[found["sideband"] == 0, "order"])))
-    sb = fam.sideband_name if (found["sideband"] != 0).any() else None
-    lines = tuple((int(r.order), int(r.sideband), float(r.frequency_hz))
-                  for r in found.itertuples())
+    ok_bands = _ok_bands(c, held)
+    det_rows = fund[np.array([b in set(ok_bands) for b in c["band"][fund]], dtype=bool)]
+    pick = det_rows if det_rows.size else fund
+    i = int(pick[np.argmax(c["floor_ratio_db"][pick])])  # the first of equal maxima
+    band, f1 = c["band"][i], float(c["frequency_hz"][i])
+    agree = tuple(str(c["band"][j]) for j in det_rows
+                  if abs(float(c["frequency_hz"][j]) - f1) <= _tolerance(f1, df_hz))
+    first = {b: int(np.flatnonzero(c["band"] == b)[0]) for b in held}
+    n_distinct = distinct_bands([(float(c["band_low_hz"][first[b]]),
+                                  float(c["band_high_hz"][first[b]])) for b in agree])
+    inb = c["band"] == band
+    found = np.flatnonzero(inb & c["detected"])
+    harmonics = tuple(int(k) for k in sorted(set(c["order"][found][c["sideband"][found] == 0])))
+    sb = fam.sideband_name if (c["sideband"][found] != 0).any() else None
+    lines = tuple((int(c["order"][j]), int(c["sideband"][j]), float(c["frequency_hz"][j]))
+                  for j in found)
     v = FamilyVerdict(
-        fam.name, fam.label, bool(ok_bands), str(band), float(best["band_low_hz"]),
-        float(best["band_high_hz"]), f1, float(best["amplitude"]),
-        float(best["floor_ratio_db"]), float(best["threshold_db"]), harmonics, sb,
+        fam.name, fam.label, bool(ok_bands), str(band), float(c["band_low_hz"][i]),
+        float(c["band_high_hz"][i]), f1, float(c["amplitude"][i]),
+        float(c["floor_ratio_db"][i]), float(c["threshold_db"][i]), harmonics, sb,
         tuple(str(b) for b in ok_bands), bands_agreeing=agree if ok_bands else (),
-        n_bands_held=len(held), n_orders=int(inb.loc[inb["sideband"] == 0, "order"].max()),
+        n_bands_held=len(held), n_orders=int(c["order"][inb & (c["sideband"] == 0)].max()),
         modulation=modulation, lines=lines, n_distinct=n_distinct if ok_bands else 0)
     return replace(v, level=evidence_level(v))
 

@@ -18,6 +18,14 @@ searches every fault family in it with the line search and the detection of
   spectrum averaged over the full band,
   :func:`~bearing_envelope.signal.cyclostationary.enhanced_envelope_spectrum`).
 
+Two more routes are measured but not run by default (:data:`DEFAULT_ROUTES`; the figures in
+``docs/diagnosis_routes.md``, "Tried and not kept"):
+
+- ``drs_info``: ``drs_sk`` with the band of the spectral infogram (Antoni 2016,
+  :func:`~bearing_envelope.signal.infogram.infogram`: the cell whose squared envelope
+  repeats most) of the random part instead of the kurtogram's, the same cells allowed;
+- ``info``: the squared envelope spectrum of the record in its spectral-infogram band.
+
 In each route the family verdict of :func:`~bearing_envelope.diagnosis.faults.fault_verdict`
 decides which families the route **names** (its diagnosis, or its candidates when it cannot
 tell) and which it **finds** (every detected family that no stronger one explains, weak ones
@@ -47,10 +55,11 @@ from dataclasses import dataclass, replace
 
 import pandas as pd
 
-from ..signal.bands import band_from_kurtogram
+from ..signal.bands import band_from_kurtogram, clamp_band
 from ..signal.cyclostationary import enhanced_envelope_spectrum
 from ..signal.envelope import envelope_spectrum
 from ..signal.kurtogram import fast_kurtogram, max_kurtogram_level
+from ..signal.infogram import infogram, infogram_depth
 from ..signal.separation import (DRS_NPERSEG, discrete_random_separation,
                                  prewhitened_ses)
 from .detection import BACKGROUND_BAND
@@ -61,9 +70,10 @@ __all__ = ["BALL_SEARCH_PERCENT", "DEFAULT_ROUTES", "MEDIUM_MIN_ROUTES", "RAISES
            "route_name", "route_spectrum", "route_verdict", "run_routes", "spectra_verdict"]
 
 #: Every route (the envelope route is the verdict of ``analyze_signal``).
-ROUTES = ("envelope", "cpw", "drs_sk", "ees")
-#: The routes run by default.
-DEFAULT_ROUTES = ROUTES
+ROUTES = ("envelope", "cpw", "drs_sk", "ees", "drs_info", "info")
+#: The routes run by default (the infogram's routes add no right verdict on the development
+#: records: ``docs/diagnosis_routes.md``).
+DEFAULT_ROUTES = ("envelope", "cpw", "drs_sk", "ees")
 #: Routes naming one family that make it the diagnosis at ``medium`` where the envelope route
 #: names nothing at ``medium`` or better.
 MEDIUM_MIN_ROUTES = 2
@@ -85,6 +95,8 @@ ROUTE_LABELS = {
     "cpw": "pre-whitened SES (method 2)",
     "drs_sk": "DRS + SK band SES (method 3)",
     "ees": "enhanced envelope spectrum",
+    "drs_info": "DRS + spectral-infogram band SES",
+    "info": "spectral-infogram band SES",
 }
 #: The fault each family name stands for in a route's vote (2 x BSF and BSF: a rolling element).
 _FAULT = {"bsf": "ball", "bsf2": "ball"}
@@ -177,15 +189,16 @@ def route_spectrum(route: str, x, fs: float, *, alpha_max_hz: float, min_bandwid
 
     Parameters
     ----------
-    route : {"cpw", "drs_sk", "ees"}
+    route : {"cpw", "drs_sk", "ees", "drs_info", "info"}
     x : array_like, 1-D
         The record.
     fs : float
         Sampling frequency (Hz).
     alpha_max_hz : float
-        Highest frequency the line search reads (Hz), for the EES's cyclic frequencies.
+        Highest frequency the line search reads (Hz), for the EES's cyclic frequencies and
+        the infogram's SES.
     min_bandwidth : float
-        Narrowest kurtogram cell the DRS route may demodulate (Hz).
+        Narrowest kurtogram (infogram) cell the DRS (infogram) routes may demodulate (Hz).
     nlevel : int, default 8
         Kurtogram depth (reduced for short records).
     window : str or tuple, default "hann"
@@ -200,20 +213,39 @@ def route_spectrum(route: str, x, fs: float, *, alpha_max_hz: float, min_bandwid
     if route == "cpw":
         f, a = prewhitened_ses(x, fs, window=window)
         return f, a, (0.0, fs / 2.0)
-    if route == "drs_sk":
+    if route in ("drs_sk", "drs_info"):
         # the Welch segment of the DRS at most a quarter of the record (a shorter record gets
         # a coarser separation)
         nper = min(DRS_NPERSEG, 2 ** int(math.log2(max(len(x) // 4, 1))))
         _, rnd = discrete_random_separation(x, fs, nperseg=nper)
-        nl = max(1, min(int(nlevel), max_kurtogram_level(rnd.size)))
-        kg = fast_kurtogram(rnd, fs, nl, min_bandwidth=min(min_bandwidth, fs / 2.0))
-        band, _ = band_from_kurtogram(kg)
+        if route == "drs_info":
+            band = _infogram_band(rnd, fs, alpha_max_hz, min_bandwidth, nlevel)
+        else:
+            nl = max(1, min(int(nlevel), max_kurtogram_level(rnd.size)))
+            kg = fast_kurtogram(rnd, fs, nl, min_bandwidth=min(min_bandwidth, fs / 2.0))
+            band, _ = band_from_kurtogram(kg)
         f, a = envelope_spectrum(rnd, fs, band, squared=True, window=window)
         return f, a, (float(band[0]), float(band[1]))
+    if route == "info":
+        band = _infogram_band(x, fs, alpha_max_hz, min_bandwidth, nlevel)
+        f, a = envelope_spectrum(x, fs, band, squared=True, window=window)
+        return f, a, band
     if route == "ees":
         f, a = enhanced_envelope_spectrum(x, fs, alpha_max_hz=alpha_max_hz)
         return f, a, (0.0, fs / 2.0)
     raise ValueError(f"route = {route!r}: allowed {ROUTES[1:]}")
+
+
+def _infogram_band(x, fs: float, alpha_max_hz: float, min_bandwidth: float, nlevel: int):
+    """The band (Hz, upper edge clamped below Nyquist) of the spectral infogram's best cell at
+    least ``min_bandwidth`` wide and not starting at 0 Hz (where the shaft's tones beat with
+    their mirror images), its SES read to ``alpha_max_hz`` (the lines searched)."""
+    bw = min(min_bandwidth, fs / 4.0)
+    nl = max(1, min(int(nlevel), infogram_depth(fs, bw, len(x))))
+    ig = infogram(x, fs, nl, alpha_max_hz=min(alpha_max_hz, fs / 2.0))
+    cell = ig.best("spectral", min_bandwidth=bw, above_dc=True)
+    low, high, _ = clamp_band(*cell.band, fs)
+    return float(low), float(high)
 
 
 def route_verdict(route: str, f, amplitude, band, families, *, fr: float, search: Mapping,

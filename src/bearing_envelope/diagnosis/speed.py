@@ -89,7 +89,7 @@ class ShaftRate:
 
 def estimate_shaft_rate(x, fs: float, fr_nominal: float, *, orders=SPEED_ORDERS,
                         search_percent: float = SPEED_SEARCH_PERCENT,
-                        window="hann") -> ShaftRate:
+                        window="hann", spectrum=None) -> ShaftRate:
     """The shaft rate from the peaks of its first harmonics in the raw spectrum.
 
     Parameters
@@ -106,6 +106,9 @@ def estimate_shaft_rate(x, fs: float, fr_nominal: float, *, orders=SPEED_ORDERS,
         Half-width of each harmonic's search, percent of ``k fr_nominal``.
     window : str or tuple, default "hann"
         Window of the raw spectrum.
+    spectrum : (f, amplitude), optional
+        The raw spectrum ``amplitude_spectrum(x, fs, window=window)`` when the caller has it
+        (not computed again).
 
     Returns
     -------
@@ -115,7 +118,8 @@ def estimate_shaft_rate(x, fs: float, fr_nominal: float, *, orders=SPEED_ORDERS,
         median within :data:`SPEED_AGREEMENT_PERCENT`, the nominal rate unchanged with
         ``measured`` False.
     """
-    f, a = amplitude_spectrum(np.asarray(x, dtype=np.float64), fs, window=window)
+    f, a = (amplitude_spectrum(np.asarray(x, dtype=np.float64), fs, window=window)
+            if spectrum is None else spectrum)
     df = float(f[1] - f[0])
     est = [e for e in (_order_estimate(f, a, df, k, float(fr_nominal), search_percent)
                        for k in orders) if e is not None]

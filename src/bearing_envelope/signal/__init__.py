@@ -23,6 +23,7 @@ from .bands import (
 from .envelope import bandpass, envelope, envelope_spectrum, peak_value, settling_samples
 from .kurtogram import Kurtogram, fast_kurtogram, kurtogram_levels, max_kurtogram_level
 from .sk import spectral_kurtosis
+from .infogram import Infogram, infogram
 from .bandselect import infogram_band, protrugram_band
 from .spectrum import amplitude_at, amplitude_spectrum, prewhiten
 
@@ -47,6 +48,7 @@ MOVED_TO_DIAGNOSIS = {
 __all__ = [
     "DEFAULT_BANDS",
     "NYQUIST_MARGIN",
+    "Infogram",
     "Kurtogram",
     "amplitude_at",
     "amplitude_spectrum",
@@ -59,6 +61,7 @@ __all__ = [
     "envelope",
     "envelope_spectrum",
     "fast_kurtogram",
+    "infogram",
     "infogram_band",
     "kurtogram_levels",
     "max_kurtogram_level",

@@ -2,9 +2,8 @@
 protrugram (Barszcz & Jabłoński 2011), on a grid of bands wide enough to hold the envelope
 lines of interest.
 
-Both are implemented from the papers with scipy band-pass filters (no filter bank): the band
-candidates are few once narrow cells are excluded (a band narrower than the lines searched
-cannot hold them), so plain zero-phase Butterworth filtering of each candidate is affordable.
+The infogram's maps are :func:`~bearing_envelope.signal.infogram.infogram`'s (the kurtogram's
+filter bank); the protrugram band-passes each candidate with zero-phase Butterworth filters.
 
 Infogram (Antoni 2016, MSSP 74, "The infogram: entropic evidence of the signature of repetitive
 transients"): for each cell of the 1/3-binary tree of the fast kurtogram, the squared envelope
@@ -26,6 +25,8 @@ import numpy as np
 
 from .bands import NYQUIST_MARGIN
 from .envelope import bandpass, envelope
+from .infogram import infogram
+from .kurtogram import max_kurtogram_level
 from .validation import check_fs, check_positive, check_signal
 
 __all__ = ["infogram_band", "protrugram_band", "tree_cells"]
@@ -70,16 +71,9 @@ def _clip(low: float, high: float, fs: float) -> tuple[float, float]:
     return max(low, 0.0), min(high, NYQUIST_MARGIN * fs / 2.0)
 
 
-def _negentropy(p: np.ndarray) -> float:
-    """``< p/<p> ln(p/<p>) >`` of a non-negative array (0 ln 0 = 0)."""
-    r = p / p.mean()
-    with np.errstate(divide="ignore", invalid="ignore"):
-        v = np.where(r > 0, r * np.log(r), 0.0)
-    return float(v.mean())
-
-
 def infogram_band(x, fs: float, *, max_level: float = 8.0, min_bandwidth: float = 0.0):
-    """The cell of the highest average spectral negentropy (Antoni 2016).
+    """The cell of the highest average spectral negentropy (Antoni 2016), the maps of
+    :func:`~bearing_envelope.signal.infogram.infogram` (the kurtogram's filter bank).
 
     Parameters
     ----------
@@ -102,24 +96,19 @@ def infogram_band(x, fs: float, *, max_level: float = 8.0, min_bandwidth: float 
     """
     fs = check_fs(fs)
     x = check_signal(x, "x", min_length=64)
-    x = x - x.mean()
-    best = None
     cells = tree_cells(fs, max_level, min_bandwidth)
     if not cells:
         raise ValueError(f"min_bandwidth = {min_bandwidth:g} Hz: no cell of the tree is that "
                          f"wide (fs/2 = {fs / 2:g} Hz)")
-    for level, low, high in cells:
-        lo, hi = _clip(low, high, fs)
-        y = x if (lo == 0.0 and hi >= NYQUIST_MARGIN * fs / 2.0) else bandpass(x, fs, (lo, hi))
-        se = envelope(y, squared=True)
-        ses = np.abs(np.fft.rfft(se - se.mean()))[1:] ** 2
-        i_t, i_f = _negentropy(se), _negentropy(ses)
-        cand = (0.5 * (i_t + i_f), level, lo, hi, i_t, i_f)
-        if best is None or cand[0] > best[0]:
-            best = cand
-    avg, level, lo, hi, i_t, i_f = best
-    return (lo, hi), {"level": level, "negentropy": avg, "negentropy_time": i_t,
-                      "negentropy_freq": i_f, "n_cells": len(cells)}
+    deepest = max(level for level, _, _ in cells)
+    nlevel = max(1, min(math.ceil(deepest - 1e-9), max_kurtogram_level(x.size)))
+    ig = infogram(x, fs, nlevel, max_level=max_level,
+                  min_bandwidth=min_bandwidth if min_bandwidth > 0 else None)
+    c = ig.cells["average"]
+    return _clip(*c.band, fs), {"level": c.level, "negentropy": c.value,
+                                "negentropy_time": float(ig.time[c.row][c.band_index]),
+                                "negentropy_freq": float(ig.spectral[c.row][c.band_index]),
+                                "n_cells": len(cells)}
 
 
 def protrugram_band(x, fs: float, *, bandwidth: float, step: float | None = None,

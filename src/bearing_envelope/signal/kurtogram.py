@@ -562,11 +562,14 @@ def _level0_kurtosis(x: np.ndarray, level0: str) -> np.ndarray:
     return _kurt_from_sums([a2.sum()], [np.dot(a2, a2)], n)
 
 
-def _filter_bank(x: np.ndarray, nlevel: int, n_rows: int):
+def _filter_bank(x: np.ndarray, nlevel: int, n_rows: int, visit=None):
     """The 1/3-binary tree below level 0: ``(rows, n_dropped, n_samples)`` (row 0 left empty).
 
     Binary level ``k`` is split in two (row ``2k + 1``, level ``k + 1``) and, above the deepest
     level, in three (row ``2k + 2``, level ``k + 1.585``: a leaf, moments only).
+    ``visit(row, yr, yi, drop)``, when given, receives every row's complex sub-band signals
+    (``yr + i yi``, one band per row of the arrays, in frequency order; the first ``drop``
+    samples are filter transients), the leaves' included.
     """
     w2, w3 = _prototypes()
     rows: list[np.ndarray] = [None] * n_rows  # type: ignore[list-item]
@@ -583,7 +586,9 @@ def _filter_bank(x: np.ndarray, nlevel: int, n_rows: int):
         if r3 < n_rows:  # the split of the deepest binary level is not part of the map
             d3 = _drop_after(drop, TERNARY_TAPS, 3)
             cb, sb = _tables((centre - _TERNARY_SHIFT, centre, centre + _TERNARY_SHIFT), 3, w3.size)
-            _, _, s2, s4 = _bank_step(xr, xi, k > 0, cb, sb, w3, 3, d3, False)
+            y3r, y3i, s2, s4 = _bank_step(xr, xi, k > 0, cb, sb, w3, 3, d3, visit is not None)
+            if visit is not None:
+                visit(r3, y3r, y3i, d3)
             cnt = m_in // 3 - d3
             rows[r3] = _kurt_from_sums(s2, s4, cnt)
             dropped[r3] = d3
@@ -591,10 +596,12 @@ def _filter_bank(x: np.ndarray, nlevel: int, n_rows: int):
         # binary split -> level k + 1
         d2 = _drop_after(drop, BINARY_TAPS, 2)
         cb, sb = _tables((centre - _BINARY_SHIFT, centre + _BINARY_SHIFT), 2, w2.size)
-        store = k + 1 < nlevel
+        store = k + 1 < nlevel or visit is not None
         yr, yi, s2, s4 = _bank_step(xr, xi, k > 0, cb, sb, w2, 2, d2, store)
         cnt = m_in // 2 - d2
         r2 = 2 * k + 1
+        if visit is not None:
+            visit(r2, yr, yi, d2)
         rows[r2] = _kurt_from_sums(s2, s4, cnt)
         dropped[r2] = d2
         nsamp[r2] = cnt
