@@ -3,10 +3,10 @@
 For refactors that must not change a number: run the same sweep before and after, then
 ``python -m benchmarks result_digests results_before results_after``; prints one line per item
 and the items that differ; for a differing numeric HDF5 dataset or CSV table of the same shape,
-also the largest difference relative to the item's largest magnitude. HDF5 datasets are hashed by their bytes (dtype and shape included);
-attributes holding provenance (creation time, host, git commit, package version, paths, wall
-times) are skipped, the others are hashed. CSV tables are hashed as text with columns named
-like wall or CPU times dropped.
+also the largest difference relative to the item's largest magnitude. HDF5 datasets are hashed
+by their bytes (dtype and shape included); attributes holding provenance (creation time, host,
+git commit, package version, paths, wall times) are skipped, the others are hashed. CSV tables
+are hashed as text with columns named like wall or CPU times dropped.
 """
 
 from __future__ import annotations
@@ -133,8 +133,9 @@ def relative_difference(before: Path, after: Path, item: str) -> float | None:
     x, y = _numeric(before, item), _numeric(after, item)
     if x is None or y is None or x.shape != y.shape or x.size == 0:
         return None
-    scale = float(np.nanmax(np.abs(x))) or 1.0
-    return float(np.nanmax(np.abs(y - x))) / scale
+    with np.errstate(invalid="ignore"):  # inf - inf where both hold an infinity: skipped as NaN
+        scale = float(np.nanmax(np.abs(x))) or 1.0
+        return float(np.nanmax(np.abs(y - x))) / scale
 
 
 def smoke() -> None:
