@@ -295,6 +295,9 @@ def model_table(e: pd.DataFrame) -> pd.DataFrame:
     """Per point, load, kind, signal and quantity class: the worst error over the model's cases
     at that load, the bands and the orders."""
     m = _cases(e, MODEL).copy()
+    if m.empty:                                # a held-out-only run
+        return pd.DataFrame(columns=["point", "load_kN", "kind", "signal", "quantity_class",
+                                     "rel_error", "n_values"])
     m["kind"] = np.where(m.depth_um > 0, "defect", "healthy")
     keys = ["run", "load_kN", "kind", "signal", "quantity_class"]
     g = m.groupby(keys)
