@@ -20,6 +20,7 @@ from .solves import (LoadNode, SolveStats, defect_solve, neighbourhood_max, outs
                      solve_load, window_spec)
 
 __all__ = ["PressureTable", "build_table", "direct_pressure", "Q_MIN_FRACTION", "unloaded_table",
+           "relative_error", "interpolation_check_errors", "CHECK_COLUMNS",
            "OUTSIDE_LOAD_DENSITY", "CHECK_OFFSETS_PER_LOAD"]
 
 #: Random offsets checked per random roller load (each kind: on the grid / anywhere).
@@ -595,20 +596,56 @@ def _outside_maxima(scene: Scene, fid: Fidelity, nodes: list[LoadNode], qn: np.n
     return q_out ** 3, v_out[:, 0], v_out[:, 1], v_out[:, 2]
 
 
-#: Columns of one interpolation check row (:func:`_check_errors`): roller load (N), offset (m),
+#: Columns of one interpolation check row (:func:`interpolation_check_errors`): roller load (N), offset (m),
 #: solved P and P_d (Pa), their table readings (Pa), and the no-defect P0 (Pa).
 CHECK_COLUMNS = ("Q", "x", "P", "P_d", "P_interp", "P_d_interp", "P0")
 
 
-def _check_errors(rows) -> tuple[np.ndarray, float, float, float]:
-    """``(rows as (n, 7) array, max rel. error of P, max error of P_d / P0, rms rel. error of P)``
-    of interpolation checks with the columns :data:`CHECK_COLUMNS`."""
+def relative_error(diff: np.ndarray, scale: np.ndarray) -> np.ndarray:
+    """``|diff| / scale`` element-wise, never NaN.
+
+    Parameters
+    ----------
+    diff : numpy.ndarray
+        Differences (reading minus solved value), in the unit of ``scale``.
+    scale : numpy.ndarray
+        The reference magnitudes (>= 0).
+
+    Returns
+    -------
+    numpy.ndarray
+        The relative errors; 0 where ``scale`` and ``diff`` are both 0 (an unloaded contact read
+        as unloaded), ``inf`` where only ``scale`` is 0 (a reading where nothing was solved).
+    """
+    diff, scale = np.abs(np.asarray(diff, float)), np.asarray(scale, float)
+    out = np.full(diff.shape, np.inf)
+    np.divide(diff, scale, out=out, where=scale > 0)
+    out[(scale <= 0) & (diff == 0)] = 0.0
+    return out
+
+
+def interpolation_check_errors(rows) -> tuple[np.ndarray, float, float, float]:
+    """The errors of the table's interpolation checks.
+
+    Parameters
+    ----------
+    rows : sequence of tuple
+        Check rows with the columns :data:`CHECK_COLUMNS` (Q, x, P, P_d, their table readings,
+        the no-defect P0).
+
+    Returns
+    -------
+    tuple
+        ``(rows as an (n, 7) array, max relative error of P, max error of P_d / P0, rms relative
+        error of P)``, by :func:`relative_error` (0 where a solve and its reading are both 0, as
+        in an unloaded contact; never NaN). No rows: zeros.
+    """
     a = np.array(rows, dtype=float).reshape(-1, len(CHECK_COLUMNS))
     if not len(a):
         return a, 0.0, 0.0, 0.0
-    e = np.abs(a[:, 4] - a[:, 2]) / a[:, 2]
-    return (a, float(e.max()), float(np.max(np.abs(a[:, 5] - a[:, 3]) / a[:, 6])),
-            float(np.sqrt(np.mean(e ** 2))))
+    e = relative_error(a[:, 4] - a[:, 2], a[:, 2])
+    e_d = relative_error(a[:, 5] - a[:, 3], a[:, 6])
+    return a, float(e.max()), float(e_d.max()), float(np.sqrt(np.mean(e ** 2)))
 
 
 def _interpolation_checks(scene: Scene, fid: Fidelity, table: "PressureTable", qn: np.ndarray,
@@ -646,8 +683,8 @@ def _interpolation_checks(scene: Scene, fid: Fidelity, table: "PressureTable", q
                     continue
                 Pi, Pdi = table.evaluate(qc, xd)
                 out.append((qc, xd, ds.P, ds.Pd, float(Pi), float(Pdi), node.p0))
-    checks_a, err, err_d, err_rms = _check_errors(checks)
-    checks_b, err_any, err_d_any, err_any_rms = _check_errors(checks_any)
+    checks_a, err, err_d, err_rms = interpolation_check_errors(checks)
+    checks_b, err_any, err_d_any, err_any_rms = interpolation_check_errors(checks_any)
     return {
         "interp_max_rel_error_p_max": err,
         "interp_max_rel_error_p_max_defect": err_d,
