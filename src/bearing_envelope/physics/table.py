@@ -596,8 +596,8 @@ def _outside_maxima(scene: Scene, fid: Fidelity, nodes: list[LoadNode], qn: np.n
     return q_out ** 3, v_out[:, 0], v_out[:, 1], v_out[:, 2]
 
 
-#: Columns of one interpolation check row (:func:`interpolation_check_errors`): roller load (N), offset (m),
-#: solved P and P_d (Pa), their table readings (Pa), and the no-defect P0 (Pa).
+#: Columns of one interpolation check row (:func:`interpolation_check_errors`): roller load
+#: (N), offset (m), solved P and P_d (Pa), their table readings (Pa), the no-defect P0 (Pa).
 CHECK_COLUMNS = ("Q", "x", "P", "P_d", "P_interp", "P_d_interp", "P0")
 
 
