@@ -1,0 +1,48 @@
+"""The half-space convolution by pocketfft called directly (``halfspace._pocketfft``): the same
+numbers as through :mod:`scipy.fft`, bit for bit, and the direct summation of Love's patch
+influence coefficients (an independent truth) to rounding; the reused work arrays keep no
+trace of an earlier call."""
+
+import numpy as np
+import pytest
+
+from bearing_envelope.contact import halfspace
+from bearing_envelope.contact.halfspace import ElasticHalfSpace, influence_coefficients
+
+E_STAR = 115.4e9
+DX, DY = 2e-6, 2e-5
+
+
+def _pressures(shape, k=3):
+    rng = np.random.default_rng(11)
+    out = [rng.uniform(0.0, 3e9, shape) for _ in range(k)]
+    out[1][: shape[0] // 3] = 0.0                     # unloaded rows, as around a contact
+    return out
+
+
+@pytest.mark.skipif(halfspace._pocketfft is None, reason="scipy without pypocketfft")
+@pytest.mark.parametrize("shape", [(23, 9), (40, 18), (7, 31), (1, 5)])
+def test_direct_pocketfft_equals_scipy_fft_to_the_bit(shape, monkeypatch):
+    direct = ElasticHalfSpace(shape, DX, DY, E_STAR, workers=1, backend="scipy")
+    got = [direct.displacement(p) for p in _pressures(shape)]
+    got.append(direct.displacement(_pressures(shape)[0]))        # again, after other calls
+    monkeypatch.setattr(halfspace, "_pocketfft", None)
+    public = ElasticHalfSpace(shape, DX, DY, E_STAR, workers=1, backend="scipy")
+    want = [public.displacement(p) for p in _pressures(shape)]
+    for g, w in zip(got, want + [want[0]]):
+        assert g.shape == shape and g.flags.owndata
+        np.testing.assert_array_equal(g, w)
+
+
+def test_direct_pocketfft_equals_direct_summation():
+    p = _pressures((23, 9))[1]
+    op = ElasticHalfSpace(p.shape, DX, DY, E_STAR, workers=1, backend="scipy")
+    u = op.displacement(p)
+    out = np.empty_like(u)
+    assert op.displacement(p, out=out) is out and np.array_equal(out, u)
+    nx, ny = p.shape
+    xc, yc = np.arange(nx) * DX, np.arange(ny) * DY
+    for i, j in [(0, 0), (11, 4), (22, 8), (5, 2)]:
+        want = np.sum(p * influence_coefficients(xc[i] - xc[:, None], yc[j] - yc[None, :],
+                                                 DX, DY, E_STAR))
+        assert u[i, j] == pytest.approx(want, rel=1e-12)
