@@ -357,6 +357,50 @@ def subcell_displacement(pressure: np.ndarray, dx: float, dy: float, e_star: flo
     return out
 
 
+def rfft2(x: np.ndarray, workers: int = 1) -> np.ndarray:
+    """``scipy.fft.rfft2(x, workers=workers)`` (unnormalised), by pocketfft directly when it is
+    importable (the same numbers, without scipy.fft's per-call dispatch).
+
+    Parameters
+    ----------
+    x : numpy.ndarray
+        Real 2-D array (float64, C-contiguous).
+    workers : int
+        FFT threads.
+
+    Returns
+    -------
+    numpy.ndarray
+        The half spectrum, shape ``(nx, ny // 2 + 1)``.
+    """
+    if _pocketfft is None:
+        return sfft.rfft2(x, workers=workers)
+    return _pocketfft.r2c(x, (0, 1), True, 0, None, workers)
+
+
+def irfft2(a: np.ndarray, shape: tuple[int, int], workers: int = 1) -> np.ndarray:
+    """``scipy.fft.irfft2(a, s=shape, norm="forward", workers=workers)`` (no ``1/n`` on the
+    inverse), by pocketfft directly when it is importable.
+
+    Parameters
+    ----------
+    a : numpy.ndarray
+        Half spectrum, shape ``(shape[0], shape[1] // 2 + 1)``, complex128.
+    shape : (int, int)
+        The real output's shape.
+    workers : int
+        FFT threads.
+
+    Returns
+    -------
+    numpy.ndarray
+        Real array of ``shape``.
+    """
+    if _pocketfft is None:
+        return sfft.irfft2(a, s=shape, norm="forward", workers=workers)
+    return _pocketfft.c2r(a, (0, 1), int(shape[1]), False, 0, None, workers)
+
+
 def clear_kernel_cache() -> None:
     """Empty the cache of :func:`kernel_spectrum` (a benchmark times a solve from cold).
 

@@ -12,7 +12,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from . import _kernels
-from .halfspace import ElasticHalfSpace, get_halfspace
+from .halfspace import ElasticHalfSpace, get_halfspace, irfft2, rfft2
 
 __all__ = [
     "ContactSolution",
@@ -801,7 +801,9 @@ class _FourierPreconditioner:
         hb = np.where(icb, h[sl], 0.0)
         sym, diag = self._symbol(mx, my)
         w = self.workers
-        zb = sfft.irfft2(sfft.rfft2(hb, workers=w) * sym, s=(mx, my), norm="forward", workers=w)
+        spec = rfft2(hb, workers=w)
+        spec *= sym
+        zb = irfft2(spec, (mx, my), workers=w)
         z = self._z
         if self._prev is not None:
             z[self._prev] = 0.0
