@@ -1,4 +1,4 @@
-"""The half-space convolution by pocketfft called directly (``halfspace._pocketfft``): the same
+"""The half-space convolution by pocketfft called directly (``halfspace.POCKETFFT``): the same
 numbers as through :mod:`scipy.fft`, bit for bit, and the direct summation of Love's patch
 influence coefficients (an independent truth) to rounding; the reused work arrays keep no
 trace of an earlier call."""
@@ -20,13 +20,13 @@ def _pressures(shape, k=3):
     return out
 
 
-@pytest.mark.skipif(halfspace._pocketfft is None, reason="scipy without pypocketfft")
+@pytest.mark.skipif(halfspace.POCKETFFT is None, reason="scipy without pypocketfft")
 @pytest.mark.parametrize("shape", [(23, 9), (40, 18), (7, 31), (1, 5)])
 def test_direct_pocketfft_equals_scipy_fft_to_the_bit(shape, monkeypatch):
     direct = ElasticHalfSpace(shape, DX, DY, E_STAR, workers=1, backend="scipy")
     got = [direct.displacement(p) for p in _pressures(shape)]
     got.append(direct.displacement(_pressures(shape)[0]))        # again, after other calls
-    monkeypatch.setattr(halfspace, "_pocketfft", None)
+    monkeypatch.setattr(halfspace, "POCKETFFT", None)
     public = ElasticHalfSpace(shape, DX, DY, E_STAR, workers=1, backend="scipy")
     want = [public.displacement(p) for p in _pressures(shape)]
     for g, w in zip(got, want + [want[0]]):
@@ -60,6 +60,6 @@ def test_rfft2_irfft2_equal_scipy_fft_to_the_bit(shape, monkeypatch):
     back = halfspace.irfft2(a, shape)
     np.testing.assert_array_equal(back, sfft.irfft2(a, s=shape, norm="forward"))
     np.testing.assert_allclose(back, x * x.size, rtol=0, atol=1e-12 * x.size * np.abs(x).max())
-    monkeypatch.setattr(halfspace, "_pocketfft", None)
+    monkeypatch.setattr(halfspace, "POCKETFFT", None)
     np.testing.assert_array_equal(halfspace.rfft2(x), a)
     np.testing.assert_array_equal(halfspace.irfft2(a, shape), back)

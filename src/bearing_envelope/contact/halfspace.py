@@ -43,9 +43,10 @@ try:
     # transforms) per iteration on small grids (a CWRU ball case: 47,000 transforms, 0.5-0.9
     # CPU s). The same functions with the same arguments give the same numbers, bit for bit
     # (tests/contact/test_halfspace_fft.py); a scipy without this module uses scipy.fft.
-    from scipy.fft._pocketfft import pypocketfft as _pocketfft
+    from scipy.fft._pocketfft import pypocketfft as POCKETFFT
 except ImportError:  # pragma: no cover - depends on the scipy version
-    _pocketfft = None
+    POCKETFFT = None
+#: The pocketfft module behind :mod:`scipy.fft` (None: not importable; scipy.fft is used).
 
 
 def composite_modulus(E1: float, nu1: float, E2: float, nu2: float) -> float:
@@ -373,9 +374,9 @@ def rfft2(x: np.ndarray, workers: int = 1) -> np.ndarray:
     numpy.ndarray
         The half spectrum, shape ``(nx, ny // 2 + 1)``.
     """
-    if _pocketfft is None:
+    if POCKETFFT is None:
         return sfft.rfft2(x, workers=workers)
-    return _pocketfft.r2c(x, (0, 1), True, 0, None, workers)
+    return POCKETFFT.r2c(x, (0, 1), True, 0, None, workers)
 
 
 def irfft2(a: np.ndarray, shape: tuple[int, int], workers: int = 1) -> np.ndarray:
@@ -396,9 +397,9 @@ def irfft2(a: np.ndarray, shape: tuple[int, int], workers: int = 1) -> np.ndarra
     numpy.ndarray
         Real array of ``shape``.
     """
-    if _pocketfft is None:
+    if POCKETFFT is None:
         return sfft.irfft2(a, s=shape, norm="forward", workers=workers)
-    return _pocketfft.c2r(a, (0, 1), int(shape[1]), False, 0, None, workers)
+    return POCKETFFT.c2r(a, (0, 1), int(shape[1]), False, 0, None, workers)
 
 
 def clear_kernel_cache() -> None:
@@ -531,7 +532,7 @@ class ElasticHalfSpace:
             b_y.execute()
             half[nx:] = 0
             res = real_out[:, :ny]
-        elif _pocketfft is not None:
+        elif POCKETFFT is not None:
             res = self._displacement_pocketfft(p)
         else:
             w = self.workers
@@ -561,11 +562,11 @@ class ElasticHalfSpace:
             self._buf = np.zeros((2 * nx, ny + 1), dtype=complex)
         real_in, buf = self._real_in, self._buf
         real_in[:, :ny] = p
-        _pocketfft.r2c(real_in, (1,), True, 0, buf[:nx], w)
-        a = _pocketfft.c2c(buf, (0,), True, 0, None, w)
+        POCKETFFT.r2c(real_in, (1,), True, 0, buf[:nx], w)
+        a = POCKETFFT.c2c(buf, (0,), True, 0, None, w)
         a *= self.spectrum
-        _pocketfft.c2c(a, (0,), False, 0, a, w)
-        return _pocketfft.c2r(a[:nx], (1,), 2 * ny, False, 0, None, w)[:, :ny]
+        POCKETFFT.c2c(a, (0,), False, 0, a, w)
+        return POCKETFFT.c2r(a[:nx], (1,), 2 * ny, False, 0, None, w)[:, :ny]
 
     def __repr__(self) -> str:
         return (
