@@ -95,28 +95,6 @@ def test_integrals_numba_matches_numpy():
         np.testing.assert_allclose(a[k], b[k], rtol=1e-12, atol=1e-12 * np.abs(b[k]).max())
 
 
-@pytest.mark.skipif(not HAVE_NUMBA, reason="numba not installed")
-def test_pressure_reading_numba_matches_numpy_and_the_known_law():
-    """evaluate(use_numba=True) (the outer-race and ball synthesis): the numpy reading to rounding
-    on a table with random ratio rows and an outside-peak curve, and on the synthetic table (ratio
-    1, P_d 0, P0 = 1e9 q) the law P = 1e9 Q^(1/3) up to the last node (held beyond), P_d = 0."""
-    tb = _table(n_loads=4)
-    rng = np.random.default_rng(9)
-    tb.ratio = rng.uniform(0.5, 1.5, tb.ratio.shape)
-    tb.ratio_defect = rng.uniform(0.0, 0.3, tb.ratio.shape)
-    tb.p_out = 0.8e9 * np.cbrt(tb.q_out) * rng.uniform(0.9, 1.1, tb.q_out.size)
-    Q = np.concatenate([rng.uniform(0.0, 1.05, 500) * Q_MAX, [0.0, tb.q_nodes[0], Q_MAX]])
-    x = rng.uniform(-1.2, 1.2, Q.size) * tb.s_max
-    for a, b in zip(tb.evaluate(Q, x, use_numba=True), tb.evaluate(Q, x)):
-        np.testing.assert_allclose(a, b, rtol=1e-12, atol=0)
-    law = _table(n_loads=4)
-    P, Pd = law.evaluate(Q, x, use_numba=True)
-    inside = Q <= law.q_nodes[-1]                     # beyond the last node P0 is held
-    np.testing.assert_allclose(P[inside], 1e9 * np.cbrt(Q[inside]), rtol=1e-13)
-    np.testing.assert_allclose(P[~inside], 1e9 * np.cbrt(law.q_nodes[-1]), rtol=1e-13)
-    assert np.all(Pd == 0.0)
-
-
 def test_no_defect_approach_read_on_the_dense_load_grid():
     """delta0 = c(q) q^2 with c bending between the load nodes (the end relief): read on q_out
     (the P_out solves' approach) it follows the bend; on the nodes alone it does not."""

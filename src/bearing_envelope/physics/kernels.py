@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["HAVE_NUMBA", "ratio_kernel", "synth_kernel", "table_kernel"]
+__all__ = ["HAVE_NUMBA", "ratio_kernel", "synth_kernel"]
 
 
 try:  # pragma: no cover - numba optional at import time
@@ -37,36 +37,10 @@ try:  # pragma: no cover - numba optional at import time
         return ax * (ka * qn[i] + s0) / (ka * q + s0)
 
     @numba.njit(cache=True, fastmath=False)
-    def _table_point(q, x, qn, xn, p0, R, Rd, ka, s0, qo, po):
-        """``(P, P_d)`` of the table at ``q = Q^(1/3)`` and offset ``x`` (before the cap)."""
-        nq = qn.size
-        qc = min(max(q, qn[0]), qn[nq - 1])
-        i = 0
-        while i < nq - 2 and qn[i + 1] <= qc:
-            i += 1
-        tq = (qc - qn[i]) / (qn[i + 1] - qn[i])
-        if q < qn[0]:
-            p0q = p0[0] * q / qn[0]
-        else:
-            p0q = p0[i] * (1 - tq) + p0[i + 1] * tq
-        x0 = _row_x(x, q, qn, i, ka, s0)
-        x1 = _row_x(x, q, qn, i + 1, ka, s0)
-        if q < qo[0]:
-            pout = po[0] * q / qo[0]
-        elif q >= qo[qo.size - 1]:
-            pout = po[qo.size - 1]
-        else:
-            m2 = min(max(np.searchsorted(qo, q, side="right") - 1, 0), qo.size - 2)
-            f = (q - qo[m2]) / (qo[m2 + 1] - qo[m2])
-            pout = (1.0 - f) * po[m2] + f * po[m2 + 1]
-        w = p0q * ((1 - tq) * _row(R, i, xn, x0, 1.0) + tq * _row(R, i + 1, xn, x1, 1.0))
-        return (w if w > pout else pout,
-                p0q * ((1 - tq) * _row(Rd, i, xn, x0, 0.0) + tq * _row(Rd, i + 1, xn, x1, 0.0)))
-
-    @numba.njit(cache=True, fastmath=False)
     def synth_kernel(t, theta_c, fr, z, ri, K, dr, c, ca, n, discrete, qn, xn, p0, R, Rd, ka,
                       s0, qo, po, P, Pd, Qo, Xo):
         pitch = 2.0 * np.pi / z
+        nq = qn.size
         for k in range(t.size):
             th = 2.0 * np.pi * fr * t[k]
             rel = th - theta_c[k]
@@ -77,17 +51,29 @@ try:  # pragma: no cover - numba optional at import time
             Q = K * d ** n if d > 0.0 else 0.0
             Qo[k] = Q
             Xo[k] = x
-            P[k], Pd[k] = _table_point(np.cbrt(Q), x, qn, xn, p0, R, Rd, ka, s0, qo, po)
-
-    @numba.njit(cache=True, fastmath=False)
-    def table_kernel(Qa, Xa, qn, xn, p0, R, Rd, ka, s0, qo, po, P, Pd):
-        """``(P, P_d)`` of the table at roller loads ``Qa`` (N) and offsets ``Xa`` (m) into
-        ``P``, ``Pd`` (:meth:`~.table.PressureTable.evaluate`, before the cap; a load below 0
-        reads as 0, like the numpy reference's clip)."""
-        for k in range(Qa.size):
-            Q = Qa[k]
-            P[k], Pd[k] = _table_point(np.cbrt(Q) if Q > 0.0 else 0.0, Xa[k], qn, xn, p0, R, Rd,
-                                       ka, s0, qo, po)
+            q = np.cbrt(Q)
+            qc = min(max(q, qn[0]), qn[nq - 1])
+            i = 0
+            while i < nq - 2 and qn[i + 1] <= qc:
+                i += 1
+            tq = (qc - qn[i]) / (qn[i + 1] - qn[i])
+            if q < qn[0]:
+                p0q = p0[0] * q / qn[0]
+            else:
+                p0q = p0[i] * (1 - tq) + p0[i + 1] * tq
+            x0 = _row_x(x, q, qn, i, ka, s0)
+            x1 = _row_x(x, q, qn, i + 1, ka, s0)
+            if q < qo[0]:
+                pout = po[0] * q / qo[0]
+            elif q >= qo[qo.size - 1]:
+                pout = po[qo.size - 1]
+            else:
+                m2 = min(max(np.searchsorted(qo, q, side="right") - 1, 0), qo.size - 2)
+                f = (q - qo[m2]) / (qo[m2 + 1] - qo[m2])
+                pout = (1.0 - f) * po[m2] + f * po[m2 + 1]
+            w = p0q * ((1 - tq) * _row(R, i, xn, x0, 1.0) + tq * _row(R, i + 1, xn, x1, 1.0))
+            P[k] = w if w > pout else pout
+            Pd[k] = p0q * ((1 - tq) * _row(Rd, i, xn, x0, 0.0) + tq * _row(Rd, i + 1, xn, x1, 0.0))
 
     @numba.njit(cache=True, fastmath=False)
     def ratio_kernel(Qa, Xa, qn, xn, ka, s0, T, out):

@@ -274,7 +274,7 @@ def location_tables(scene: Scene, fid: Fidelity, exposure: dict, stats: SolveSta
 
 
 def _contact(table: PressureTable, Q: np.ndarray, x: np.ndarray, use_numba: bool) -> dict:
-    P, Pd = table.evaluate(Q, x, use_numba=use_numba)
+    P, Pd = table.evaluate(Q, x)
     out = {"p_max": P, "p_max_defect": Pd}
     out.update(table.evaluate_integrals(Q, x, use_numba=use_numba))
     return out

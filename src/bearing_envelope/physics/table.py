@@ -14,7 +14,7 @@ import numpy as np
 from ..contact import ContactConvergenceError
 from .fidelity import Fidelity
 from .geometry import hertz_estimate
-from .kernels import HAVE_NUMBA, ratio_kernel, table_kernel
+from .kernels import HAVE_NUMBA, ratio_kernel
 from .scene import Scene
 from .solves import (LoadNode, SolveStats, defect_solve, neighbourhood_max, outside_solve,
                      solve_load, window_spec)
@@ -299,7 +299,7 @@ class PressureTable:
                 np.ascontiguousarray(self.ratio_defect), self.kappa * self.a_coef, self.s_const,
                 np.ascontiguousarray(np.cbrt(self.q_out)), np.ascontiguousarray(self.p_out))
 
-    def evaluate(self, Q, x, *, use_numba: bool = False):
+    def evaluate(self, Q, x):
         """Interpolated ``(P, P_d)`` (Pa) at roller loads ``Q`` (N) and offsets ``x`` (m).
 
         Parameters
@@ -308,10 +308,6 @@ class PressureTable:
             Roller loads, N.
         x : float or ndarray
             Defect offsets, m, shape of ``Q``.
-        use_numba : bool, default False
-            Read with the numba kernel (:func:`~.kernels.table_kernel`: the inner race's
-            synthesis's operations, equal to the numpy reading to rounding; the outer-race and
-            ball synthesis use it, 0.2 CPU s of a CWRU ball case) instead of numpy.
 
         Returns
         -------
@@ -321,13 +317,7 @@ class PressureTable:
         """
         Q = np.asarray(Q, dtype=float)
         x = np.asarray(x, dtype=float)
-        if use_numba and HAVE_NUMBA:
-            P, Pd = np.empty(Q.size), np.empty(Q.size)
-            table_kernel(np.ascontiguousarray(Q.ravel()), np.ascontiguousarray(x.ravel()),
-                         *self.args(), P, Pd)
-            P, Pd = P.reshape(Q.shape), Pd.reshape(Q.shape)
-        else:
-            P, Pd = _table_eval_numpy(Q, x, *self.args())
+        P, Pd = _table_eval_numpy(Q, x, *self.args())
         if self.p_cap is not None:
             P, Pd = np.minimum(P, self.p_cap), np.minimum(Pd, self.p_cap)
         return P, Pd
