@@ -231,8 +231,9 @@ def test_antialias_filter_equals_scipy_firwin_to_the_bit(n):
 
 @pytest.mark.parametrize("n", [1, 4, 9])
 def test_decimate_centred_equals_upfirdn_and_direct_sum(n):
-    """Every n-th output of the centred FIR: bit for bit scipy.signal.upfirdn's, and the direct
-    sum of h[j] x[.] written out per output (to rounding)."""
+    """Every n-th output of the centred FIR (numba loop and numpy passes): bit for bit
+    scipy.signal.upfirdn's, and the direct sum of h[j] x[.] written out per output (to
+    rounding)."""
     from scipy.signal import upfirdn
 
     from bearing_envelope.physics.acquisition import decimate_centred
@@ -244,6 +245,7 @@ def test_decimate_centred_equals_upfirdn_and_direct_sum(n):
     x = rng.normal(size=(count - 1) * n + 2 * c + 1) * 1e9
     y = decimate_centred(h, x, n, count)
     np.testing.assert_array_equal(y, upfirdn(h, x, 1, n)[2 * c // n: 2 * c // n + count])
+    np.testing.assert_array_equal(decimate_centred(h, x, n, count, use_numba=False), y)
     direct = [sum(h[j] * x[c + i * n + c - j] for j in range(h.size)) for i in range(count)]
     np.testing.assert_allclose(y, direct, rtol=0, atol=1e-12 * np.abs(x).max())
     with pytest.raises(ValueError, match="decimate_centred: x has"):
