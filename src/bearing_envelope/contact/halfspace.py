@@ -480,6 +480,7 @@ class ElasticHalfSpace:
         self._plans = None
         self._buf = None
         self._real_in = None
+        self._spectrum_ri = None
 
     # -- FFT backends -------------------------------------------------------------------------
     def _build_fftw(self):
@@ -554,17 +555,21 @@ class ElasticHalfSpace:
         """The scipy backend's transforms (``rfft`` of length ``2 ny`` along ``y``, ``fft`` and
         ``ifft`` along ``x``, ``irfft``; normalised on the inverse) by pocketfft directly, into
         reused arrays: ``rows nx..`` of the half-spectrum and columns ``ny..`` of the padded
-        input stay zero between calls. Returns a view of the first ``(nx, ny)`` block."""
+        input stay zero between calls. The (real) kernel spectrum scales the real and imaginary
+        parts as floats (each value stored twice): the products of ``a *= spectrum`` without
+        its per-element cast to complex. Returns a view of the first ``(nx, ny)`` block."""
         nx, ny = self.shape
         w = self.workers
         if self._real_in is None:
             self._real_in = np.zeros((nx, 2 * ny))
             self._buf = np.zeros((2 * nx, ny + 1), dtype=complex)
+            self._spectrum_ri = np.repeat(self.spectrum, 2, axis=1)
         real_in, buf = self._real_in, self._buf
         real_in[:, :ny] = p
         POCKETFFT.r2c(real_in, (1,), True, 0, buf[:nx], w)
         a = POCKETFFT.c2c(buf, (0,), True, 0, None, w)
-        a *= self.spectrum
+        af = a.view(np.float64)                  # kernel_spectrum is real (float64)
+        np.multiply(af, self._spectrum_ri, out=af)
         POCKETFFT.c2c(a, (0,), False, 0, a, w)
         return POCKETFFT.c2r(a[:nx], (1,), 2 * ny, False, 0, None, w)[:, :ny]
 
