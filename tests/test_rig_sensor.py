@@ -146,3 +146,31 @@ def test_measured_sideband_db_reads_the_lines_table():
 
     got = rig.measured_sideband_db(pd.DataFrame(rows), ["rec_a", "rec_b"])
     assert got == pytest.approx([20 * math.log10(0.2)] * 2)  # raw is not read; rec_b absent
+
+
+def test_features_in_measured_band_read_both_records_in_one_band():
+    """The measured record's best band is bpfi_10_13; both records are read there: measured
+    2x/1x 0.5 (-6.02 dB), simulated 0.3 (-10.46 dB); the sidebands 0.1/0.1 over 1 both."""
+    import pandas as pd
+
+    def rows(name, h2, low):
+        out = []
+        for band, lo in (("bpfi_10_13", 1620.0), ("kurtogram", low)):
+            for o, sb, a in ((1, 0, 1.0), (2, 0, h2), (3, 0, 0.1), (1, -1, 0.1), (1, 1, 0.1)):
+                out.append({"file": f"/d/{name}.npz", "band": band, "band_low_hz": lo,
+                            "band_high_hz": lo + 500.0, "base": "bpfi", "order": o,
+                            "sideband": sb, "amplitude": a})
+        return pd.DataFrame(out)
+
+    card = pd.DataFrame([{"record": "r", "family": "bpfi", "meas_h1": 1.0,
+                          "meas_band_low_hz": 1620.0, "meas_band_high_hz": 2120.0}])
+    got = rig.features_in_measured_band(card, rows("r", 0.5, 3000.0), rows("r_sim", 0.3, 0.0))
+    by = {g["feature"]: g for g in got}
+    assert by["h2_db"]["meas_db"] == pytest.approx(-6.0206, abs=1e-3)
+    assert by["h2_db"]["sim_db"] == pytest.approx(-10.4576, abs=1e-3)
+    assert by["h2_db"]["within_tol"] and by["h3_db"]["meas_db"] == pytest.approx(-20.0)
+    assert by["sideband_db"]["sim_db"] == pytest.approx(-20.0) and by["h2_db"]["band"] == \
+        "bpfi_10_13"
+    card["meas_band_low_hz"] = 3000.0   # best band a kurtogram band: not read
+    assert rig.features_in_measured_band(card, rows("r", 0.5, 3000.0),
+                                         rows("r_sim", 0.3, 0.0)) == []

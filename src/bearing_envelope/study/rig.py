@@ -621,6 +621,57 @@ def _line_amplitude(lines, name: str, band: str):
     return float(ln.amplitude.iloc[0]) if len(ln) else None
 
 
+def _band_ratios(lines, name: str, band: str, family: str) -> dict:
+    """2x/1x, 3x/1x and (not BPFO) the +-1 sidebands over the line, dB, in one band."""
+    g = lines[lines.file.str.contains(f"/{name}.npz", regex=False) & (lines.band == band)
+              & (lines.base == family)]
+    a = {(int(o), int(sb)): float(v) for o, sb, v in zip(g.order, g.sideband, g.amplitude)}
+    h1 = a.get((1, 0), 0.0)
+    if h1 <= 0:
+        return {}
+    out = {k: 20 * math.log10(max(a.get((o, 0), 0.0), 1e-300) / h1)
+           for k, o in (("h2_db", 2), ("h3_db", 3))}
+    if family != "bpfo" and (1, -1) in a and (1, 1) in a:
+        out["sideband_db"] = 20 * math.log10(max(0.5 * (a[(1, -1)] + a[(1, 1)]), 1e-300) / h1)
+    return out
+
+
+def features_in_measured_band(card, measured_lines, sim_lines) -> list:
+    """The harmonic and sideband ratios of both records read in the measured record's best band
+    (a second reading, not the rule: the rule reads each record in its own best band, and the
+    simulated record's can differ). Only where that band is one of analyze's fixed bands (a
+    kurtogram band is the record's own).
+
+    Parameters
+    ----------
+    card : pandas.DataFrame
+        :func:`scorecard`.
+    measured_lines, sim_lines : pandas.DataFrame
+        analyze's lines tables of the measured and the simulated records.
+
+    Returns
+    -------
+    list of dict
+        Per record and feature: band, measured and simulated dB, ``within_tol``.
+    """
+    out = []
+    for _, r in card[card.meas_h1.notna()].iterrows():
+        m = measured_lines[measured_lines.file.str.contains(f"/{r.record}.npz", regex=False)
+                           & np.isclose(measured_lines.band_low_hz, r.meas_band_low_hz)
+                           & np.isclose(measured_lines.band_high_hz, r.meas_band_high_hz)]
+        bands = set(m.band) - {"kurtogram"}
+        if not bands:
+            continue
+        band = sorted(bands)[0]
+        fm = _band_ratios(measured_lines, r.record, band, r.family)
+        fs = _band_ratios(sim_lines, f"{r.record}_sim", band, r.family)
+        for k in ("sideband_db", "h2_db", "h3_db"):
+            if k in fm and k in fs:
+                out.append({"record": r.record, "band": band, "feature": k, "meas_db": fm[k],
+                            "sim_db": fs[k], "within_tol": abs(fm[k] - fs[k]) <= TOL_DB})
+    return out
+
+
 def outer_race_ratios_in_band(card, measured_lines, sim_lines, bands=RATIO_BANDS) -> list:
     """BPFO fundamental at 3:00 over 6:00 with both records read in the same band (each of
     ``bands``), measured and simulated, dB: the rule's ratio reads each record in its own
@@ -716,6 +767,8 @@ def run_scorecard(conditions, contact: dict, out_dir, gain_reference: str, *, lo
     ratios.to_csv(out_dir / "outer_race.csv", index=False)
     pd.DataFrame(outer_race_ratios_in_band(card, ml, sl)).to_csv(
         out_dir / "outer_race_bands.csv", index=False)
+    pd.DataFrame(features_in_measured_band(card, ml, sl)).to_csv(
+        out_dir / "same_band.csv", index=False)
     with open(out_dir / "summary.json", "w", encoding="utf-8") as fh:
         json.dump({"gain": gain, "pass_rates": pass_rates(card)}, fh, indent=1)
     (out_dir / "scorecard.md").write_text(scorecard_markdown(card, ratios, trends),
