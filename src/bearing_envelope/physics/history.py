@@ -174,7 +174,8 @@ def defect_angle(scene: Scene, t: np.ndarray, *, t_end: float | None = None) -> 
     """
     loc = scene.defect.location
     if loc == "inner_race":
-        return kinematics(scene, np.atleast_1d(t), t_end=t_end)["theta_shaft"].reshape(np.shape(t))
+        theta = kinematics(scene, np.atleast_1d(t), t_end=t_end)["theta_shaft"]
+        return theta.reshape(np.shape(t))
     if loc == "outer_race":
         return np.full(np.shape(t), math.radians(scene.defect.position_deg))
     return cage_angle(scene, np.asarray(t, dtype=float), t_end=t_end)

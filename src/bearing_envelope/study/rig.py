@@ -963,46 +963,6 @@ def removed_force_exponent(contact_3: str, contact_6: str) -> float:
     return math.log(f2 / f1) / math.log(q2 / q1)
 
 
-def clearance_for_ratio(cond: RigCondition, settings: RigSettings, ratio_db: float,
-                        exponent: float, *, bounds_um=(-30.0, 20.0)) -> float:
-    """The radial clearance (um) whose load at 3:00 over 6:00 gives the measured BPFO level
-    ratio: ``20 log10((Q(90 deg)/Q(0))^b) = ratio_db`` (the path is linear in the removed
-    force, ``F_removed ~ Q^b``: :func:`removed_force_exponent`).
-
-    Parameters
-    ----------
-    cond : RigCondition
-        A 3:00 record (its shaft rate sets the centrifugal force).
-    settings : RigSettings
-    ratio_db : float
-        Measured BPFO 1x at 3:00 over 6:00, dB.
-    exponent : float
-    bounds_um : (float, float)
-
-    Returns
-    -------
-    float
-        Clearance, um (negative: preload).
-    """
-    from scipy import optimize  # lazy: only this function needs it
-
-    from ..physics.loads import scene_load_distribution
-
-    def model_db(c_um):
-        m = copy.deepcopy(settings)
-        m.scene.setdefault("bearing", {})["radial_clearance_um"] = c_um
-        ld = scene_load_distribution(condition_scene(cond, m))
-        q0, q90 = float(ld.load_at(0.0, "outer")), float(ld.load_at(math.pi / 2, "outer"))
-        return 20 * exponent * math.log10(max(q90 / q0, 1e-12))  # unloaded at 3:00: -240 b
-
-    lo, hi = bounds_um
-    f_lo, f_hi = model_db(lo) - ratio_db, model_db(hi) - ratio_db
-    if f_lo * f_hi > 0:
-        raise ValueError(f"ratio_db: {ratio_db:g} dB is outside what clearances {lo:g}..{hi:g} "
-                         f"um give ({model_db(hi):.1f}..{model_db(lo):.1f} dB)")
-    return float(optimize.brentq(lambda c: model_db(c) - ratio_db, lo, hi, xtol=0.01))
-
-
 def event_exponent(contact_path: str, event_hz: float) -> float:
     """Exponent ``b`` of ``F_removed ~ Q^b`` fitted (log-log, least squares) over the events of
     one contact history: each event's peak removed force against the roller load it met.
