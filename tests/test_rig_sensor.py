@@ -90,6 +90,9 @@ def test_identify_load_zone_recovers_a_known_rig(tmp_path):
     assert c == pytest.approx(-6.0, abs=0.05) and k == pytest.approx(0.3, abs=0.005)
     with pytest.raises(ValueError, match=r"sb1_db: -80 dB is outside"):
         rig.identify_load_zone(s, ir, or3, -80.0, truth["ratio_3_6_db"], 0.5, 0.26)
+    # a 3:00 line louder than the load zone can make even with a direction-blind sensor
+    with pytest.raises(ValueError, match=r"ratio_db: 3 dB is above what the load zone gives"):
+        rig.identify_load_zone(s, ir, or3, truth["sb1_db"], 3.0, 0.5, 0.26)
 
 
 def test_sensor_gain_scales_a_3_oclock_record_by_the_cross_axis_gain(tmp_path):

@@ -1077,7 +1077,13 @@ def identify_load_zone(settings: RigSettings, inner: RigCondition, outer_3: RigC
         raise ValueError(f"sb1_db: {sb1_db:g} dB is outside what clearances {lo:g}..{hi:g} um "
                          f"give at {settings.load_kN:g} kN")
     c = float(optimize.brentq(miss, lo, hi, xtol=0.01))
-    return c, kappa_for(c)
+    k = kappa_for(c)
+    got = directional_modulation(with_(c, k), inner, outer_3, b_inner, b_outer)["ratio_3_6_db"]
+    if abs(got - ratio_db) > 0.05:
+        raise ValueError(f"ratio_db: {ratio_db:g} dB is above what the load zone gives at "
+                         f"{c:.2f} um ({got:.1f} dB with a sensor blind to direction); allowed: "
+                         "a ratio a cross-axis gain <= 1 reaches")
+    return c, k
 
 
 #: The rig's load-zone identification reads the inner-race fr sidebands of the 0.007 in
