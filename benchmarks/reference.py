@@ -48,7 +48,7 @@ import numpy as np
 import pandas as pd
 
 from bearing_envelope.physics.fidelity import fidelity_from
-from bearing_envelope.study.accuracy import quantity_class
+from bearing_envelope.study.accuracy import quantity_class, stored_error_model
 
 from . import accuracy as acc  # tables, metrics, the Richardson step
 
@@ -458,12 +458,7 @@ def cmd_report(args) -> None:
 def stored_model() -> pd.DataFrame:
     """The error model the package ships (``data/discretisation_error.csv``, its JSON
     provenance line skipped): what a held-out-only run judges."""
-    from importlib import resources
-    from io import StringIO
-
-    text = resources.files("bearing_envelope").joinpath("data/discretisation_error.csv")
-    _, rest = text.read_text().split("\n", 1)
-    return pd.read_csv(StringIO(rest), keep_default_na=False, na_values=["nan", "NaN"])
+    return stored_error_model()[1]
 
 
 def uncert_table(e: pd.DataFrame) -> str:

@@ -205,13 +205,6 @@ def test_removed_force_exponent_of_a_power_law(tmp_path):
     assert b == pytest.approx(0.4, rel=1e-9)
 
 
-def test_clearance_for_an_impossible_ratio_is_refused(tmp_path):
-    a = _write_record(tmp_path / "a.npz", np.zeros(12_000))
-    cond = rig.record_conditions([a], _settings())[0]
-    with pytest.raises(ValueError, match="ratio_db: 20 dB is outside"):
-        rig.clearance_for_ratio(cond, _settings(), 20.0, 0.4)
-
-
 def test_load_trend_rule():
     rows = []
     for hp in range(4):

@@ -42,6 +42,9 @@ def register(subparsers) -> None:
                    help="stop after the contact histories")
     p.add_argument("--score-only", action="store_true",
                    help="simulate nothing: score the records whose contact history exists")
+    p.add_argument("--identify", action="store_true",
+                   help="after scoring: identify the clearance and the sensor's cross-axis "
+                        "gain from the run (load_zone.json)")
     p.set_defaults(func=run)
 
 
@@ -62,7 +65,7 @@ def run(args) -> int:
     ----------
     args : argparse.Namespace
         Parsed arguments: ``records``, ``config``, ``output``, ``gain_reference``,
-        ``simulate_only``, ``score_only`` (see :func:`register`).
+        ``simulate_only``, ``score_only``, ``identify`` (see :func:`register`).
 
     Returns
     -------
@@ -87,5 +90,14 @@ def run(args) -> int:
         contact = rig.simulate_excitations(conds, settings, out / "contact")
     if args.simulate_only:
         return 0
-    rig.run_scorecard(conds, contact, out, args.gain_reference)
+    rig.run_scorecard(conds, contact, out, args.gain_reference, settings=settings)
+    if args.identify:
+        import json
+
+        fit = rig.identify_from_run(out, conds, settings)
+        (out / "load_zone.json").write_text(json.dumps(fit, indent=1), encoding="utf-8")
+        print(f"rig: at {fit['load_kN']:g} kN: clearance {fit['clearance_um']:.2f} um, sensor "
+              f"cross-axis gain {fit['sensor_cross_axis']:.3f} (measured fr sideband "
+              f"{fit['measured']['sb1_db']:.1f} dB, 3:00/6:00 {fit['measured']['ratio_3_6_db']:.1f}"
+              " dB)")
     return 0

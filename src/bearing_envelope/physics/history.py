@@ -75,6 +75,7 @@ from .solves import SolveStats
 from .table import PressureTable, build_table, unloaded_table
 
 __all__ = ["History", "simulate", "synthesize", "synthesize_numpy", "kinematics", "cage_angle",
+           "defect_angle",
            "evaluate_signals", "synthesize_case", "CONTACT_SIGNALS", "STATE_SIGNALS",
            "SIGNAL_UNITS"]
 
@@ -148,6 +149,36 @@ def cage_angle(scene: Scene, t: np.ndarray, *, t_end: float | None = None) -> np
     edges = np.concatenate([[0.0], np.cumsum(rate * period)])   # angle at k * period
     k = np.clip((t / period).astype(np.int64), 0, n - 1)
     return edges[k] + rate[k] * (t - k * period)
+
+
+def defect_angle(scene: Scene, t: np.ndarray, *, t_end: float | None = None) -> np.ndarray:
+    """Angle (rad, from the load direction) of the contact where the defect is met, at ``t``.
+
+    The direction of the force the defect removes from the contact: the inner-race defect's
+    own angle (it turns with the shaft), the outer-race defect's fixed position, and for a
+    rolling element its centre's angle (the cage angle: it meets both races on that radius).
+
+    Parameters
+    ----------
+    scene : Scene
+        The case's scene.
+    t : ndarray
+        Times, s.
+    t_end : float, optional
+        End of the whole record, s, when ``t`` is one block of it (the slip process).
+
+    Returns
+    -------
+    ndarray
+        Angle, rad, shape of ``t`` (not wrapped).
+    """
+    loc = scene.defect.location
+    if loc == "inner_race":
+        theta = kinematics(scene, np.atleast_1d(t), t_end=t_end)["theta_shaft"]
+        return theta.reshape(np.shape(t))
+    if loc == "outer_race":
+        return np.full(np.shape(t), math.radians(scene.defect.position_deg))
+    return cage_angle(scene, np.asarray(t, dtype=float), t_end=t_end)
 
 
 def _law_params(ld: LoadDistribution):

@@ -64,6 +64,7 @@ __all__ = [
     "apply_structure",
     "synthesize_acceleration",
     "measure_snr_db",
+    "direction_gain",
 ]
 
 #: Excitation kinds and the case signals they are taken from (first one present wins).
@@ -639,6 +640,37 @@ def apply_structure(excitation: np.ndarray, fs: float,
 # --------------------------------------------------------------------------------------------
 # synthesis
 # --------------------------------------------------------------------------------------------
+def direction_gain(angle_rad, sensor_rad: float, cross_axis: float) -> np.ndarray:
+    """Gain of a single-axis accelerometer for a radial force acting at ``angle_rad``.
+
+    The sensor reads the force's component along its axis (``cos`` of the angle between the
+    force and the axis) through the structure's modes, and the component across it through the
+    structure's cross-coupling at ``cross_axis`` times that gain; the two ring different mode
+    shapes, so they add in power: ``sqrt(cos^2 d + cross_axis^2 sin^2 d)``, ``d = angle -
+    sensor``. ``cross_axis = 1``: a sensor blind to direction (gain 1 everywhere); ``0``: the
+    pure projection (a force across the axis is not seen).
+
+    Parameters
+    ----------
+    angle_rad : array_like
+        Direction of the force (rad), any convention shared with ``sensor_rad``.
+    sensor_rad : float
+        Direction of the sensor's axis (rad).
+    cross_axis : float
+        Cross-axis gain ratio, in [0, 1].
+
+    Returns
+    -------
+    ndarray
+        Gain in [cross_axis, 1], shape of ``angle_rad``.
+    """
+    k = check_number(cross_axis, "cross_axis")
+    if not 0.0 <= k <= 1.0:
+        raise ValueError(f"cross_axis: got {k!r}; allowed: 0 to 1")
+    d = np.asarray(angle_rad, dtype=float) - float(sensor_rad)
+    return np.sqrt(np.cos(d) ** 2 + k ** 2 * np.sin(d) ** 2)
+
+
 def measure_snr_db(defect_part: np.ndarray, noise: np.ndarray) -> float:
     """``10 log10(var(defect_part) / var(noise))`` (dB).
 

@@ -62,6 +62,7 @@ pd = lazy_module("pandas")  # imported on first use (docs/architecture.md, lazy.
 
 __all__ = ["ErrorModel", "error_model", "case_error_model", "attach_errors", "absolute_error", "measured_points",
            "measured_far_field", "quantity_class", "rows_at_load", "lookup_rel_error",
+           "stored_error_model",
            "scene_differences", "ERROR_COLUMNS", "LOAD_RULES"]
 
 #: Columns :func:`attach_errors` adds to a tidy table.
@@ -99,7 +100,16 @@ def quantity_class(quantity: str, sideband: int = 0) -> str:
 
 
 @lru_cache(maxsize=1)
-def _load() -> tuple[dict[str, Any], pd.DataFrame]:
+def stored_error_model() -> tuple[dict[str, Any], pd.DataFrame]:
+    """The discretisation-error model the package ships (``data/discretisation_error.csv``).
+
+    Returns
+    -------
+    header : dict
+        The file's JSON provenance line (source, date, reference, far_field, ...).
+    table : pandas.DataFrame
+        One row per measured point (``load_kN`` NaN for a model pooled over loads).
+    """
     text = resources.files("bearing_envelope").joinpath("data/discretisation_error.csv").read_text()
     first, _, rest = text.partition("\n")
     if not first.startswith("# "):
@@ -120,7 +130,7 @@ def measured_far_field() -> str:
     str
         ``"responds"`` or ``"frozen"`` (:attr:`Fidelity.far_field`'s values).
     """
-    return str(_load()[0].get("far_field", "frozen"))
+    return str(stored_error_model()[0].get("far_field", "frozen"))
 
 
 def rows_at_load(rows: pd.DataFrame, load_kN: float | None) -> tuple[pd.DataFrame, str]:
@@ -210,7 +220,7 @@ def measured_points() -> dict[str, Fidelity]:
         Each point of the model file's header, built with :func:`fidelity_from` and named by
         its key.
     """
-    header, _ = _load()
+    header, _ = stored_error_model()
     return {name: fidelity_from({**{k: v for k, v in spec.items() if k != "name"},
                                  "name": name})
             for name, spec in header["fidelities"].items()}
@@ -328,7 +338,7 @@ def error_model(fidelity: Fidelity, depth_um: float,
     if load_rule not in LOAD_RULES:
         raise ValueError(f"load_rule must be one of {LOAD_RULES}, got {load_rule!r}")
     fid = fidelity
-    header, table = _load()
+    header, table = stored_error_model()
     kind = "healthy" if float(depth_um) <= 0 else "defect"
     if scene is not None:
         diff = scene_differences(scene, depth_um)

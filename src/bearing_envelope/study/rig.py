@@ -37,10 +37,10 @@ from scipy import signal as sps
 
 from ..diagnosis.transfer_path import WELCH_SEGMENT, background_noise, identify_path
 from ..io.atomic import atomic_path
-from ..physics.history import simulate, synthesize_case
+from ..physics.history import defect_angle, simulate, synthesize_case
 from ..physics.kinematics import fault_frequencies
 from ..physics.scene import Scene
-from ..physics.transfer import Mode, apply_structure, excitation_from_history
+from ..physics.transfer import Mode, apply_structure, direction_gain, excitation_from_history
 from .settings import read_yaml
 
 __all__ = ["RigCondition", "RigSettings", "record_conditions", "condition_scene",
@@ -116,6 +116,11 @@ class RigSettings:
         Pit depth per diameter (mils as a string key), um.
     ball_spin_axis : str
         ``defect.spin_axis`` of the ball records (``fixed`` | ``wandering``).
+    sensor_deg : float
+        Direction of the accelerometer's axis from the load direction, deg (CWRU: 12:00, 180).
+    sensor_cross_axis : float
+        Gain of a force across the sensor's axis relative to one along it, in [0, 1]
+        (:func:`~bearing_envelope.physics.transfer.direction_gain`; 1: blind to direction).
     """
 
     scene: dict
@@ -123,6 +128,8 @@ class RigSettings:
     fidelity: str
     depth_um: dict
     ball_spin_axis: str = "fixed"
+    sensor_deg: float = 180.0
+    sensor_cross_axis: float = 1.0
 
 
 def read_rig_config(path: str | os.PathLike) -> RigSettings:
@@ -148,8 +155,22 @@ def read_rig_config(path: str | os.PathLike) -> RigSettings:
     depth = {str(k): float(v) for k, v in (rig.get("depth_um") or {}).items()}
     if not depth:
         raise ValueError(f"{path}: rig.depth_um: missing; allowed: a mapping mils -> um")
+    sensor = _number_in(path, rig, "sensor_deg", 180.0, 0.0, 360.0)
+    cross = _number_in(path, rig, "sensor_cross_axis", 1.0, 0.0, 1.0)
     return RigSettings(raw["scene"], load, str(rig.get("fidelity", "standard")), depth,
-                       str(rig.get("ball_spin_axis", "fixed")))
+                       str(rig.get("ball_spin_axis", "fixed")), sensor, cross)
+
+
+def _number_in(path, rig: dict, key: str, default: float, lo: float, hi: float) -> float:
+    """``rig.<key>`` as a float in ``[lo, hi]`` (its default when absent), else one line."""
+    v = rig.get(key, default)
+    try:
+        x = float(v) if not isinstance(v, (bool, str)) else math.nan
+    except (TypeError, ValueError):
+        x = math.nan
+    if not (math.isfinite(x) and lo <= x <= hi):
+        raise ValueError(f"{path}: rig.{key}: got {v!r}; allowed: a number from {lo:g} to {hi:g}")
+    return x
 
 
 def _meta(path: str) -> dict:
@@ -316,13 +337,39 @@ def path_modes(path, reference_hz: float | None = None) -> list:
     return [Mode(m.f_n_hz, m.zeta, m.gain / anchor.gain) for m in modes]
 
 
-def _unit_response(cond: RigCondition, contact: dict, path,
-                   reference_hz: float | None = None) -> np.ndarray:
+def _unit_response(cond: RigCondition, contact: dict, path, reference_hz: float | None = None,
+                   settings: RigSettings | None = None) -> np.ndarray:
     """The modes' response (the anchor mode's gain 1 per N at resonance: :func:`path_modes`)
     to the force the defect removes from the contact (the blocked-force deficit; the roller
-    load's own sweep through the load zone is a rotating load, not a force on the housing)."""
+    load's own sweep through the load zone is a rotating load, not a force on the housing),
+    seen by the rig's single-axis sensor (``settings``: :func:`sensor_gain`)."""
     e = excitation_from_history(-contact["removed_force"][:cond.n_samples])
+    if settings is not None:
+        e = e * sensor_gain(cond, settings, np.asarray(contact["time"][:cond.n_samples]))
     return apply_structure(e, cond.fs_hz, path_modes(path, reference_hz))
+
+
+def sensor_gain(cond: RigCondition, settings: RigSettings, t: np.ndarray) -> np.ndarray:
+    """The rig sensor's gain for the force the defect removes, at times ``t``: the force acts
+    along the contact's radius where the defect is met (:func:`defect_angle`), the sensor reads
+    it through :func:`direction_gain` (``settings.sensor_deg``, ``sensor_cross_axis``).
+
+    Parameters
+    ----------
+    cond : RigCondition
+    settings : RigSettings
+    t : ndarray
+        Times of the record, s.
+
+    Returns
+    -------
+    ndarray
+        Gain in [sensor_cross_axis, 1], shape of ``t``.
+    """
+    if settings.sensor_cross_axis >= 1.0:
+        return np.ones(np.shape(t))
+    theta = defect_angle(condition_scene(cond, settings), t)
+    return direction_gain(theta, math.radians(settings.sensor_deg), settings.sensor_cross_axis)
 
 
 def record_paths(conditions, *, log=print) -> dict:
@@ -376,7 +423,8 @@ def _rates(fr: float) -> dict:
     return {"bpfo": ff.bpfo, "bpfi": ff.bpfi, "bsf": ff.bsf, "bsf2": 2 * ff.bsf}
 
 
-def rig_gain(conditions, paths: dict, contact_paths: dict, reference: str) -> tuple:
+def rig_gain(conditions, paths: dict, contact_paths: dict, reference: str,
+             settings: RigSettings | None = None) -> tuple:
     """The rig's one gain (acceleration per N at resonance): measured event amplitude over the
     simulated one at unit gain, on the reference records (names containing ``reference``).
 
@@ -392,7 +440,7 @@ def rig_gain(conditions, paths: dict, contact_paths: dict, reference: str) -> tu
         if reference not in c.name or status != "identified":
             continue
         with np.load(contact_paths[c.name]) as z:
-            y = _unit_response(c, dict(z), p)
+            y = _unit_response(c, dict(z), p, settings=settings)
         tiny = 1e-3 * np.std(y) * np.random.default_rng(1).standard_normal(y.size)
         own = {p.event_name: _rates(c.shaft_hz)[p.event_name]} if p.event_name in _rates(1.0) \
             else {p.event_name: p.event_hz}
@@ -406,18 +454,21 @@ def rig_gain(conditions, paths: dict, contact_paths: dict, reference: str) -> tu
 
 
 def write_rig_record(cond: RigCondition, contact_path: str, path, gain: float, out_dir,
-                     *, seed: int = 0, reference_hz: float | None = None) -> str:
+                     *, seed: int = 0, reference_hz: float | None = None,
+                     settings: RigSettings | None = None) -> str:
     """Simulated record of one condition: the contact force through the record's modes, the
     anchor mode (:func:`path_modes`) at the rig's gain, plus its background; written like the
     measured record (x, fs, meta_json)."""
     with np.load(contact_path) as z:
-        y = gain * _unit_response(cond, dict(z), path, reference_hz)
+        y = gain * _unit_response(cond, dict(z), path, reference_hz, settings)
     x = y + background_noise(path, y.size, seed=seed)
     _, meta = _read_x(cond.path)
     meta.update(simulated=True, source_record=cond.name, transfer_path={
         "f_n_hz": path.f_n_hz, "zeta": path.zeta, "gain_per_N": gain,
         "modes": [dataclasses.asdict(m) for m in path_modes(path, reference_hz)],
         "reference_mode_hz": reference_hz,
+        "sensor_deg": None if settings is None else settings.sensor_deg,
+        "sensor_cross_axis": None if settings is None else settings.sensor_cross_axis,
         "background": path.background_source, "flags": path.flags})
     out = Path(out_dir) / f"{cond.name}_sim.npz"
     with atomic_path(out, ".npz") as tmp:
@@ -570,6 +621,57 @@ def _line_amplitude(lines, name: str, band: str):
     return float(ln.amplitude.iloc[0]) if len(ln) else None
 
 
+def _band_ratios(lines, name: str, band: str, family: str) -> dict:
+    """2x/1x, 3x/1x and (not BPFO) the +-1 sidebands over the line, dB, in one band."""
+    g = lines[lines.file.str.contains(f"/{name}.npz", regex=False) & (lines.band == band)
+              & (lines.base == family)]
+    a = {(int(o), int(sb)): float(v) for o, sb, v in zip(g.order, g.sideband, g.amplitude)}
+    h1 = a.get((1, 0), 0.0)
+    if h1 <= 0:
+        return {}
+    out = {k: 20 * math.log10(max(a.get((o, 0), 0.0), 1e-300) / h1)
+           for k, o in (("h2_db", 2), ("h3_db", 3))}
+    if family != "bpfo" and (1, -1) in a and (1, 1) in a:
+        out["sideband_db"] = 20 * math.log10(max(0.5 * (a[(1, -1)] + a[(1, 1)]), 1e-300) / h1)
+    return out
+
+
+def features_in_measured_band(card, measured_lines, sim_lines) -> list:
+    """The harmonic and sideband ratios of both records read in the measured record's best band
+    (a second reading, not the rule: the rule reads each record in its own best band, and the
+    simulated record's can differ). Only where that band is one of analyze's fixed bands (a
+    kurtogram band is the record's own).
+
+    Parameters
+    ----------
+    card : pandas.DataFrame
+        :func:`scorecard`.
+    measured_lines, sim_lines : pandas.DataFrame
+        analyze's lines tables of the measured and the simulated records.
+
+    Returns
+    -------
+    list of dict
+        Per record and feature: band, measured and simulated dB, ``within_tol``.
+    """
+    out = []
+    for _, r in card[card.meas_h1.notna()].iterrows():
+        m = measured_lines[measured_lines.file.str.contains(f"/{r.record}.npz", regex=False)
+                           & np.isclose(measured_lines.band_low_hz, r.meas_band_low_hz)
+                           & np.isclose(measured_lines.band_high_hz, r.meas_band_high_hz)]
+        bands = set(m.band) - {"kurtogram"}
+        if not bands:
+            continue
+        band = sorted(bands)[0]
+        fm = _band_ratios(measured_lines, r.record, band, r.family)
+        fs = _band_ratios(sim_lines, f"{r.record}_sim", band, r.family)
+        for k in ("sideband_db", "h2_db", "h3_db"):
+            if k in fm and k in fs:
+                out.append({"record": r.record, "band": band, "feature": k, "meas_db": fm[k],
+                            "sim_db": fs[k], "within_tol": abs(fm[k] - fs[k]) <= TOL_DB})
+    return out
+
+
 def outer_race_ratios_in_band(card, measured_lines, sim_lines, bands=RATIO_BANDS) -> list:
     """BPFO fundamental at 3:00 over 6:00 with both records read in the same band (each of
     ``bands``), measured and simulated, dB: the rule's ratio reads each record in its own
@@ -617,7 +719,8 @@ def _analyze(files, out_prefix: Path):
     return pd.read_csv(table), pd.read_csv(lines)
 
 
-def run_scorecard(conditions, contact: dict, out_dir, gain_reference: str, *, log=print):
+def run_scorecard(conditions, contact: dict, out_dir, gain_reference: str, *, log=print,
+                  settings: RigSettings | None = None):
     """Paths, gain, simulated records, analyze on both sides, the scorecard and its files.
 
     Parameters
@@ -631,6 +734,8 @@ def run_scorecard(conditions, contact: dict, out_dir, gain_reference: str, *, lo
     gain_reference : str
         Records (name contains) the rig's gain is identified on.
     log : callable
+    settings : RigSettings, optional
+        The rig's sensor (:func:`sensor_gain`); None: a sensor blind to direction.
 
     Returns
     -------
@@ -642,11 +747,12 @@ def run_scorecard(conditions, contact: dict, out_dir, gain_reference: str, *, lo
     out_dir = Path(out_dir)
     conditions = [c for c in conditions if c.name in contact]
     paths = record_paths(conditions, log=log)
-    gain = rig_gain(conditions, paths, contact, gain_reference)
+    gain = rig_gain(conditions, paths, contact, gain_reference, settings)
     log(f"rig: gain {gain[0]:.4g} (m/s^2 or g)/N at resonance of the {gain[3]:.0f} Hz mode, "
         f"{gain[1]:.4g}-{gain[2]:.4g} over the {gain_reference} records")
     sim = [write_rig_record(c, contact[c.name], paths[c.name][0], gain[0], out_dir / "sim",
-                            seed=i, reference_hz=gain[3]) for i, c in enumerate(conditions)]
+                            seed=i, reference_hz=gain[3], settings=settings)
+           for i, c in enumerate(conditions)]
     with open(out_dir / "paths.json", "w", encoding="utf-8") as fh:
         json.dump({n: {"status": s, **{k: v for k, v in p.to_dict().items()
                                        if not k.startswith("background_")}}
@@ -661,6 +767,8 @@ def run_scorecard(conditions, contact: dict, out_dir, gain_reference: str, *, lo
     ratios.to_csv(out_dir / "outer_race.csv", index=False)
     pd.DataFrame(outer_race_ratios_in_band(card, ml, sl)).to_csv(
         out_dir / "outer_race_bands.csv", index=False)
+    pd.DataFrame(features_in_measured_band(card, ml, sl)).to_csv(
+        out_dir / "same_band.csv", index=False)
     with open(out_dir / "summary.json", "w", encoding="utf-8") as fh:
         json.dump({"gain": gain, "pass_rates": pass_rates(card)}, fh, indent=1)
     (out_dir / "scorecard.md").write_text(scorecard_markdown(card, ratios, trends),
@@ -855,44 +963,210 @@ def removed_force_exponent(contact_3: str, contact_6: str) -> float:
     return math.log(f2 / f1) / math.log(q2 / q1)
 
 
-def clearance_for_ratio(cond: RigCondition, settings: RigSettings, ratio_db: float,
-                        exponent: float, *, bounds_um=(-30.0, 20.0)) -> float:
-    """The radial clearance (um) whose load at 3:00 over 6:00 gives the measured BPFO level
-    ratio: ``20 log10((Q(90 deg)/Q(0))^b) = ratio_db`` (the path is linear in the removed
-    force, ``F_removed ~ Q^b``: :func:`removed_force_exponent`).
+def event_exponent(contact_path: str, event_hz: float) -> float:
+    """Exponent ``b`` of ``F_removed ~ Q^b`` fitted (log-log, least squares) over the events of
+    one contact history: each event's peak removed force against the roller load it met.
 
     Parameters
     ----------
-    cond : RigCondition
-        A 3:00 record (its shaft rate sets the centrifugal force).
-    settings : RigSettings
-    ratio_db : float
-        Measured BPFO 1x at 3:00 over 6:00, dB.
-    exponent : float
-    bounds_um : (float, float)
+    contact_path : str
+        A ``<record>_contact.npz`` of :func:`simulate_excitations`.
+    event_hz : float
+        The events' rate (BPFI for an inner race), Hz.
 
     Returns
     -------
     float
-        Clearance, um (negative: preload).
+        ``b``; a history whose events do not span two loads raises ``ValueError``.
+    """
+    with np.load(contact_path) as z:
+        f, q, fs = np.asarray(z["removed_force"]), np.asarray(z["roller_load"]), float(z["fs"])
+    # one peak per event (the acquisition's filter rings between them)
+    peaks, _ = sps.find_peaks(f, height=1e-3 * f.max() if f.size and f.max() > 0 else np.inf,
+                              distance=max(1, int(0.6 * fs / event_hz)))
+    ok = peaks[q[peaks] > 0]
+    if ok.size < 3 or np.ptp(np.log(q[ok])) < 1e-3:
+        raise ValueError(f"{contact_path}: {ok.size} events over roller loads "
+                         f"{np.unique(np.round(q[ok], 3))[:3]} N; allowed: events at >= 2 loads")
+    return float(np.polyfit(np.log(q[ok]), np.log(f[ok]), 1)[0])
+
+
+def directional_modulation(settings: RigSettings, inner: RigCondition, outer_3: RigCondition,
+                           b_inner: float, b_outer: float, *, n: int = 720) -> dict:
+    """What the rig's load zone and sensor predict for two record features, dB.
+
+    An inner-race event's amplitude at the defect's angle theta is ``Q(theta)^b_inner g(theta)``
+    (``g``: :func:`sensor_gain`'s direction gain): its Fourier coefficients over a turn are the
+    envelope line's fr sidebands, ``sb_k = |c_k| / c_0`` (events that do not overlap). The
+    outer race's 3:00 over 6:00 line: ``(Q(90 deg)/Q(0))^b_outer g(90 deg)/g(0)``.
+
+    Parameters
+    ----------
+    settings : RigSettings
+    inner, outer_3 : RigCondition
+        An inner-race record and a 3:00 outer-race record (their shaft rates).
+    b_inner, b_outer : float
+        Removed-force exponents (:func:`event_exponent`, :func:`removed_force_exponent`).
+    n : int
+        Angles per turn.
+
+    Returns
+    -------
+    dict
+        ``sb1_db``, ``sb2_db`` (inner race), ``ratio_3_6_db`` (outer race).
+    """
+    from ..physics.loads import scene_load_distribution
+
+    th = np.arange(n) * (2 * math.pi / n)
+    sensor = math.radians(settings.sensor_deg)
+    q = np.maximum(np.asarray(scene_load_distribution(condition_scene(inner, settings))
+                              .load_at(th, "inner"), dtype=float), 0.0)
+    a = q ** b_inner * direction_gain(th, sensor, settings.sensor_cross_axis)
+    if a.sum() <= 0:
+        raise ValueError("rig: the inner race carries no load at any angle")
+    sb = [20 * math.log10(max(abs(np.sum(a * np.exp(1j * k * th))) / a.sum(), 1e-12))
+          for k in (1, 2)]
+    ld = scene_load_distribution(condition_scene(outer_3, settings))
+    q0, q90 = float(ld.load_at(0.0, "outer")), float(ld.load_at(math.pi / 2, "outer"))
+    g = direction_gain(np.array([math.pi / 2, 0.0]), sensor, settings.sensor_cross_axis)
+    r = 20 * (b_outer * math.log10(max(q90 / q0, 1e-12)) + math.log10(max(g[0] / g[1], 1e-12)))
+    return {"sb1_db": sb[0], "sb2_db": sb[1], "ratio_3_6_db": r}
+
+
+def identify_load_zone(settings: RigSettings, inner: RigCondition, outer_3: RigCondition,
+                       sb1_db: float, ratio_db: float, b_inner: float, b_outer: float,
+                       *, bounds_um=(-40.0, 10.0)) -> tuple[float, float]:
+    """The operating clearance and the sensor's cross-axis gain that give the measured inner-race
+    fr sideband (``sb1_db``) and outer-race 3:00/6:00 ratio (``ratio_db``) at the rig's load
+    (:func:`directional_modulation`). For each clearance the cross-axis gain is the one that
+    closes the 3:00 ratio (capped to [0, 1]); the clearance then closes the sideband.
+
+    Parameters
+    ----------
+    settings : RigSettings
+        The rig (its load; clearance and cross-axis gain are replaced).
+    inner, outer_3 : RigCondition
+    sb1_db, ratio_db : float
+        Measured, dB.
+    b_inner, b_outer : float
+    bounds_um : (float, float)
+        Clearances searched, um.
+
+    Returns
+    -------
+    (float, float)
+        Clearance (um, negative: preload) and cross-axis gain.
     """
     from scipy import optimize  # lazy: only this function needs it
 
-    from ..physics.loads import scene_load_distribution
+    def with_(c_um, kappa):
+        m = copy.deepcopy(settings.scene)
+        m.setdefault("bearing", {})["radial_clearance_um"] = c_um
+        return dataclasses.replace(settings, scene=m, sensor_cross_axis=kappa)
 
-    def model_db(c_um):
-        m = copy.deepcopy(settings)
-        m.scene.setdefault("bearing", {})["radial_clearance_um"] = c_um
-        ld = scene_load_distribution(condition_scene(cond, m))
-        q0, q90 = float(ld.load_at(0.0, "outer")), float(ld.load_at(math.pi / 2, "outer"))
-        return 20 * exponent * math.log10(max(q90 / q0, 1e-12))  # unloaded at 3:00: -240 b
+    def kappa_for(c_um):
+        src = directional_modulation(with_(c_um, 1.0), inner, outer_3, b_inner, b_outer)
+        return min(1.0, 10 ** ((ratio_db - src["ratio_3_6_db"]) / 20))
+
+    def miss(c_um):
+        d = directional_modulation(with_(c_um, kappa_for(c_um)), inner, outer_3, b_inner, b_outer)
+        return d["sb1_db"] - sb1_db
 
     lo, hi = bounds_um
-    f_lo, f_hi = model_db(lo) - ratio_db, model_db(hi) - ratio_db
-    if f_lo * f_hi > 0:
-        raise ValueError(f"ratio_db: {ratio_db:g} dB is outside what clearances {lo:g}..{hi:g} "
-                         f"um give ({model_db(hi):.1f}..{model_db(lo):.1f} dB)")
-    return float(optimize.brentq(lambda c: model_db(c) - ratio_db, lo, hi, xtol=0.01))
+    if miss(lo) * miss(hi) > 0:
+        raise ValueError(f"sb1_db: {sb1_db:g} dB is outside what clearances {lo:g}..{hi:g} um "
+                         f"give at {settings.load_kN:g} kN")
+    c = float(optimize.brentq(miss, lo, hi, xtol=0.01))
+    k = kappa_for(c)
+    got = directional_modulation(with_(c, k), inner, outer_3, b_inner, b_outer)["ratio_3_6_db"]
+    if abs(got - ratio_db) > 0.05:
+        raise ValueError(f"ratio_db: {ratio_db:g} dB is above what the load zone gives at "
+                         f"{c:.2f} um ({got:.1f} dB with a sensor blind to direction); allowed: "
+                         "a ratio a cross-axis gain <= 1 reaches")
+    return c, k
+
+
+#: The rig's load-zone identification reads the inner-race fr sidebands of the 0.007 in
+#: records at 12 kHz in every demodulation band analyze reports (the raw envelope aside).
+SIDEBAND_BANDS = ("kurtogram", "fs4_3fs8", "bpfi_3_6", "bpfi_10_13")
+
+
+def measured_sideband_db(measured_lines, names) -> list[float]:
+    """The mean of the +-1 fr sidebands over the BPFI line, dB, of each record in ``names``
+    and each of :data:`SIDEBAND_BANDS` (analyze's lines table of the measured records).
+
+    Parameters
+    ----------
+    measured_lines : pandas.DataFrame
+        ``measured_lines.csv`` of a rig run.
+    names : sequence of str
+        Record names (file names without ``.npz``).
+
+    Returns
+    -------
+    list of float
+        One value per record and band with a line and both sidebands.
+    """
+    out = []
+    for name in names:
+        for band in SIDEBAND_BANDS:
+            g = measured_lines[measured_lines.file.str.endswith(f"/{name}.npz")
+                               & (measured_lines.band == band) & (measured_lines.base == "bpfi")
+                               & (measured_lines.order == 1)]
+            a = dict(zip(g.sideband, g.amplitude))
+            if all(k in a and a[k] > 0 for k in (-1, 0, 1)):
+                out.append(20 * math.log10(0.5 * (a[-1] + a[1]) / a[0]))
+    return out
+
+
+def identify_from_run(run_dir, conditions, settings: RigSettings) -> dict:
+    """The rig's clearance and sensor cross-axis gain from a scored run (:func:`run_scorecard`):
+    the measured inner-race fr sideband (median of :func:`measured_sideband_db` over the 0.007
+    in inner-race records at 12 kHz), the measured 3:00/6:00 BPFO ratio (median of
+    ``outer_race.csv`` at 12 kHz), the removed-force exponents of the run's contact histories
+    (:func:`event_exponent`, :func:`removed_force_exponent`), then
+    :func:`identify_load_zone` at the rig's load.
+
+    Parameters
+    ----------
+    run_dir : path
+        A scored rig run (``measured_lines.csv``, ``outer_race.csv``, ``contact/``).
+    conditions : sequence of RigCondition
+    settings : RigSettings
+
+    Returns
+    -------
+    dict
+        The measured targets, exponents, ``clearance_um`` and ``sensor_cross_axis``, and what
+        the identified rig predicts (:func:`directional_modulation`).
+    """
+    import pandas as pd  # lazy: pandas ~1.8 s
+
+    run = Path(run_dir)
+    by = {c.name: c for c in conditions}
+    ir = [c for c in conditions if c.location == "inner_race" and c.diameter_in == 0.007
+          and c.fs_hz == 12000.0]
+    ratios = pd.read_csv(run / "outer_race.csv")
+    ratios = ratios[ratios.record_3.map(lambda n: n in by and by[n].fs_hz == 12000.0)]
+    if not ir or ratios.empty or ratios.meas_db.isna().all():
+        raise ValueError(f"{run}: needs 0.007 in inner-race and 3:00/6:00 outer-race records "
+                         "at 12 kHz, scored")
+    sb = measured_sideband_db(pd.read_csv(run / "measured_lines.csv"), [c.name for c in ir])
+    r3 = ratios.iloc[0]
+    contact = run / "contact"
+    b_in = float(np.median([event_exponent(str(contact / f"{c.name}_contact.npz"),
+                                           _rates(c.shaft_hz)["bpfi"]) for c in ir]))
+    b_out = removed_force_exponent(str(contact / f"{r3.record_3}_contact.npz"),
+                                   str(contact / f"{r3.record_6}_contact.npz"))
+    target = {"sb1_db": float(np.median(sb)), "ratio_3_6_db": float(ratios.meas_db.median())}
+    c, k = identify_load_zone(settings, ir[0], by[r3.record_3], target["sb1_db"],
+                              target["ratio_3_6_db"], b_in, b_out)
+    m = copy.deepcopy(settings.scene)
+    m.setdefault("bearing", {})["radial_clearance_um"] = c
+    fit = dataclasses.replace(settings, scene=m, sensor_cross_axis=k)
+    return {"load_kN": settings.load_kN, "measured": target, "n_sideband_readings": len(sb),
+            "b_inner": b_in, "b_outer": b_out, "clearance_um": c, "sensor_cross_axis": k,
+            "predicted": directional_modulation(fit, ir[0], by[r3.record_3], b_in, b_out)}
 
 
 def size_summary(rows) -> str:
