@@ -63,3 +63,22 @@ def test_rfft2_irfft2_equal_scipy_fft_to_the_bit(shape, monkeypatch):
     monkeypatch.setattr(halfspace, "POCKETFFT", None)
     np.testing.assert_array_equal(halfspace.rfft2(x), a)
     np.testing.assert_array_equal(halfspace.irfft2(a, shape), back)
+
+
+@pytest.mark.parametrize("shape,dx,dy", [((23, 9), DX, DY), ((1, 5), 1e-6, 3e-6),
+                                          ((40, 18), 5e-7, 4.1e-5), ((7, 31), 2.3e-6, 2.3e-6)])
+def test_kernel_spectrum_equals_the_direct_coefficients_to_the_bit(shape, dx, dy):
+    """The padded kernel's primitives are evaluated on the non-negative offsets and mirrored
+    (F is odd in each argument): the spectrum equals that of Love's coefficients evaluated at
+    every offset of the wrap-around grid, bit for bit."""
+    import scipy.fft as sfft
+
+    nx, ny = shape
+    ix = np.arange(2 * nx)
+    iy = np.arange(2 * ny)
+    ix = np.where(ix <= nx, ix, ix - 2 * nx)
+    iy = np.where(iy <= ny, iy, iy - 2 * ny)
+    k = influence_coefficients(ix[:, None] * dx, iy[None, :] * dy, dx, dy, E_STAR)
+    want = sfft.rfft2(k, workers=1).real / (4 * nx * ny)
+    halfspace.clear_kernel_cache()
+    np.testing.assert_array_equal(halfspace.kernel_spectrum(shape, dx, dy, E_STAR), want)

@@ -221,12 +221,41 @@ def influence_coefficients_linear(x, y, dx: float, dy: float, e_star: float) -> 
 def _padded_kernel(shape: tuple[int, int], dx: float, dy: float, e_star: float, element: str = "uniform") -> np.ndarray:
     """Influence coefficients on the ``(2nx, 2ny)`` wrap-around grid used by DC-FFT."""
     nx, ny = shape
+    if element == "uniform":
+        return _padded_uniform_kernel(nx, ny, dx, dy, e_star)
     ix = np.arange(2 * nx)
     iy = np.arange(2 * ny)
     ix = np.where(ix <= nx, ix, ix - 2 * nx)  # offsets 0..nx, -(nx-1)..-1
     iy = np.where(iy <= ny, iy, iy - 2 * ny)
-    fn = influence_coefficients if element == "uniform" else influence_coefficients_linear
-    return fn(ix[:, None] * dx, iy[None, :] * dy, dx, dy, e_star)
+    return influence_coefficients_linear(ix[:, None] * dx, iy[None, :] * dy, dx, dy, e_star)
+
+
+def _padded_uniform_kernel(nx: int, ny: int, dx: float, dy: float, e_star: float) -> np.ndarray:
+    """:func:`influence_coefficients` on the ``(2nx, 2ny)`` wrap-around grid (offsets ``0..nx``,
+    ``-(nx-1)..-1`` cells), its primitives evaluated on the non-negative offsets only.
+
+    ``F`` is odd in each argument to the bit (``asinh`` is, and ``fl(-u + a) = -fl(u - a)``), so
+    ``F`` at a negative offset's corner is minus ``F`` at the mirrored corner of the quadrant:
+    a quarter of the ``asinh`` calls, combined in :func:`influence_coefficients`' order, the
+    same numbers (tests/contact/test_halfspace_fft.py)."""
+    a, b = 0.5 * dx, 0.5 * dy
+    u = np.arange(nx + 1) * dx
+    v = np.arange(ny + 1) * dy
+    xs = {1: (u + a)[:, None], -1: (u - a)[:, None]}
+    ys = {1: (v + b)[None, :], -1: (v - b)[None, :]}
+    g = {(sx, sy): _primitive(xs[sx], ys[sy]) for sx in (1, -1) for sy in (1, -1)}
+
+    def corner(sx, sy):
+        """``F(x + sx a, y + sy b)`` on the wrap-around grid."""
+        out = np.empty((2 * nx, 2 * ny))
+        out[:nx + 1, :ny + 1] = g[sx, sy]
+        out[nx + 1:, :ny + 1] = -g[-sx, sy][nx - 1:0:-1]
+        out[:nx + 1, ny + 1:] = -g[sx, -sy][:, ny - 1:0:-1]
+        out[nx + 1:, ny + 1:] = g[-sx, -sy][nx - 1:0:-1, ny - 1:0:-1]
+        return out
+
+    f = corner(1, 1) - corner(1, -1) - corner(-1, 1) + corner(-1, -1)
+    return f / (math.pi * e_star)
 
 
 _PYFFTW_MEASURE_CELLS = 512 * 256
