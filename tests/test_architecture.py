@@ -40,6 +40,8 @@ MAX_BODY_LINES = 80
 LAYERS = {
     # below every layer: scalar argument checks, importing nothing of the package
     "checks": -1,
+    # below every layer: modules imported on first use, importing nothing of the package
+    "lazy": -1,
     "contact": 0,
     "physics": 1,
     "signal": 2,

@@ -142,3 +142,18 @@ def test_ball_curvatures_are_the_hand_values():
     assert b.rx_for("outer") == pytest.approx(1e-3 / (1 / 3.97 - 1 / 23.49), rel=1e-12)
     assert b.ry_for("inner") == pytest.approx(1e-3 / (1 / 3.97 - 1 / 4.1288), rel=1e-12)
     assert math.isclose(b.ry_for("outer"), b.ry_for("inner"))
+
+
+def test_package_yaml_files_read_alike_by_libyaml_and_python_loaders():
+    """The catalogue and the config schema are read with libyaml's CSafeLoader (10x faster, 0.05
+    CPU s of a simulate job) where PyYAML has it: the same documents as yaml.SafeLoader's."""
+    import yaml
+
+    from bearing_envelope.physics.catalogue import CATALOGUE_PATH
+    from bearing_envelope.study.schema import SCHEMA_PATH
+
+    for path in (CATALOGUE_PATH, SCHEMA_PATH):
+        with open(path, encoding="utf-8") as fh:
+            text = fh.read()
+        want = yaml.load(text, Loader=yaml.SafeLoader)
+        assert yaml.load(text, Loader=getattr(yaml, "CSafeLoader", yaml.SafeLoader)) == want

@@ -212,6 +212,46 @@ def test_antialias_filter_stop_band_and_pass_band(n):
     assert 20 * np.log10(mag[f >= 0.50].max()) <= -80.0          # >= 80 dB from Nyquist up
 
 
+@pytest.mark.parametrize("n", [1, 2, 4, 7, 17, 33])
+def test_antialias_filter_equals_scipy_firwin_to_the_bit(n):
+    """The project's Kaiser design against scipy.signal's (kaiserord, kaiser_beta, firwin): the
+    same taps, bit for bit, so the histories do not change with the implementation."""
+    from scipy.signal import firwin, kaiser_beta as sp_beta, kaiserord
+
+    from bearing_envelope.physics.acquisition import kaiser_beta
+
+    atten = 85.0
+    numtaps, beta = kaiserord(atten, 0.1 / (0.5 * n))
+    assert kaiser_beta(atten) == beta == sp_beta(atten)
+    assert [kaiser_beta(a) for a in (10.0, 30.0, 60.0)] == [sp_beta(a) for a in (10.0, 30.0, 60.0)]
+    k = int(np.ceil((numtaps - 1) / (2.0 * n)))
+    h = firwin(2 * k * n + 1, 0.45, fs=float(n), window=("kaiser", beta))
+    np.testing.assert_array_equal(antialias_filter(n), h / h.sum())
+
+
+@pytest.mark.parametrize("n", [1, 4, 9])
+def test_decimate_centred_equals_upfirdn_and_direct_sum(n):
+    """Every n-th output of the centred FIR (numba loop and numpy passes): bit for bit
+    scipy.signal.upfirdn's, and the direct sum of h[j] x[.] written out per output (to
+    rounding)."""
+    from scipy.signal import upfirdn
+
+    from bearing_envelope.physics.acquisition import decimate_centred
+
+    rng = np.random.default_rng(7)
+    h = antialias_filter(n)
+    c = (h.size - 1) // 2
+    count = 37
+    x = rng.normal(size=(count - 1) * n + 2 * c + 1) * 1e9
+    y = decimate_centred(h, x, n, count)
+    np.testing.assert_array_equal(y, upfirdn(h, x, 1, n)[2 * c // n: 2 * c // n + count])
+    np.testing.assert_array_equal(decimate_centred(h, x, n, count, use_numba=False), y)
+    direct = [sum(h[j] * x[c + i * n + c - j] for j in range(h.size)) for i in range(count)]
+    np.testing.assert_allclose(y, direct, rtol=0, atol=1e-12 * np.abs(x).max())
+    with pytest.raises(ValueError, match="decimate_centred: x has"):
+        decimate_centred(h, x[:-1], n, count)
+
+
 def _event_train(shift):
     """A defect-like event per BPFI period: a broad bump (the contact, ~140 us) with two narrow
     rim spikes (~1 us, far below a sample), load-zone modulated at fr; shifted by ``shift`` s."""

@@ -7,13 +7,15 @@
 - :func:`composite_modulus`: ``E*`` from both bodies;
 - :mod:`hertz`: closed-form Hertz solutions (test oracles, grid sizing);
 - :data:`NUMPY_KERNELS`: the numpy reference of the solver's element-wise passes
-  (``solve_contact(..., kernels=NUMPY_KERNELS)``; the default is their numba version).
+  (``solve_contact(..., kernels=NUMPY_KERNELS)``; the default is their numba version,
+  :data:`DEFAULT_KERNELS`, the numpy one when numba is unavailable).
 
 Grid convention: ``[i, j]`` with axis 0 = x = rolling (``dx``), axis 1 = y = axial (``dy``);
 SI units. See ``docs/contact.md``.
 """
 
 from . import hertz
+from ._kernels import KERNELS as DEFAULT_KERNELS
 from ._kernels import NUMPY as NUMPY_KERNELS
 from .halfspace import (
     ElasticHalfSpace,
@@ -45,4 +47,5 @@ __all__ = [
     "kernel_spectrum",
     "hertz",
     "NUMPY_KERNELS",
+    "DEFAULT_KERNELS",
 ]

@@ -120,11 +120,29 @@ def np_rescale(pnew, p, s):
     return float(np.abs(pnew - p).sum())
 
 
+def np_free_block(h, p, H, i0, j0, out):
+    """The preconditioner's input (2-D arrays): ``out = h`` on the free set ``0 < p < H`` of the
+    block of ``out``'s shape at ``(i0, j0)``, 0 elsewhere in it."""
+    mx, my = out.shape
+    pb = p[i0:i0 + mx, j0:j0 + my]
+    out[...] = np.where((pb > 0) & (pb < H), h[i0:i0 + mx, j0:j0 + my], 0.0)
+
+
+def np_place_block(z, zb, p, H, i0, j0, prev):
+    """The preconditioner's output (2-D arrays): zero the block ``prev = (i0, j0, mx, my)`` of
+    ``z`` (the last one written; ``mx = 0``: none), then ``z = zb`` on the free set
+    ``0 < p < H`` of the block of ``zb``'s shape at ``(i0, j0)``, 0 elsewhere in it."""
+    z[prev[0]:prev[0] + prev[2], prev[1]:prev[1] + prev[3]] = 0.0
+    mx, my = zb.shape
+    pb = p[i0:i0 + mx, j0:j0 + my]
+    z[i0:i0 + mx, j0:j0 + my] = np.where((pb > 0) & (pb < H), zb, 0.0)
+
+
 HAVE_NUMBA = False
 NUMPY = dict(
     gap_stats=np_gap_stats, gap_eval=np_gap_eval, dir_stats=np_dir_stats, dir_update=np_dir_update,
     step_dots=np_step_dots, update=np_update, rescale=np_rescale, axpy_scale=np_axpy_scale,
-    release=np_release,
+    release=np_release, free_block=np_free_block, place_block=np_place_block,
 )
 KERNELS = NUMPY
 
@@ -297,10 +315,29 @@ if os.environ.get("BEARING_ENVELOPE_NO_NUMBA", "") not in ("1", "true", "yes"):
                 d += abs(v - p[i])
             return d
 
+        @_jit
+        def nb_free_block(h, p, H, i0, j0, out):  # pragma: no cover - compiled
+            mx, my = out.shape
+            for i in range(mx):
+                for j in range(my):
+                    v = p[i0 + i, j0 + j]
+                    out[i, j] = h[i0 + i, j0 + j] if (v > 0.0 and v < H) else 0.0
+
+        @_jit
+        def nb_place_block(z, zb, p, H, i0, j0, prev):  # pragma: no cover - compiled
+            for i in range(prev[0], prev[0] + prev[2]):
+                for j in range(prev[1], prev[1] + prev[3]):
+                    z[i, j] = 0.0
+            mx, my = zb.shape
+            for i in range(mx):
+                for j in range(my):
+                    v = p[i0 + i, j0 + j]
+                    z[i0 + i, j0 + j] = zb[i, j] if (v > 0.0 and v < H) else 0.0
+
         HAVE_NUMBA = True
         NUMBA = dict(
             gap_stats=nb_gap_stats, gap_eval=nb_gap_eval, dir_stats=nb_dir_stats, dir_update=nb_dir_update,
             step_dots=nb_step_dots, update=nb_update, rescale=nb_rescale, axpy_scale=nb_axpy_scale,
-            release=nb_release,
+            release=nb_release, free_block=nb_free_block, place_block=nb_place_block,
         )
         KERNELS = NUMBA

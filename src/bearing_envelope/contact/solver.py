@@ -12,7 +12,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from . import _kernels
-from .halfspace import ElasticHalfSpace, get_halfspace
+from .halfspace import ElasticHalfSpace, get_halfspace, irfft2, rfft2
 
 __all__ = [
     "ContactSolution",
@@ -566,7 +566,7 @@ class _PolonskyKeer:
         if n_c == 0:  # every contact cell plastic: only entering / leaving cells can move
             return self.h, 1.0, 0.0, 0.0
         if self.pre is not None:
-            z, diag = self.pre.apply(self.h, self.p, bbox, self.H)
+            z, diag = self.pre.apply(self.h, self.p, bbox, self.H, self.kn)
             sz, n_c, shz, sh = self.kn["dir_stats"](z.ravel(), self.hf, self.pf, self.H)
             zbar = sz / n_c if not self.problem.disp_control else 0.0
             return z, diag, zbar, shz - zbar * sh
@@ -760,7 +760,7 @@ class _FourierPreconditioner:
         self.workers = workers
         self._symbols: dict = {}
         self._z = np.zeros(shape)
-        self._prev = None
+        self._prev = (0, 0, 0, 0)  # the block of _z written last (i0, j0, mx, my)
 
     def _symbol(self, mx: int, my: int):
         key = (mx, my)
@@ -780,11 +780,14 @@ class _FourierPreconditioner:
             self._symbols[key] = s
         return s
 
-    def apply(self, h: np.ndarray, p: np.ndarray, bbox, H: float = math.inf):
+    def apply(self, h: np.ndarray, p: np.ndarray, bbox, H: float = math.inf, kernels=None):
         """Return ``(z, d)``: ``z = P M^-1 P h`` (zero off the free set ``0 < p < H``; a reused
         buffer) and ``d``, the diagonal of ``M^-1``. ``bbox = (i0, i1, j0, j1)`` bounds the free
-        set (inclusive)."""
+        set (inclusive). ``kernels``: the element-wise passes (:mod:`._kernels`, default the
+        numba ones) that gather the free set's ``h`` and place ``z``."""
         import scipy.fft as sfft
+
+        kn = _kernels.KERNELS if kernels is None else kernels
 
         nx, ny = self.shape
         m = self.margin
@@ -795,25 +798,22 @@ class _FourierPreconditioner:
         my = min(sfft.next_fast_len(j1 - j0, real=True), ny)
         i0 = min(i0, nx - mx)
         j0 = min(j0, ny - my)
-        sl = (slice(i0, i0 + mx), slice(j0, j0 + my))
-        pb = p[sl]
-        icb = (pb > 0) & (pb < H)
-        hb = np.where(icb, h[sl], 0.0)
+        hb = np.empty((mx, my))
+        kn["free_block"](h, p, H, i0, j0, hb)
         sym, diag = self._symbol(mx, my)
         w = self.workers
-        zb = sfft.irfft2(sfft.rfft2(hb, workers=w) * sym, s=(mx, my), norm="forward", workers=w)
-        z = self._z
-        if self._prev is not None:
-            z[self._prev] = 0.0
-        z[sl] = np.where(icb, zb, 0.0)
-        self._prev = sl
-        return z, diag
+        spec = rfft2(hb, workers=w)
+        spec *= sym
+        zb = irfft2(spec, (mx, my), workers=w)
+        kn["place_block"](self._z, zb, p, H, i0, j0, self._prev)
+        self._prev = (i0, j0, mx, my)
+        return self._z, diag
 
     def reset(self) -> None:
         """Zero the work array (start of a solve)."""
-        if self._prev is not None:
-            self._z[self._prev] = 0.0
-            self._prev = None
+        i0, j0, mx, my = self._prev
+        self._z[i0:i0 + mx, j0:j0 + my] = 0.0
+        self._prev = (0, 0, 0, 0)
 
 
 _PRE_CACHE: dict = {}

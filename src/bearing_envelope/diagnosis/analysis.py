@@ -8,7 +8,6 @@ from dataclasses import dataclass
 from collections.abc import Mapping, Sequence
 
 import numpy as np
-import pandas as pd
 
 from ..signal.validation import check_fs, check_positive, check_signal
 from ..signal.bands import DEFAULT_BANDS, NYQUIST_MARGIN, resolve_band
@@ -19,6 +18,9 @@ from ..signal.kurtogram import fast_kurtogram, max_kurtogram_level
 from ..signal.spectrum import TOLERANCE_MIN_BINS, amplitude_spectrum, prewhiten
 from .routes import ROUTES, apply_routes, combine_routes, run_routes
 from .speed import MEASURED_SPEED_SEARCH_PERCENT, estimate_shaft_rate
+from ..lazy import lazy_module
+
+pd = lazy_module("pandas")  # imported on first use (docs/architecture.md, lazy.py)
 
 __all__ = ["COLUMNS", "DEFAULT_PFA", "KURTOGRAM_MIN_ORDERS", "AnalysisOptions", "analyze_signal",
            "fault_frequency_map", "OPTION_INT_RANGES", "OptionError", "options_with"]

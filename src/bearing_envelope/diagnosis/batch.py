@@ -19,9 +19,11 @@ from collections.abc import Callable, Iterable, Mapping
 from dataclasses import replace
 
 import numpy as np
-import pandas as pd
 
 from .records import RecordFailure, analyze_record
+from ..lazy import lazy_module
+
+pd = lazy_module("pandas")  # imported on first use (docs/architecture.md, lazy.py)
 
 __all__ = ["one_line", "analyze_item", "analyze_records", "record_figure", "verdict_table"]
 

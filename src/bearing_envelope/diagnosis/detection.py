@@ -39,11 +39,13 @@ from dataclasses import dataclass
 from functools import lru_cache
 
 import numpy as np
-import pandas as pd
 from scipy.optimize import brentq
-from scipy.stats import beta, norm
 
 from ..checks import check_positive
+from ..lazy import lazy_module
+
+pd = lazy_module("pandas")  # imported on first use (docs/architecture.md, lazy.py)
+_stats = lazy_module("scipy.stats")  # imported on first use (docs/architecture.md, lazy.py)
 
 __all__ = [
     "BACKGROUND_BAND",
@@ -266,6 +268,7 @@ def _median_ratio_nodes(count: int) -> np.ndarray:
     nodes (cached: a record's lines share a few background counts; treat as read-only)."""
     z = np.linspace(-_Z_MAX, _Z_MAX, _QUADRATURE_NODES)
     half = 0.5 * (count + 1)
+    beta, norm = _stats.beta, _stats.norm
     u = np.where(z < 0, beta.ppf(norm.cdf(z), half, half), beta.isf(norm.sf(z), half, half))
     with np.errstate(divide="ignore"):  # U = 1: log 0 = -inf, exact
         return np.sqrt(-np.log1p(-u) / math.log(2.0))
@@ -280,7 +283,7 @@ def _t2_estimated_median(pfa: float, n: int, groups: tuple[int, ...], t2_inf: fl
     # rapidly decaying integrand (machine precision against adaptive quadrature, also for the
     # small per-test pfa of the record-wise verdict).
     z = np.linspace(-_Z_MAX, _Z_MAX, _QUADRATURE_NODES)
-    w = norm.pdf(z) * (z[1] - z[0])
+    w = _stats.norm.pdf(z) * (z[1] - z[0])
     ratios = [_median_ratio_nodes(count) for count in groups]  # per group, at the nodes
     if len(ratios) == 1:
         r2, weight = ratios[0] ** 2, w
@@ -562,8 +565,8 @@ def clopper_pearson(k: int, n: int, confidence: float = 0.95) -> tuple[float, fl
     a = 1.0 - float(confidence)
     if not 0.0 < a < 1.0:
         raise ValueError(f"confidence must be in (0, 1), got {confidence!r}")
-    low = 0.0 if k == 0 else float(beta.ppf(a / 2, k, n - k + 1))
-    high = 1.0 if k == n else float(beta.ppf(1 - a / 2, k + 1, n - k))
+    low = 0.0 if k == 0 else float(_stats.beta.ppf(a / 2, k, n - k + 1))
+    high = 1.0 if k == n else float(_stats.beta.ppf(1 - a / 2, k + 1, n - k))
     return low, high
 
 

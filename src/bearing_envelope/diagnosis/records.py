@@ -34,7 +34,6 @@ from dataclasses import dataclass, field, replace
 from typing import Any, NamedTuple
 
 import numpy as np
-import pandas as pd
 
 from ..physics.catalogue import bearing_sources, bearing_values, designations
 from ..physics.kinematics import fault_frequencies
@@ -44,6 +43,9 @@ from .analysis import AnalysisOptions, analyze_signal
 from .routes import DEFAULT_ROUTES
 from .detection import fault_band_metrics
 from .faults import Verdict
+from ..lazy import lazy_module
+
+pd = lazy_module("pandas")  # imported on first use (docs/architecture.md, lazy.py)
 
 __all__ = ["MIN_BINS", "RECORD_OPTIONS", "RecordAnalysis", "RecordFailure", "Source",
            "analyze_record", "bearing_geometry", "known_bearings", "fault_sources",

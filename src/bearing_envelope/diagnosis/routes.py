@@ -53,7 +53,6 @@ import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, replace
 
-import pandas as pd
 
 from ..signal.bands import band_from_kurtogram, clamp_band
 from ..signal.cyclostationary import enhanced_envelope_spectrum
@@ -64,6 +63,9 @@ from ..signal.separation import (DRS_NPERSEG, discrete_random_separation,
                                  prewhitened_ses)
 from .detection import BACKGROUND_BAND
 from .faults import CANNOT_TELL, Verdict, display_name, fault_verdict, search_lines
+from ..lazy import lazy_module
+
+pd = lazy_module("pandas")  # imported on first use (docs/architecture.md, lazy.py)
 
 __all__ = ["BALL_SEARCH_PERCENT", "DEFAULT_ROUTES", "MEDIUM_MIN_ROUTES", "RAISES", "ROUTES",
            "RouteResult", "RoutedVerdict", "apply_routes", "combine_routes", "route_found",

@@ -38,7 +38,7 @@ OPERATION_KEYS = ("bpfi_override_hz",)
 @lru_cache(maxsize=1)
 def _load() -> dict[str, dict[str, Any]]:
     with open(CATALOGUE_PATH, encoding="utf-8") as fh:
-        data = yaml.safe_load(fh)
+        data = yaml.load(fh, Loader=getattr(yaml, "CSafeLoader", yaml.SafeLoader))  # libyaml: 10x faster
     for name, ent in data.items():
         for key, item in ent.items():
             if key in _META_KEYS:

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["HAVE_NUMBA", "ratio_kernel", "synth_kernel"]
+__all__ = ["HAVE_NUMBA", "decimate_kernel", "ratio_kernel", "synth_kernel"]
 
 
 try:  # pragma: no cover - numba optional at import time
@@ -88,6 +88,19 @@ try:  # pragma: no cover - numba optional at import time
             tq = (qc - qn[i]) / (qn[i + 1] - qn[i])
             out[k] = ((1 - tq) * _row(T, i, xn, _row_x(Xa[k], q, qn, i, ka, s0), 0.0)
                       + tq * _row(T, i + 1, xn, _row_x(Xa[k], q, qn, i + 1, ka, s0), 0.0))
+
+    @numba.njit(cache=True, fastmath=False)
+    def decimate_kernel(h, x, n, out):
+        """:func:`~.acquisition.decimate_centred` into ``out``: the same sums in the same order
+        (last tap first, one pass per tap over every output), without numpy's temporaries."""
+        c = (h.size - 1) // 2
+        for i in range(out.size):
+            out[i] = 0.0
+        for j in range(h.size - 1, -1, -1):
+            hj = h[j]
+            base = 2 * c - j
+            for i in range(out.size):
+                out[i] += x[base + i * n] * hj
 
     HAVE_NUMBA = True
 except ImportError:  # pragma: no cover

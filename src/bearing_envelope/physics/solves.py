@@ -12,7 +12,6 @@ from dataclasses import dataclass, field
 from typing import Any, Callable
 
 import numpy as np
-from scipy.fft import next_fast_len
 
 from ..contact import (ContactConvergenceError, ContactGridError, ElasticHalfSpace,
                        solve_contact)
@@ -453,9 +452,12 @@ def contact_rows(scene: Scene, g0: np.ndarray, approach: float) -> tuple[int, in
 
 
 def fast_rows(rows: int, limit: int) -> int:
-    """The smallest row count ``>= rows`` whose padded convolution (``2 rows`` long) has only
-    the factors 2, 3, 5, 7 and 11, at most ``limit``: a row count with a large prime factor
-    (214 = 2 x 107) made a window convolution 2.6x slower than 216 rows.
+    """The smallest row count ``>= rows`` that is a multiple of 4 with only the factors 2, 3, 5
+    and 7 (the padded convolution, ``2 rows`` long, then has at least 2^3 and no radix-11 pass),
+    at most ``limit``: a row count with a large prime factor (214 = 2 x 107) made a window
+    convolution 2.6x slower than 216 rows, and over 60-470 rows this rule's convolutions cost
+    3.7 % less than the next 11-smooth count's (5.5 % on a CWRU ball case's row counts: 192
+    instead of 189, 240 instead of 231; measured per count, 2026-11-28).
 
     Parameters
     ----------
@@ -469,7 +471,18 @@ def fast_rows(rows: int, limit: int) -> int:
     int
         The row count.
     """
-    return min(limit, next_fast_len(int(rows)))
+    m = max(4, 4 * math.ceil(int(rows) / 4))
+    while not _smooth7(m):
+        m += 4
+    return min(limit, m)
+
+
+def _smooth7(n: int) -> bool:
+    """``n`` has no prime factor above 7."""
+    for f in (2, 3, 5, 7):
+        while n % f == 0:
+            n //= f
+    return n == 1
 
 
 def window_solve(node: "LoadNode | WindowState", g: np.ndarray, stats: SolveStats,

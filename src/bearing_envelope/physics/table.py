@@ -466,8 +466,9 @@ def _offset_nodes(scene: Scene, fid: Fidelity, s_reach: float, dxw: float) -> np
 
 
 def _progress(stats: SolveStats, total: int, progress: bool | None):
-    """A tqdm bar over ``total`` solves fed by ``stats`` (None when ``progress`` is None)."""
-    if progress is None:
+    """A tqdm bar over ``total`` solves fed by ``stats`` (None when ``progress`` is None or
+    False: a quiet job does not import tqdm, 0.05 CPU s)."""
+    if not progress:
         return None
     try:
         import sys

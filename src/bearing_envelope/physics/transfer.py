@@ -45,9 +45,11 @@ from dataclasses import asdict, dataclass, field
 from typing import Any
 
 import numpy as np
-from scipy import signal as sps
 
 from ..checks import check_number
+from ..lazy import lazy_module
+
+sps = lazy_module("scipy.signal")  # imported on first use (docs/architecture.md, lazy.py)
 
 __all__ = [
     "EXCITATION_KINDS",

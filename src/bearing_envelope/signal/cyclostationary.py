@@ -29,9 +29,11 @@ from __future__ import annotations
 
 import numpy as np
 from scipy import fft as sp_fft
-from scipy import signal as sp_signal
 
 from .validation import check_fs, check_positive, check_signal
+from ..lazy import lazy_module
+
+sp_signal = lazy_module("scipy.signal")  # imported on first use (docs/architecture.md, lazy.py)
 
 __all__ = ["CMS_NWIN", "enhanced_envelope_spectrum", "spectral_coherence"]
 

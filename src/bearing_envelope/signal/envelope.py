@@ -4,11 +4,13 @@ from __future__ import annotations
 
 import numpy as np
 from scipy import fft as sp_fft
-from scipy import signal as sp_signal
 
 from .bands import NYQUIST_MARGIN, clamp_band
 from .spectrum import amplitude_spectrum
 from .validation import check_fs, check_signal
+from ..lazy import lazy_module
+
+sp_signal = lazy_module("scipy.signal")  # imported on first use (docs/architecture.md, lazy.py)
 
 __all__ = [
     "DEFAULT_FILTER_ORDER",

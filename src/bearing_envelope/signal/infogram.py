@@ -43,10 +43,12 @@ from dataclasses import dataclass
 
 import numpy as np
 from scipy import fft as sp_fft
-from scipy import signal as sp_signal
 
 from .kurtogram import _best_cell, _check_nlevel, _filter_bank, kurtogram_levels
 from .validation import check_fs, check_positive, check_signal
+from ..lazy import lazy_module
+
+sp_signal = lazy_module("scipy.signal")  # imported on first use (docs/architecture.md, lazy.py)
 
 __all__ = ["INFOGRAM_MAPS", "Infogram", "InfogramCell", "infogram", "infogram_depth",
            "negentropy"]

@@ -12,9 +12,11 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 from numba import njit
 from scipy import fft as sp_fft
-from scipy import signal as sp_signal
 
 from .validation import check_fs, check_positive, check_signal
+from ..lazy import lazy_module
+
+sp_signal = lazy_module("scipy.signal")  # imported on first use (docs/architecture.md, lazy.py)
 
 __all__ = ["Kurtogram", "fast_kurtogram", "kurtogram_levels", "max_kurtogram_level"]
 

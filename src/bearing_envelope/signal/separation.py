@@ -29,11 +29,13 @@ from __future__ import annotations
 
 import numpy as np
 from scipy import fft as sp_fft
-from scipy import signal as sp_signal
 
 from .envelope import envelope_spectrum
 from .spectrum import prewhiten
 from .validation import check_fs, check_positive, check_signal
+from ..lazy import lazy_module
+
+sp_signal = lazy_module("scipy.signal")  # imported on first use (docs/architecture.md, lazy.py)
 
 __all__ = ["DRS_NPERSEG", "discrete_random_separation", "drs_gain",
            "prewhitened_ses"]

@@ -3,10 +3,12 @@
 from __future__ import annotations
 
 import numpy as np
-from scipy import signal as sp_signal
 
 from .kurtogram import fast_kurtogram
 from .validation import check_fs, check_signal
+from ..lazy import lazy_module
+
+sp_signal = lazy_module("scipy.signal")  # imported on first use (docs/architecture.md, lazy.py)
 
 __all__ = ["spectral_kurtosis"]
 

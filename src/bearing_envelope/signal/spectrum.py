@@ -7,11 +7,13 @@ import math
 
 import numpy as np
 from scipy import fft as sp_fft
-from scipy import signal as sp_signal
 from scipy.optimize import minimize_scalar
 
 from ..checks import check_positive
 from .validation import check_fs, check_signal
+from ..lazy import lazy_module
+
+sp_signal = lazy_module("scipy.signal")  # imported on first use (docs/architecture.md, lazy.py)
 
 __all__ = ["TOLERANCE_FRACTION", "TOLERANCE_MAX_SPACING", "TOLERANCE_MIN_BINS",
            "amplitude_spectrum", "amplitude_at", "default_tolerance", "prewhiten"]

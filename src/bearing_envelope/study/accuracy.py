@@ -52,11 +52,13 @@ from io import StringIO
 from typing import Any
 
 import numpy as np
-import pandas as pd
 
 from ..physics.fidelity import Fidelity, fidelity_from
 from ..physics.scene import Scene
 from ..io.case import ErrorModel   # the type a case file stores; re-exported here
+from ..lazy import lazy_module
+
+pd = lazy_module("pandas")  # imported on first use (docs/architecture.md, lazy.py)
 
 __all__ = ["ErrorModel", "error_model", "case_error_model", "attach_errors", "absolute_error", "measured_points",
            "measured_far_field", "quantity_class", "rows_at_load", "lookup_rel_error",
