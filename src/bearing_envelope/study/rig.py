@@ -35,6 +35,7 @@ from typing import Any
 import numpy as np
 from scipy import signal as sps
 
+from ..checks import check_number
 from ..diagnosis.transfer_path import WELCH_SEGMENT, background_noise, identify_path
 from ..io.atomic import atomic_path
 from ..physics.history import defect_angle, simulate, synthesize_case
@@ -165,10 +166,10 @@ def _number_in(path, rig: dict, key: str, default: float, lo: float, hi: float) 
     """``rig.<key>`` as a float in ``[lo, hi]`` (its default when absent), else one line."""
     v = rig.get(key, default)
     try:
-        x = float(v) if not isinstance(v, (bool, str)) else math.nan
-    except (TypeError, ValueError):
+        x = check_number(v, f"rig.{key}")
+    except ValueError:
         x = math.nan
-    if not (math.isfinite(x) and lo <= x <= hi):
+    if not lo <= x <= hi:
         raise ValueError(f"{path}: rig.{key}: got {v!r}; allowed: a number from {lo:g} to {hi:g}")
     return x
 
@@ -1107,16 +1108,9 @@ def measured_sideband_db(measured_lines, names) -> list[float]:
     list of float
         One value per record and band with a line and both sidebands.
     """
-    out = []
-    for name in names:
-        for band in SIDEBAND_BANDS:
-            g = measured_lines[measured_lines.file.str.endswith(f"/{name}.npz")
-                               & (measured_lines.band == band) & (measured_lines.base == "bpfi")
-                               & (measured_lines.order == 1)]
-            a = dict(zip(g.sideband, g.amplitude))
-            if all(k in a and a[k] > 0 for k in (-1, 0, 1)):
-                out.append(20 * math.log10(0.5 * (a[-1] + a[1]) / a[0]))
-    return out
+    ratios = (_band_ratios(measured_lines, name, band, "bpfi")
+              for name in names for band in SIDEBAND_BANDS)
+    return [r["sideband_db"] for r in ratios if "sideband_db" in r]
 
 
 def identify_from_run(run_dir, conditions, settings: RigSettings) -> dict:
