@@ -39,9 +39,9 @@ from ..checks import check_number
 from ..diagnosis.transfer_path import WELCH_SEGMENT, background_noise, identify_path
 from ..io.atomic import atomic_path
 from ..physics.history import defect_angle, simulate, synthesize_case
-from ..physics.kinematics import fault_frequencies
 from ..physics.scene import Scene
 from ..physics.transfer import Mode, apply_structure, direction_gain, excitation_from_history
+from .rig_records import read_record, rig_rates
 from .settings import read_yaml
 
 __all__ = ["RigCondition", "RigSettings", "record_conditions", "condition_scene",
@@ -385,9 +385,9 @@ def record_paths(conditions, *, log=print) -> dict:
     """
     out = {}
     for c in conditions:
-        x, _ = _read_x(c.path)
+        x, _ = read_record(c.path)
         try:
-            p = identify_path(x, c.fs_hz, _rates(c.shaft_hz))
+            p = identify_path(x, c.fs_hz, rig_rates(c.shaft_hz))
         except ValueError as exc:
             out[c.name] = (None, str(exc))
             continue
@@ -401,7 +401,7 @@ def record_paths(conditions, *, log=print) -> dict:
             raise ValueError("records: no record's transfer path could be identified")
         same = ([p for p in ident if p.fs_hz == c.fs_hz and not p.flags]
                 or [p for p in ident if not p.flags] or ident)
-        x, _ = _read_x(c.path)
+        x, _ = read_record(c.path)
         f, psd = sps.welch(x - x.mean(), c.fs_hz, nperseg=WELCH_SEGMENT)
         common = dataclasses.replace(
             same[0], fs_hz=c.fs_hz, f_n_hz=float(np.median([p.f_n_hz for p in same])),
@@ -412,16 +412,6 @@ def record_paths(conditions, *, log=print) -> dict:
     log(f"rig: {sum(1 for _, s in out.values() if s == 'identified')} of {len(out)} paths "
         "identified")
     return out
-
-
-def _read_x(path: str):
-    with np.load(path, allow_pickle=False) as z:
-        return np.asarray(z["x"], dtype=float), json.loads(str(z["meta_json"]))
-
-
-def _rates(fr: float) -> dict:
-    ff = fault_frequencies(fr, 9, 7.94, 39.04, 0.0)
-    return {"bpfo": ff.bpfo, "bpfi": ff.bpfi, "bsf": ff.bsf, "bsf2": 2 * ff.bsf}
 
 
 def rig_gain(conditions, paths: dict, contact_paths: dict, reference: str,
@@ -443,8 +433,8 @@ def rig_gain(conditions, paths: dict, contact_paths: dict, reference: str,
         with np.load(contact_paths[c.name]) as z:
             y = _unit_response(c, dict(z), p, settings=settings)
         tiny = 1e-3 * np.std(y) * np.random.default_rng(1).standard_normal(y.size)
-        own = {p.event_name: _rates(c.shaft_hz)[p.event_name]} if p.event_name in _rates(1.0) \
-            else {p.event_name: p.event_hz}
+        rates = rig_rates(c.shaft_hz)
+        own = {p.event_name: rates.get(p.event_name, p.event_hz)}
         a = identify_path(y + tiny, c.fs_hz, own).amplitude
         ratios.append(p.amplitude / a)
         f_ref.append(p.f_n_hz)
@@ -463,7 +453,7 @@ def write_rig_record(cond: RigCondition, contact_path: str, path, gain: float, o
     with np.load(contact_path) as z:
         y = gain * _unit_response(cond, dict(z), path, reference_hz, settings)
     x = y + background_noise(path, y.size, seed=seed)
-    _, meta = _read_x(cond.path)
+    _, meta = read_record(cond.path)
     meta.update(simulated=True, source_record=cond.name, transfer_path={
         "f_n_hz": path.f_n_hz, "zeta": path.zeta, "gain_per_N": gain,
         "modes": [dataclasses.asdict(m) for m in path_modes(path, reference_hz)],
@@ -781,6 +771,9 @@ def run_scorecard(conditions, contact: dict, out_dir, gain_reference: str, *, lo
     zero = [c for c in conditions if c.load_hp == 0 and c.fs_hz == 12000.0]
     if zero:
         plot_side_by_side(card, zero, out_dir / "sim", out_dir / "side_by_side.png")
+    from .rig_events import event_outputs
+
+    event_outputs(conditions, out_dir)
     return card
 
 
@@ -827,7 +820,7 @@ def plot_side_by_side(card, conditions, sim_dir, out_png, *, max_order: float = 
         row = card[card.record == c.name].iloc[0]
         for j, (side, path) in enumerate((("meas", c.path),
                                           ("sim", Path(sim_dir) / f"{c.name}_sim.npz"))):
-            x, _ = _read_x(str(path))
+            x, _ = read_record(str(path))
             lo, hi, fr = row[f"{side}_band_low_hz"], row[f"{side}_band_high_hz"], row.meas_fr_hz
             ax = axes[i, j]
             if lo is None or not np.isfinite(lo):
@@ -1149,7 +1142,7 @@ def identify_from_run(run_dir, conditions, settings: RigSettings) -> dict:
     r3 = ratios.iloc[0]
     contact = run / "contact"
     b_in = float(np.median([event_exponent(str(contact / f"{c.name}_contact.npz"),
-                                           _rates(c.shaft_hz)["bpfi"]) for c in ir]))
+                                           rig_rates(c.shaft_hz)["bpfi"]) for c in ir]))
     b_out = removed_force_exponent(str(contact / f"{r3.record_3}_contact.npz"),
                                    str(contact / f"{r3.record_6}_contact.npz"))
     target = {"sb1_db": float(np.median(sb)), "ratio_3_6_db": float(ratios.meas_db.median())}

@@ -1,0 +1,231 @@
+"""The shape of a race fault's events in a record, measured and simulated alike.
+
+The rig's harmonic ratios (2x/1x, 3x/1x) are set by how the events spread in time: a squared
+envelope's synchronous average at the fault's rate is the coherent part of its harmonic series
+(:mod:`bearing_envelope.signal.cycles`). Read on the measured record and on its simulated twin
+in one band (analyze's fixed band fs/4-3fs/8), it says *why* the ratios differ:
+
+- ``contrast_db``: the average's peak over its floor (its lower quartile), dB: how clearly the
+  events stand out;
+- ``width_ms``: the r.m.s. width of the event in the average at the fault's rate (BPFO or
+  BPFI), ms;
+- ``element_spread_db`` (outer race): the average at the cage's rate (BPFO / Z) holds each
+  rolling element's own event; the strongest over the weakest element's event energy, dB
+  (``inf``: an element without an event). A fault met equally by every element gives about
+  0 dB;
+- ``secondary_events`` (outer race): per element, further events in its window of that average
+  (each element's passage one event: 0).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+from scipy import fft as sp_fft
+from scipy import signal as sps
+
+from ..signal.cycles import (FLOOR_PERCENTILE, burst_width, cycle_rate, element_windows,
+                             synchronous_average)
+from ..signal.envelope import bandpass, envelope, settling_samples
+from .rig_records import RIG_BEARING, read_record, rig_rates
+
+__all__ = ["event_shape", "event_shapes", "event_outputs", "plot_element_folds", "N_ELEMENTS",
+           "MIN_CONTRAST_DB"]
+
+#: Rolling elements of the rig's bearing.
+N_ELEMENTS = RIG_BEARING["n_balls"]
+#: Phase bins of the averages at the fault's rate and, per element, at the cage's rate.
+FAULT_BINS = 100
+ELEMENT_BINS = 40
+#: Below this contrast (the average's peak over its floor, the lower quartile) a record holds no
+#: events in the band (the average of noise alone stays within about 1 dB of its floor): its
+#: widths and spreads are not read (NaN).
+MIN_CONTRAST_DB = 3.0
+#: A secondary event: a peak of an element's window of the average at the cage's rate, at least
+#: this fraction of the window's highest ...
+SECONDARY_LEVEL = 0.25
+#: ... and at least this far (s) from any higher one.
+SECONDARY_SEPARATION_S = 0.4e-3
+
+
+def _squared_envelope(x, fs: float, rate_hz: float, band=None):
+    """Squared envelope in ``band`` (default fs/4-3fs/8), the filter's edge transients cut at
+    both ends, and the event rate refined on it."""
+    band = (fs / 4, 3 * fs / 8) if band is None else band
+    edge = settling_samples(fs, band)
+    e = envelope(bandpass(x, fs, band), squared=True)[edge:-edge]
+    return e, cycle_rate(e, fs, rate_hz)
+
+
+def event_shape(x, fs: float, rate_hz: float, *, n_elements: int | None = None,
+                band=None) -> dict:
+    """Width of a fault's events and the spread of the elements' events, from a record.
+
+    Parameters
+    ----------
+    x : array_like, 1-D
+        The record (acceleration), sampled at ``fs``.
+    fs : float
+        Sampling rate, Hz.
+    rate_hz : float
+        Nominal event rate (BPFO, BPFI), Hz; refined on the record within 1 %.
+    n_elements : int, optional
+        Elements passing a fixed defect once each per cage turn (outer race: Z); with it the
+        element spread is measured at ``rate / n_elements``.
+    band : (float, float), optional
+        Demodulation band, Hz; default ``(fs/4, 3 fs/8)``.
+
+    Returns
+    -------
+    dict
+        ``rate_hz`` (refined), ``contrast_db`` (the average's peak over its floor, the lower
+        quartile: how clearly the record holds the event; near 0 dB the rest would read noise),
+        ``width_ms``, ``h2_db`` and ``h3_db`` (the average's harmonics
+        over its fundamental: the coherent part of the squared envelope spectrum's ratios), and
+        with ``n_elements`` ``element_spread_db`` and ``secondary_events`` (per element, the
+        mean count of further events in its window: peaks at least :data:`SECONDARY_LEVEL`
+        of its highest, :data:`SECONDARY_SEPARATION_S` apart); all but the rate and the
+        contrast NaN when the contrast is below :data:`MIN_CONTRAST_DB`.
+    """
+    e, rate = _squared_envelope(x, fs, rate_hz, band)
+    out = {"rate_hz": rate, **_fault_fold(e, fs, rate)}
+    if n_elements:
+        if np.isfinite(out["width_ms"]):
+            out.update(_element_fold(e, fs, rate, n_elements))
+        else:
+            out.update(element_spread_db=np.nan, secondary_events=np.nan)
+    return out
+
+
+def _fault_fold(e, fs: float, rate: float) -> dict:
+    """Contrast, width and harmonic ratios of the squared envelope's average at the rate."""
+    avg = synchronous_average(e, fs, rate, bins=min(FAULT_BINS, int(fs / rate)))
+    contrast = 10 * np.log10(avg.max() / np.percentile(avg, FLOOR_PERCENTILE))
+    if contrast < MIN_CONTRAST_DB:
+        return {"contrast_db": contrast, "width_ms": np.nan, "h2_db": np.nan, "h3_db": np.nan}
+    c = np.abs(sp_fft.rfft(avg - avg.mean())[1:4])
+    return {"contrast_db": contrast, "width_ms": 1e3 * burst_width(avg) / rate,
+            "h2_db": 20 * np.log10(c[1] / c[0]), "h3_db": 20 * np.log10(c[2] / c[0])}
+
+
+def _element_fold(e, fs: float, rate: float, z: int) -> dict:
+    """Element spread and secondary events from the average at the cage's rate (a bin per
+    sample)."""
+    n_bins = int(fs * z / rate) // z * z
+    windows = element_windows(synchronous_average(e, fs, rate / z, bins=n_bins), z)
+    lv = np.array([w.sum() for w in windows])
+    sep = max(int(SECONDARY_SEPARATION_S * n_bins * rate / z), 1)   # bins of the cage's turn
+    secondary = [sps.find_peaks(w, height=SECONDARY_LEVEL * w.max(), distance=sep)[0].size - 1
+                 for w in windows]
+    return {"element_spread_db": 10 * np.log10(lv.max() / lv.min()) if lv.min() > 0 else np.inf,
+            "secondary_events": float(np.mean(secondary))}
+
+
+def event_shapes(conditions, sim_dir) -> list:
+    """:func:`event_shape` of every race record and its simulated twin (``sim_dir``).
+
+    Parameters
+    ----------
+    conditions : sequence of RigCondition
+        The rig's records; ball records are skipped (their events follow the ball's spin, not
+        one rate the record holds at every load).
+    sim_dir : path
+        The simulated records (``<name>_sim.npz``).
+
+    Returns
+    -------
+    list of dict
+        Per record: name, location, position, load, fs and each feature measured (``meas_``)
+        and simulated (``sim_``).
+    """
+    rows = []
+    for c in conditions:
+        if c.location not in ("inner_race", "outer_race"):
+            continue
+        rate = rig_rates(c.shaft_hz)["bpfo" if c.location == "outer_race" else "bpfi"]
+        z = N_ELEMENTS if c.location == "outer_race" else None
+        row = {"record": c.name, "location": c.location, "position_deg": c.position_deg,
+               "diameter_in": c.diameter_in, "load_hp": c.load_hp, "fs_hz": c.fs_hz}
+        for side, path in (("meas", c.path), ("sim", Path(sim_dir) / f"{c.name}_sim.npz")):
+            x, _ = read_record(str(path))
+            for k, v in event_shape(x, c.fs_hz, rate, n_elements=z).items():
+                row[f"{side}_{k}"] = v
+        rows.append(row)
+    return rows
+
+
+
+def plot_element_folds(conditions, sim_dir, out_png) -> str:
+    """Squared-envelope averages at the cage's rate (one turn: each rolling element's event) of
+    outer-race records, measured beside simulated, in fs/4-3fs/8: one row per record.
+
+    Parameters
+    ----------
+    conditions : sequence of RigCondition
+        Outer-race records (one row each).
+    sim_dir : path
+        The simulated records (``<name>_sim.npz``).
+    out_png : path
+        The figure.
+
+    Returns
+    -------
+    str
+        The figure's path.
+    """
+    import matplotlib  # lazy: matplotlib ~1.5 s, only to draw
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(len(conditions), 2, figsize=(11, 1.6 * len(conditions) + 0.6),
+                             squeeze=False, sharex=True)
+    for i, c in enumerate(conditions):
+        for j, (side, path) in enumerate((("measured", c.path),
+                                          ("simulated", Path(sim_dir) / f"{c.name}_sim.npz"))):
+            x, _ = read_record(str(path))
+            e, rate = _squared_envelope(x, c.fs_hz, rig_rates(c.shaft_hz)["bpfo"])
+            avg = synchronous_average(e, c.fs_hz, rate / N_ELEMENTS,
+                                      bins=ELEMENT_BINS * N_ELEMENTS)
+            start = int(np.argmax(avg)) - ELEMENT_BINS // 2
+            avg = np.roll(avg, -start) / np.percentile(avg, FLOOR_PERCENTILE)
+            ax = axes[i, j]
+            ax.plot(np.arange(avg.size) / ELEMENT_BINS, avg, lw=0.7,
+                    color="k" if side == "measured" else "C1")
+            for k in range(1, N_ELEMENTS):
+                ax.axvline(k, color="0.8", lw=0.4)
+            ax.set_title(f"{c.name} {side}", fontsize=7)
+            ax.tick_params(labelsize=6)
+    for ax in axes[-1]:
+        ax.set_xlabel("cage turn, in rolling-element spacings (each element's event)",
+                      fontsize=7)
+    for ax in axes[:, 0]:
+        ax.set_ylabel("over floor", fontsize=7)
+    fig.tight_layout()
+    fig.savefig(out_png, dpi=110)
+    plt.close(fig)
+    return str(out_png)
+
+
+def event_outputs(conditions, out_dir) -> None:
+    """Write ``event_shape.csv`` (:func:`event_shapes` of every race record) and
+    ``element_folds.png`` (:func:`plot_element_folds` of the 12 kHz outer-race records at 0 hp)
+    into a rig run's folder (its simulated records in ``sim/``).
+
+    Parameters
+    ----------
+    conditions : sequence of RigCondition
+        The run's records.
+    out_dir : path
+        The run's folder.
+    """
+    import pandas as pd  # lazy: pandas ~1.8 s
+
+    out_dir = Path(out_dir)
+    pd.DataFrame(event_shapes(conditions, out_dir / "sim")).to_csv(
+        out_dir / "event_shape.csv", index=False)
+    outer = [c for c in conditions if c.location == "outer_race" and c.load_hp == 0
+             and c.fs_hz == 12000.0]
+    if outer:
+        plot_element_folds(outer, out_dir / "sim", out_dir / "element_folds.png")
