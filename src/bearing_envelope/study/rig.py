@@ -41,7 +41,7 @@ from ..io.atomic import atomic_path
 from ..physics.history import defect_angle, simulate, synthesize_case
 from ..physics.scene import Scene
 from ..physics.transfer import Mode, apply_structure, direction_gain, excitation_from_history
-from .rig_records import read_record, rig_rates
+from .rig_records import pair_figure, read_record, record_pairs, rig_rates, save_figure
 from .settings import read_yaml
 
 __all__ = ["RigCondition", "RigSettings", "record_conditions", "condition_scene",
@@ -807,40 +807,27 @@ def plot_side_by_side(card, conditions, sim_dir, out_png, *, max_order: float = 
     str
         The figure's path.
     """
-    import matplotlib  # lazy: matplotlib ~1.5 s, only to draw
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
     from ..signal.envelope import envelope_spectrum
 
-    fig, axes = plt.subplots(len(conditions), 2, figsize=(11, 1.7 * len(conditions) + 0.6),
-                             squeeze=False, sharex=True)
-    for i, c in enumerate(conditions):
+    fig, axes = pair_figure(len(conditions), 1.7)
+    for i, j, c, side, path in record_pairs(conditions, sim_dir):
         row = card[card.record == c.name].iloc[0]
-        for j, (side, path) in enumerate((("meas", c.path),
-                                          ("sim", Path(sim_dir) / f"{c.name}_sim.npz"))):
-            x, _ = read_record(str(path))
-            lo, hi, fr = row[f"{side}_band_low_hz"], row[f"{side}_band_high_hz"], row.meas_fr_hz
-            ax = axes[i, j]
-            if lo is None or not np.isfinite(lo):
-                ax.text(0.5, 0.5, "no band", transform=ax.transAxes, ha="center")
-                continue
-            f, a = envelope_spectrum(x - x.mean(), c.fs_hz, (lo, hi), clamp=True,
-                                     fmax_hz=max_order * fr)[:2]
-            ax.plot(f / fr, a, lw=0.6, color="k" if side == "meas" else "C1")
-            ax.set_xlim(0, max_order)
-            ax.set_title(f"{c.name} {'measured' if side == 'meas' else 'simulated'}: "
-                         f"{row[side + '_diagnosis'] or 'nothing'} "
-                         f"({row[side + '_confidence'] if row[side + '_diagnosis'] else '-'}), "
-                         f"band {lo:.0f}-{hi:.0f} Hz", fontsize=7)
-            ax.tick_params(labelsize=6)
-    for ax in axes[-1]:
-        ax.set_xlabel("envelope frequency / fr (orders)", fontsize=7)
-    fig.tight_layout()
-    fig.savefig(out_png, dpi=110)
-    plt.close(fig)
-    return str(out_png)
+        x, _ = read_record(path)
+        lo, hi, fr = row[f"{side}_band_low_hz"], row[f"{side}_band_high_hz"], row.meas_fr_hz
+        ax = axes[i, j]
+        if lo is None or not np.isfinite(lo):
+            ax.text(0.5, 0.5, "no band", transform=ax.transAxes, ha="center")
+            continue
+        f, a = envelope_spectrum(x - x.mean(), c.fs_hz, (lo, hi), clamp=True,
+                                 fmax_hz=max_order * fr)[:2]
+        ax.plot(f / fr, a, lw=0.6, color="k" if side == "meas" else "C1")
+        ax.set_xlim(0, max_order)
+        ax.set_title(f"{c.name} {'measured' if side == 'meas' else 'simulated'}: "
+                     f"{row[side + '_diagnosis'] or 'nothing'} "
+                     f"({row[side + '_confidence'] if row[side + '_diagnosis'] else '-'}), "
+                     f"band {lo:.0f}-{hi:.0f} Hz", fontsize=7)
+        ax.tick_params(labelsize=6)
+    return save_figure(fig, axes, out_png, "envelope frequency / fr (orders)")
 
 
 def scorecard_markdown(card, ratios, trends=()) -> str:

@@ -28,7 +28,8 @@ from scipy import signal as sps
 from ..signal.cycles import (FLOOR_PERCENTILE, burst_width, cycle_rate, element_windows,
                              synchronous_average)
 from ..signal.envelope import bandpass, envelope, settling_samples
-from .rig_records import RIG_BEARING, read_record, rig_rates
+from .rig_records import (RIG_BEARING, pair_figure, read_record, record_pairs, rig_rates,
+                          save_figure)
 
 __all__ = ["event_shape", "event_shapes", "event_outputs", "plot_element_folds", "N_ELEMENTS",
            "MIN_CONTRAST_DB"]
@@ -139,19 +140,16 @@ def event_shapes(conditions, sim_dir) -> list:
         Per record: name, location, position, load, fs and each feature measured (``meas_``)
         and simulated (``sim_``).
     """
-    rows = []
-    for c in conditions:
-        if c.location not in ("inner_race", "outer_race"):
-            continue
-        rate = rig_rates(c.shaft_hz)["bpfo" if c.location == "outer_race" else "bpfi"]
-        z = N_ELEMENTS if c.location == "outer_race" else None
-        row = {"record": c.name, "location": c.location, "position_deg": c.position_deg,
-               "diameter_in": c.diameter_in, "load_hp": c.load_hp, "fs_hz": c.fs_hz}
-        for side, path in (("meas", c.path), ("sim", Path(sim_dir) / f"{c.name}_sim.npz")):
-            x, _ = read_record(str(path))
-            for k, v in event_shape(x, c.fs_hz, rate, n_elements=z).items():
-                row[f"{side}_{k}"] = v
-        rows.append(row)
+    races = [c for c in conditions if c.location in ("inner_race", "outer_race")]
+    rows = [{"record": c.name, "location": c.location, "position_deg": c.position_deg,
+             "diameter_in": c.diameter_in, "load_hp": c.load_hp, "fs_hz": c.fs_hz}
+            for c in races]
+    for i, _, c, side, path in record_pairs(races, sim_dir):
+        outer = c.location == "outer_race"
+        rate = rig_rates(c.shaft_hz)["bpfo" if outer else "bpfi"]
+        shape = event_shape(read_record(path)[0], c.fs_hz, rate,
+                            n_elements=N_ELEMENTS if outer else None)
+        rows[i].update({f"{side}_{k}": v for k, v in shape.items()})
     return rows
 
 
@@ -174,38 +172,24 @@ def plot_element_folds(conditions, sim_dir, out_png) -> str:
     str
         The figure's path.
     """
-    import matplotlib  # lazy: matplotlib ~1.5 s, only to draw
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, axes = plt.subplots(len(conditions), 2, figsize=(11, 1.6 * len(conditions) + 0.6),
-                             squeeze=False, sharex=True)
-    for i, c in enumerate(conditions):
-        for j, (side, path) in enumerate((("measured", c.path),
-                                          ("simulated", Path(sim_dir) / f"{c.name}_sim.npz"))):
-            x, _ = read_record(str(path))
-            e, rate = _squared_envelope(x, c.fs_hz, rig_rates(c.shaft_hz)["bpfo"])
-            avg = synchronous_average(e, c.fs_hz, rate / N_ELEMENTS,
-                                      bins=ELEMENT_BINS * N_ELEMENTS)
-            start = int(np.argmax(avg)) - ELEMENT_BINS // 2
-            avg = np.roll(avg, -start) / np.percentile(avg, FLOOR_PERCENTILE)
-            ax = axes[i, j]
-            ax.plot(np.arange(avg.size) / ELEMENT_BINS, avg, lw=0.7,
-                    color="k" if side == "measured" else "C1")
-            for k in range(1, N_ELEMENTS):
-                ax.axvline(k, color="0.8", lw=0.4)
-            ax.set_title(f"{c.name} {side}", fontsize=7)
-            ax.tick_params(labelsize=6)
-    for ax in axes[-1]:
-        ax.set_xlabel("cage turn, in rolling-element spacings (each element's event)",
-                      fontsize=7)
+    fig, axes = pair_figure(len(conditions), 1.6)
+    for i, j, c, side, path in record_pairs(conditions, sim_dir):
+        x, _ = read_record(path)
+        e, rate = _squared_envelope(x, c.fs_hz, rig_rates(c.shaft_hz)["bpfo"])
+        avg = synchronous_average(e, c.fs_hz, rate / N_ELEMENTS, bins=ELEMENT_BINS * N_ELEMENTS)
+        start = int(np.argmax(avg)) - ELEMENT_BINS // 2
+        avg = np.roll(avg, -start) / np.percentile(avg, FLOOR_PERCENTILE)
+        ax = axes[i, j]
+        ax.plot(np.arange(avg.size) / ELEMENT_BINS, avg, lw=0.7,
+                color="k" if side == "meas" else "C1")
+        for k in range(1, N_ELEMENTS):
+            ax.axvline(k, color="0.8", lw=0.4)
+        ax.set_title(f"{c.name} {'measured' if side == 'meas' else 'simulated'}", fontsize=7)
+        ax.tick_params(labelsize=6)
     for ax in axes[:, 0]:
         ax.set_ylabel("over floor", fontsize=7)
-    fig.tight_layout()
-    fig.savefig(out_png, dpi=110)
-    plt.close(fig)
-    return str(out_png)
+    return save_figure(fig, axes, out_png,
+                       "cage turn, in rolling-element spacings (each element's event)")
 
 
 def event_outputs(conditions, out_dir) -> None:
