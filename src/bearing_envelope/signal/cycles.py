@@ -23,9 +23,12 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy import fft as sp_fft
 
+from ..lazy import lazy_module
 from .validation import check_fs, check_signal
+
+sp_signal = lazy_module("scipy.signal")  # imported on first use (docs/architecture.md, lazy.py)
+sp_optimize = lazy_module("scipy.optimize")
 
 __all__ = ["cycle_rate", "synchronous_average", "burst_width", "element_windows",
            "element_levels"]
@@ -65,9 +68,9 @@ def cycle_rate(x, fs: float, rate_hz: float, *, search: float = 0.01) -> float:
 
     Maximises :math:`|\sum_n (x_n - \bar x) e^{-2\pi i f n / f_s}|` over
     :math:`f \in f_0 (1 \pm s)`: on a grid of :data:`RATE_GRID_STEP` x the record's resolution
-    ``fs / n`` (the signal's transform zero-padded), then a golden-section search about the
-    best grid point down to
-    :data:`RATE_TOLERANCE` x ``fs / n``.
+    ``fs / n`` (:func:`scipy.signal.zoom_fft`: memory of the order of the record, whatever its
+    length), then by :func:`scipy.optimize.minimize_scalar` (bounded) about the best grid
+    point down to :data:`RATE_TOLERANCE` x ``fs / n``.
 
     Parameters
     ----------
@@ -98,25 +101,15 @@ def cycle_rate(x, fs: float, rate_hz: float, *, search: float = 0.01) -> float:
         raise ValueError(f"search: got {search!r}; allowed: a relative width in (0, 0.5)")
     x = x - x.mean()
     res = fs / x.size
-    pad = sp_fft.next_fast_len(int(math.ceil(x.size / RATE_GRID_STEP)), real=True)
-    lo_bin = int(math.floor(f0 * (1 - search) * pad / fs))
-    hi_bin = int(math.ceil(f0 * (1 + search) * pad / fs)) + 1
-    mags = np.abs(sp_fft.rfft(x, pad)[lo_bin:hi_bin])
-    i = lo_bin + int(np.argmax(mags))
-    lo, hi = (i - 1) * fs / pad, (i + 1) * fs / pad
-    g = (math.sqrt(5.0) - 1.0) / 2.0
-    a, b = hi - g * (hi - lo), lo + g * (hi - lo)
-    fa, fb = _magnitude(x, fs, a), _magnitude(x, fs, b)
-    while hi - lo > RATE_TOLERANCE * res:
-        if fa > fb:
-            hi, b, fb = b, a, fa
-            a = hi - g * (hi - lo)
-            fa = _magnitude(x, fs, a)
-        else:
-            lo, a, fa = a, b, fb
-            b = lo + g * (hi - lo)
-            fb = _magnitude(x, fs, b)
-    return 0.5 * (lo + hi)
+    lo, hi = f0 * (1 - search), f0 * (1 + search)
+    m = int(math.ceil((hi - lo) / (RATE_GRID_STEP * res))) + 1
+    mags = np.abs(sp_signal.zoom_fft(x, [lo, hi], m=m, fs=fs, endpoint=True))
+    step = (hi - lo) / (m - 1)
+    peak = lo + int(np.argmax(mags)) * step
+    best = sp_optimize.minimize_scalar(lambda f: -_magnitude(x, fs, f), method="bounded",
+                                       bounds=(peak - step, peak + step),
+                                       options={"xatol": RATE_TOLERANCE * res})
+    return float(best.x)
 
 
 def synchronous_average(x, fs: float, rate_hz: float, *, bins: int = 200) -> np.ndarray:
