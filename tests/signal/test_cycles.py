@@ -9,7 +9,8 @@ import pytest
 
 from bearing_envelope.signal.cycles import (
     burst_width, cycle_rate, element_levels, synchronous_average)
-from bearing_envelope.study.rig_events import MIN_CONTRAST_DB, event_shape
+from bearing_envelope.study.rig_events import (MIN_CONTRAST_DB, SECONDARY_MIN_CONTRAST_DB,
+                                                event_shape)
 
 FS = 12000.0
 RATE = 107.3          # Hz: 111.84 samples per cycle, not an integer
@@ -115,3 +116,15 @@ def test_secondary_events_counted_per_element():
         r = event_shape(np.sqrt(g) * carrier + noise, FS, RATE, n_elements=9,
                         band=(3000.0, 4500.0))
         assert r["secondary_events"] == want
+
+
+def test_secondary_events_not_read_from_a_weak_fold():
+    """A burst train barely over its noise (contrast between 3 and 6 dB): its width is read,
+    its secondary events are not (the floor's wiggles would count)."""
+    t = np.arange(int(DURATION * FS)) / FS
+    g = _train(0.3e-3)
+    x = np.sqrt(g) * np.cos(2 * np.pi * 3600.0 * t)
+    x += 1.0 * np.random.default_rng(4).standard_normal(t.size)
+    r = event_shape(x, FS, RATE, n_elements=9, band=(3000.0, 4500.0))
+    assert MIN_CONTRAST_DB <= r["contrast_db"] < SECONDARY_MIN_CONTRAST_DB
+    assert math.isfinite(r["width_ms"]) and math.isnan(r["secondary_events"])
