@@ -128,3 +128,12 @@ def test_secondary_events_not_read_from_a_weak_fold():
     r = event_shape(x, FS, RATE, n_elements=9, band=(3000.0, 4500.0))
     assert MIN_CONTRAST_DB <= r["contrast_db"] < SECONDARY_MIN_CONTRAST_DB
     assert math.isfinite(r["width_ms"]) and math.isnan(r["secondary_events"])
+
+
+@pytest.mark.parametrize("kwargs, match", [
+    ({"fs": -1.0, "rate_hz": RATE}, "fs"),
+    ({"fs": FS, "rate_hz": RATE, "band": (5000.0, 7000.0)}, "band"),
+])
+def test_event_shape_refuses_bad_input_in_one_line(kwargs, match):
+    with pytest.raises(ValueError, match=match):
+        event_shape(np.ones(int(DURATION * FS)), **kwargs)

@@ -28,6 +28,7 @@ from scipy import signal as sps
 from ..signal.cycles import (FLOOR_PERCENTILE, burst_width, cycle_rate, element_windows,
                              synchronous_average)
 from ..signal.envelope import bandpass, envelope, settling_samples
+from ..signal.validation import check_band, check_fs
 from .rig_records import (RIG_BEARING, pair_figure, read_record, record_pairs, rig_rates,
                           save_figure)
 
@@ -56,7 +57,8 @@ SECONDARY_MIN_CONTRAST_DB = 6.0
 def _squared_envelope(x, fs: float, rate_hz: float, band=None):
     """Squared envelope in ``band`` (default fs/4-3fs/8), the filter's edge transients cut at
     both ends, and the event rate refined on it."""
-    band = (fs / 4, 3 * fs / 8) if band is None else band
+    fs = check_fs(fs)
+    band = check_band((fs / 4, 3 * fs / 8) if band is None else band, fs)
     edge = settling_samples(fs, band)
     e = envelope(bandpass(x, fs, band), squared=True)[edge:-edge]
     return e, cycle_rate(e, fs, rate_hz)
