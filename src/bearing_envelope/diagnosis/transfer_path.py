@@ -565,22 +565,27 @@ def _background(x, fs, peaks, gate, background, name):
     keep = np.ones(x.size, bool)
     for pk in peaks:
         keep[max(pk - gate // 8 - 2, 0):pk + gate] = False
-    return (*_gap_psd(x, fs, keep), "record")
+    f, p = _gap_psd(x, fs, keep)
+    if f is None:
+        return (*sps.welch(x, fs, nperseg=WELCH_SEGMENT),
+                f"record, events included (no stretch of {MIN_GAP} samples between them)")
+    return f, p, "record"
 
 
-def _gap_psd(x, fs, keep) -> tuple[np.ndarray, np.ndarray]:
+def _gap_psd(x, fs, keep) -> tuple[np.ndarray | None, np.ndarray | None]:
     """PSD of the record between its events: the mean of the Hann-windowed periodograms
     (``nfft`` = :data:`WELCH_SEGMENT`) of the stretches ``keep`` marks, each cut into pieces of
     at most ``WELCH_SEGMENT`` and at least :data:`MIN_GAP` samples, weighted by length. Each
     piece is windowed on its own: zeroing the events out of the record instead (a rectangular
     gate) would spread the resonance's power over the whole band through the gate's edges
-    (on the 48 kHz CWRU records, 30 dB over the record's own floor at 12-18 kHz). With no
-    stretch that long, the whole record's Welch PSD (an upper bound)."""
+    (on the 48 kHz CWRU records, 30 dB over the record's own floor at 12-18 kHz). ``(None,
+    None)`` when no stretch is that long (hardly reachable: events are only detected where the
+    envelope falls back between them, and the gates end where it has)."""
     edges = np.flatnonzero(np.diff(np.concatenate(([0], keep.astype(np.int8), [0]))))
     pieces = [(a, min(a + WELCH_SEGMENT, b)) for start, b in zip(edges[::2], edges[1::2])
               for a in range(start, b, WELCH_SEGMENT) if min(a + WELCH_SEGMENT, b) - a >= MIN_GAP]
     if not pieces:
-        return sps.welch(x, fs, nperseg=WELCH_SEGMENT)
+        return None, None
     acc, total = 0.0, 0
     for a, b in pieces:
         f, p = sps.periodogram(x[a:b], fs, window="hann", nfft=WELCH_SEGMENT)
