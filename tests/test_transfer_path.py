@@ -180,5 +180,3 @@ def test_background_far_from_the_resonance_is_the_noise_floor():
     far = (f > 4500.0) & (f < 5800.0)
     white = 2 * noise ** 2 / FS                      # one-sided PSD of the white floor
     assert 10 * np.log10(psd[far].mean() / white) == pytest.approx(0.0, abs=1.5)
-
-
