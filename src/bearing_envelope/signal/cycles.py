@@ -158,8 +158,8 @@ def burst_width(avg, *, level: float = BURST_LEVEL) -> float:
     r"""R.m.s. width of the burst in a synchronous average, as a fraction of the cycle.
 
     The part of the average more than ``level`` x its peak above the floor (the average's
-    lower quartile), :math:`w_j = a_j - \mathrm{med}\,a` where that exceeds
-    :math:`\ell\,(\max a - \mathrm{med}\,a)` and 0 elsewhere, is read as a distribution on
+    lower quartile :math:`q_{25}`), :math:`w_j = a_j - q_{25}` where that exceeds
+    :math:`\ell\,(\max a - q_{25})` and 0 elsewhere, is read as a distribution on
     the circle; the width is its circular standard deviation about its mean direction,
     :math:`\sigma = \sqrt{-2 \ln R} / (2\pi)` with
     :math:`R = |\sum_j w_j e^{2\pi i j/m}| / \sum_j w_j` (the r.m.s. width of a burst narrow

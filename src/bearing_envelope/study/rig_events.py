@@ -161,7 +161,6 @@ def event_shapes(conditions, sim_dir) -> list:
     return rows
 
 
-
 def plot_element_folds(conditions, sim_dir, out_png) -> str:
     """Squared-envelope averages at the cage's rate (one turn: each rolling element's event) of
     outer-race records, measured beside simulated, in fs/4-3fs/8: one row per record.
@@ -185,8 +184,8 @@ def plot_element_folds(conditions, sim_dir, out_png) -> str:
         x, _ = read_record(path)
         e, rate = _squared_envelope(x, c.fs_hz, rig_rates(c.shaft_hz)["bpfo"])
         avg = synchronous_average(e, c.fs_hz, rate / N_ELEMENTS, bins=ELEMENT_BINS * N_ELEMENTS)
-        start = int(np.argmax(avg)) - ELEMENT_BINS // 2
-        avg = np.roll(avg, -start) / np.percentile(avg, FLOOR_PERCENTILE)
+        floor = np.percentile(avg, FLOOR_PERCENTILE)
+        avg = 1.0 + np.concatenate(element_windows(avg, N_ELEMENTS)) / floor
         ax = axes[i, j]
         ax.plot(np.arange(avg.size) / ELEMENT_BINS, avg, lw=0.7,
                 color="k" if side == "meas" else "C1")
