@@ -5,8 +5,10 @@ import numpy as np
 import pytest
 
 from bearing_envelope.diagnosis import AnalysisOptions, analyze_signal, fault_families
-from bearing_envelope.diagnosis.routes import (RouteResult, combine_routes, route_name,
-                                               route_verdict, run_routes, spectra_verdict)
+from bearing_envelope.diagnosis.routes import (RouteResult, combine_routes, random_part,
+                                               route_name, route_spectrum, route_verdict,
+                                               run_routes, spectra_verdict)
+from bearing_envelope.signal.separation import discrete_random_separation
 
 FR = 29.95
 FREQS = {"bpfo": 107.36, "bpfi": 162.19, "ftf": 11.93, "bsf": 70.58}
@@ -143,3 +145,30 @@ def test_high_needs_a_second_route():
     both = combine_routes({"envelope": env,
                            "cpw": _result("cpw", _train(FREQS["bpfo"], 40.0), 31)})
     assert (both.diagnosis, both.confidence, both.decided_by) == ("bpfo", "high", "envelope")
+
+
+def test_ees_reads_the_random_part_not_a_periodic_modulation():
+    # the outer-race record plus a strictly periodic 2 kHz carrier pulsed at the BPFI rate (a
+    # deterministic component, lines at 2000 +- k BPFI Hz, as a gear mesh's): its power
+    # repeats at BPFI, so the coherence of the record itself names BPFI beside BPFO; the EES
+    # route reads the random part, where the carrier is gone and the bursts at BPFO remain
+    x, fs = _outer_race_record(seed=3)
+    t = np.arange(x.size) / fs
+    pulse = np.exp(2.0 * (np.cos(2 * np.pi * FREQS["bpfi"] * t) - 1.0))
+    x = x + pulse * np.sin(2 * np.pi * 2000.0 * t)
+    search = {"search_percent": 0.5, "tolerance_hz": None, "min_search_bins": 2.0}
+
+    def named(random):
+        f, a, band = route_spectrum("ees", x, fs, alpha_max_hz=800.0, min_bandwidth=1000.0,
+                                    random=random)
+        v = route_verdict("ees", f, a, band, FAMS, fr=FR, search=search, n_harmonics=3,
+                          n_sidebands=1, pfa=0.01)
+        return route_name(v)
+
+    assert named(x) == ("bpfo", "bpfi")           # the record's own coherence
+    assert named(None) == ("bpfo",)               # its random part
+    _, rnd = discrete_random_separation(x, fs)
+    assert np.allclose(random_part(x, fs), rnd)
+    _, det = analyze_signal(x, fs, fr=FR, fault_frequencies=FREQS,
+                            options=AnalysisOptions(n_harmonics=3), full_output=True)
+    assert run_routes(x, fs, det, ("envelope", "ees"))["ees"].named == ("bpfo",)

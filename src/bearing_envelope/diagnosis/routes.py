@@ -68,8 +68,9 @@ from ..lazy import lazy_module
 pd = lazy_module("pandas")  # imported on first use (docs/architecture.md, lazy.py)
 
 __all__ = ["BALL_SEARCH_PERCENT", "DEFAULT_ROUTES", "MEDIUM_MIN_ROUTES", "RAISES", "ROUTES",
-           "RouteResult", "RoutedVerdict", "apply_routes", "combine_routes", "route_found",
-           "route_name", "route_spectrum", "route_verdict", "run_routes", "spectra_verdict"]
+           "RouteResult", "RoutedVerdict", "apply_routes", "combine_routes", "random_part",
+           "route_found", "route_name", "route_spectrum", "route_verdict", "run_routes",
+           "spectra_verdict"]
 
 #: Every route (the envelope route is the verdict of ``analyze_signal``).
 ROUTES = ("envelope", "cpw", "drs_sk", "ees", "drs_info", "info")
@@ -100,6 +101,8 @@ ROUTE_LABELS = {
     "drs_info": "DRS + spectral-infogram band SES",
     "info": "spectral-infogram band SES",
 }
+#: The routes that read the record's random part (:func:`random_part`).
+_READ_RANDOM = ("drs_sk", "drs_info", "ees")
 #: The fault each family name stands for in a route's vote (2 x BSF and BSF: a rolling element).
 _FAULT = {"bsf": "ball", "bsf2": "ball"}
 
@@ -185,8 +188,30 @@ def route_name(verdict: Verdict) -> tuple[str, ...]:
     return tuple(out)
 
 
+def random_part(x, fs: float):
+    """The random part of a record (discrete/random separation), as the routes read it.
+
+    Parameters
+    ----------
+    x : array_like, 1-D
+        The record (at least 64 samples).
+    fs : float
+        Sampling frequency (Hz).
+
+    Returns
+    -------
+    ndarray
+        ``x`` less its discrete part
+        (:func:`~bearing_envelope.signal.separation.discrete_random_separation`), the Welch
+        segment :data:`~bearing_envelope.signal.separation.DRS_NPERSEG` or, on a shorter
+        record, the largest power of two within a quarter of it (a coarser separation).
+    """
+    nper = min(DRS_NPERSEG, 2 ** int(math.log2(max(len(x) // 4, 1))))
+    return discrete_random_separation(x, fs, nperseg=nper)[1]
+
+
 def route_spectrum(route: str, x, fs: float, *, alpha_max_hz: float, min_bandwidth: float,
-                   nlevel: int = 8, window="hann"):
+                   nlevel: int = 8, window="hann", random=None):
     """The spectrum of one route other than ``envelope``.
 
     Parameters
@@ -204,6 +229,9 @@ def route_spectrum(route: str, x, fs: float, *, alpha_max_hz: float, min_bandwid
     nlevel : int, default 8
         Kurtogram depth (reduced for short records).
     window : str or tuple, default "hann"
+    random : ndarray, optional
+        :func:`random_part` of ``x``, when already computed (the DRS routes and the EES read
+        it); computed here otherwise.
 
     Returns
     -------
@@ -215,11 +243,12 @@ def route_spectrum(route: str, x, fs: float, *, alpha_max_hz: float, min_bandwid
     if route == "cpw":
         f, a = prewhitened_ses(x, fs, window=window)
         return f, a, (0.0, fs / 2.0)
+    if route in ("drs_sk", "drs_info", "ees"):
+        rnd = random_part(x, fs) if random is None else random
+    if route == "ees":
+        f, a = enhanced_envelope_spectrum(rnd, fs, alpha_max_hz=alpha_max_hz)
+        return f, a, (0.0, fs / 2.0)
     if route in ("drs_sk", "drs_info"):
-        # the Welch segment of the DRS at most a quarter of the record (a shorter record gets
-        # a coarser separation)
-        nper = min(DRS_NPERSEG, 2 ** int(math.log2(max(len(x) // 4, 1))))
-        _, rnd = discrete_random_separation(x, fs, nperseg=nper)
         if route == "drs_info":
             band = _infogram_band(rnd, fs, alpha_max_hz, min_bandwidth, nlevel)
         else:
@@ -232,9 +261,6 @@ def route_spectrum(route: str, x, fs: float, *, alpha_max_hz: float, min_bandwid
         band = _infogram_band(x, fs, alpha_max_hz, min_bandwidth, nlevel)
         f, a = envelope_spectrum(x, fs, band, squared=True, window=window)
         return f, a, band
-    if route == "ees":
-        f, a = enhanced_envelope_spectrum(x, fs, alpha_max_hz=alpha_max_hz)
-        return f, a, (0.0, fs / 2.0)
     raise ValueError(f"route = {route!r}: allowed {ROUTES[1:]}")
 
 
@@ -387,15 +413,18 @@ def run_routes(x, fs: float, details: Mapping, routes: Sequence[str] = DEFAULT_R
     # the highest frequency the line search reads: the background band of the top harmonic
     span = BACKGROUND_BAND[1] * (top * opt.n_harmonics + 2.0 * fr)
     out = {}
+    rnd = None  # the random part, computed once for the routes that read it
     for r in routes:
         if r != "envelope" and len(x) < MIN_ROUTE_SAMPLES:
             continue  # too short for the DRS's segments and the EES's frames: left out
         if r == "envelope":
             out[r] = _envelope_result(details, search)
             continue
+        if r in _READ_RANDOM and rnd is None:
+            rnd = random_part(x, fs)
         f, a, band = route_spectrum(r, x, fs, alpha_max_hz=span,
                                     min_bandwidth=2.0 * opt.n_harmonics * top,
-                                    nlevel=opt.nlevel or 8, window=opt.window)
+                                    nlevel=opt.nlevel or 8, window=opt.window, random=rnd)
         v = route_verdict(r, f, a, band, fams, fr=fr, search=search,
                           n_harmonics=opt.n_harmonics, n_sidebands=opt.n_sidebands,
                           pfa=opt.pfa)
