@@ -33,10 +33,11 @@ REGISTRY: dict[str, str] = {
     "routes": "what each route of the verdict sees on the CWRU 12 kHz records (route x family x "
               "margin, CPU), combination variants, leave one fault set out, shaped-noise false "
               "alarms with every route",
+    "coherent_events": "is there an event train to find: the synchronous average of each CWRU "
+                       "12 kHz record's squared envelope at its fault's rate over a band scan, "
+                       "against a control rate",
     "sweep_cost": "CPU per rule of a finished sweep, from Snakemake's benchmark files",
     "result_digests": "sha256 of every array and table of a sweep's results/ (bit-identity)",
-    "hostile_configs": "bad and hostile configs: each refused before any job in one line naming "
-                       "the field, or run to the end; the check's CPU per config",
     "job_validations": "validations of one value per run: the workflow's loader (a dry run) and "
                        "every job's loader, counted",
     "outside_zone": "outer-race pits at 3:00 / 12:00 against 6:00 per loading mechanism "

@@ -87,6 +87,26 @@ def route_table(runs, grades) -> pd.DataFrame:
     return pd.DataFrame(rows)
 
 
+def own_family_table(runs, grades) -> pd.DataFrame:
+    """Per fault record, the margin over its threshold (dB) of the fault's own fundamental in
+    each default route, found or not (a ball: the better of BSF and 2 x BSF); ``+``: the route
+    finds it, ``*``: it names it."""
+    rows = []
+    for rec, res, _ in runs:
+        if rec["truth"] is None:
+            continue
+        fams = ("bsf", "bsf2") if rec["truth"] == "bsf" else (rec["truth"],)
+        row = {"record": rec["record"], "set": rec["set"],
+               "grade": grades.get(rec["record"], "-")}
+        for r in DEFAULT_ROUTES:
+            rr = res[r]
+            fam = max(fams, key=lambda f: np.nan_to_num(rr.margin(f), nan=-np.inf))
+            mark = "*" if fam in rr.named else "+" if fam in rr.finds else ""
+            row[r] = f"{rr.margin(fam):.1f}{mark}"
+        rows.append(row)
+    return pd.DataFrame(rows)
+
+
 def score(runs, raises, min_routes, routes=DEFAULT_ROUTES) -> pd.DataFrame:
     rows = []
     for rec, res, _ in runs:
@@ -179,6 +199,9 @@ def main(argv=None) -> int:
     print("\nCPU s per record, mean by route: " + ", ".join(
         f"{r} {cpu[r].mean():.2f}" for r in cpu.columns) + f"; total per record "
         f"{cpu.sum(axis=1).mean():.2f} (max {cpu.sum(axis=1).max():.2f})")
+    print("\n## the fault's own fundamental in each route (margin over threshold, dB; "
+          "+ found, * named)\n")
+    print(own_family_table(runs, grades).to_markdown(index=False))
     scored = {name: score(runs, raises, k) for name, raises, k in VARIANTS}
     print("\n## variants\n")
     print(pd.DataFrame([{"variant": n, **summary(scored[n], grades)} for n in scored])

@@ -16,7 +16,10 @@ searches every fault family in it with the line search and the detection of
   envelope spectrum there;
 - ``ees``: the enhanced envelope spectrum (the spectral coherence of the cyclic modulation
   spectrum averaged over the full band,
-  :func:`~bearing_envelope.signal.cyclostationary.enhanced_envelope_spectrum`).
+  :func:`~bearing_envelope.signal.cyclostationary.enhanced_envelope_spectrum`) of the
+  record's random part (:func:`random_part`, computed once for it and the DRS routes): a
+  periodic component whose power repeats, such as a pulsed carrier, is coherent at its rate
+  and leaves with the discrete part.
 
 Two more routes are measured but not run by default (:data:`DEFAULT_ROUTES`; the figures in
 ``docs/diagnosis_routes.md``, "Tried and not kept"):
@@ -41,7 +44,7 @@ route alone never makes ``high``: else ``medium``). Where the envelope route nam
 least :data:`MEDIUM_MIN_ROUTES` routes, named by one of them other than the envelope route,
 and found by more routes than any other fault, is the diagnosis at ``medium``; otherwise the
 envelope route's verdict stands. Only the rolling element may be raised so: on the 32 CWRU
-development records, raising the races as well gives 4 (three routes needed) or 6 (two) wrong
+development records, raising the races as well gives 4 (three routes needed) or 5 (two) wrong
 verdicts at ``medium``, ball records whose race lines every route sees among them
 (``python -m benchmarks routes``, ``docs/diagnosis_routes.md``). The evidence says which route
 found what.

@@ -54,18 +54,18 @@ SECONDARY_SEPARATION_S = 0.4e-3
 SECONDARY_MIN_CONTRAST_DB = 6.0
 
 
-def _squared_envelope(x, fs: float, rate_hz: float, band=None):
+def _squared_envelope(x, fs: float, rate_hz: float, band=None, search: float = 0.01):
     """Squared envelope in ``band`` (default fs/4-3fs/8), the filter's edge transients cut at
-    both ends, and the event rate refined on it."""
+    both ends, and the event rate refined on it within ``search`` (relative)."""
     fs = check_fs(fs)
     band = check_band((fs / 4, 3 * fs / 8) if band is None else band, fs)
     edge = settling_samples(fs, band)
     e = envelope(bandpass(x, fs, band), squared=True)[edge:-edge]
-    return e, cycle_rate(e, fs, rate_hz)
+    return e, cycle_rate(e, fs, rate_hz, search=search)
 
 
 def event_shape(x, fs: float, rate_hz: float, *, n_elements: int | None = None,
-                band=None) -> dict:
+                band=None, search: float = 0.01) -> dict:
     """Width of a fault's events and the spread of the elements' events, from a record.
 
     Parameters
@@ -75,12 +75,15 @@ def event_shape(x, fs: float, rate_hz: float, *, n_elements: int | None = None,
     fs : float
         Sampling rate, Hz.
     rate_hz : float
-        Nominal event rate (BPFO, BPFI), Hz; refined on the record within 1 %.
+        Nominal event rate (BPFO, BPFI), Hz; refined on the record within ``search``.
     n_elements : int, optional
         Elements passing a fixed defect once each per cage turn (outer race: Z); with it the
         element spread is measured at ``rate / n_elements``.
     band : (float, float), optional
         Demodulation band, Hz; default ``(fs/4, 3 fs/8)``.
+    search : float, default 0.01
+        Relative half-width of the rate's refinement
+        (:func:`~bearing_envelope.signal.cycles.cycle_rate`; a rolling element slips: 0.015).
 
     Returns
     -------
@@ -95,7 +98,7 @@ def event_shape(x, fs: float, rate_hz: float, *, n_elements: int | None = None,
         :data:`SECONDARY_MIN_CONTRAST_DB`); all but the rate and the contrast NaN when the
         contrast is below :data:`MIN_CONTRAST_DB`.
     """
-    e, rate = _squared_envelope(x, fs, rate_hz, band)
+    e, rate = _squared_envelope(x, fs, rate_hz, band, search)
     out = {"rate_hz": rate, **_fault_fold(e, fs, rate)}
     if n_elements:
         if np.isfinite(out["width_ms"]):
