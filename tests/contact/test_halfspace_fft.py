@@ -82,3 +82,27 @@ def test_kernel_spectrum_equals_the_direct_coefficients_to_the_bit(shape, dx, dy
     want = sfft.rfft2(k, workers=1).real / (4 * nx * ny)
     halfspace.clear_kernel_cache()
     np.testing.assert_array_equal(halfspace.kernel_spectrum(shape, dx, dy, E_STAR), want)
+
+
+def test_a_pocketfft_not_as_called_here_falls_back_to_scipy_fft():
+    """The private module is checked at import: one that raises, or returns other numbers, is
+    not used (the public scipy.fft path is); scipy's own passes (where it exists)."""
+
+    class Moved:
+        def r2c(self, *args):
+            raise TypeError("r2c() takes other arguments")
+
+    class Off:
+        def r2c(self, x, axes, forward, inorm, out, workers):
+            import scipy.fft as sfft
+            return sfft.rfft2(x) * (1 + 1e-15)
+
+        c2c = c2r = r2c
+
+    assert halfspace.checked_pocketfft(Moved()) is None
+    assert halfspace.checked_pocketfft(Off()) is None
+    try:
+        from scipy.fft._pocketfft import pypocketfft
+    except ImportError:
+        pytest.skip("scipy without pypocketfft")
+    assert halfspace.checked_pocketfft(pypocketfft) is pypocketfft

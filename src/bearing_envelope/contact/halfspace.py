@@ -26,6 +26,7 @@ __all__ = [
     "ElasticHalfSpace",
     "get_halfspace",
     "clear_kernel_cache",
+    "checked_pocketfft",
     "HAVE_PYFFTW",
 ]
 
@@ -37,16 +38,47 @@ except Exception:  # pragma: no cover - depends on the environment
     pyfftw = None
     HAVE_PYFFTW = False
 
-try:
-    # The pocketfft transforms behind scipy.fft, called directly: scipy.fft's backend dispatch
-    # and argument handling cost 5-10 us a call and a contact solve makes two convolutions (8
-    # transforms) per iteration on small grids (a CWRU ball case: 47,000 transforms, 0.5-0.9
-    # CPU s). The same functions with the same arguments give the same numbers, bit for bit
-    # (tests/contact/test_halfspace_fft.py); a scipy without this module uses scipy.fft.
-    from scipy.fft._pocketfft import pypocketfft as POCKETFFT
-except ImportError:  # pragma: no cover - depends on the scipy version
-    POCKETFFT = None
-#: The pocketfft module behind :mod:`scipy.fft` (None: not importable; scipy.fft is used).
+
+
+def checked_pocketfft(module=None):
+    """The pocketfft module behind :mod:`scipy.fft` (a private module of scipy), if its calls as
+    made here give scipy.fft's numbers.
+
+    Why call it directly: scipy.fft's backend dispatch and argument handling cost 5-10 us a
+    call and a contact solve makes two convolutions (8 transforms) per iteration on small grids
+    (a CWRU ball case: 47,000 transforms, 0.5-0.9 CPU s). A scipy whose private module moved or
+    changed its signature falls back to the public functions, at import, instead of failing in
+    a solve.
+
+    Parameters
+    ----------
+    module : module-like, optional
+        The candidate (default: ``scipy.fft._pocketfft.pypocketfft``, imported here).
+
+    Returns
+    -------
+    module or None
+        ``module`` when it imports and ``r2c``, ``c2c`` and ``c2r`` (positional arguments, as
+        this module calls them) equal ``scipy.fft.rfft2``, ``fft`` and ``irfft2`` bit for bit
+        on a small array; None otherwise (any exception included).
+    """
+    try:
+        if module is None:
+            from scipy.fft._pocketfft import pypocketfft as module
+        x = np.arange(12.0).reshape(3, 4) ** 1.5
+        a = module.r2c(x, (0, 1), True, 0, None, 1)
+        b = module.c2c(a, (0,), True, 0, None, 1)
+        c = module.c2r(a, (0, 1), 4, False, 0, None, 1)
+        ok = (np.array_equal(a, sfft.rfft2(x)) and np.array_equal(b, sfft.fft(a, axis=0))
+              and np.array_equal(c, sfft.irfft2(a, s=(3, 4), norm="forward")))
+    except Exception:  # noqa: BLE001 - any failure of a private module means: do not use it
+        return None
+    return module if ok else None
+
+
+#: The pocketfft module behind :mod:`scipy.fft` (None: absent, or not as this module calls it;
+#: scipy.fft is used).
+POCKETFFT = checked_pocketfft()
 
 
 def composite_modulus(E1: float, nu1: float, E2: float, nu2: float) -> float:
