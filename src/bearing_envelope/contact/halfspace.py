@@ -39,7 +39,6 @@ except Exception:  # pragma: no cover - depends on the environment
     HAVE_PYFFTW = False
 
 
-
 def checked_pocketfft(module=None):
     """The pocketfft module behind :mod:`scipy.fft` (a private module of scipy), if its calls as
     made here give scipy.fft's numbers.
