@@ -246,7 +246,7 @@ def route_spectrum(route: str, x, fs: float, *, alpha_max_hz: float, min_bandwid
     if route == "cpw":
         f, a = prewhitened_ses(x, fs, window=window)
         return f, a, (0.0, fs / 2.0)
-    if route in ("drs_sk", "drs_info", "ees"):
+    if route in _READ_RANDOM:
         rnd = random_part(x, fs) if random is None else random
     if route == "ees":
         f, a = enhanced_envelope_spectrum(rnd, fs, alpha_max_hz=alpha_max_hz)
