@@ -266,3 +266,18 @@ def test_scales_light_load_at_3_oclock_and_unloaded_element():
     assert s.element_load_n == 0.0 and s.contact_half_width_m == 0.0
     assert math.isinf(s.pit_over_contact) and math.isinf(s.fall_time_s)
     assert math.isinf(s.natural_period_s) and s.event_over_period == 0.0
+
+
+def test_one_table_per_pit_in_a_process():
+    """The motor load's speed and the pit's clock position do not change the law: one table."""
+    from bearing_envelope.physics.defect_contact import defect_table
+
+    a = defect_table(ball_scene(177.8, rpm=1797.0), "draft")
+    b = defect_table(ball_scene(177.8, rpm=1730.0, position_deg=90.0), "draft")
+    assert a is b and not a.force_n.flags.writeable
+    c = defect_table(ball_scene(355.6), "draft")
+    assert c is not a
+    meta = a.metadata()
+    import json
+    assert json.loads(json.dumps(meta))["pit"]["width_um"] == pytest.approx(177.8)
+    assert meta["element"] == "ball" and meta["race"] == "outer" and meta["fidelity"] == "draft"

@@ -36,6 +36,7 @@ approach the last two approach nodes are extrapolated linearly; ``F = 0`` for ``
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import time
 from dataclasses import dataclass, field
@@ -49,7 +50,7 @@ from .loads import ELEMENT_DENSITY_KG_M3, centrifugal_force, scene_load_distribu
 from .scene import Scene
 from .solves import SolveStats
 
-__all__ = ["DefectContactTable", "build_defect_table", "defect_force", "hertz_constant",
+__all__ = ["DefectContactTable", "build_defect_table", "defect_table", "TABLE_CACHE_SIZE", "defect_force", "hertz_constant",
            "rigid_drop", "table_grid", "DefectScales", "defect_scales", "element_mass",
            "LOAD_FACTOR", "DELTA_NODES_PER_LOAD", "OVERLAP_MARGIN_CELLS", "EDGE_MARGIN_NODES"]
 
@@ -97,7 +98,8 @@ class DefectContactTable:
         ``ball`` | ``roller``; the race whose contact is tabulated (``inner`` | ``outer``).
     pit : dict
         The pit: ``location``, ``shape``, ``width_um`` (along rolling), ``length_um`` (axial),
-        ``depth_um``, ``edge_radius_um``.
+        ``depth_um``, ``edge_radius_um`` (not where it sits on its race: the law does not
+        depend on it).
     fidelity : str
         Preset name the solves used.
     tol : float
@@ -187,6 +189,28 @@ class DefectContactTable:
             h0[j] + td * (h0[j + 1] - h0[j])
         out = np.where(np.abs(x) > xs[-1], far, np.clip(inside, 0.0, None))
         return np.where(d > 0.0, out, 0.0)
+
+    def metadata(self) -> dict:
+        """What made the table and its measured errors, JSON-able (for a case file's
+        attributes: the model that made a dynamic record).
+
+        Returns
+        -------
+        dict
+            Element, race, pit, fidelity, tolerance, cell sizes (um), hardness (Pa or None),
+            node counts, largest approach (um), rigid drop (um), Hertz ``K``, the
+            discretisation and interpolation errors, CPU seconds and solves.
+        """
+        return {"model": "defect_contact_table", "element": self.element, "race": self.race,
+                "pit": dict(self.pit), "fidelity": self.fidelity, "tol": self.tol,
+                "dx_um": 1e6 * self.grid_dx_m, "dy_um": 1e6 * self.grid_dy_m,
+                "hardness_pa": self.hardness_pa, "n_x": int(self.x_m.size),
+                "n_delta": int(self.delta_m.size), "delta_max_um": 1e6 * float(self.delta_m[-1]),
+                "x_max_um": 1e6 * float(self.x_m[-1]), "rigid_drop_um": 1e6 * self.rigid_drop_m,
+                "hertz_k": self.hertz_k, "discretisation_error": self.discretisation_error,
+                "interpolation_error": self.interpolation_error,
+                "interpolation_error_of_max": self.interpolation_error_of_max,
+                "cpu_s": self.cpu_s, "n_solves": self.n_solves}
 
     def resume_approach(self, x: float = 0.0) -> float:
         """Approach (m) at which the element at ``x`` regains contact: the zero of
@@ -338,16 +362,25 @@ def _crop(g0: np.ndarray, delta: float) -> tuple[slice, slice]:
 
 def _delta_nodes(scene: Scene, fid: Fidelity, delta_max: float | None, load_factor: float
                  ) -> tuple[np.ndarray, float]:
-    """Approach nodes ``delta_max (k/n)^2``, ``k = 0..n``, and the rigid drop."""
+    """Approach nodes ``delta_max (k/n)^2``, ``k = 0..n``, and the rigid drop; the default
+    ``delta_max`` rounded up to two significant digits."""
     drop = rigid_drop(scene)
     if delta_max is None:
         q = max(float(np.max(scene_load_distribution(scene).load_at(0.0, r)))
                 for r in ("inner", "outer"))
         b = scene.bearing
-        delta_max = drop + hertz.elliptical(load_factor * q, b.rx_m, b.ry_m,
-                                            scene.material.e_star_pa).approach
+        delta_max = _round_up(drop + hertz.elliptical(load_factor * q, b.rx_m, b.ry_m,
+                                                      scene.material.e_star_pa).approach)
     n = DELTA_NODES_PER_LOAD * fid.n_loads
     return delta_max * (np.arange(n + 1) / n) ** 2, drop
+
+
+def _round_up(v: float) -> float:
+    """``v > 0`` rounded up to two significant digits: scenes that differ only slightly (the
+    motor load's speed changes the centrifugal force) get the same nodes, and one table
+    (:func:`defect_table`)."""
+    unit = 10.0 ** (math.floor(math.log10(v)) - 1)
+    return unit * math.ceil(v / unit - 1e-9)
 
 
 def _x_nodes(scene: Scene, fid: Fidelity, grid: Grid, a_max: float) -> np.ndarray:
@@ -589,7 +622,7 @@ def _pit(scene: Scene) -> dict:
     d = scene.defect
     return {"location": d.location, "shape": d.shape, "width_um": 1e6 * d.extent_x_m,
             "length_um": 1e6 * d.extent_y_m, "depth_um": d.depth_um,
-            "edge_radius_um": d.edge_radius_um, "position_deg": d.position_deg}
+            "edge_radius_um": d.edge_radius_um}
 
 
 #: Least healthy contact half-width across rolling, in cells, at which the healthy force is
@@ -636,8 +669,6 @@ def _checks(stats: SolveStats, scene: Scene, fid: Fidelity, grid: Grid, g0: np.n
 def _finish(table: DefectContactTable, checks: list, stats: SolveStats,
             cpu_s: float) -> DefectContactTable:
     """The table with its measured interpolation error and cost."""
-    import dataclasses
-
     err = max((abs(c[3] - c[2]) / c[4] for c in checks if c[4] > 0), default=math.nan)
     fmax = float(table.force_n.max())
     err_max = max((abs(c[3] - c[2]) / fmax for c in checks), default=math.nan) \
@@ -794,3 +825,51 @@ def defect_scales(scene: Scene) -> DefectScales:
         natural_frequency_hz=fn, natural_period_s=period,
         event_over_period=(w / v) / period, fall_time_s=math.sqrt(2.0 * m * drop / q)
         if q > 0 else math.inf)
+
+
+# ---------------------------------------------------------------------------------------------
+# one table per pit and contact in a process
+
+#: Tables :func:`defect_table` keeps (least recently used dropped).
+TABLE_CACHE_SIZE = 16
+_TABLES: "dict[tuple, DefectContactTable]" = {}
+
+
+def defect_table(scene: Scene, fidelity: "str | Fidelity | dict" = "standard", *,
+                 race: str | None = None) -> DefectContactTable:
+    """:func:`build_defect_table` with its defaults, kept per process: the key is everything
+    the table reads (the bearing, the materials, the pit, the fidelity, the race and the
+    approach nodes, which the load distribution sets), so the records of one pit that differ
+    only in speed or motor load share a table.
+
+    Parameters
+    ----------
+    scene : Scene
+        The scene with its pit.
+    fidelity : str, mapping or Fidelity
+        As :func:`build_defect_table`.
+    race : {"inner", "outer"}, optional
+        As :func:`build_defect_table`.
+
+    Returns
+    -------
+    DefectContactTable
+        The (shared, read-only) table.
+    """
+    fid = fidelity_from(fidelity)
+    _check_build(scene, race, None, None, LOAD_FACTOR)
+    sc = scene.for_race(_default_race(scene, race))
+    deltas, _ = _delta_nodes(sc, fid, None, LOAD_FACTOR)
+    # the law does not depend on where the pit sits on its race (only the loads it meets do)
+    pit = dataclasses.replace(sc.defect, position_deg=0.0, spin_axis="fixed", spin_seed=0)
+    key = (sc.bearing, sc.material, pit, fid, tuple(deltas.tolist()))
+    if key in _TABLES:
+        _TABLES[key] = _TABLES.pop(key)
+        return _TABLES[key]
+    table = build_defect_table(sc, fid, delta_m=deltas)
+    for a in (table.x_m, table.delta_m, table.force_n, table.healthy_force_n, table.edge_m):
+        a.setflags(write=False)
+    _TABLES[key] = table
+    while len(_TABLES) > TABLE_CACHE_SIZE:
+        _TABLES.pop(next(iter(_TABLES)))
+    return table
