@@ -281,3 +281,17 @@ def test_one_table_per_pit_in_a_process():
     import json
     assert json.loads(json.dumps(meta))["pit"]["width_um"] == pytest.approx(177.8)
     assert meta["element"] == "ball" and meta["race"] == "outer" and meta["fidelity"] == "draft"
+
+
+def test_approach_inverts_the_force():
+    t = build_defect_table(ball_scene(355.6), "draft", n_checks=0)
+    for x in (0.0, 150e-6, 1.0):
+        for q in (5.0, 40.0, 150.0):
+            d = t.approach(x, q)
+            assert float(t.force(x, d)) == pytest.approx(q, rel=1e-9)
+    # far from the pit: the Hertz approach
+    assert t.approach(1.0, 40.0) == pytest.approx((40.0 / t.hertz_k) ** (2 / 3))
+    # over the pit the element moves in to carry the same load
+    assert t.approach(0.0, 40.0) > t.approach(1.0, 40.0)
+    with pytest.raises(ValueError, match="force"):
+        t.approach(0.0, -1.0)
