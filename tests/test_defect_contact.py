@@ -132,6 +132,13 @@ def test_rigid_drop_of_sharp_slot_and_round_pit():
     assert rigid_drop(slot) == pytest.approx(w * w / (8 * rx), rel=2e-3)
     pit = ball_scene(1e6 * w, edge_radius_um=0.0)
     assert rigid_drop(pit) == pytest.approx(0.25 * w * w / (2 * ry), rel=2e-3)
+    # a pit off the contact's track leaves the element on the race
+    off = Scene.from_mapping({"bearing": {"designation": "SKF 6205-2RS"},
+                              "defect": {"location": "outer_race", "shape": "cylinder",
+                                         "width_um": 177.8, "length_um": 177.8,
+                                         "axial_position_mm": 1.5}},
+                             load_kN=0.2, depth_um=279.4)
+    assert rigid_drop(off) == 0.0
 
 
 def test_entry_and_exit_edges_at_pit_edge_plus_hertz_half_width():

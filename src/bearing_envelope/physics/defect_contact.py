@@ -45,7 +45,7 @@ import numpy as np
 
 from ..contact import ContactConvergenceError, ElasticHalfSpace, hertz, solve_contact
 from .fidelity import Fidelity, fidelity_from
-from .geometry import Grid, defect_depth, gap_field, good_size, make_grid
+from .geometry import Grid, axial_separation, defect_depth, gap_field, good_size, make_grid
 from .loads import ELEMENT_DENSITY_KG_M3, centrifugal_force, scene_load_distribution
 from .scene import Scene
 from .solves import SolveStats
@@ -314,25 +314,34 @@ def rigid_drop(scene: Scene, *, spacing_m: float = 0.25e-6) -> float:
     scene : Scene
         The scene with its pit (0 for a healthy race).
     spacing_m : float
-        Sampling step (m).
+        Least sampling step (m); coarser along an axis where the pit spans more than
+        :data:`RIGID_DROP_POINTS` steps.
 
     Returns
     -------
     float
-        The drop (m).
+        The drop (m); 0 when the pit leaves the contact's centre on the race.
     """
     d = scene.defect
     if not d.active:
         return 0.0
     b = scene.bearing
-    hx, hy = 0.5 * d.extent_x_m + 4 * spacing_m, 0.5 * d.extent_y_m + 4 * spacing_m
-    x = np.arange(-hx, hx + 0.5 * spacing_m, spacing_m)
     yd = 1e-3 * d.axial_position_mm
-    y = yd + np.arange(-hy, hy + 0.5 * spacing_m, spacing_m)
-    from .geometry import axial_separation
+    pts = []
+    for ext in (d.extent_x_m, d.extent_y_m):      # at most RIGID_DROP_POINTS per axis
+        step = max(spacing_m, ext / RIGID_DROP_POINTS)
+        half = 0.5 * ext + 4 * step
+        pts.append(np.arange(-half, half + 0.5 * step, step))
+    x, y = pts[0], yd + pts[1]
     g = (x * x / (2.0 * b.rx_m))[:, None] + axial_separation(b, y)[None, :] \
         + defect_depth(d, x[:, None], (y - yd)[None, :])
-    return float(np.min(g))
+    # the contact's centre (a pit off the element's track leaves it on the race)
+    g0 = float(axial_separation(b, np.zeros(1))[0] + defect_depth(d, 0.0, -yd))
+    return min(float(np.min(g)), g0)
+
+
+#: Largest number of sample points per axis of :func:`rigid_drop` (its spacing grows beyond it).
+RIGID_DROP_POINTS = 2000
 
 
 #: Cells across a rounded rim's radius (``edge_radius_um``): the spacing is capped at
