@@ -31,10 +31,16 @@ CWRU_SITES = (("OR 6:00", "outer_race", 0.0), ("OR 3:00", "outer_race", 90.0),
 
 
 def rig_scene(diameter_in: float, location: str = "outer_race", position_deg: float = 0.0,
-              rpm: float = 1797.0, shape: str | None = None, length_um: float | None = None):
-    """The virtual rig's scene (config_rig.yaml, its load) with one CWRU pit."""
+              rpm: float = 1797.0, shape: str | None = None, length_um: float | None = None,
+              clearance_um: "float | None | str" = "rig"):
+    """The virtual rig's scene (config_rig.yaml, its load) with one CWRU pit; ``clearance_um``
+    None: the catalogue's clearance instead of the rig's identified preload."""
     cfg = yaml.safe_load((ROOT / "config_rig.yaml").read_text())
     m = copy.deepcopy(cfg["scene"])
+    if clearance_um != "rig":
+        m["bearing"].pop("radial_clearance_um", None)
+        if clearance_um is not None:
+            m["bearing"]["radial_clearance_um"] = clearance_um
     w = diameter_in * INCH_UM
     m["defect"].update(location=location, position_deg=position_deg, width_um=w,
                        length_um=w if length_um is None else length_um)
@@ -109,6 +115,12 @@ def scale_rows() -> list[str]:
     for hp, rpm in CWRU_RPM.items():
         for d in CWRU_PITS_IN:
             out.append(_scale_row(f"{hp} hp {d:.3f} in", defect_scales(rig_scene(d, rpm=rpm))))
+    out += ["", "The catalogue's clearance instead of the rig's preload (centrifugal force on, the "
+            "rig's load), 1797 rpm:", ""] + SCALE_HEADER
+    for label, pos in (("OR 3:00", 90.0), ("OR 12:00", 180.0)):
+        for d in CWRU_PITS_IN:
+            s = defect_scales(rig_scene(d, "outer_race", pos, clearance_um=None))
+            out.append(_scale_row(f"{label} {d:.3f} in", s))
     out += ["", "Default sweep (config.yaml: FAG 534176, inner race, w = 2 h, 15.8 Hz):", ""] \
         + SCALE_HEADER
     for load in (250.0, 500.0, 750.0):
