@@ -69,6 +69,25 @@ def table_rows(fidelities, pits=CWRU_PITS_IN) -> list[str]:
     return out
 
 
+def roller_rows(fidelity: str = "draft") -> list[str]:
+    """The default sweep's roller (500 kN, 50 um pit): cost, and where its healthy contact
+    leaves Hertz (the roller ends)."""
+    t = build_defect_table(Scene.default(load_kN=500.0, depth_um=50.0), fidelity)
+    mid = t.x_m.size // 2
+    out = [f"Default scene (500 kN, h 50 um, inner race), {fidelity}: {t.x_m.size} x "
+           f"{t.delta_m.size} nodes, {t.info['grid_shape'][0]} x {t.info['grid_shape'][1]} "
+           f"cells of {1e6 * t.grid_dx_m:.3g} x {1e6 * t.grid_dy_m:.3g} um, {t.n_solves} solves, "
+           f"{t.cpu_s:.1f} CPU s; interpolation error {100 * t.interpolation_error:.1f} % / "
+           f"{100 * t.interpolation_error_of_max:.2f} % of max.", "",
+           "| delta um | F healthy kN | K delta^1.5 kN | F(0, delta)/F healthy |",
+           "|---|---|---|---|"]
+    for j in range(1, t.delta_m.size):
+        out.append(f"| {1e6 * t.delta_m[j]:.2f} | {1e-3 * t.healthy_force_n[j]:.2f} | "
+                   f"{1e-3 * t.hertz_k * t.delta_m[j] ** 1.5:.2f} | "
+                   f"{t.force_n[mid, j] / t.healthy_force_n[j]:.5f} |")
+    return out
+
+
 def static_rows(fidelity: str = "standard", pits=CWRU_PITS_IN) -> list[str]:
     """An element under its static 6:00 load centred over the pit: the force it keeps at the
     healthy approach and how far it moves in to carry its load, round pit against a long slot
@@ -143,6 +162,9 @@ def main(argv: list[str]) -> int:
         print("\n".join(table_rows(a.fidelity)))
         print()
         print("\n".join(static_rows(a.fidelity[-1])))
+        if "draft" in a.fidelity:
+            print()
+            print("\n".join(roller_rows("draft")))
     print(f"\n(total CPU {time.process_time() - t0:.1f} s)")
     return 0
 

@@ -91,6 +91,8 @@ def test_far_from_pit_is_hertz_line_contact():
         t = build_defect_table(sc, fid(dx, dy), delta_m=d_max * np.linspace(0, 1, 5) ** 2,
                                x_m=[0.0, 1e-3], n_checks=0)
         np.testing.assert_array_equal(t.force_n[-1], t.healthy_force_n)
+        # a roller is read outside the x range from its healthy solve (not Hertz)
+        assert float(t.force(2e-3, t.delta_m[2])) == t.healthy_force_n[2]
         d, f0 = t.delta_m[1:], t.healthy_force_n[1:]
         errs.append(np.abs(f0 / (k * d ** 1.5) - 1.0))
     # measured 9.4e-5 / 6.3e-5 / 2.4e-5 / 1.3e-5 at the four approaches on 10 x 50 um cells,
@@ -203,7 +205,7 @@ def test_reading_and_measured_interpolation_error():
     i, j = 3, 5
     assert float(t.force(t.x_m[i], t.delta_m[j])) == pytest.approx(t.force_n[i, j], rel=1e-12)
     d = t.delta_m[4]
-    assert float(t.force(t.x_m[-1] + 1e-6, d)) == pytest.approx(t.hertz_k * d ** 1.5)
+    assert float(t.force(t.x_m[-1] + 1e-6, d)) == pytest.approx(t.hertz_k * d ** 1.5)  # ball
     assert float(t.force(t.x_m[-1] + 1e-6, d, outside="healthy")) == \
         pytest.approx(t.healthy_force_n[4])
     assert float(t.force(0.0, -1e-7)) == 0.0

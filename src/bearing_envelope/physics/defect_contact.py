@@ -152,7 +152,7 @@ class DefectContactTable:
     n_solves: int = 0
     info: dict = field(default_factory=dict)
 
-    def force(self, x, delta, *, outside: str = "hertz") -> np.ndarray:
+    def force(self, x, delta, *, outside: str | None = None) -> np.ndarray:
         """The dynamic model's reading: bilinear inside the ``x`` range, Hertz outside.
 
         Parameters
@@ -161,10 +161,12 @@ class DefectContactTable:
             Element-centre position from the pit centre (m).
         delta : array_like
             Rigid approach (m), broadcast with ``x``.
-        outside : {"hertz", "healthy"}
+        outside : {"hertz", "healthy"}, optional
             The law beyond the ``x`` range: ``K delta^1.5`` (closed form), or the healthy solve
-            ``healthy_force_n`` read linearly in ``delta`` (a roller whose contact reaches its
-            ends is not Hertzian; continuous with the table's edge columns).
+            ``healthy_force_n`` read linearly in ``delta`` (continuous with the table's edge
+            columns). Default: ``hertz`` for a ball, ``healthy`` for a roller (whose contact
+            leaves Hertz once it reaches the roller ends: 22 % below ``K delta^1.5`` at 172 kN
+            in the default scene).
 
         Returns
         -------
@@ -173,6 +175,8 @@ class DefectContactTable:
             bilinear in the table, the last two approach nodes extrapolated linearly above
             ``delta_m[-1]``.
         """
+        if outside is None:
+            outside = "hertz" if self.element == "ball" else "healthy"
         if outside not in ("hertz", "healthy"):
             raise ValueError(f"outside: got {outside!r}; allowed: hertz | healthy")
         x, d = np.broadcast_arrays(np.asarray(x, float), np.asarray(delta, float))
@@ -213,7 +217,7 @@ class DefectContactTable:
         x, force = float(x), float(force)
         if not (math.isfinite(force) and force >= 0.0):
             raise ValueError(f"force: got {force!r}; allowed: a finite number >= 0")
-        if abs(x) > self.x_m[-1]:
+        if abs(x) > self.x_m[-1] and self.element == "ball":
             return (force / self.hertz_k) ** (2.0 / 3.0)
         row = self.force(x, self.delta_m)
         if force == 0.0:
@@ -383,7 +387,7 @@ def table_grid(scene: Scene, fid: Fidelity, delta_max: float) -> Grid:
             dy = min(dy, rim) if b.kind == "ball" else dy
     hx = math.sqrt(2.0 * b.rx_m * delta_max) + OVERLAP_MARGIN_CELLS * dx
     hy = b.half_length_m + dy
-    if math.isfinite(b.ry_m):
+    if math.isfinite(b.ry_m) and not b.profile_file:   # s(y) >= y^2/(2 R_y): crown and relief
         hy = min(hy, math.sqrt(2.0 * b.ry_m * delta_max) + OVERLAP_MARGIN_CELLS * dy)
     return make_grid(-hx, hx, -hy, hy, dx, dy, y_center=0.0)
 
@@ -391,8 +395,12 @@ def table_grid(scene: Scene, fid: Fidelity, delta_max: float) -> Grid:
 def _crop(g0: np.ndarray, delta: float) -> tuple[slice, slice]:
     """Rows and columns of the bounding box of ``{g0 < delta}`` and the margin, symmetric about
     the grid's centre, each half a 5-smooth count of cells (fast FFT lengths)."""
-    rows = np.flatnonzero((g0 < delta).any(axis=1))
-    cols = np.flatnonzero((g0 < delta).any(axis=0))
+    over = g0 < delta
+    if over[[0, -1], :].any() or over[:, [0, -1]].any():
+        raise RuntimeError(f"defect contact grid too small: the healthy gap overlaps its edge at "
+                           f"approach {delta:.4g} m")       # pragma: no cover (table_grid bounds it)
+    rows = np.flatnonzero(over.any(axis=1))
+    cols = np.flatnonzero(over.any(axis=0))
     out = []
     for idx, n in ((rows, g0.shape[0]), (cols, g0.shape[1])):
         half = n // 2
