@@ -234,10 +234,10 @@ def _add_output_args(p) -> None:
 
 
 # --------------------------------------------------------------------------- validation
-def _positive(opt: str, v, *, allow_zero: bool = False) -> None:
-    if v is not None and (not math.isfinite(v) or v < 0 or (v == 0 and not allow_zero)):
+def _positive(opt: str, v) -> None:
+    if v is not None and (not math.isfinite(v) or v <= 0):
         raise ValueError(f"{opt}: {opt.lstrip('-').replace('-', '_')} must be a finite "
-                         f"number {'>= 0' if allow_zero else '> 0'}, got {v!r}")
+                         f"number > 0, got {v!r}")
 
 
 def check_args(args) -> None:
@@ -247,7 +247,8 @@ def check_args(args) -> None:
     ``--harmonics``, ``--search-percent``, ...) are AnalysisOptions' own, checked when
     :func:`build_options` makes them, also before any file is read (``--harmonics`` is checked
     again against each record's Nyquist frequency); every output must be writable;
-    ``--bands`` is read here. Sets ``args.faults``, ``args.band_specs`` and ``args.geometry``.
+    ``--bands`` is read here. Sets ``args.faults``, ``args.band_specs``, ``args.geometry`` and
+    ``args.options`` (:func:`build_options`).
 
     Parameters
     ----------
@@ -255,9 +256,8 @@ def check_args(args) -> None:
         Parsed ``analyze`` arguments; modified in place (also ``args.routes``).
     """
     for opt in ("--fs", "--fr", "--bpfi", "--roller-diameter-mm", "--pitch-diameter-mm",
-                "--roller-diameter-in", "--pitch-diameter-in", "--min-bandwidth", "--fmax"):
+                "--roller-diameter-in", "--pitch-diameter-in", "--fmax"):
         _positive(opt, getattr(args, opt[2:].replace("-", "_")))
-    _positive("--max-level", args.max_level, allow_zero=True)
     args.routes = parse_routes(args.routes)
     args.faults = parse_faults(args.fault)
     args.geometry = geometry_args(args)
@@ -274,6 +274,7 @@ def check_args(args) -> None:
                          f"file or a folder of them")
     check_outputs(args)
     args.band_specs = load_bands(args.bands)
+    args.options = build_options(args)   # every option's range and rule: AnalysisOptions'
 
 
 def parse_routes(text: str | None) -> tuple[str, ...] | None:
@@ -311,9 +312,6 @@ def _check_counts(args) -> None:
                          f"0 <= angle < 90")
     if args.jobs is not None and not 0 <= args.jobs <= 1024:
         raise ValueError(f"--jobs: got {args.jobs}; allowed: an integer 0 .. 1024")
-    if args.max_level is not None and args.nlevel is not None and args.max_level > args.nlevel:
-        raise ValueError(f"--max-level: got {args.max_level:g}; allowed: <= --nlevel "
-                         f"({args.nlevel})")
 
 
 def geometry_args(args) -> dict | None:
@@ -411,6 +409,8 @@ def parse_faults(items) -> dict[str, float]:
     dict of str to float
         Lower-cased name -> frequency, Hz; a malformed item raises ``ValueError``.
     """
+    from bearing_envelope.diagnosis.analysis import check_fault_name  # start-up time
+
     out: dict[str, float] = {}
     for item in items or []:
         name, sep, value = str(item).partition("=")
@@ -424,8 +424,7 @@ def parse_faults(items) -> dict[str, float]:
             raise ValueError(f"--fault {name}: {value!r} is not a number (Hz)") from None
         if not math.isfinite(hz) or hz <= 0:
             raise ValueError(f"--fault {name}: got {hz!r}; allowed: a frequency > 0 Hz")
-        if name in ("fr", "dc"):
-            raise ValueError(f"--fault {name}: {name!r} is reserved (the shaft rate is --fr)")
+        check_fault_name(name, f"--fault {name}")   # the library's rule (fr, dc reserved)
         out[name] = hz
     return out
 
@@ -576,7 +575,7 @@ def library_arguments(args) -> dict:
 
     delim = {"tab": "\t"}.get(args.delimiter, args.delimiter)
     return {"shaft_hz": args.fr, "bearing": args.geometry, "bpfi": args.bpfi,
-            "faults": args.faults, "options": build_options(args),
+            "faults": args.faults, "options": args.options,
             "fixed_band": args.fixed_band, "clamp": args.clamp, "names": OPTION_NAMES,
             "reader": partial(read_task, column=args.column, channel=args.channel,
                               signal=args.signal, delimiter=delim, decimal=args.decimal)}
