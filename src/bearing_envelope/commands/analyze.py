@@ -37,7 +37,6 @@ import sys
 from ._analyze_batch import (figure_dir, figure_options, is_batch, record_json, run_batch,
                              single_threaded, tidy_lines, write_batch_outputs, write_text)
 
-_MM_PER_INCH = 25.4
 
 
 def plain_text(text: str) -> str:
@@ -255,8 +254,7 @@ def check_args(args) -> None:
     args : argparse.Namespace
         Parsed ``analyze`` arguments; modified in place (also ``args.routes``).
     """
-    for opt in ("--fs", "--fr", "--bpfi", "--roller-diameter-mm", "--pitch-diameter-mm",
-                "--roller-diameter-in", "--pitch-diameter-in", "--fmax"):
+    for opt in ("--fs", "--fr", "--bpfi", "--fmax"):
         _positive(opt, getattr(args, opt[2:].replace("-", "_")))
     args.routes = parse_routes(args.routes)
     args.faults = parse_faults(args.fault)
@@ -304,18 +302,23 @@ def parse_routes(text: str | None) -> tuple[str, ...] | None:
 
 
 def _check_counts(args) -> None:
-    if args.n_rollers is not None and args.n_rollers < 1:
-        raise ValueError(f"--n-rollers: got {args.n_rollers}; allowed: an integer >= 1")
-    if args.contact_angle_deg is not None and (not math.isfinite(args.contact_angle_deg)
-                                               or not 0 <= args.contact_angle_deg < 90):
-        raise ValueError(f"--contact-angle-deg: got {args.contact_angle_deg!r}; allowed: "
-                         f"0 <= angle < 90")
     if args.jobs is not None and not 0 <= args.jobs <= 1024:
         raise ValueError(f"--jobs: got {args.jobs}; allowed: an integer 0 .. 1024")
 
 
+#: ``bearing_geometry`` parameter -> the option that gives it (the rules of a bearing given by
+#: designation or geometry, mm or inch, are the library's: physics.catalogue.bearing_geometry).
+_BEARING_OPTIONS = {"designation": "bearing", "n_rollers": "n_rollers",
+                    "roller_diameter_mm": "roller_diameter_mm",
+                    "pitch_diameter_mm": "pitch_diameter_mm",
+                    "roller_diameter_in": "roller_diameter_in",
+                    "pitch_diameter_in": "pitch_diameter_in",
+                    "contact_angle_deg": "contact_angle_deg"}
+
+
 def geometry_args(args) -> dict | None:
-    """The bearing of ``--bearing`` or of the geometry options (mm), or None.
+    """The bearing of ``--bearing`` or of the geometry options, or None
+    (:func:`bearing_envelope.physics.catalogue.bearing_geometry` with the options' values).
 
     Parameters
     ----------
@@ -328,32 +331,11 @@ def geometry_args(args) -> dict | None:
         ``designation``, ``n_rollers``, ``roller_diameter_mm``, ``pitch_diameter_mm``,
         ``contact_angle_deg`` (inch options converted to mm); ``None`` when no bearing is given.
     """
-    for unit in ("roller", "pitch"):
-        if getattr(args, f"{unit}_diameter_mm") is not None and \
-                getattr(args, f"{unit}_diameter_in") is not None:
-            raise ValueError(f"--{unit}-diameter-in: give the {unit} diameter once, in mm or "
-                             f"in inch")
-    d_mm = args.roller_diameter_mm
-    p_mm = args.pitch_diameter_mm
-    if args.roller_diameter_in is not None:
-        d_mm = args.roller_diameter_in * _MM_PER_INCH
-    if args.pitch_diameter_in is not None:
-        p_mm = args.pitch_diameter_in * _MM_PER_INCH
-    given = (args.n_rollers, d_mm, p_mm)
-    if args.bearing is not None:
-        if any(v is not None for v in given) or args.contact_angle_deg is not None:
-            raise ValueError("--bearing: give the bearing by designation or by its geometry "
-                             "(--n-rollers, --roller-diameter-*, --pitch-diameter-*), not both")
-        from bearing_envelope.diagnosis.records import bearing_geometry  # start-up time
+    from bearing_envelope.physics.catalogue import bearing_geometry  # start-up time
 
-        return bearing_geometry(args.bearing, name="--bearing")
-    if all(v is None for v in given):
-        return None
-    if any(v is None for v in given):
-        raise ValueError("bearing geometry: give --n-rollers, --roller-diameter-mm (or -in) "
-                         "and --pitch-diameter-mm (or -in) together")
-    return {"designation": None, "n_rollers": args.n_rollers, "roller_diameter_mm": d_mm,
-            "pitch_diameter_mm": p_mm, "contact_angle_deg": args.contact_angle_deg or 0.0}
+    return bearing_geometry(**{p: getattr(args, a) for p, a in _BEARING_OPTIONS.items()},
+                            names={p: "--" + a.replace("_", "-")
+                                   for p, a in _BEARING_OPTIONS.items()})
 
 
 def _writable(opt: str, path: str | None, *, directory: bool = False) -> None:

@@ -78,8 +78,9 @@ def fault_frequency_map(bpfi=None, fault_frequencies=None) -> dict[str, float]:
     """Named fault frequencies (Hz) from ``bpfi`` and/or ``fault_frequencies``.
 
     ``fault_frequencies`` may be a mapping ``name -> Hz`` or an object with attributes
-    ``bpfo``, ``bpfi``, ``ftf``, ``bsf`` (:class:`bearing_envelope.physics.kinematics.FaultFrequencies`;
-    its ``bsf2`` = 2 BSF joins in :func:`~bearing_envelope.diagnosis.faults.fault_families`).
+    ``bpfo``, ``bpfi``, ``ftf``, ``bsf``, ``bsf2``
+    (:class:`bearing_envelope.physics.kinematics.FaultFrequencies`, every rate of
+    :func:`~bearing_envelope.physics.kinematics.bearing_rates`).
     ``bpfi`` overrides the mapping's ``"bpfi"``.
 
     Parameters
@@ -99,7 +100,8 @@ def fault_frequency_map(bpfi=None, fault_frequencies=None) -> dict[str, float]:
         if isinstance(fault_frequencies, Mapping):
             items = dict(fault_frequencies).items()
         else:
-            items = [(k, getattr(fault_frequencies, k)) for k in ("bpfo", "bpfi", "ftf", "bsf")
+            items = [(k, getattr(fault_frequencies, k))
+                     for k in ("bpfo", "bpfi", "ftf", "bsf", "bsf2")
                      if hasattr(fault_frequencies, k)]
         for k, v in items:
             check_fault_name(str(k), f"fault_frequencies[{k!r}]")

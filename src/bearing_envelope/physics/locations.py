@@ -51,6 +51,7 @@ import numpy as np
 
 from .fidelity import Fidelity
 from .geometry import hertz_estimate
+from .kinematics import bearing_rates
 from .loads import LoadDistribution
 from .scene import Scene
 from .solves import SolveStats
@@ -98,10 +99,7 @@ def event_frequencies(fr: float, bpfi: float, z: int, d_mm: float, pitch_mm: flo
     dict
         ``{"fr", "bpfi", "bpfo", "ftf", "bsf", "bsf2"}`` in Hz.
     """
-    f_c = float(fr) - float(bpfi) / int(z)
-    bsf = f_c * (pitch_mm + d_mm * math.cos(math.radians(alpha_deg))) / d_mm
-    return {"fr": float(fr), "bpfi": float(bpfi), "bpfo": int(z) * f_c, "ftf": f_c, "bsf": bsf,
-            "bsf2": 2.0 * bsf}
+    return bearing_rates(fr, z, d_mm, pitch_mm, alpha_deg, bpfi=bpfi)
 
 
 def scene_event_frequencies(scene: Scene) -> dict[str, float]:

@@ -34,6 +34,7 @@ import pandas as pd
 from ..diagnosis import analyze_signal
 from ..diagnosis.detection import detection_statistic
 from ..io import BandLimits, Case, CaseBands, CaseSpectra
+from ..physics.kinematics import spin_events
 from ..physics.locations import LOCATION_FAMILIES
 from ..physics.scene import DEFECT_LOCATIONS
 from ..physics.transfer import (TransferModel, excitation_from_history, select_excitation,
@@ -195,7 +196,7 @@ def case_fault_lines(case) -> tuple[dict[str, float], dict[str, tuple[str, float
     if loc == DEFECT_LOCATIONS[0]:
         return {"bpfi": float(case.bpfi)}, None
     ev = case_frequencies(case)
-    ev["bsf2"] = 2.0 * ev["bsf"]
+    ev["bsf2"] = spin_events(ev["bsf"])
     family, spacing = LOCATION_FAMILIES[loc]
     return {family: ev[family]}, {family: (spacing, ev[spacing])}
 
