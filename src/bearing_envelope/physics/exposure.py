@@ -134,9 +134,10 @@ def exposure_line(scene, exp: dict) -> str | None:
     if not scene.defect.active:
         return None
     if not exp["loaded"]:
-        return (f"{scene.defect.fault_location.where(scene)}: the defect never meets a loaded contact (element load 0 at every "
-                f"passage; load.centrifugal or a preload would load it): no contact solve, the "
-                f"history is that of an unloaded contact")
+        where = scene.defect.fault_location.where(scene)
+        return (f"{where}: the defect never meets a loaded contact (element load 0, or within the "
+                f"load law's rounding, at every passage; load.centrifugal or a preload would "
+                f"load it): no contact solve, the history is that of an unloaded contact")
     parts = []
     for race, r in exp["races"].items():
         if r.get("beyond_bridge_fraction", 0.0) > 0:
