@@ -610,8 +610,10 @@ class Defect:
     spin_axis : {"fixed", "wandering"}
         ``rolling_element`` only. ``fixed``: the defect lies on the element's rolling track and
         meets a race every half spin turn. ``wandering``: the element's orientation about its
-        centre is redrawn (uniform on the sphere, seeded) once per cage turn in the unloaded
-        zone (at 180 deg from the load direction); the defect meets a contact only while its
+        centre is redrawn (uniform on the sphere, seeded) once per cage turn where it is least
+        loaded (180 deg from the load direction) when its inner contact is unloaded there; an
+        element loaded all round (a preload) keeps its first orientation, its spin axis held by
+        the contacts; the defect meets a contact only while its
         axial distance from the track, ``(d/2) sin(latitude)``, is within the contact's axial
         semi-axis ``b(Q)`` (:func:`bearing_envelope.physics.locations.rolling_element_kinematics`).
     spin_seed : int
