@@ -15,7 +15,7 @@ import pytest
 
 from bearing_envelope.physics import locations
 from bearing_envelope.physics.exposure import exposure, exposure_line
-from bearing_envelope.physics.history import simulate
+from bearing_envelope.physics.history import check_resolved, simulate
 from bearing_envelope.physics.loads import scene_load_distribution
 from bearing_envelope.physics.locations import (ROLLING_ELEMENT, rolling_element_kinematics,
                                                 spin_is_free)
@@ -49,6 +49,7 @@ def test_zero_clearance_at_3_00_is_never_loaded_and_solves_nothing(roller_load="
     exp = exposure(sc, scene_load_distribution(sc))
     assert not exp["loaded"]
     assert "outer_race at 90 deg: the defect never meets a loaded contact" in exposure_line(sc, exp)
+    check_resolved(sc, "draft")                 # nothing to solve, nothing refused
     h = simulate(sc, "draft")
     assert h.stats["n_solves"] == 0
     assert not np.any(h.roller_load) and not np.any(h.signals["p_max"])
@@ -80,9 +81,12 @@ def test_a_contact_too_small_for_the_solver_is_refused_in_one_line(position_deg)
     sc = cwru(position_deg, 10.0)
     exp = exposure(sc, scene_load_distribution(sc))
     assert exp["loaded"] and exp["races"]["outer"]["q_max_N"] < 0.05
+    with pytest.raises(ValueError) as pre:
+        check_resolved(sc, "draft")             # the same refusal, before any solve
     with pytest.raises(ValueError) as e:
         simulate(sc, "draft")
     msg = str(e.value)
+    assert str(pre.value) == msg
     assert "\n" not in msg and f"outer_race at {position_deg:g} deg" in msg
     assert "defect.position_deg" in msg and "radial_clearance_um 10" in msg
     assert "75.36 deg" in msg and "global_dx_um" in msg
@@ -98,6 +102,7 @@ def test_discrete_loads_at_the_edge_run_on_a_table_from_a_resolved_load():
     (q_max, q_min), = sc.defect.fault_location.table_loads(sc, ld, exp).values()
     assert q_min is None
     assert q_max == pytest.approx(float(ld.load_at(math.radians(75.3 - 20.0), "outer")), rel=1e-3)
+    check_resolved(sc, "draft")                 # the table's loads are resolved: no refusal
 
 
 def test_discrete_load_at_3_00_with_clearance_is_not_a_load_the_pit_meets():

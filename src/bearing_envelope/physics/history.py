@@ -80,7 +80,7 @@ from .solves import SolveStats
 from .table import PressureTable, build_table, unloaded_table
 
 __all__ = ["History", "simulate", "synthesize", "synthesize_numpy", "kinematics", "cage_angle",
-           "defect_angle", "location_tables", "resolved_load", "MIN_CONTACT_CELLS",
+           "defect_angle", "location_tables", "resolved_load", "check_resolved", "MIN_CONTACT_CELLS",
            "evaluate_signals", "synthesize_case", "CONTACT_SIGNALS", "STATE_SIGNALS",
            "SIGNAL_UNITS"]
 
@@ -276,6 +276,33 @@ def _check_resolved(scene: Scene, fid: Fidelity, ld: LoadDistribution, q_max: fl
         f"narrower than {MIN_CONTACT_CELLS:g} global cells (fidelity.global_dx_um "
         f"{fid.global_dx_um:g}), too small for the contact solver; allowed: {where}a larger "
         f"load or a smaller bearing.radial_clearance_um, or a finer fidelity.global_dx_um")
+
+
+def check_resolved(scene: Scene, fidelity: Fidelity | str | None = None) -> None:
+    """Refuse, before any solve, a case whose contact tables would be too small a contact for
+    the solver (the check :func:`simulate` makes; cheap: the load law and the exposure only),
+    for a pre-run check of every case.
+
+    Parameters
+    ----------
+    scene : Scene
+        The case's scene.
+    fidelity : Fidelity, preset name or None
+        The fidelity of the solves (``global_dx_um``).
+
+    Raises
+    ------
+    ValueError
+        One line naming ``defect.position_deg`` / ``bearing.radial_clearance_um``
+        (:func:`_check_resolved`); none for a case that never meets a loaded contact.
+    """
+    fid = fidelity_from(fidelity)
+    ld = scene_load_distribution(scene)
+    exp = exposure(scene, ld)
+    if scene.defect.active and not exp["loaded"]:
+        return
+    for race, (q_max, _) in scene.defect.fault_location.table_loads(scene, ld, exp).items():
+        _check_resolved(scene.for_race(race), fid, ld, q_max)
 
 
 def location_tables(scene: Scene, fid: Fidelity, ld: LoadDistribution, exposure: dict,

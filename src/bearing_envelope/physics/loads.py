@@ -64,7 +64,8 @@ from scipy.optimize import brentq
 
 from ..contact import hertz
 
-__all__ = ["LoadDistribution", "LOAD_ROUNDING_ULPS", "palmgren_stiffness", "centrifugal_force", "race_compliances",
+__all__ = ["LoadDistribution", "LOAD_ROUNDING_ULPS",
+           "palmgren_stiffness", "centrifugal_force", "race_compliances",
            "operating_clearance", "ELEMENT_DENSITY_KG_M3", "STEEL_EXPANSION_PER_K", "solve_row", "row_load_distribution",
            "load_zone_integral", "scene_load_distribution", "hertz_point_stiffness", "contact_law",
            "LINE_CONTACT_EXPONENT", "POINT_CONTACT_EXPONENT"]

@@ -1020,16 +1020,16 @@ def _build_defect(m: Mapping[str, Any], depth_um: float, bearing: Bearing) -> De
                allowed="a finite angle in [0, 360) deg from the load direction (0 = centre of the "
                        "load zone)")
     if pos != 0 and not site.positioned:
-        raise _bad(p + "position_deg", pos, f"0 unless defect.location is {_names_where('positioned')} "
-                   f"(an {loc.replace('_', ' ')} defect turns through the load zone; its angle "
+        raise _bad(p + "position_deg", pos, f"0 unless defect.location is "
+                   f"{_names_where('positioned')} (an {loc.replace('_', ' ')} defect turns through the load zone; its angle "
                    f"is not a setting)")
     pf = _defect_profile(m["profile_file"], shape)
     if depth > 0 and width <= 0:
         raise _bad(p + "width_um", width, "> 0 when depth_um > 0")
     spin = _choice(p + "spin_axis", m["spin_axis"], SPIN_AXES)
     if spin != "fixed" and not site.spins:
-        raise _bad(p + "spin_axis", spin, f"'fixed' unless defect.location is {_names_where('spins')} "
-                   f"(got location {loc!r})")
+        raise _bad(p + "spin_axis", spin, f"'fixed' unless defect.location is "
+                   f"{_names_where('spins')} (got location {loc!r})")
     d = Defect(depth, length, width, shape, edge, ypos, orient, loc, pos, pf, spin,
                _int(p + "spin_seed", m["spin_seed"], lo=0))
     if depth > 0:
