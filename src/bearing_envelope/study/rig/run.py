@@ -91,7 +91,8 @@ def _analyze(files, conditions, out_prefix: Path):
            *_bearing_options(conditions[0].bearing), "--jobs", "1", "--table", table,
            "--csv", lines]
     subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
-    return pd.read_csv(table), pd.read_csv(lines)
+    # names as text: a record named "105" (a CWRU .mat file) is not the number 105
+    return pd.read_csv(table, dtype={"record": str}), pd.read_csv(lines, dtype={"file": str})
 
 
 def run_scorecard(conditions, contact: dict, out_dir, gain_reference: str, *, log=print,
