@@ -50,7 +50,24 @@ def _class(diag, conf, family) -> str:
 
 
 def record_features(table, lines, name: str, family: str) -> dict:
-    """The scorecard's features of one record from analyze's verdict table and lines CSV."""
+    """The scorecard's features of one record from analyze's verdict table and lines CSV.
+
+    Parameters
+    ----------
+    table, lines : pandas.DataFrame
+        ``analyze --table`` and ``analyze --csv``.
+    name : str
+        The record's name.
+    family : str
+        The family it is judged on (:data:`TRUTH_FAMILY`).
+
+    Returns
+    -------
+    dict
+        ``diagnosis``, ``confidence``, ``class``, ``detected``, the best band and fr, and where
+        the family's line is detected ``line_orders``, ``height_db``, ``h1``, ``h2_db``,
+        ``h3_db``, ``sideband_db``.
+    """
     rows = table[(table.record == name) & (table.family == family)]
     if rows.empty:
         return {"diagnosis": None, "confidence": None}
@@ -132,7 +149,20 @@ def load_trends(card, *, flat_db_per_load: float = 1.0) -> list:
     """Slope of the outer race's line height over the operating load (dB per unit of the
     manifest's ``load``: CWRU dB/hp; least squares over the
     records of one position, size and fs with a line on both sides) and the written rule:
-    same sign, or both within +-``flat_db_per_load``."""
+    same sign, or both within +-``flat_db_per_load``.
+
+    Parameters
+    ----------
+    card : pandas.DataFrame
+        :func:`scorecard`.
+    flat_db_per_load : float
+        Slopes within this are flat, dB per unit of load.
+
+    Returns
+    -------
+    list of dict
+        Per position, size and fs: ``n``, ``meas_db_per_load``, ``sim_db_per_load``, ``rule``.
+    """
     out = []
     or_ = card[card.family == "bpfo"]
     for (pos, dia, fs), g in or_.groupby(["position_deg", "length_um", "fs_hz"]):
@@ -150,7 +180,19 @@ def load_trends(card, *, flat_db_per_load: float = 1.0) -> list:
 
 
 def outer_race_ratios(card) -> list:
-    """BPFO fundamental at 3:00 over 6:00 (same size, load, fs), measured and simulated, dB."""
+    """BPFO fundamental at 3:00 over 6:00 (90 over 0 deg; same size, load, fs), measured and
+    simulated, dB.
+
+    Parameters
+    ----------
+    card : pandas.DataFrame
+        :func:`scorecard`.
+
+    Returns
+    -------
+    list of dict
+        Per pair: ``record_3``, ``record_6``, ``meas_db``, ``sim_db``, ``rule``.
+    """
     out = []
     or_ = card[card.family == "bpfo"]
     for _, r3 in or_[or_.position_deg == 90.0].iterrows():
@@ -182,7 +224,22 @@ def _line_amplitude(lines, name: str, band: str):
 
 
 def band_ratios(lines, name: str, band: str, family: str) -> dict:
-    """2x/1x, 3x/1x and (not BPFO) the +-1 sidebands over the line, dB, in one band."""
+    """2x/1x, 3x/1x and (not BPFO) the +-1 sidebands over the line, dB, in one band.
+
+    Parameters
+    ----------
+    lines : pandas.DataFrame
+        ``analyze --csv``.
+    name : str
+        The record's name.
+    band, family : str
+        analyze's band and family names.
+
+    Returns
+    -------
+    dict
+        ``h2_db``, ``h3_db`` and ``sideband_db`` where the lines exist; empty without a line.
+    """
     g = lines[of_record(lines, name) & (lines.band == band)
               & (lines.base == family)]
     a = {(int(o), int(sb)): float(v) for o, sb, v in zip(g.order, g.sideband, g.amplitude)}
@@ -265,7 +322,18 @@ def outer_race_ratios_in_band(card, measured_lines, sim_lines, bands=RATIO_BANDS
 
 
 def pass_rates(card) -> dict:
-    """Per rule: records passed, records compared."""
+    """Per rule: records passed, records compared.
+
+    Parameters
+    ----------
+    card : pandas.DataFrame
+        :func:`scorecard`.
+
+    Returns
+    -------
+    dict
+        ``{rule: [passed, compared]}``.
+    """
     out = {}
     for col in [c for c in card.columns if c.startswith("rule_")]:
         v = card[col]
@@ -275,7 +343,22 @@ def pass_rates(card) -> dict:
 
 
 def scorecard_markdown(card, ratios, trends=()) -> str:
-    """The scorecard as a markdown table (docs/virtual_rig.md), pass rates and OR ratios."""
+    """The scorecard as a markdown table (docs/virtual_rig.md), pass rates and OR ratios.
+
+    Parameters
+    ----------
+    card : pandas.DataFrame
+        :func:`scorecard`.
+    ratios : pandas.DataFrame
+        :func:`outer_race_ratios`.
+    trends : pandas.DataFrame or sequence
+        :func:`load_trends`.
+
+    Returns
+    -------
+    str
+        Markdown.
+    """
     def num(v, fmt):
         return "-" if v is None or (isinstance(v, float) and not np.isfinite(v)) else fmt % v
 
