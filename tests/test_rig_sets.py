@@ -163,3 +163,22 @@ def test_rig_runs_on_a_folder_of_data_center_mat_files(tmp_path):
     card = rig.run_scorecard(conds, contact, out, "130", settings=settings, log=lambda s: None)
     _check_run(card, out, {"105": ("bpfi", _bpfi(1, z, d, pitch)),
                            "130": ("bpfo", _bpfo(1, z, d, pitch))})
+
+
+def test_cli_simulates_a_folder_of_mat_files(tmp_path):
+    """``bearing-envelope rig FOLDER --config C --simulate-only``: the command line of the rig,
+    unchanged, on the data center's files; one contact history per fault record."""
+    from bearing_envelope.cli import main
+
+    data = tmp_path / "downloads"
+    data.mkdir()
+    _mat(data / "130.mat", 130, np.zeros(3000), rpm=1797)
+    _mat(data / "097.mat", 97, np.zeros(3000), rpm=1797)
+    cfg = tmp_path / "rig.yaml"
+    cfg.write_text("rig: {load_kN: 1.0, fidelity: draft}\n"
+                   "scene: {bearing: {designation: SKF 6205-2RS}}\n")
+    out = tmp_path / "run"
+    assert main(["rig", str(data), "--config", str(cfg), "-o", str(out), "--simulate-only"]) == 0
+    assert sorted(p.name for p in (out / "contact").iterdir()) == ["130_contact.npz"]
+    with np.load(out / "contact" / "130_contact.npz") as z:
+        assert float(z["fs"]) == FS and z["removed_force"].size >= 3000

@@ -9,7 +9,7 @@ from dataclasses import dataclass
 
 from ...checks import check_number
 from ...physics.fidelity import DEFAULT_PRESET
-from ..settings import read_yaml
+from ..config_read import read_yaml
 
 __all__ = ["RigSettings", "read_rig_config"]
 
