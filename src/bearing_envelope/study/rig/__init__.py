@@ -36,14 +36,12 @@ Examples
 
 from __future__ import annotations
 
-import os
-from pathlib import Path
-
 from .config import RigSettings, read_rig_config
-from .cwru import DRIVE_END, development_rows, mat_rows
+from .cwru import DRIVE_END
 from .load_zone import (directional_modulation, event_exponent, identify_from_run,
                         identify_load_zone, measured_sideband_db, removed_force_exponent)
-from .manifest import check_row, conditions_of_rows, fault_location, read_manifest
+from .manifest import (MANIFEST_NAME, fault_location, manifest_rows, read_manifest,
+                       record_conditions)
 from .records import RigBearing, RigCondition, bearing_rates, resolve_bearing
 from .run import run_scorecard
 from .scoring import (features_in_measured_band, load_trends, outer_race_ratios,
@@ -61,80 +59,3 @@ __all__ = ["record_conditions", "manifest_rows", "RigCondition", "RigBearing", "
            "size_summary", "removed_force_exponent", "event_exponent", "directional_modulation",
            "identify_load_zone", "measured_sideband_db", "identify_from_run", "DRIVE_END",
            "MANIFEST_NAME"]
-
-#: A folder holding this file is read through it.
-MANIFEST_NAME = "manifest.csv"
-
-
-def _files(item: str) -> list[str]:
-    if os.path.isdir(item):
-        return sorted(os.path.join(item, f) for f in os.listdir(item)
-                      if os.path.isfile(os.path.join(item, f)))
-    if not os.path.isfile(item):
-        raise ValueError(f"records: no such file or folder: {item}")
-    return [item]
-
-
-def manifest_rows(items, *, log=print) -> list[dict]:
-    """The validated fault records (:func:`.manifest.check_row`) of files, folders and
-    manifests.
-
-    Each item is read as: a ``.csv`` file: a manifest; a folder holding ``manifest.csv``: that
-    manifest; otherwise its files (a folder's, sorted): ``.mat`` files as the CWRU data
-    center's (:func:`.cwru.mat_rows`), ``.npz`` files by the package's CWRU development
-    manifest (:func:`.cwru.development_rows`; a file it does not list is left out, counted in
-    the log).
-
-    Parameters
-    ----------
-    items : iterable of str
-        Files, folders, manifests.
-    log : callable
-        Progress lines.
-
-    Returns
-    -------
-    list of dict
-        One validated row per fault record.
-    """
-    rows: list = []
-    for item in map(str, items):
-        own = Path(item) / MANIFEST_NAME
-        if item.lower().endswith(".csv") or own.is_file():
-            rows += read_manifest(own if own.is_file() else item)
-            continue
-        files = _files(item)
-        mats = [f for f in files if f.lower().endswith(".mat")]
-        found, unknown = development_rows([f for f in files if f.lower().endswith(".npz")])
-        raw = mat_rows(mats) + found
-        checked = (check_row(r, f"{r['file']} (CWRU catalogue)") for r in raw)
-        rows += [r for r in checked if r is not None]
-        if unknown:
-            log(f"rig: {item}: {len(unknown)} file(s) not in the CWRU development manifest, "
-                "left out")
-    return rows
-
-
-def record_conditions(items, *, log=print) -> list[RigCondition]:
-    """The rig condition of every fault record of files, folders and manifests
-    (:func:`manifest_rows`), in the order of their paths; records without fault are left out.
-
-    Parameters
-    ----------
-    items : iterable of str
-        Files, folders, manifests.
-    log : callable
-        Progress lines.
-
-    Returns
-    -------
-    list of RigCondition
-
-    Examples
-    --------
-    >>> from bearing_envelope.study.rig import record_conditions      # doctest: +SKIP
-    >>> [c.name for c in record_conditions(["records/manifest.csv"])]  # doctest: +SKIP
-    ['rec_a', 'rec_b']
-    """
-    rows = sorted(manifest_rows(items, log=log), key=lambda r: r["file"])
-    return conditions_of_rows(rows)

@@ -43,10 +43,11 @@ import math
 import os
 from pathlib import Path
 
-from .records import GEOMETRY_COLUMNS, condition_from_row, resolve_bearing
+from .cwru import development_rows, mat_rows
+from .records import GEOMETRY_COLUMNS, RigCondition, condition_from_row, resolve_bearing
 
-__all__ = ["read_manifest", "check_row", "fault_location", "conditions_of_rows",
-           "FAULT_NAMES", "NO_FAULT", "COLUMNS"]
+__all__ = ["record_conditions", "manifest_rows", "read_manifest", "check_row", "fault_location",
+           "conditions_of_rows", "FAULT_NAMES", "NO_FAULT", "COLUMNS", "MANIFEST_NAME"]
 
 #: Fault names of a manifest -> the project's fault location (:func:`fault_location`).
 FAULT_NAMES = {"inner_race": "inner_race", "outer_race": "outer_race",
@@ -253,3 +254,82 @@ def conditions_of_rows(rows) -> list:
         seen[c.name] = r["where"]
         out.append(c)
     return out
+
+
+#: A folder holding this file is read through it.
+MANIFEST_NAME = "manifest.csv"
+
+
+def _files(item: str) -> list[str]:
+    if os.path.isdir(item):
+        return sorted(os.path.join(item, f) for f in os.listdir(item)
+                      if os.path.isfile(os.path.join(item, f)))
+    if not os.path.isfile(item):
+        raise ValueError(f"records: no such file or folder: {item}")
+    return [item]
+
+
+def manifest_rows(items, *, log=print) -> list[dict]:
+    """The validated fault records (:func:`.manifest.check_row`) of files, folders and
+    manifests (:data:`MANIFEST_NAME` in a folder).
+
+    Each item is read as: a ``.csv`` file: a manifest; a folder holding ``manifest.csv``: that
+    manifest; otherwise its files (a folder's, sorted): ``.mat`` files as the CWRU data
+    center's (:func:`.cwru.mat_rows`), ``.npz`` files by the package's CWRU development
+    manifest (:func:`.cwru.development_rows`; a file it does not list is left out, counted in
+    the log).
+
+    Parameters
+    ----------
+    items : iterable of str
+        Files, folders, manifests.
+    log : callable
+        Progress lines.
+
+    Returns
+    -------
+    list of dict
+        One validated row per fault record.
+    """
+    rows: list = []
+    for item in map(str, items):
+        own = Path(item) / MANIFEST_NAME
+        if item.lower().endswith(".csv") or own.is_file():
+            rows += read_manifest(own if own.is_file() else item)
+            continue
+        files = _files(item)
+        mats = [f for f in files if f.lower().endswith(".mat")]
+        found, unknown = development_rows([f for f in files if f.lower().endswith(".npz")])
+        raw = mat_rows(mats) + found
+        checked = (check_row(r, f"{r['file']} (CWRU catalogue)") for r in raw)
+        rows += [r for r in checked if r is not None]
+        if unknown:
+            log(f"rig: {item}: {len(unknown)} file(s) not in the CWRU development manifest, "
+                "left out")
+    return rows
+
+
+def record_conditions(items, *, log=print) -> list[RigCondition]:
+    """The rig condition of every fault record of files, folders and manifests
+    (:func:`manifest_rows`), in the order of their paths; records without fault are left out
+    (the first function a user of the rig calls).
+
+    Parameters
+    ----------
+    items : iterable of str
+        Files, folders, manifests.
+    log : callable
+        Progress lines.
+
+    Returns
+    -------
+    list of RigCondition
+
+    Examples
+    --------
+    >>> from bearing_envelope.study.rig import record_conditions      # doctest: +SKIP
+    >>> [c.name for c in record_conditions(["records/manifest.csv"])]  # doctest: +SKIP
+    ['rec_a', 'rec_b']
+    """
+    rows = sorted(manifest_rows(items, log=log), key=lambda r: r["file"])
+    return conditions_of_rows(rows)
