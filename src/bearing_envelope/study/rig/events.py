@@ -25,6 +25,7 @@ import numpy as np
 from scipy import fft as sp_fft
 from scipy import signal as sps
 
+from ...physics.locations import get_location
 from ...signal.cycles import (FLOOR_PERCENTILE, burst_width, cycle_rate, element_windows,
                              synchronous_average)
 from ...signal.envelope import bandpass, envelope, settling_samples
@@ -167,15 +168,14 @@ def event_shapes(conditions, sim_dir) -> list:
         Per record: name, location, position, load, fs and each feature measured (``meas_``)
         and simulated (``sim_``).
     """
-    races = [c for c in conditions if c.location in ("inner_race", "outer_race")]
+    races = [c for c in conditions if not get_location(c.location).spins]
     rows = [{"record": c.name, "location": c.location, "position_deg": c.position_deg,
              "length_um": c.length_um, "load": c.load, "fs_hz": c.fs_hz}
             for c in races]
     for i, _, c, side, path in record_pairs(races, sim_dir):
-        outer = c.location == "outer_race"
-        rate = c.rates["bpfo" if outer else "bpfi"]
-        shape = event_shape(read_samples(path), c.fs_hz, rate,
-                            n_elements=c.bearing.n_rollers if outer else None)
+        loc = get_location(c.location)  # a fixed defect: each element once per cage turn
+        shape = event_shape(read_samples(path), c.fs_hz, c.rates[loc.family],
+                            n_elements=c.bearing.n_rollers if loc.positioned else None)
         rows[i].update({f"{side}_{k}": v for k, v in shape.items()})
     return rows
 

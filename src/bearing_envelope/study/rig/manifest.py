@@ -33,7 +33,7 @@ notes (``record``, ``grade``, ...). The bearing's radial load is the rig's (``ri
 its config): one rig, one load zone.
 
 Fault names: :func:`fault_location` is the one place a manifest's fault name becomes the
-project's location.
+project's location (a name of the location registry, or the data center's ``ball``).
 """
 
 from __future__ import annotations
@@ -43,15 +43,15 @@ import math
 import os
 from pathlib import Path
 
+from ...physics.locations import get_location, location_names
 from .cwru import development_rows, mat_rows
 from .records import GEOMETRY_COLUMNS, RigCondition, condition_from_row, resolve_bearing
 
 __all__ = ["record_conditions", "manifest_rows", "read_manifest", "check_row", "fault_location",
-           "conditions_of_rows", "FAULT_NAMES", "NO_FAULT", "COLUMNS", "MANIFEST_NAME"]
+           "conditions_of_rows", "FAULT_ALIASES", "NO_FAULT", "COLUMNS", "MANIFEST_NAME"]
 
-#: Fault names of a manifest -> the project's fault location (:func:`fault_location`).
-FAULT_NAMES = {"inner_race": "inner_race", "outer_race": "outer_race",
-               "rolling_element": "rolling_element", "ball": "rolling_element"}
+#: Names a manifest may give a location by besides the registry's own (the data center's).
+FAULT_ALIASES = {"ball": "rolling_element"}
 #: Names of a record without a fault (left out of the rig).
 NO_FAULT = ("none", "normal", "healthy")
 #: The columns the rig reads (others are notes).
@@ -60,20 +60,22 @@ COLUMNS = ("file", "name", "location", "length_um", "width_um", "depth_um", "pos
 
 
 def fault_location(name: str, *, where: str = "location") -> str | None:
-    """The project's fault location of a manifest's fault name (the rig's one mapping).
+    """The project's fault location of a manifest's fault name (the rig's one mapping): a name
+    of the location registry (:func:`bearing_envelope.physics.locations.get_location`) or an
+    alias of :data:`FAULT_ALIASES`.
 
     Parameters
     ----------
     name : str
-        ``inner_race``, ``outer_race``, ``rolling_element``, ``ball`` (any case); ``none``,
-        ``normal``, ``healthy`` or empty: no fault.
+        ``inner_race``, ``outer_race``, ``rolling_element``, ``ball`` (any case), any other
+        registered location; ``none``, ``normal``, ``healthy`` or empty: no fault.
     where : str
         The field, for the message (``manifest.csv row 3: location``).
 
     Returns
     -------
     str or None
-        ``inner_race`` | ``outer_race`` | ``rolling_element``; None for a record without fault.
+        The registered location's name; None for a record without fault.
 
     Raises
     ------
@@ -83,10 +85,11 @@ def fault_location(name: str, *, where: str = "location") -> str | None:
     key = (name or "").strip().lower()
     if key in NO_FAULT or not key:
         return None
-    if key not in FAULT_NAMES:
-        raise ValueError(f"{where}: got {name!r}; allowed: {', '.join(FAULT_NAMES)}, "
-                         f"{', '.join(NO_FAULT)}")
-    return FAULT_NAMES[key]
+    key = FAULT_ALIASES.get(key, key)
+    if key not in location_names():
+        raise ValueError(f"{where}: got {name!r}; allowed: "
+                         f"{', '.join((*location_names(), *FAULT_ALIASES))}, {', '.join(NO_FAULT)}")
+    return get_location(key).name
 
 
 def _number(row: dict, key: str, where: str, *, lo: float = 0.0, lo_open: bool = True,
@@ -143,10 +146,11 @@ def _fault(row: dict, where: str, location: str) -> dict:
     width = _number(row, "width_um", where, unit=" um")
     out["width_um"] = out["length_um"] if width is None else width
     pos = _number(row, "position_deg", where, lo=0.0, lo_open=False, hi=360.0, unit=" deg")
-    if location == "outer_race" and pos is None:
-        raise ValueError(f"{where}: position_deg: empty; allowed: the outer-race defect's angle "
+    positioned = get_location(location).positioned  # a defect fixed in space: the outer race
+    if positioned and pos is None:
+        raise ValueError(f"{where}: position_deg: empty; allowed: the {location} defect's angle "
                          "from the load direction, 0 to 360 deg (6:00 = 0, 3:00 = 90)")
-    if location != "outer_race" and pos:
+    if not positioned and pos:
         raise ValueError(f"{where}: position_deg: got {pos:g}; allowed: empty or 0 unless "
                          "location is outer_race")
     out["position_deg"] = pos or 0.0

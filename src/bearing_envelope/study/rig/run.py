@@ -9,6 +9,7 @@ import json
 from collections import Counter
 from pathlib import Path
 
+from ...physics.locations import get_location
 from .config import RigSettings
 from .events import event_shapes
 from .figures import plot_element_folds, plot_side_by_side
@@ -152,7 +153,7 @@ def _write_events(conditions, out_dir: Path) -> None:
 
     pd.DataFrame(event_shapes(conditions, out_dir / "sim")).to_csv(
         out_dir / "event_shape.csv", index=False)
-    outer = figure_records(conditions, "outer_race")
+    outer = [c for c in figure_records(conditions) if get_location(c.location).positioned]
     if outer:
         plot_element_folds(outer, out_dir / "sim", out_dir / "element_folds.png")
 

@@ -12,7 +12,9 @@ import os
 
 import numpy as np
 
-__all__ = ["TRUTH_FAMILY", "TOL_DB", "TOL_LINE", "RATIO_BANDS", "record_features", "scorecard",
+from ...physics.locations import get_location
+
+__all__ = ["TOL_DB", "TOL_LINE", "RATIO_BANDS", "record_features", "scorecard",
            "load_trends", "outer_race_ratios", "features_in_measured_band",
            "outer_race_ratios_in_band", "band_ratios", "pass_rates", "scorecard_markdown",
            "of_record"]
@@ -37,8 +39,6 @@ def of_record(lines, name: str):
     return lines.file.map(lambda f: os.path.splitext(os.path.basename(str(f)))[0]) == name
 
 
-#: The family each defect location is judged on (analyze's family names).
-TRUTH_FAMILY = {"inner_race": "bpfi", "outer_race": "bpfo", "rolling_element": "bsf2"}
 #: Tolerances of the pass rules (docs/virtual_rig.md), dB or fraction.
 TOL_DB, TOL_LINE = 6.0, 0.005
 
@@ -59,7 +59,7 @@ def record_features(table, lines, name: str, family: str) -> dict:
     name : str
         The record's name.
     family : str
-        The family it is judged on (:data:`TRUTH_FAMILY`).
+        The family it is judged on (the location's ``family``).
 
     Returns
     -------
@@ -118,7 +118,7 @@ def scorecard(conditions, measured_table, measured_lines, sim_table, sim_lines):
 
     rows = []
     for c in conditions:
-        fam = TRUTH_FAMILY[c.location]
+        fam = get_location(c.location).family  # the line family it is judged on
         m = record_features(measured_table, measured_lines, c.name, fam)
         s = record_features(sim_table, sim_lines, c.name + "_sim", fam)
         row = {"record": c.name, "family": fam, "load": c.load, "fs_hz": c.fs_hz,

@@ -29,6 +29,7 @@ from scipy import signal as sps
 from ...diagnosis.transfer_path import WELCH_SEGMENT, background_noise, identify_path
 from ...io.atomic import atomic_path
 from ...physics.history import defect_angle, simulate, synthesize_case
+from ...physics.locations import get_location
 from ...physics.scene import Scene
 from ...physics.transfer import Mode, apply_structure, direction_gain, excitation_from_history
 from .config import RigSettings
@@ -71,7 +72,7 @@ def condition_scene(cond: RigCondition, settings: RigSettings) -> Scene:
     d = m.setdefault("defect", {})
     d.update(location=cond.location, position_deg=cond.position_deg,
              length_um=cond.length_um, width_um=cond.width_um)
-    if cond.location == "rolling_element":
+    if get_location(cond.location).spins:  # a defect on a spinning body: the ball's axis
         d["spin_axis"] = settings.ball_spin_axis
     op = m.setdefault("operation", {})
     op.update(shaft_rate_hz=cond.shaft_hz, fs_hz=cond.fs_hz,
@@ -128,8 +129,8 @@ def simulate_excitations(conditions, settings: RigSettings, out_dir, *, log=prin
             hist = simulate(first, settings.fidelity)
             for c in todo:
                 scene = condition_scene(c, settings)
-                tables = hist.table if scene.defect.location == "inner_race" else hist.tables
-                t, sig, _ = synthesize_case(scene, tables, hist.load_distribution, hist.fidelity)
+                t, sig, _ = synthesize_case(scene, hist.tables, hist.load_distribution,
+                                            hist.fidelity)
                 _write_excitation(_excitation_path(out_dir, c), t, sig, c)
         paths["_cpu_s"][key] = _cpu() - t0
         log(f"rig: {key}: {len(todo)} of {len(conds)} simulated, {paths['_cpu_s'][key]:.1f} CPU s")
