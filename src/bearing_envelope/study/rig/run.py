@@ -21,15 +21,13 @@ from .size import size_ranking, size_summary
 __all__ = ["run_scorecard", "figure_records", "analyze_manifest"]
 
 
-def figure_records(conditions, location: str | None = None) -> list:
+def figure_records(conditions) -> list:
     """The records a run's figures show: those at the lowest load and at the sampling rate most
-    records have (ties: the lowest), of one location if given (CWRU: 0 hp, 12 kHz).
+    records have (ties: the lowest; CWRU: 0 hp, 12 kHz).
 
     Parameters
     ----------
     conditions : sequence of RigCondition
-    location : str, optional
-        The project's location (``outer_race``).
 
     Returns
     -------
@@ -40,8 +38,7 @@ def figure_records(conditions, location: str | None = None) -> list:
     counts = Counter(c.fs_hz for c in conditions)
     fs = min(counts, key=lambda f: (-counts[f], f))
     low = min(c.load for c in conditions)
-    return [c for c in conditions if c.load == low and c.fs_hz == fs
-            and (location is None or c.location == location)]
+    return [c for c in conditions if c.load == low and c.fs_hz == fs]
 
 
 def analyze_manifest(rows, path) -> str:
