@@ -221,6 +221,18 @@ def read_manifest(path: str | os.PathLike) -> list[dict]:
     ------
     ValueError
         No such file, no ``file`` or ``location`` column, or a bad row (one line naming it).
+
+    Examples
+    --------
+    A manifest of two records of a 6205 (the second a healthy one, left out)::
+
+        file,location,length_um,depth_um,position_deg,load,shaft_hz,bearing
+        a.npz,outer_race,177.8,279.4,90,2,29.17,6205
+        b.npz,none,,,,2,29.17,6205
+
+    >>> rows = read_manifest("records/manifest.csv")   # doctest: +SKIP
+    >>> [(r["location"], r["position_deg"]) for r in rows]   # doctest: +SKIP
+    [('outer_race', 90.0)]
     """
     path = Path(path)
     if not path.is_file():

@@ -88,7 +88,11 @@ def _analyze(files, conditions, out_prefix: Path):
     cmd = [sys.executable, "-m", "bearing_envelope", "analyze", "--manifest", manifest,
            *_bearing_options(conditions[0].bearing), "--jobs", "1", "--table", table,
            "--csv", lines]
-    subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
+    done = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    sys.stderr.write(done.stderr)
+    if done.returncode:
+        last = (done.stderr.strip().splitlines() or ["no message"])[-1]
+        raise RuntimeError(f"rig: analyze of {manifest} failed (exit {done.returncode}): {last}")
     # names as text: a record named "105" (a CWRU .mat file) is not the number 105
     return pd.read_csv(table, dtype={"record": str}), pd.read_csv(lines, dtype={"file": str})
 
