@@ -598,7 +598,7 @@ def _sweep(stats: SolveStats, scene: Scene, fid: Fidelity, grid: Grid, g0: np.nd
     return force
 
 
-def build_defect_table(scene: Scene, fidelity: "str | Fidelity | dict" = "draft", *,
+def build_defect_table(scene: Scene, fidelity: "str | Fidelity | dict" = "standard", *,
                        race: str | None = None, delta_max_m: float | None = None,
                        delta_m=None, x_m=None, load_factor: float = LOAD_FACTOR,
                        n_checks: int | None = None, seed: int = 0) -> DefectContactTable:
