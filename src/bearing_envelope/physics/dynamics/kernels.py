@@ -274,7 +274,8 @@ def rhs_kernel(t, y, P, cage, cph, sph, tx, td, tf, qi, qo, xd, dydt):
 
 @_jit
 def _record(t, y, k1, fdef, P, cage, cph, sph, qo, row):
-    """One row of the internal record (:data:`~.layout.REC_FIXED`, then the ``Z`` outer loads)."""
+    """One row of the internal record (:data:`~.layout.REC_FIXED`, the ``Z`` outer loads, the
+    ``Z`` element velocities)."""
     z = cph.size
     nd = _E0 + z
     thc, _ = cage_angle_at(t, cage, P[CT0], P[CDT])
@@ -286,6 +287,7 @@ def _record(t, y, k1, fdef, P, cage, cph, sph, qo, row):
         fx += qo[j] * P[CA] * (c0 * cph[j] - s0 * sph[j])
         fy += qo[j] * P[CA] * (s0 * cph[j] + c0 * sph[j])
         row[REC_SIZE_FIXED + j] = qo[j]
+        row[REC_SIZE_FIXED + z + j] = y[nd + _E0 + j]
     row[0], row[1] = fx, fy
     row[2], row[3] = y[2], y[3]
     row[4], row[5] = k1[nd + 2], k1[nd + 3]
@@ -310,7 +312,7 @@ def rk4_run(y, t0, dt, n_rec, every, P, cage, cph, sph, tx, td, tf, rec):
     P, cage, cph, sph, tx, td, tf
         As :func:`contact_forces`.
     rec : ndarray
-        Output, shape ``(n_rec, REC_SIZE_FIXED + Z)``.
+        Output, shape ``(n_rec, REC_SIZE_FIXED + 2 Z)``.
 
     Returns
     -------

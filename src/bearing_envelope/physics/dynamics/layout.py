@@ -94,7 +94,8 @@ P_NAMES = ("ms", "ks", "cs", "mh", "kh", "ch", "mr", "kr", "cr", "sens_c", "sens
            "ct0", "cdt", "n15")
 P_SIZE = len(P_NAMES)
 
-#: Fixed columns of the internal record (then ``Z`` element loads): the force the elements pass
+#: Fixed columns of the internal record (then the ``Z`` element loads, then the ``Z`` element
+#: velocities along their normals, point-sampled): the force the elements pass
 #: to the outer ring (x, y), the outer ring/housing displacement and acceleration (x, y), the
 #: resonator displacement and acceleration, the defect contact force, the inner ring (x, y).
 REC_FIXED = ("housing_force_x", "housing_force_y", "housing_disp_x", "housing_disp_y",

@@ -18,7 +18,7 @@ from .params import MODEL_NAME, DynamicParams, highest_frequency_hz, quasi_stati
 
 __all__ = ["Arrays", "arrays", "rhs", "element_loads", "initial_state", "simulate_dynamics",
            "DynamicResult", "jacobian", "linearised_frequencies_hz", "auto_oversample",
-           "SETTLE_PERIODS"]
+           "SETTLE_PERIODS", "record_names"]
 
 #: Settling before ``t = 0`` (discarded), in periods of the slowest structural mode, at least
 #: 20 ms: the start from the quasi-static state rings the rings' modes down.
@@ -257,6 +257,12 @@ class DynamicResult:
         ``(n, Z)``: each element's outer contact load, N.
     defect_force_n : ndarray
         ``(n,)``: force of the contact on the defect (0 when none is on it), N.
+    element_velocity_m_s : ndarray
+        ``(n, Z)``: each element's velocity along its normal, outwards (point samples), m/s.
+    state_end : ndarray
+        The state where the integration stopped (at ``t_end_s``, past the record by the
+        anti-alias filter's half length).
+    t_end_s : float
     model : str
         The model that made them.
     step_s : float
@@ -280,6 +286,9 @@ class DynamicResult:
     inner_displacement_m: np.ndarray
     element_load_n: np.ndarray
     defect_force_n: np.ndarray
+    element_velocity_m_s: np.ndarray
+    state_end: np.ndarray
+    t_end_s: float
     model: str
     step_s: float
     steps: int
@@ -288,14 +297,31 @@ class DynamicResult:
     params: DynamicParams
 
 
+def record_names(z: int) -> tuple[str, ...]:
+    """Names of the internal record's columns (:data:`~.layout.REC_FIXED`, ``element_k`` the
+    outer loads, ``velocity_k`` the element velocities).
+
+    Parameters
+    ----------
+    z : int
+        Elements.
+
+    Returns
+    -------
+    tuple of str
+    """
+    return REC_FIXED + tuple(f"element_{k}" for k in range(z)) + tuple(f"velocity_{k}" for k in range(z))
+
+
 class _Stream:
     """Integrates forward on demand and serves rows of the internal record by index
     ``j`` (time ``j rec_dt``), keeping only what a later request may still ask for."""
 
     def __init__(self, params, a, y0, j_first, rec_dt, every):
         self.a, self.y, self.rec_dt, self.every = a, y0.copy(), rec_dt, every
+        self.z = params.z
         self.next_j = j_first
-        self.buf = np.empty((0, REC_SIZE_FIXED + params.z))
+        self.buf = np.empty((0, REC_SIZE_FIXED + 2 * params.z))
         self.buf_j = j_first
         self.steps = 0
 
@@ -320,8 +346,7 @@ class _Stream:
     def evaluate(self, t: np.ndarray) -> dict:
         j = np.rint(np.asarray(t) / self.rec_dt).astype(np.int64)
         r = self.rows(int(j[0]), int(j[-1]))
-        names = REC_FIXED + tuple(f"element_{k}" for k in range(r.shape[1] - REC_SIZE_FIXED))
-        return {name: r[:, i] for i, name in enumerate(names)}
+        return {name: r[:, i] for i, name in enumerate(record_names(self.z))}
 
 
 def _settle_s(params: DynamicParams) -> float:
@@ -388,7 +413,9 @@ def simulate_dynamics(params: DynamicParams, duration_s: float, fs_hz: float, *,
     if y.shape != (StateLayout(params.z).size,):
         raise ValueError(f"simulate_dynamics: y0 has shape {y.shape}; allowed: ({StateLayout(params.z).size},)")
     st = _Stream(params, a, y, j_first, rec_dt, every)
-    sig = acquire(st.evaluate, n_out, fs_hz, mode=acquisition, oversample=ov)
+    names = record_names(params.z)
+    sig = acquire(st.evaluate, n_out, fs_hz, mode=acquisition, oversample=ov,
+                  filtered=names[:REC_SIZE_FIXED + params.z])
     z = params.z
 
     def pair(name):
@@ -398,5 +425,7 @@ def simulate_dynamics(params: DynamicParams, duration_s: float, fs_hz: float, *,
                          pair("housing_disp"), pair("housing_acc"), sig["resonator_disp"],
                          sig["resonator_acc"], pair("inner_disp"),
                          np.stack([sig[f"element_{k}"] for k in range(z)], axis=1),
-                         sig["defect_force"], MODEL_NAME, rec_dt / every, st.steps, ov,
+                         sig["defect_force"],
+                         np.stack([sig[f"velocity_{k}"] for k in range(z)], axis=1),
+                         st.y.copy(), st.next_j * rec_dt, MODEL_NAME, rec_dt / every, st.steps, ov,
                          time.process_time() - cpu0, params)
