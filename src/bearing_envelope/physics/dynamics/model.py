@@ -339,7 +339,7 @@ class _Stream:
                                          f"(step {self.rec_dt / self.every:.3g} s too large?)")
             self.steps += n * self.every
             self.next_j += n
-            self.buf = np.concatenate([self.buf[j_lo - self.buf_j:], new])
+            self.buf = np.concatenate([self.buf, new])[j_lo - self.buf_j:]
             self.buf_j = j_lo
         return self.buf[j_lo - self.buf_j: j_hi + 1 - self.buf_j]
 
