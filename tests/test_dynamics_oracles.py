@@ -135,8 +135,8 @@ def energy(p, y):
 
 
 #: Energy drift bounds without damping: |E(end) - E(0)| after 20 ms of a knocked shaft (contacts
-#: opening and striking), relative to the energy of the knock, at the step rule (20 steps per
-#: period of the highest frequency) and at twice as many steps. Measured: 8.2e-5 and 2.0e-6
+#: opening and striking), relative to the energy of the knock, at 20 and 40 (the step rule)
+#: steps per period of the highest frequency. Measured: 8.2e-5 and 2.0e-6
 #: (RK4 loses energy, converging at its order: 1.2e-3, 8.2e-5, 2.0e-6, 1.5e-7 for 10-80 steps).
 ENERGY_BOUND = {20.0: 2e-4, 40.0: 1e-5}
 

@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..acquisition import acquire
+from ..acquisition import acquire, antialias_filter
 from .kernels import CDT, CT0, cage_angle_at, contact_forces, rhs_kernel, rk4_run
 from .layout import REC_FIXED, REC_SIZE_FIXED, StateLayout
 from .params import MODEL_NAME, DynamicParams, highest_frequency_hz, quasi_static, step_size
@@ -406,7 +406,8 @@ def simulate_dynamics(params: DynamicParams, duration_s: float, fs_hz: float, *,
                               {"steps_per_period": steps_per_period})) if dt_s is None else float(dt_s)
     every = max(1, int(math.ceil(rec_dt / dt - 1e-9)))
     settle = _settle_s(params) if settle_s is None else float(settle_s)
-    j_first = -int(math.ceil(settle / rec_dt)) - 2 * ov * 200
+    lead = 0 if acquisition == "point" else (antialias_filter(ov).size - 1) // 2
+    j_first = -int(math.ceil(settle / rec_dt - 1e-9)) - lead
     t_first = j_first * rec_dt
     a = arrays(params, t_first, duration_s + 0.1)
     y = initial_state(params, t_first) if y0 is None else np.asarray(y0, dtype=float).copy()
