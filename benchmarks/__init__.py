@@ -46,6 +46,8 @@ REGISTRY: dict[str, str] = {
                      "envelope line)",
     "hostile_configs": "bad and hostile configs: each refused before any job (or run to the "
                        "end with --run), and the check's cost",
+    "dynamics_cost": "dynamic bearing model: RK4 numba against solve_ivp (accuracy, CPU), the "
+                     "step rule's envelope-line convergence, CPU of a 12 kHz record",
 }
 
 #: Benchmarks of work in flight, registered as soon as their module is in this folder (each
