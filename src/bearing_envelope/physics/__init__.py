@@ -12,7 +12,8 @@
 - :mod:`.acquisition`: point or anti-aliased sampling, noise;
 - :mod:`.history`: kinematics of the defect, synthesis, :func:`~.history.simulate`;
 - :mod:`.pit`: when the bottom of a pit carries load;
-- :mod:`.transfer`: the structural path to a synthetic accelerometer.
+- :mod:`.transfer`: the structural path to a synthetic accelerometer;
+- :mod:`.dynamics`: the dynamic lumped-parameter bearing (docs/dynamics.md).
 
 Nothing here imports from the layers above (signal, diagnosis, io, study, cli).
 """

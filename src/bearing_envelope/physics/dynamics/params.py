@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field, replace
+from functools import partial
 from typing import Callable
 
 import numpy as np
@@ -410,7 +411,7 @@ def params_from_scene(scene, *, defect: DefectLaw | None = None, centrifugal: bo
               cage_rate_hz=scene.cage_rate_hz, shaft_rate_hz=scene.operation.shaft_rate_hz,
               defect=defect, defect_race="inner" if scene.defect.location == "inner_race" else "outer",
               defect_angle_rad=math.radians(getattr(scene.defect, "position_deg", 0.0) or 0.0),
-              cage_angle=(lambda t: cage_angle(scene, np.asarray(t, dtype=float)))
+              cage_angle=partial(cage_angle, scene)
               if slip and scene.operation.cage_slip_percent > 0 else None)
     kw.update(overrides)
     p = DynamicParams(**kw)
