@@ -149,3 +149,28 @@ def test_neighbours_take_the_load_over_with_inertia():
     assert dh[k] < 0.8 * dq[k, 0]              # the housing force departs from F: inertia
     assert abs(neighbours[k]) < 0.1 * abs(dq[k, 0])
     assert lag > 50e-6
+
+
+def test_kernel_reads_the_law_bilinearly_and_hertz_outside():
+    from scipy.interpolate import RegularGridInterpolator
+
+    from bearing_envelope.physics.dynamics.kernels import hertz_force, table_force
+
+    rng = np.random.default_rng(1)
+    x = np.sort(rng.uniform(-2e-4, 2e-4, 37))
+    d = np.r_[0.0, np.sort(rng.uniform(1e-7, 2e-5, 29))]
+    f = np.cumsum(rng.uniform(0, 50, (37, 30)), axis=1)
+    law = DefectLaw.from_table(type("T", (), dict(x_m=x, delta_m=d, force_n=f))())
+    ref = RegularGridInterpolator((law.x_m, law.delta_m), law.force_n, method="linear")
+    pts = np.c_[rng.uniform(x[0], x[-1], 500), rng.uniform(1e-9, d[-1], 500)]
+    got = [table_force(a, b, law.x_m, law.delta_m, law.force_n) for a, b in pts]
+    np.testing.assert_allclose(got, ref(pts), rtol=1e-12, atol=1e-9)
+    assert table_force(0.0, -1e-6, x, d, f) == 0.0 and table_force(0.0, 0.0, x, d, f) == 0.0
+    above = table_force(x[3], 2 * d[-1], x, d, f)           # linear beyond the last node
+    slope = (f[3, -1] - f[3, -2]) / (d[-1] - d[-2])
+    assert above == pytest.approx(f[3, -1] + slope * d[-1], rel=1e-12)
+    # outside the x range the model uses Hertz: the same force as an element without the law
+    p = scene_params()
+    slot = slot_law(p.element_radius_m, W7, DEPTH, p.k_outer, 1.5, 30e-6)
+    assert table_force(-0.5 * W7, 3e-6, slot.x_m, slot.delta_m, slot.force_n) == pytest.approx(
+        hertz_force(3e-6, 0.0, p.k_outer, 1.5, 1.0, 0.0), rel=1e-5)

@@ -80,8 +80,9 @@ def _bracket(a, v):
 
 @_jit
 def table_force(x, delta, tx, td, tf):
-    """Bilinear reading of the defect law ``tf[i, j] = F(tx[i], td[j])`` (N), extrapolated
-    linearly in ``delta`` beyond the nodes and clipped at 0; ``x`` must lie in ``[tx[0], tx[-1]]``.
+    """Bilinear reading of the defect law ``tf[i, j] = F(tx[i], td[j])`` (N): 0 for
+    ``delta <= 0``, extrapolated linearly in ``delta`` beyond the nodes and clipped at 0 (the
+    reading of ``physics/defect_contact.py``'s table); ``x`` must lie in ``[tx[0], tx[-1]]``.
 
     Parameters
     ----------
@@ -99,6 +100,8 @@ def table_force(x, delta, tx, td, tf):
     float
         Force, N, >= 0.
     """
+    if delta <= 0.0:
+        return 0.0
     i = _bracket(tx, x)
     j = _bracket(td, delta)
     u = (x - tx[i]) / (tx[i + 1] - tx[i])

@@ -52,8 +52,8 @@ class DefectLaw:
     ``x_m``: position of the element's contact relative to the pit centre, along the element's
     motion relative to the race (entry edge at negative ``x``), ascending, m. ``delta_m``: the
     contact's approach relative to the undamaged surfaces (the ``delta`` of ``Q = K delta^n``),
-    ascending, m. ``force_n`` (N, >= 0): read bilinearly; linear beyond the ``delta`` nodes
-    (clipped at 0); Hertz outside ``[x_m[0], x_m[-1]]``.
+    ascending, m. ``force_n`` (N, >= 0): read bilinearly; 0 for ``delta <= 0``, linear beyond
+    the ``delta`` nodes (clipped at 0); Hertz outside ``[x_m[0], x_m[-1]]``.
     """
 
     x_m: np.ndarray
@@ -76,6 +76,24 @@ class DefectLaw:
                              f"(len(x_m), len(delta_m)) = {(self.x_m.size, self.delta_m.size)}")
         if np.any(self.force_n < 0):
             raise ValueError("DefectLaw.force_n: got negative forces; allowed: >= 0")
+
+    @classmethod
+    def from_table(cls, table) -> "DefectLaw":
+        """The law of any object with ``x_m``, ``delta_m`` and ``force_n`` arrays (the
+        non-Hertzian table of ``physics/defect_contact.py``).
+
+        Parameters
+        ----------
+        table : object
+            With attributes ``x_m``, ``delta_m``, ``force_n`` (SI).
+
+        Returns
+        -------
+        DefectLaw
+            A validated copy of the arrays.
+        """
+        return cls(np.array(table.x_m, dtype=float), np.array(table.delta_m, dtype=float),
+                   np.array(table.force_n, dtype=float))
 
 
 def slot_drop(x_m, radius_m: float, width_m: float, depth_m: float) -> np.ndarray:
