@@ -174,3 +174,13 @@ def test_kernel_reads_the_law_bilinearly_and_hertz_outside():
     slot = slot_law(p.element_radius_m, W7, DEPTH, p.k_outer, 1.5, 30e-6)
     assert table_force(-0.5 * W7, 3e-6, slot.x_m, slot.delta_m, slot.force_n) == pytest.approx(
         hertz_force(3e-6, 0.0, p.k_outer, 1.5, 1.0, 0.0), rel=1e-5)
+
+
+def test_a_law_too_short_in_approach_is_reported():
+    p = scene_params()
+    short = slot_law(p.element_radius_m, W7, DEPTH, p.k_outer, 1.5, 3e-6)   # Q(3 um) ~ 140 N
+    ang = 2 * math.pi * p.cage_rate_hz * T_IN
+    p = p.with_(defect=short, defect_angle_rad=ang, defect_race="outer")
+    with pytest.warns(RuntimeWarning, match="above the defect law's largest tabulated force"):
+        r = simulate_dynamics(p, 2e-3, 48000.0)
+    assert r.defect_force_peak_n > 400

@@ -6,7 +6,9 @@ through :func:`bearing_envelope.physics.acquisition.acquire`). Equations: ``docs
 from __future__ import annotations
 
 import math
+import numbers
 import time
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
@@ -263,6 +265,8 @@ class DynamicResult:
         The state where the integration stopped (at ``t_end_s``, past the record by the
         anti-alias filter's half length).
     t_end_s : float
+    defect_force_peak_n : float
+        Largest defect contact force of the internal record (before the anti-alias filter), N.
     model : str
         The model that made them.
     step_s : float
@@ -289,6 +293,7 @@ class DynamicResult:
     element_velocity_m_s: np.ndarray
     state_end: np.ndarray
     t_end_s: float
+    defect_force_peak_n: float
     model: str
     step_s: float
     steps: int
@@ -349,6 +354,15 @@ class _Stream:
         return {name: r[:, i] for i, name in enumerate(record_names(self.z))}
 
 
+def _check_table_range(params: DynamicParams, peak: float) -> None:
+    """Warn when the defect contact went above the law's largest tabulated force (read by
+    linear extrapolation in ``delta``)."""
+    if params.defect is not None and peak > float(params.defect.force_n[:, -1].max()):
+        warnings.warn(f"simulate_dynamics: the defect contact reached {peak:.4g} N, above the defect "
+                      f"law's largest tabulated force {params.defect.force_n[:, -1].max():.4g} N: read "
+                      "by linear extrapolation in delta (extend delta_m)", RuntimeWarning, stacklevel=3)
+
+
 def _settle_s(params: DynamicParams) -> float:
     """Settling time before ``t = 0`` (:data:`SETTLE_PERIODS` of the housing's mode, >= 20 ms)."""
     f = math.sqrt(params.housing_stiffness_n_m / params.housing_mass_kg) / (2 * math.pi) \
@@ -393,7 +407,7 @@ def simulate_dynamics(params: DynamicParams, duration_s: float, fs_hz: float, *,
     DynamicResult
     """
     for name, v in (("duration_s", duration_s), ("fs_hz", fs_hz)):
-        if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
+        if not (isinstance(v, numbers.Real) and math.isfinite(v) and v > 0):
             raise ValueError(f"simulate_dynamics: {name} got {v!r}; allowed: finite > 0")
     if acquisition not in ("antialiased", "point"):
         raise ValueError(f"simulate_dynamics: acquisition got {acquisition!r}; allowed: antialiased | point")
@@ -415,8 +429,11 @@ def simulate_dynamics(params: DynamicParams, duration_s: float, fs_hz: float, *,
         raise ValueError(f"simulate_dynamics: y0 has shape {y.shape}; allowed: ({StateLayout(params.z).size},)")
     st = _Stream(params, a, y, j_first, rec_dt, every)
     names = record_names(params.z)
+    ranges: dict = {}
     sig = acquire(st.evaluate, n_out, fs_hz, mode=acquisition, oversample=ov,
-                  filtered=names[:REC_SIZE_FIXED + params.z])
+                  filtered=names[:REC_SIZE_FIXED + params.z], ranges=ranges)
+    peak = ranges.get("defect_force", [0.0, float(np.max(sig["defect_force"], initial=0.0))])[1]
+    _check_table_range(params, peak)
     z = params.z
 
     def pair(name):
@@ -428,5 +445,5 @@ def simulate_dynamics(params: DynamicParams, duration_s: float, fs_hz: float, *,
                          np.stack([sig[f"element_{k}"] for k in range(z)], axis=1),
                          sig["defect_force"],
                          np.stack([sig[f"velocity_{k}"] for k in range(z)], axis=1),
-                         st.y.copy(), st.next_j * rec_dt, MODEL_NAME, rec_dt / every, st.steps, ov,
+                         st.y.copy(), st.next_j * rec_dt, peak, MODEL_NAME, rec_dt / every, st.steps, ov,
                          time.process_time() - cpu0, params)
