@@ -340,8 +340,11 @@ class _Stream:
             rk4_run(self.y, self.next_j * self.rec_dt, self.rec_dt / self.every, n, self.every,
                     a.P, a.cage, a.cph, a.sph, a.tx, a.td, a.tf, new)
             if not np.all(np.isfinite(self.y)):
-                raise FloatingPointError(f"dynamics: state not finite at t = {self.next_j * self.rec_dt + n * self.rec_dt:.6g} s "
-                                         f"(step {self.rec_dt / self.every:.3g} s too large?)")
+                bad = ~np.all(np.isfinite(new), axis=1)
+                k = int(np.argmax(bad)) if bad.any() else n
+                raise FloatingPointError(
+                    f"dynamics: state not finite at t = {(self.next_j + k) * self.rec_dt:.6g} s "
+                    f"(step {self.rec_dt / self.every:.3g} s; the step rule gives a stable step)")
             self.steps += n * self.every
             self.next_j += n
             self.buf = np.concatenate([self.buf, new])[j_lo - self.buf_j:]
@@ -426,7 +429,8 @@ def simulate_dynamics(params: DynamicParams, duration_s: float, fs_hz: float, *,
     a = arrays(params, t_first, duration_s + 0.1)
     y = initial_state(params, t_first) if y0 is None else np.asarray(y0, dtype=float).copy()
     if y.shape != (StateLayout(params.z).size,):
-        raise ValueError(f"simulate_dynamics: y0 has shape {y.shape}; allowed: ({StateLayout(params.z).size},)")
+        raise ValueError(f"simulate_dynamics: y0 has shape {y.shape}; allowed: "
+                         f"({StateLayout(params.z).size},)")
     st = _Stream(params, a, y, j_first, rec_dt, every)
     names = record_names(params.z)
     ranges: dict = {}
