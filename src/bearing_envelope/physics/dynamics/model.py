@@ -16,7 +16,7 @@ import numpy as np
 from ..acquisition import acquire, antialias_filter
 from .kernels import CDT, CT0, cage_angle_at, contact_forces, rhs_kernel, rk4_run
 from .layout import REC_FIXED, REC_SIZE_FIXED, StateLayout
-from .params import MODEL_NAME, DynamicParams, highest_frequency_hz, quasi_static, step_size
+from .params import LOAD_FACTOR, MODEL_NAME, DynamicParams, highest_frequency_hz, quasi_static, step_size
 
 __all__ = ["Arrays", "arrays", "rhs", "element_loads", "initial_state", "simulate_dynamics",
            "DynamicResult", "jacobian", "linearised_frequencies_hz", "auto_oversample",
@@ -217,7 +217,7 @@ def linearised_frequencies_hz(params: DynamicParams, y: np.ndarray, t: float = 0
     return np.sort(lam.imag[lam.imag > 1e-6 * np.max(np.abs(lam))]) / (2 * math.pi)
 
 
-def auto_oversample(params: DynamicParams, fs_hz: float, load_factor: float = 2.0) -> int:
+def auto_oversample(params: DynamicParams, fs_hz: float, load_factor: float = LOAD_FACTOR) -> int:
     """The internal record rate as a multiple of ``fs``: the smallest ``N >= 2`` with
     ``N fs >= 2 f_max`` (:func:`~.params.highest_frequency_hz`), so that the record's point
     samples do not alias the resolved contact modes before the anti-alias filter.
