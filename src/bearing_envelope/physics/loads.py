@@ -302,7 +302,11 @@ def solve_row(force_row: float, n_rollers: int, contact_angle_deg: float = 0.0,
     while residual(hi) < 0:
         hi *= 2.0
         if hi > 1.0:
-            raise ValueError("load distribution: no equilibrium found (check stiffness/clearance)")
+            raise ValueError(
+                f"load distribution: no equilibrium found: the radial load {force_row:g} N per "
+                f"row needs a ring displacement over 1 m (contact_angle_deg {contact_angle_deg:g}, "
+                f"allowed: a radial bearing, <= 45 deg; clearance {clearance:g} m; stiffness "
+                f"{stiffness:g} N m^-n)")
     dr = brentq(residual, lo, hi, xtol=1e-18, rtol=1e-14, maxiter=500)
     nodes = None
     if centrifugal > 0:

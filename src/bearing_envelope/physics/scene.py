@@ -244,7 +244,7 @@ class Bearing:
     pitch_diameter_mm : float
         Pitch diameter ``D``, mm; ``None`` in the mapping means ``(bore + OD)/2``.
     contact_angle_deg : float
-        Contact angle ``alpha``, degrees, in [0, 90).
+        Contact angle ``alpha``, degrees, in [0, 45] (:data:`MAX_CONTACT_ANGLE_DEG`).
     roller_crown_radius_mm : float
         Roller profile (crown) radius ``c_r`` (convex), mm.
     raceway_profile_radius_mm : float
@@ -864,7 +864,9 @@ def _build_bearing(m: Mapping[str, Any]) -> Bearing:
     pd = 0.5 * (bore + od) if pd is None else _num(
         p + "pitch_diameter_mm", pd, lo=bore + d, hi=od - d,
         allowed=f"null or a number in [bore + d, OD - d] = [{bore + d:g}, {od - d:g}]")
-    alpha = _num(p + "contact_angle_deg", m["contact_angle_deg"], lo=0, hi=90, hi_open=True)
+    alpha = _num(p + "contact_angle_deg", m["contact_angle_deg"], lo=0, hi=MAX_CONTACT_ANGLE_DEG,
+                 allowed=f"a finite angle in [0, {MAX_CONTACT_ANGLE_DEG:g}] deg (a radial bearing: "
+                         f"the load distribution balances a radial load only)")
     if z * d >= math.pi * pd:
         raise _bad(p + "rollers_per_row", z,
                    f"rollers that fit on the pitch circle: Z * d < pi * D ({math.pi * pd / d:.1f})")
@@ -895,6 +897,16 @@ def _build_bearing(m: Mapping[str, Any]) -> Bearing:
             raise _bad(p + "profile_file", pf, f"deviations smaller than the roller radius "
                        f"({500 * d:g} um; this file has {1e6 * worst:.4g} um)")
     return Bearing(bore, od, d, z, rows, pd, alpha, cr, ci, length, relief, clearance, pf, **extra)
+
+
+#: Largest contact angle (deg) of the bearings the load distribution describes. It balances a
+#: radial load alone (:func:`bearing_envelope.physics.loads.solve_row`), each element carrying
+#: ``Q cos(alpha)`` of it: the ring's displacement grows as ``cos(alpha)^(-(n+1)/n)`` and has no
+#: solution at 90 deg (at 89.99 deg the 6205 at 1 kN would need a displacement over 1 m). ISO 76 /
+#: ISO 281 call a bearing radial up to 45 deg and a thrust bearing above, where the induced axial
+#: load exceeds the radial one and a radial-only equilibrium no longer describes the bearing; up
+#: to 45 deg the displacement is at most 2^((n+1)/(2n)) (1.8-1.9) times that at 0 deg.
+MAX_CONTACT_ANGLE_DEG = 45.0
 
 
 #: Largest radial clearance, as a fraction of the rolling-element diameter: ISO 5753 groups
