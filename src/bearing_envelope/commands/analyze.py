@@ -354,8 +354,10 @@ def geometry_args(args) -> dict | None:
     if any(v is None for v in given):
         raise ValueError("bearing geometry: give --n-rollers, --roller-diameter-mm (or -in) "
                          "and --pitch-diameter-mm (or -in) together")
+    from bearing_envelope.physics.kinematics import RADIAL_CONTACT_ANGLE_DEG
     return {"designation": None, "n_rollers": args.n_rollers, "roller_diameter_mm": d_mm,
-            "pitch_diameter_mm": p_mm, "contact_angle_deg": args.contact_angle_deg or 0.0}
+            "pitch_diameter_mm": p_mm,
+            "contact_angle_deg": args.contact_angle_deg or RADIAL_CONTACT_ANGLE_DEG}
 
 
 def _writable(opt: str, path: str | None, *, directory: bool = False) -> None:

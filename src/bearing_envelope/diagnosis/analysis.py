@@ -14,8 +14,8 @@ from ..signal.bands import DEFAULT_BANDS, NYQUIST_MARGIN, resolve_band
 from ..signal.envelope import DEFAULT_FILTER_ORDER, envelope_spectrum, peak_value, settling_samples
 from .faults import (DEFAULT_SEARCH_PERCENT, FaultFamily, fault_families, fault_verdict,
                      search_lines)
-from ..signal.kurtogram import fast_kurtogram, max_kurtogram_level
-from ..signal.spectrum import TOLERANCE_MIN_BINS, amplitude_spectrum, prewhiten
+from ..signal.kurtogram import DEFAULT_LEVEL0, DEFAULT_NLEVEL, fast_kurtogram, max_kurtogram_level
+from ..signal.spectrum import DEFAULT_WINDOW, TOLERANCE_MIN_BINS, amplitude_spectrum, prewhiten
 from .routes import ROUTES, apply_routes, combine_routes, run_routes
 from .speed import MEASURED_SPEED_SEARCH_PERCENT, estimate_shaft_rate
 from ..lazy import lazy_module
@@ -215,18 +215,18 @@ class AnalysisOptions:
     n_harmonics: int = 3
     n_sidebands: int = 2
     n_raw_harmonics: int = 3
-    nlevel: int | None = 8
+    nlevel: int | None = DEFAULT_NLEVEL
     max_level: float | None = None
     min_bandwidth: float | None = None
     kurtogram_min_orders: float | None = KURTOGRAM_MIN_ORDERS
     filter_order: int = DEFAULT_FILTER_ORDER
     squared: bool = False
-    window: str | tuple = "hann"
+    window: str | tuple = DEFAULT_WINDOW
     tolerance_hz: float | None = None
     interpolate: bool = False
     nyquist_margin: float = NYQUIST_MARGIN
     demean: bool = True
-    level0: str = "analytic"
+    level0: str = DEFAULT_LEVEL0
     search_percent: float = DEFAULT_SEARCH_PERCENT
     sideband_spacing: Mapping[str, str | None] | None = None
     pfa: float = DEFAULT_PFA

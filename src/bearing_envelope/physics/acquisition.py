@@ -10,7 +10,7 @@ import numpy as np
 
 from .fidelity import Fidelity
 from .kernels import HAVE_NUMBA, decimate_kernel
-from .scene import Scene
+from .scene import DEFAULT_SCENE, Scene
 from .solves import window_spec
 
 __all__ = ["antialias_filter", "antialias_undershoot", "kaiser_beta", "kaiser_lowpass", "decimate_centred", "auto_oversample", "acquire", "add_noise",
@@ -201,7 +201,7 @@ def auto_oversample(scene: Scene, fidelity: Fidelity) -> int:
 
 
 def acquire(evaluate: Callable[[np.ndarray], dict], n_samples: int, fs: float, *,
-            mode: str = "antialiased", oversample: int = 1, filtered: tuple[str, ...] | None = None,
+            mode: str = DEFAULT_SCENE["operation"]["acquisition"]["mode"], oversample: int = 1, filtered: tuple[str, ...] | None = None,
             block: int = ACQUISITION_BLOCK,
             ranges: dict[str, list[float]] | None = None,
             bounds: dict[str, tuple[float, float]] | None = None,

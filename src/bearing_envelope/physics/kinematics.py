@@ -25,7 +25,10 @@ from dataclasses import dataclass
 
 from ..checks import check_positive
 
-__all__ = ["FaultFrequencies", "fault_frequencies"]
+__all__ = ["FaultFrequencies", "fault_frequencies", "RADIAL_CONTACT_ANGLE_DEG"]
+
+#: Contact angle (deg) when none is given: a radial (deep-groove) bearing, 0 deg.
+RADIAL_CONTACT_ANGLE_DEG = 0.0
 
 
 @dataclass(frozen=True)
@@ -66,7 +69,7 @@ def fault_frequencies(
     n_rollers: int,
     roller_diameter: float,
     pitch_diameter: float,
-    contact_angle_deg: float = 0.0,
+    contact_angle_deg: float = RADIAL_CONTACT_ANGLE_DEG,
 ) -> FaultFrequencies:
     """Fault frequencies of a bearing with rotating inner ring.
 

@@ -169,7 +169,7 @@ class Mode:
             if key not in m:
                 raise ValueError(f"{where}.{key} is required")
         try:
-            return cls(m["f_n_hz"], m["zeta"], m.get("gain", 1.0))
+            return cls(m["f_n_hz"], m["zeta"], m.get("gain", cls.gain))
         except ValueError as exc:
             raise ValueError(f"{where}.{exc}") from None
 

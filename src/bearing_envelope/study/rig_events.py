@@ -25,7 +25,7 @@ import numpy as np
 from scipy import fft as sp_fft
 from scipy import signal as sps
 
-from ..signal.cycles import (FLOOR_PERCENTILE, burst_width, cycle_rate, element_windows,
+from ..signal.cycles import (FLOOR_PERCENTILE, RATE_SEARCH, burst_width, cycle_rate, element_windows,
                              synchronous_average)
 from ..signal.envelope import bandpass, envelope, settling_samples
 from ..signal.validation import check_band, check_fs
@@ -54,7 +54,7 @@ SECONDARY_SEPARATION_S = 0.4e-3
 SECONDARY_MIN_CONTRAST_DB = 6.0
 
 
-def _squared_envelope(x, fs: float, rate_hz: float, band=None, search: float = 0.01):
+def _squared_envelope(x, fs: float, rate_hz: float, band=None, search: float = RATE_SEARCH):
     """Squared envelope in ``band`` (default fs/4-3fs/8), the filter's edge transients cut at
     both ends, and the event rate refined on it within ``search`` (relative)."""
     fs = check_fs(fs)
@@ -65,7 +65,7 @@ def _squared_envelope(x, fs: float, rate_hz: float, band=None, search: float = 0
 
 
 def event_shape(x, fs: float, rate_hz: float, *, n_elements: int | None = None,
-                band=None, search: float = 0.01) -> dict:
+                band=None, search: float = RATE_SEARCH) -> dict:
     """Width of a fault's events and the spread of the elements' events, from a record.
 
     Parameters

@@ -73,6 +73,11 @@ from .settings import AnalysisSettings, CaseId
 from .tradeoff_settings import (_SCENE_KNOBS, DEFAULT_CASES, DEFAULT_KNOBS, TRADEOFF_DEFAULTS,
                                 TradeoffSettings, _replace, apply_knob)
 
+#: The columns :func:`pareto_table` and :func:`plot_tradeoff` read when not named: the error and
+#: the CPU time of each point.
+ERROR_COLUMN = "error"
+TIME_COLUMN = "cpu_s"
+
 __all__ = ["DEFAULT_CASES", "DEFAULT_KNOBS", "DEFAULT_BANDS", "COLUMNS", "tradeoff_study",
            "study_from_config", "TRADEOFF_DEFAULTS", "pareto_front", "pareto_table",
            "pareto_points", "plot_tradeoff", "metric_labels", "run_variant", "apply_knob",
@@ -490,8 +495,8 @@ def metric_labels(df: pd.DataFrame) -> list[tuple[str, str]]:
     return sorted(((m, b) for m, b in pairs), key=lambda p: (order.get(p[0], 9), p[1]))
 
 
-def pareto_table(df: pd.DataFrame, metric: str, band: str = "", *, error: str = "error",
-                 time: str = "cpu_s") -> pd.DataFrame:
+def pareto_table(df: pd.DataFrame, metric: str, band: str = "", *, error: str = ERROR_COLUMN,
+                 time: str = TIME_COLUMN) -> pd.DataFrame:
     """One point per (knob, value) for one metric: mean time per case, worst error over cases.
 
     Cases where the error is undefined (NaN: BPFI metrics of a healthy case) are left out of
@@ -576,7 +581,7 @@ def pareto_front(time_s, error) -> np.ndarray:
 
 
 def plot_tradeoff(df: pd.DataFrame, path=None, *, metrics: Sequence[tuple[str, str]] | None = None,
-                  error: str = "error", time: str = "cpu_s", ncols: int = 4):
+                  error: str = ERROR_COLUMN, time: str = TIME_COLUMN, ncols: int = 4):
     """Error against CPU time per case, one panel per metric, Pareto front marked.
 
     Each knob is a line through its values (coarse to fine), the base point a black square, the
@@ -668,7 +673,7 @@ def plot_tradeoff(df: pd.DataFrame, path=None, *, metrics: Sequence[tuple[str, s
     return fig
 
 
-def pareto_points(df: pd.DataFrame, *, error: str = "error", time: str = "cpu_s") -> pd.DataFrame:
+def pareto_points(df: pd.DataFrame, *, error: str = ERROR_COLUMN, time: str = TIME_COLUMN) -> pd.DataFrame:
     """:func:`pareto_table` of every metric of a tradeoff table, stacked (columns ``metric``,
     ``band`` first).
 
