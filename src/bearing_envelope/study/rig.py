@@ -39,7 +39,8 @@ from ..checks import check_number
 from ..diagnosis.transfer_path import WELCH_SEGMENT, background_noise, identify_path
 from ..io.atomic import atomic_path
 from ..physics.history import defect_angle, simulate, synthesize_case
-from ..physics.scene import Scene
+from ..physics.fidelity import DEFAULT_PRESET
+from ..physics.scene import DEFAULT_SCENE, Scene
 from ..physics.transfer import Mode, apply_structure, direction_gain, excitation_from_history
 from .rig_records import pair_figure, read_record, record_pairs, rig_rates, save_figure
 from .settings import read_yaml
@@ -128,7 +129,7 @@ class RigSettings:
     load_kN: float
     fidelity: str
     depth_um: dict
-    ball_spin_axis: str = "fixed"
+    ball_spin_axis: str = DEFAULT_SCENE["defect"]["spin_axis"]
     sensor_deg: float = 180.0
     sensor_cross_axis: float = 1.0
 
@@ -156,10 +157,10 @@ def read_rig_config(path: str | os.PathLike) -> RigSettings:
     depth = {str(k): float(v) for k, v in (rig.get("depth_um") or {}).items()}
     if not depth:
         raise ValueError(f"{path}: rig.depth_um: missing; allowed: a mapping mils -> um")
-    sensor = _number_in(path, rig, "sensor_deg", 180.0, 0.0, 360.0)
-    cross = _number_in(path, rig, "sensor_cross_axis", 1.0, 0.0, 1.0)
-    return RigSettings(raw["scene"], load, str(rig.get("fidelity", "standard")), depth,
-                       str(rig.get("ball_spin_axis", "fixed")), sensor, cross)
+    sensor = _number_in(path, rig, "sensor_deg", RigSettings.sensor_deg, 0.0, 360.0)
+    cross = _number_in(path, rig, "sensor_cross_axis", RigSettings.sensor_cross_axis, 0.0, 1.0)
+    return RigSettings(raw["scene"], load, str(rig.get("fidelity", DEFAULT_PRESET)), depth,
+                       str(rig.get("ball_spin_axis", RigSettings.ball_spin_axis)), sensor, cross)
 
 
 def _number_in(path, rig: dict, key: str, default: float, lo: float, hi: float) -> float:
