@@ -22,7 +22,8 @@ import numpy as np
 import pytest
 import yaml
 
-from bearing_envelope.study.settings import ConfigError, workflow_settings
+from bearing_envelope.study.config_read import ConfigError
+from bearing_envelope.study.settings import workflow_settings
 
 ROOT = Path(__file__).resolve().parents[1]
 DRAFT = yaml.safe_load((ROOT / "tests" / "data" / "config_draft.yaml").read_text())

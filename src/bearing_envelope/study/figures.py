@@ -90,7 +90,7 @@ def example_pairs(cases, study=STUDY_EXAMPLES) -> list[dict]:
     ----------
     cases : iterable
         The sweep's cases: objects with ``load_kN``, ``depth_um`` and ``name`` (e.g.
-        :class:`bearing_envelope.study.settings.CaseId`).
+        :class:`bearing_envelope.study.case_id.CaseId`).
     study : sequence of (load_kN, depth_um)
         Target cases; default :data:`STUDY_EXAMPLES` (250 kN / 15 um, 500 kN / 50 um,
         750 kN / 100 um).
@@ -768,7 +768,7 @@ def make_figures(*, harmonics, cases, bands, case_files, kurtogram_files, spectr
         ``{"defect": name, "healthy": name, "pairs": [{"load_kN", "healthy", "defect"}, ...]}``:
         the case drawn alone (Figs 7, 9, 11) and the pairs of Figs 4 and 5
         (:func:`example_pairs`).
-    analysis : bearing_envelope.study.settings.AnalysisSettings
+    analysis : bearing_envelope.study.sections.AnalysisSettings
         The config's ``analysis`` section, typed.
     outdir : path
         Output folder (replaced whole, :func:`bearing_envelope.io.atomic_dir`).

@@ -28,7 +28,8 @@ from ..physics.acquisition import auto_oversample
 from ..physics.loads import scene_load_distribution
 from ..physics.solves import window_spec
 from ..signal.kurtogram import max_kurtogram_level
-from .settings import DEFAULT_MAX_CASES, ConfigError
+from .config_read import ConfigError
+from .settings import DEFAULT_MAX_CASES
 
 __all__ = ["DEFAULT_LIMITS", "MIN_HARDNESS_GPA", "MAX_CASE_NAME_CHARS", "ResourceEstimate",
            "estimate_case", "check_case", "min_revolutions", "available_memory_bytes", "precheck",
@@ -469,7 +470,7 @@ def check_case(case, scene, fidelity, config: Mapping | None = None, analysis=No
 
     Parameters
     ----------
-    case : bearing_envelope.study.settings.CaseId
+    case : bearing_envelope.study.case_id.CaseId
         The case (its name's length is checked).
     scene : bearing_envelope.physics.scene.Scene
         The case's validated scene.
@@ -477,7 +478,7 @@ def check_case(case, scene, fidelity, config: Mapping | None = None, analysis=No
         The fidelity it will run at.
     config : mapping, optional
         A config mapping; only its ``limits:`` section is read.
-    analysis : bearing_envelope.study.settings.AnalysisSettings, optional
+    analysis : bearing_envelope.study.sections.AnalysisSettings, optional
         When given, the record must be long enough for the kurtogram
         (:func:`min_revolutions`).
 

@@ -43,7 +43,8 @@ from ..signal.bands import clamp_band
 from .accuracy import ErrorModel, attach_errors
 from .accuracy import case_error_model as accuracy_case_error_model
 from .provenance import log_to
-from .settings import AnalysisSettings, CaseId
+from .case_id import CaseId
+from .sections import AnalysisSettings
 from .tables import TIDY_COLUMNS, TIDY_EXTRA_COLUMNS, tidy_from_analysis
 
 __all__ = ["AMPLITUDE_ESTIMATORS", "amplitude_estimator", "history_case", "case_signal", "case_frequencies", "case_location", "case_fault_lines",
@@ -87,7 +88,7 @@ def amplitude_estimator(analysis: AnalysisSettings) -> str:
 
 
 def _case_id(case) -> str:
-    """The case's canonical name (:class:`bearing_envelope.study.settings.CaseId`)."""
+    """The case's canonical name (:class:`bearing_envelope.study.case_id.CaseId`)."""
 
     return CaseId.from_case(case).name
 
@@ -677,7 +678,7 @@ def case_diagnosability(case, sensor: TransferModel, analysis: AnalysisSettings,
     case : bearing_envelope.io.Case
     sensor : bearing_envelope.physics.transfer.TransferModel
         The config's ``sensor`` section, typed.
-    analysis : bearing_envelope.study.settings.AnalysisSettings
+    analysis : bearing_envelope.study.sections.AnalysisSettings
         The config's ``analysis`` section, typed.
     snr_db : sequence of float
         SNR levels (dB). Every level uses the same noise realisation (seed ``sensor.seed``),

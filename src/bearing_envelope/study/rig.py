@@ -43,7 +43,7 @@ from ..physics.fidelity import DEFAULT_PRESET
 from ..physics.scene import DEFAULT_SCENE, Scene
 from ..physics.transfer import Mode, apply_structure, direction_gain, excitation_from_history
 from .rig_records import pair_figure, read_record, record_pairs, rig_rates, save_figure
-from .settings import read_yaml
+from .config_read import read_yaml
 
 __all__ = ["RigCondition", "RigSettings", "record_conditions", "condition_scene",
            "read_rig_config", "simulate_excitations", "INCH_UM", "POSITION_DEG"]

@@ -69,7 +69,8 @@ from ..physics.history import simulate
 from ..physics.locations import scene_event_frequencies
 from ..physics.scene import DEFAULT_SCENE, Scene
 from .pipeline import case_bands, case_harmonics, history_case
-from .settings import AnalysisSettings, CaseId
+from .case_id import CaseId
+from .sections import AnalysisSettings
 from .tradeoff_settings import (_SCENE_KNOBS, DEFAULT_CASES, DEFAULT_KNOBS, TRADEOFF_DEFAULTS,
                                 TradeoffSettings, _replace, apply_knob)
 
