@@ -4,9 +4,10 @@ Homes (docs/architecture.md, "Where defaults live"): the scene in ``physics/scen
 (``DEFAULT_SCENE``) with the study bearing's values in its catalogue entry
 (``data/bearings.yaml``); the fidelity preset in ``physics/fidelity.py``; the analysis options in
 ``diagnosis.AnalysisOptions`` (the filter order in ``signal/envelope.py``); the trade-off study
-in ``study/tradeoff_settings.py``; the pre-run limits in ``study/limits.py``. The schema file holds
-defaults only for sections whose home it is (sensor, diagnosability, paper_run), and the
-loader fills the others in from their homes.
+in ``study/tradeoff_settings.py``; the pre-run limits in ``study/limits.py``; the sensor in
+``physics/transfer.py`` (``TransferModel``, ``NoiseSpec``). The schema file holds defaults only
+for sections whose home it is (diagnosability, paper_run), and the loader fills the others in
+from their homes. Below: every default of the same quantity across the library.
 """
 
 from __future__ import annotations
@@ -32,7 +33,7 @@ ROOT = Path(__file__).resolve().parents[1]
 RAW_SCHEMA = yaml.safe_load(SCHEMA_PATH.read_text())
 
 #: Schema sections whose defaults live in code (none may be written in the schema file).
-CODE_HOMED = ("fidelity", "scene", "limits", "tradeoff")
+CODE_HOMED = ("fidelity", "scene", "limits", "tradeoff", "sensor")
 
 
 def _defaults(node, path=""):
@@ -84,6 +85,20 @@ def test_loaded_schema_takes_analysis_and_fidelity_defaults_from_their_homes():
     assert fidelity_from(None) == fidelity_from(DEFAULT_PRESET)
 
 
+def test_loaded_schema_takes_sensor_defaults_from_the_transfer_model():
+    from bearing_envelope.physics.transfer import Mode, NoiseSpec, TransferModel
+
+    props = full_schema()["properties"]["sensor"]["properties"]
+    model = TransferModel(modes=(Mode(3000.0, 0.02),))
+    for key in ("excitation", "excitation_scale", "discretization", "seed"):
+        assert props[key]["default"] == getattr(model, key), key
+    assert props["noise"]["properties"]["exact"]["default"] is NoiseSpec().exact is True
+    # a config giving only the modes builds the model the dataclass defaults build
+    st = settings_from_mapping({"sweep": {"loads_kN": [500], "depths_um": [0]},
+                                "sensor": {"modes": [{"f_n_hz": 3000.0, "zeta": 0.02}]}})
+    assert st.sensor == model
+
+
 def test_filter_order_has_one_home():
     for fn in (bandpass, envelope_spectrum):
         assert inspect.signature(fn).parameters["order"].default == DEFAULT_FILTER_ORDER
@@ -116,7 +131,7 @@ def test_config_yaml_restates_no_default():
     loaded = full_schema()["properties"]["analysis"]["properties"]
     for key, value in cfg["analysis"].items():
         assert "default" not in loaded[key] or loaded[key]["default"] != value, key
-    schema_defaults = _defaults(RAW_SCHEMA["properties"])
+    schema_defaults = _defaults(full_schema()["properties"])
     for path, value in _leaves({k: cfg[k] for k in ("sensor", "diagnosability")}):
         dotted = ".properties.".join(path)
         assert dotted not in schema_defaults or schema_defaults[dotted] != value, path

@@ -22,7 +22,7 @@ from typing import Any
 
 import numpy as np
 
-from ..physics.scene import DEFECT_LOCATIONS, Scene
+from ..physics.scene import DEFECT_LOCATIONS, Scene, default_width_um
 
 __all__ = ["CaseId", "format_number", "CASE_NAME_REGEX", "LOCATION_CODES"]
 
@@ -198,7 +198,7 @@ class CaseId:
         defect = (getattr(case, "scene", None) or {}).get("defect") or {}
         width = defect.get("width_um")
         depth = float(case.depth_um)
-        if width is None or depth == 0 or float(width) == 2.0 * depth:
+        if width is None or depth == 0 or float(width) == default_width_um(depth):
             width = None
         location = defect.get("location")
         if location == DEFECT_LOCATIONS[0]:

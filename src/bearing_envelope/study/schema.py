@@ -21,11 +21,15 @@ from typing import Any
 
 from ..diagnosis.analysis import AnalysisOptions
 from ..physics.fidelity import DEFAULT_PRESET
+from ..physics.transfer import sensor_defaults
 from ..signal.bands import DEFAULT_BANDS
 from .config_read import ConfigError
 
 __all__ = ["SCHEMA_PATH", "full_schema", "analysis_defaults", "section_defaults",
-           "validate_mapping", "ANALYSIS_OPTION_FIELDS"]
+           "validate_mapping", "ANALYSIS_OPTION_FIELDS", "MAPPING_SOURCE"]
+
+#: What a message names as the origin of a config given as a mapping (not read from a file).
+MAPPING_SOURCE = "<mapping>"
 
 #: The JSON schema of ``config.yaml``, shipped as package data (the workflow validates against it too).
 SCHEMA_PATH = Path(__file__).resolve().parent.parent / "data" / "config.schema.yaml"
@@ -85,8 +89,9 @@ def analysis_defaults() -> dict[str, Any]:
 def full_schema() -> dict:
     """The schema file with the defaults whose home is code filled in: ``fidelity`` from
     :data:`~bearing_envelope.physics.fidelity.DEFAULT_PRESET`, the analysis keys from
-    :func:`analysis_defaults`. The file itself holds no scene, fidelity, analysis-option,
-    limits or tradeoff default (``tests/test_defaults.py``).
+    :func:`analysis_defaults`, the sensor's from
+    :func:`~bearing_envelope.physics.transfer.sensor_defaults`. The file itself holds no scene,
+    fidelity, analysis-option, sensor, limits or tradeoff default (``tests/test_defaults.py``).
 
     Returns
     -------
@@ -101,6 +106,13 @@ def full_schema() -> dict:
     props["fidelity"]["default"] = DEFAULT_PRESET
     for key, value in analysis_defaults().items():
         props["analysis"]["properties"][key]["default"] = value
+    sensor = props["sensor"]["properties"]
+    for key, value in sensor_defaults().items():
+        if key == "noise":
+            for sub, v in value.items():
+                sensor["noise"]["properties"][sub]["default"] = v
+        else:
+            sensor[key]["default"] = value
     return schema
 
 
@@ -200,7 +212,7 @@ def section_defaults(section: str) -> dict[str, Any]:
     return out
 
 
-def validate_mapping(config: Mapping[str, Any], *, source: str = "<mapping>",
+def validate_mapping(config: Mapping[str, Any], *, source: str = MAPPING_SOURCE,
                      partial: bool = False) -> dict[str, Any]:
     """Finite-number check, schema validation and default filling of a config mapping.
 
