@@ -250,6 +250,8 @@ class Default(NamedTuple):
     where: str
     value: object
     literal: bool
+    #: The expression a read default is written as (``DEFAULT_NLEVEL``, ``Cls.field``).
+    expr: str = ""
 
 
 def _neutral(value) -> bool:
@@ -299,8 +301,9 @@ def _signature_defaults(where: str, obj, nodes: dict) -> list[Default]:
         if p.default is inspect.Parameter.empty or _neutral(p.default):
             continue
         node = nodes.get(p.name)
-        out.append(Default(_quantity(where, p.name), where, p.default,
-                           node is not None and _is_literal(node)))
+        literal = node is not None and _is_literal(node)
+        out.append(Default(_quantity(where, p.name), where, p.default, literal,
+                           "" if literal or node is None else ast.unparse(node)))
     return out
 
 
@@ -370,14 +373,23 @@ def _library_defaults() -> list[Default]:
 
 
 def _twice(defaults: list[Default]) -> dict[str, list[str]]:
-    """Quantities defined more than once, or with unequal defaults: quantity -> the places."""
+    """Quantities defined more than once, or with unequal defaults: quantity -> the places.
+
+    A default read from a name means the quantity has a home: a literal beside it is then a
+    second definition, unless every read names the literal's own class (``AnalysisOptions.nlevel``
+    reads ``AnalysisOptions``' field); a second literal is always one."""
     by: dict[str, list[Default]] = {}
     for d in defaults:
         by.setdefault(d.quantity, []).append(d)
     bad = {}
     for q, ds in by.items():
         values = {repr(d.value) for d in ds}
-        if sum(d.literal for d in ds) > 1 or len(values) > 1:
+        lits = [d for d in ds if d.literal]
+        reads = [d for d in ds if not d.literal]
+        of_literal = len(lits) == 1 and all(
+            d.expr.split(".")[0] == lits[0].where.rsplit(".", 1)[-1] for d in reads)
+        homes = len(lits) + (bool(reads) and not of_literal)
+        if homes > 1 or len(values) > 1:
             bad[q] = [f"{d.where}={d.value!r}{'' if d.literal else ' (read)'}" for d in ds]
     return bad
 
@@ -416,6 +428,9 @@ def test_a_planted_duplicate_fails(tmp_path, monkeypatch):
         _twice(LIBRARY_DEFAULTS)                                    # reading the home is fine
     twice = _twice(planted + LIBRARY_DEFAULTS)
     assert "nlevel" in twice and any("again" in w for w in twice["nlevel"])
+    # one literal beside defaults that read the home is a second definition too
+    alone = [d for d in planted if d.where.endswith("again")]
+    assert "nlevel" in _twice(alone + LIBRARY_DEFAULTS)
     assert any(w.startswith("planted_defaults:") for w in twice["nlevel"])   # the fallback
     assert "order" in twice and any("other=2" in w for w in twice["order"])  # unequal default
 

@@ -67,7 +67,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from ..signal.spectrum import DEFAULT_WINDOW, amplitude_at, default_tolerance
-from .detection import BACKGROUND_BAND, detection_statistic
+from .detection import BACKGROUND_BAND, DEFAULT_PFA, detection_statistic
 
 __all__ = [
     "CANNOT_TELL",
@@ -207,7 +207,7 @@ def search_lines(
     n_sidebands: int,
     search_percent: float = DEFAULT_SEARCH_PERCENT,
     tolerance_hz: float | None = None,
-    pfa: float = 0.01,
+    pfa: float = DEFAULT_PFA,
     interpolate: bool = False,
     window=DEFAULT_WINDOW,
     n: int | None = None,
