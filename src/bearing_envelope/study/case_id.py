@@ -22,7 +22,8 @@ from typing import Any
 
 import numpy as np
 
-from ..physics.scene import DEFECT_LOCATIONS, Scene, default_width_um
+from ..physics.locations import LOCATIONS, get_location
+from ..physics.scene import DEFAULT_SCENE, Scene, default_width_um
 
 __all__ = ["CaseId", "format_number", "CASE_NAME_REGEX", "LOCATION_CODES"]
 
@@ -56,8 +57,9 @@ def format_number(value: float) -> str:
 
 _NUM = r"[0-9]+(?:\.[0-9]+)?"
 
-#: Short code of each defect location in case names (``_ir``, ``_or``, ``_re``).
-LOCATION_CODES = {"inner_race": "ir", "outer_race": "or", "rolling_element": "re"}
+#: Short code of each defect location in case names (``_ir``, ``_or``, ``_re``): the ``code`` of
+#: every registered location (:data:`bearing_envelope.physics.locations.LOCATIONS`).
+LOCATION_CODES = {name: loc.code for name, loc in LOCATIONS.items()}
 _LOCATION_OF_CODE = {v: k for k, v in LOCATION_CODES.items()}
 _LOC = "|".join(LOCATION_CODES.values())
 
@@ -113,7 +115,7 @@ class CaseId:
         if self.width_um is not None:
             s += f"_w{format_number(self.width_um)}um"
         if self.location is not None:
-            s += f"_{LOCATION_CODES[self.location]}"
+            s += f"_{get_location(self.location).code}"
         return s
 
     def __str__(self) -> str:
@@ -201,7 +203,7 @@ class CaseId:
         if width is None or depth == 0 or float(width) == default_width_um(depth):
             width = None
         location = defect.get("location")
-        if location == DEFECT_LOCATIONS[0]:
+        if location == DEFAULT_SCENE["defect"]["location"]:
             location = None
         return cls(float(case.load_kN), depth, width, location)
 

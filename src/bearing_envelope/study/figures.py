@@ -31,7 +31,7 @@ from matplotlib.colors import to_rgb  # noqa: E402
 from ..diagnosis.faults import display_name  # noqa: E402
 from ..diagnosis.plots import FIGURE_DPI  # noqa: E402
 from ..io import atomic_dir, read_case  # noqa: E402
-from ..physics.locations import LOCATION_FAMILIES  # noqa: E402
+from ..physics.locations import get_location  # noqa: E402
 from ..signal import spectral_kurtosis  # noqa: E402
 from .pipeline import case_fault_lines  # noqa: E402
 from .tables import public_mode  # noqa: E402
@@ -203,9 +203,21 @@ def _per_load(ax, df: pd.DataFrame, y: str, scale: float = 1.0, marker: str = "o
     ax.legend(title="load" if len(keys) == 1 else "load, location")
 
 
-#: The fault line the sweep tests for each defect location (:data:`bearing_envelope.physics.
-#: locations.LOCATION_FAMILIES`).
-LOCATION_LINE = {loc: display_name(fam) for loc, (fam, _) in LOCATION_FAMILIES.items()}
+def location_line(location: str) -> str:
+    """The display name of the fault line the sweep tests for a defect location (its
+    :attr:`~bearing_envelope.physics.locations.FaultLocation.family`).
+
+    Parameters
+    ----------
+    location : str
+        A registered ``defect.location``.
+
+    Returns
+    -------
+    str
+        E.g. ``BPFO``.
+    """
+    return display_name(get_location(location).family)
 
 #: Display names of the sweep's fault-family quantities (each location searches its own).
 FAMILY_TITLES = {"bpfi": "BPFI", "bpfo": "BPFO", "2bsf": "2xBSF"}
@@ -916,7 +928,7 @@ def fig_diagnosability_maps(df: pd.DataFrame, outdir) -> list[Path]:
                                            tmp / f"diagnosability_{band}.png"))
         else:  # a location sweep: one map per band and location (its own fault line)
             for (band, loc), g in df.groupby(["band", "location"], sort=False):
-                name = f"{LOCATION_LINE[loc]} ({loc})"
+                name = f"{location_line(loc)} ({loc})"
                 written.append(save_figure(
                     draw_diagnosability_map(g, band, vmax=vmax, line_name=name),
                     tmp / f"diagnosability_{band}_{loc}.png"))

@@ -415,13 +415,13 @@ def _check_band_widths(analysis, scene) -> None:
 def _map_background_problem(scene, revolutions: float) -> str | None:
     """Why the detection map could not test this scene's fault line at ``revolutions``."""
     from ..diagnosis.detection import background_mask, background_problem
-    from ..physics.locations import LOCATION_FAMILIES, scene_event_frequencies
+    from ..physics.locations import scene_event_frequencies
     from .pipeline import MAP_BACKGROUND, MAP_FMAX
 
     op = scene.operation
     n = int(math.ceil(revolutions / op.shaft_rate_hz * op.fs_hz))
     df = op.fs_hz / n
-    line = scene_event_frequencies(scene)[LOCATION_FAMILIES[scene.defect.location][0]]
+    line = scene.defect.fault_location.event_rate(scene_event_frequencies(scene))
     f = np.arange(int(MAP_FMAX * line / df) + 2) * df
     bg = background_mask(f, line, max(0.01 * line, 0.5 * df), MAP_BACKGROUND,
                          fr=op.shaft_rate_hz, sidebands=_MAP_SIDEBANDS)

@@ -34,8 +34,8 @@ import pandas as pd
 from ..diagnosis import AnalysisOptions, analyze_signal
 from ..diagnosis.detection import detection_statistic
 from ..io import BandLimits, Case, CaseBands, CaseSpectra
-from ..physics.locations import LOCATION_FAMILIES
-from ..physics.scene import DEFECT_LOCATIONS
+from ..physics.locations import get_location
+from ..physics.scene import DEFAULT_SCENE
 from ..physics.transfer import (TransferModel, excitation_from_history, select_excitation,
                                 synthesize_acceleration)
 from ..signal import envelope_spectrum, fast_kurtogram, max_kurtogram_level, resolve_band
@@ -175,7 +175,7 @@ def case_location(case) -> str:
         ``inner_race``, ``outer_race`` or ``rolling_element``.
     """
     defect = (getattr(case, "scene", None) or {}).get("defect") or {}
-    return str(defect.get("location") or DEFECT_LOCATIONS[0])
+    return str(defect.get("location") or DEFAULT_SCENE["defect"]["location"])
 
 
 def case_fault_lines(case) -> tuple[dict[str, float], dict[str, tuple[str, float]] | None]:
@@ -183,8 +183,8 @@ def case_fault_lines(case) -> tuple[dict[str, float], dict[str, tuple[str, float
 
     Inner race: ``{"bpfi": BPFI used}`` with the default fr sidebands (today's analysis);
     outer race: ``{"bpfo": Z f_c}`` with fr sidebands as a check; rolling element:
-    ``{"bsf2": 2 BSF}`` with FTF sidebands (:data:`bearing_envelope.physics.locations.
-    LOCATION_FAMILIES`). The rates are those the case file states (:func:`case_frequencies`:
+    ``{"bsf2": 2 BSF}`` with FTF sidebands (the location's :meth:`~bearing_envelope.physics.
+    locations.FaultLocation.fault_lines`). The rates are those the case file states (:func:`case_frequencies`:
     the history's own event rates).
 
     Parameters
@@ -199,13 +199,9 @@ def case_fault_lines(case) -> tuple[dict[str, float], dict[str, tuple[str, float
     sideband_spacing : dict or None
         ``family -> (spacing name, Hz)``; None for the inner race (the default spacing).
     """
-    loc = case_location(case)
-    if loc == DEFECT_LOCATIONS[0]:
-        return {"bpfi": float(case.bpfi)}, None
     ev = case_frequencies(case)
     ev["bsf2"] = 2.0 * ev["bsf"]
-    family, spacing = LOCATION_FAMILIES[loc]
-    return {family: ev[family]}, {family: (spacing, ev[spacing])}
+    return get_location(case_location(case)).fault_lines(ev)
 
 
 def _fundamental(case) -> float:

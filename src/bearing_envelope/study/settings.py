@@ -32,8 +32,8 @@ from ..physics.exposure import BRIDGE_MAX_FRACTION  # the pit-bridging limit (fr
 from ..physics.fidelity import fidelity_from
 from ..physics.geometry import hertz_estimate
 from ..physics.loads import scene_load_distribution
-from ..physics.locations import LOCATION_FAMILIES, scene_event_frequencies
-from ..physics.scene import DEFECT_LOCATIONS, Scene
+from ..physics.locations import scene_event_frequencies
+from ..physics.scene import DEFAULT_SCENE, Scene
 from ..physics.transfer import TransferModel
 from .case_id import CaseId
 from .config_read import (DEFAULT_CONFIG_NAME, ConfigError, config_files, default_config_path,
@@ -282,7 +282,7 @@ def _location_axis(sweep: SweepSettings, scene_map: Mapping[str, Any]) -> SweepS
     location other than the inner race: one place for it), else the scene's location when it
     is not the inner race (names then say ``_or`` / ``_re``), else none (names as before)."""
     scene_loc = (scene_map.get("defect") or {}).get("location")
-    if scene_loc is None or scene_loc == DEFECT_LOCATIONS[0]:
+    if scene_loc is None or scene_loc == DEFAULT_SCENE["defect"]["location"]:
         return sweep
     if sweep.locations is not None:
         raise field_error("sweep.locations", list(sweep.locations),
@@ -294,7 +294,7 @@ def _location_axis(sweep: SweepSettings, scene_map: Mapping[str, Any]) -> SweepS
 def _check_family_harmonics(analysis: AnalysisSettings, scenes, fs: float) -> None:
     """K harmonics of each swept location's fault line (and its sidebands) below Nyquist."""
     for case, sc in scenes.items():
-        family, spacing = LOCATION_FAMILIES[sc.defect.location]
+        family, spacing = sc.defect.fault_location.family, sc.defect.fault_location.sideband
         ev = scene_event_frequencies(sc)
         top = analysis.harmonics * ev[family] + analysis.sidebands * ev[spacing]
         if top >= fs / 2:
