@@ -435,6 +435,35 @@ def test_a_planted_duplicate_fails(tmp_path, monkeypatch):
     assert "order" in twice and any("other=2" in w for w in twice["order"])  # unequal default
 
 
+#: ``DEFAULT_*`` constants of the same name in two modules that are different quantities.
+SAME_NAME_OTHER_QUANTITY = {
+    "DEFAULT_PFA": {"bearing_envelope.diagnosis.transfer_path":
+                    "identify-path's event detection (0.1 %), not the verdict's 1 %"},
+    "DEFAULT_BANDS": {"bearing_envelope.study.tradeoff":
+                      "the trade-off study's bands: the library's (read) and a fixed band"},
+}
+
+
+def test_a_default_constant_is_defined_in_one_module():
+    """A module-level ``DEFAULT_*`` constant written as a literal in one module; the others
+    import it (``diagnosis.analysis.DEFAULT_PFA`` is ``diagnosis.detection``'s)."""
+    where: dict[str, list[str]] = {}
+    for info in pkgutil.walk_packages(bearing_envelope.__path__, "bearing_envelope."):
+        if info.name.endswith("__main__"):
+            continue
+        mod = importlib.import_module(info.name)
+        for node in ast.parse(inspect.getsource(mod)).body:
+            targets = node.targets if isinstance(node, ast.Assign) else \
+                [node.target] if isinstance(node, ast.AnnAssign) and node.value else []
+            for t in targets:
+                if isinstance(t, ast.Name) and t.id.lstrip("_").startswith("DEFAULT_") and \
+                        info.name not in SAME_NAME_OTHER_QUANTITY.get(t.id, {}):
+                    where.setdefault(t.id, []).append(info.name)
+    twice = {k: v for k, v in where.items() if len(v) > 1}
+    assert not twice, twice
+    assert len(where) > 10
+
+
 def test_scene_dataclass_defaults_read_default_scene():
     """Each scene dataclass's field default is ``DEFAULT_SCENE``'s value at its key, read from
     it (no literal but None)."""

@@ -46,8 +46,9 @@ COLUMNS = [
     "detected",
 ]
 
-#: Record-wise false-alarm probability of the verdict (the 1 % design of ``diagnosis``).
-DEFAULT_PFA = 0.01
+#: Record-wise false-alarm probability of the verdict (the 1 % design of ``diagnosis``): the
+#: detection's (:data:`~bearing_envelope.diagnosis.detection.DEFAULT_PFA`).
+from .detection import DEFAULT_PFA  # noqa: E402
 
 
 def fault_frequency_map(bpfi=None, fault_frequencies=None) -> dict[str, float]:

@@ -68,6 +68,7 @@ from ..physics.fidelity import Fidelity
 from ..physics.history import simulate
 from ..physics.locations import scene_event_frequencies
 from ..physics.scene import DEFAULT_SCENE, Scene
+from ..signal.bands import DEFAULT_BANDS as SIGNAL_DEFAULT_BANDS
 from .pipeline import case_bands, case_harmonics, history_case
 from .case_id import CaseId
 from .sections import AnalysisSettings
@@ -89,12 +90,10 @@ __all__ = ["DEFAULT_CASES", "DEFAULT_KNOBS", "DEFAULT_BANDS", "COLUMNS", "tradeo
 ANALYSIS_KEYS_USED = ("signal", "nlevel", "max_level", "min_bandwidth_hz", "bands", "filter_order",
                       "squared_envelope")
 
-#: The band strategies of the workflow's default ``analysis.bands``.
+#: The band strategies of the workflow's default ``analysis.bands``: the library's
+#: (:data:`bearing_envelope.signal.bands.DEFAULT_BANDS`) and a fixed fs/8 - fs/4 band.
 DEFAULT_BANDS: list[dict[str, Any]] = [
-    {"name": "kurtogram", "strategy": "kurtogram"},
-    {"name": "fs4_3fs8", "strategy": "fraction", "low": 0.25, "high": 0.375},
-    {"name": "bpfi_3_6", "strategy": "orders", "low": 3, "high": 6, "base": "bpfi"},
-    {"name": "bpfi_10_13", "strategy": "orders", "low": 10, "high": 13, "base": "bpfi"},
+    *(dict(b) for b in SIGNAL_DEFAULT_BANDS),
     {"name": "fixed", "strategy": "fixed", "low_hz": 8125.0, "high_hz": 16250.0},
 ]
 
