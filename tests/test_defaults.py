@@ -216,7 +216,7 @@ NOT_ONE_QUANTITY = {
 QUANTITY_OF: dict[tuple[str, str], str] = {
     # a preset's value against the solver's own default (fidelity.py documents the preset's)
     ("bearing_envelope.physics.fidelity.Fidelity", "tol"): "standard preset: solver tolerance",
-    ("bearing_envelope.physics.fidelity.Fidelity", "max_iter"): "standard preset: solver iterations",
+    ("bearing_envelope.physics.fidelity.Fidelity", "max_iter"): "standard preset: iterations",
     ("bearing_envelope.signal.envelope.settling_samples", "tol"): "filter settling tolerance",
     # sidebands counted around a line (metrics) against those kept out of its background
     ("bearing_envelope.diagnosis.detection.detection_statistic", "sidebands"): "excluded sidebands",

@@ -260,7 +260,8 @@ def influence_coefficients_linear(x, y, dx: float, dy: float, e_star: float) -> 
     return out / (math.pi * e_star)
 
 
-def _padded_kernel(shape: tuple[int, int], dx: float, dy: float, e_star: float, element: str = DEFAULT_ELEMENT) -> np.ndarray:
+def _padded_kernel(shape: tuple[int, int], dx: float, dy: float, e_star: float,
+                   element: str = DEFAULT_ELEMENT) -> np.ndarray:
     """Influence coefficients on the ``(2nx, 2ny)`` wrap-around grid used by DC-FFT."""
     nx, ny = shape
     if element == "uniform":
@@ -312,7 +313,8 @@ KERNEL_CACHE_ENTRIES = 32
 KERNEL_CACHE_BYTES = 64 * 2 ** 20
 
 
-def kernel_spectrum(shape: tuple[int, int], dx: float, dy: float, e_star: float, element: str = DEFAULT_ELEMENT) -> np.ndarray:
+def kernel_spectrum(shape: tuple[int, int], dx: float, dy: float, e_star: float,
+                    element: str = DEFAULT_ELEMENT) -> np.ndarray:
     """Real spectrum (``rfft2`` of the ``(2nx, 2ny)`` padded kernel, divided by ``4 nx ny``), cached.
 
     The kernel is even in both offsets, so its spectrum is real; it is stored as float64 of shape

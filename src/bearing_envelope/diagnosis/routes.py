@@ -428,7 +428,8 @@ def run_routes(x, fs: float, details: Mapping, routes: Sequence[str] = DEFAULT_R
             rnd = random_part(x, fs)
         f, a, band = route_spectrum(r, x, fs, alpha_max_hz=span,
                                     min_bandwidth=2.0 * opt.n_harmonics * top,
-                                    nlevel=opt.nlevel or DEFAULT_NLEVEL, window=opt.window, random=rnd)
+                                    nlevel=opt.nlevel or DEFAULT_NLEVEL, window=opt.window,
+                                    random=rnd)
         v = route_verdict(r, f, a, band, fams, fr=fr, search=search,
                           n_harmonics=opt.n_harmonics, n_sidebands=opt.n_sidebands,
                           pfa=opt.pfa)

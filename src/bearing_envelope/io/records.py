@@ -52,7 +52,8 @@ from ..diagnosis.records import bearing_geometry, known_bearings
 DEFAULT_CHANNEL = "DE"
 DEFAULT_SIGNAL = "p_max"
 
-__all__ = ["DEFAULT_CHANNEL", "DEFAULT_SIGNAL", "SUFFIXES", "MEMORY_FACTOR", "read_record", "sniff_csv", "read_manifest",
+__all__ = ["DEFAULT_CHANNEL", "DEFAULT_SIGNAL",
+           "SUFFIXES", "MEMORY_FACTOR", "read_record", "sniff_csv", "read_manifest",
            "collect_records", "bearing_geometry", "known_bearings", "check_memory"]
 
 #: File types :func:`read_record` reads.

@@ -14,7 +14,8 @@ from .scene import DEFAULT_SCENE, Scene
 from .solves import window_spec
 
 __all__ = ["antialias_filter", "antialias_undershoot", "kaiser_beta", "kaiser_lowpass", "decimate_centred", "auto_oversample", "acquire", "add_noise",
-           "acquisition_settings", "signal_bounds", "clip_to_bounds", "ANTIALIAS_PASS", "ANTIALIAS_STOP", "ANTIALIAS_ATTEN_DB",
+           "acquisition_settings", "signal_bounds", "clip_to_bounds",
+           "ANTIALIAS_PASS", "ANTIALIAS_STOP", "ANTIALIAS_ATTEN_DB",
            "ACQUISITION_BLOCK"]
 
 
@@ -201,7 +202,8 @@ def auto_oversample(scene: Scene, fidelity: Fidelity) -> int:
 
 
 def acquire(evaluate: Callable[[np.ndarray], dict], n_samples: int, fs: float, *,
-            mode: str = DEFAULT_SCENE["operation"]["acquisition"]["mode"], oversample: int = 1, filtered: tuple[str, ...] | None = None,
+            mode: str = DEFAULT_SCENE["operation"]["acquisition"]["mode"], oversample: int = 1,
+            filtered: tuple[str, ...] | None = None,
             block: int = ACQUISITION_BLOCK,
             ranges: dict[str, list[float]] | None = None,
             bounds: dict[str, tuple[float, float]] | None = None,

@@ -46,7 +46,8 @@ NYQUIST_MARGIN = 0.98
 #: The bands of the source study (a fixed band needs user values, so it is not a default).
 DEFAULT_BANDS = (
     {"name": "kurtogram", "strategy": "kurtogram"},
-    {"name": "fs4_3fs8", "strategy": "fraction", "low": FRACTION_BAND_LOW, "high": FRACTION_BAND_HIGH},
+    {"name": "fs4_3fs8", "strategy": "fraction", "low": FRACTION_BAND_LOW,
+     "high": FRACTION_BAND_HIGH},
     {"name": "bpfi_3_6", "strategy": "orders", "low": 3, "high": 6, "base": "bpfi"},
     {"name": "bpfi_10_13", "strategy": "orders", "low": 10, "high": 13, "base": "bpfi"},
 )

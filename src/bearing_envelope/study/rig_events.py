@@ -25,8 +25,8 @@ import numpy as np
 from scipy import fft as sp_fft
 from scipy import signal as sps
 
-from ..signal.cycles import (FLOOR_PERCENTILE, RATE_SEARCH, burst_width, cycle_rate, element_windows,
-                             synchronous_average)
+from ..signal.cycles import (FLOOR_PERCENTILE, RATE_SEARCH, burst_width, cycle_rate,
+                             element_windows, synchronous_average)
 from ..signal.envelope import bandpass, envelope, settling_samples
 from ..signal.validation import check_band, check_fs
 from .rig_records import (RIG_BEARING, pair_figure, read_record, record_pairs, rig_rates,

@@ -673,7 +673,8 @@ def plot_tradeoff(df: pd.DataFrame, path=None, *, metrics: Sequence[tuple[str, s
     return fig
 
 
-def pareto_points(df: pd.DataFrame, *, error: str = ERROR_COLUMN, time: str = TIME_COLUMN) -> pd.DataFrame:
+def pareto_points(df: pd.DataFrame, *, error: str = ERROR_COLUMN,
+                  time: str = TIME_COLUMN) -> pd.DataFrame:
     """:func:`pareto_table` of every metric of a tradeoff table, stacked (columns ``metric``,
     ``band`` first).
 
