@@ -18,7 +18,7 @@ from pathlib import Path
 import pytest
 import yaml
 
-from bearing_envelope.diagnosis.analysis import AnalysisOptions
+from bearing_envelope.diagnosis.options import AnalysisOptions
 from bearing_envelope.physics import catalogue
 from bearing_envelope.physics.fidelity import DEFAULT_PRESET, fidelity_from
 from bearing_envelope.physics.scene import DEFAULT_SCENE, STUDY_DESIGNATION, Scene
@@ -200,6 +200,7 @@ import bearing_envelope  # noqa: E402
 NOT_ONE_QUANTITY = {
     "name": "the name of what the callable builds or checks (a preset, a signal, a field)",
     "where": "the field prefix of an error message",
+    "field": "the field name an error message gives",
     "kind": "which kind of thing (end relief, bearing, excitation, information measure)",
     "axis": "an array axis",
     "n": "a count of whatever the callable samples",
@@ -407,7 +408,7 @@ def test_the_check_sees_signatures_fields_and_fallbacks():
     """The collection reaches every kind of place (so a clean result is not an empty one)."""
     where = {d.where for d in LIBRARY_DEFAULTS}
     assert "bearing_envelope.signal.kurtogram.fast_kurtogram" in where          # a function
-    assert "bearing_envelope.diagnosis.analysis.AnalysisOptions" in where       # a dataclass
+    assert "bearing_envelope.diagnosis.options.AnalysisOptions" in where        # a dataclass
     assert any(w.startswith("bearing_envelope.physics.transfer.Mode.") for w in where)  # a method
     assert len(LIBRARY_DEFAULTS) > 200
 

@@ -15,7 +15,7 @@ from matplotlib.figure import Figure  # this module only draws: it is imported o
 from matplotlib.patches import Rectangle
 
 from ..signal.envelope import DEFAULT_FILTER_ORDER, bandpass, envelope
-from .analysis import AnalysisOptions
+from .options import AnalysisOptions
 from .faults import display_name
 
 #: Resolution of a written figure (dots per inch); the one-page record figure an analyst reads:

@@ -19,14 +19,12 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
-from ..diagnosis.analysis import AnalysisOptions
+from ..diagnosis.options import AnalysisOptions
 from ..physics.fidelity import DEFAULT_PRESET
 from ..physics.transfer import sensor_defaults
-from ..signal.bands import DEFAULT_BANDS
 from .config_read import ConfigError
 
-__all__ = ["SCHEMA_PATH", "full_schema", "analysis_defaults", "section_defaults",
-           "validate_mapping", "ANALYSIS_OPTION_FIELDS", "MAPPING_SOURCE"]
+__all__ = ["SCHEMA_PATH", "full_schema", "section_defaults", "validate_mapping", "MAPPING_SOURCE"]
 
 #: What a message names as the origin of a config given as a mapping (not read from a file).
 MAPPING_SOURCE = "<mapping>"
@@ -57,39 +55,13 @@ def _check_finite(obj: Any, path: tuple = ()) -> None:
             _check_finite(v, path + (i,))
 
 
-#: ``analysis:`` keys whose default is a field of
-#: :class:`~bearing_envelope.diagnosis.analysis.AnalysisOptions`, the one home of the analysis
-#: defaults (the sweep and ``analyze`` share it): config key -> option field.
-ANALYSIS_OPTION_FIELDS = {
-    "nlevel": "nlevel", "max_level": "max_level", "min_bandwidth_hz": "min_bandwidth",
-    "filter_order": "filter_order", "squared_envelope": "squared", "harmonics": "n_harmonics",
-    "sidebands": "n_sidebands", "raw_orders_fr": "n_raw_harmonics",
-}
-
-
-def analysis_defaults() -> dict[str, Any]:
-    """The ``analysis:`` defaults the schema is filled with, read from
-    :class:`~bearing_envelope.diagnosis.analysis.AnalysisOptions` (``amplitude``:
-    ``interpolated`` when its ``interpolate`` is true, else ``peak_bin``; ``bands``: its bands,
-    :data:`~bearing_envelope.signal.bands.DEFAULT_BANDS` when None).
-
-    Returns
-    -------
-    dict
-        Config key -> default value.
-    """
-    opt = AnalysisOptions()
-    out = {key: getattr(opt, name) for key, name in ANALYSIS_OPTION_FIELDS.items()}
-    out["amplitude"] = "interpolated" if opt.interpolate else "peak_bin"
-    out["bands"] = [dict(b) for b in (opt.bands or DEFAULT_BANDS)]
-    return out
-
-
 @functools.lru_cache(maxsize=1)
 def full_schema() -> dict:
-    """The schema file with the defaults whose home is code filled in: ``fidelity`` from
-    :data:`~bearing_envelope.physics.fidelity.DEFAULT_PRESET`, the analysis keys from
-    :func:`analysis_defaults`, the sensor's from
+    """The schema file with what has its home in code filled in: the ``fidelity`` default
+    from :data:`~bearing_envelope.physics.fidelity.DEFAULT_PRESET`; the type, range and
+    default of every ``analysis:`` key that sets an analysis option from
+    :meth:`~bearing_envelope.diagnosis.options.AnalysisOptions.config_schema` (the file writes
+    their descriptions only); the ``sensor:`` defaults from
     :func:`~bearing_envelope.physics.transfer.sensor_defaults`. The file itself holds no scene,
     fidelity, analysis-option, sensor, limits or tradeoff default (``tests/test_defaults.py``).
 
@@ -104,8 +76,8 @@ def full_schema() -> dict:
         schema = yaml.load(fh, Loader=getattr(yaml, "CSafeLoader", yaml.SafeLoader))  # libyaml: 10x faster
     props = schema["properties"]
     props["fidelity"]["default"] = DEFAULT_PRESET
-    for key, value in analysis_defaults().items():
-        props["analysis"]["properties"][key]["default"] = value
+    for key, fragment in AnalysisOptions.config_schema().items():
+        props["analysis"]["properties"][key].update(fragment)
     sensor = props["sensor"]["properties"]
     for key, value in sensor_defaults().items():
         if key == "noise":
