@@ -201,6 +201,7 @@ NOT_ONE_QUANTITY = {
     "name": "the name of what the callable builds or checks (a preset, a signal, a field)",
     "where": "the field prefix of an error message",
     "field": "the field name an error message gives",
+    "base": "a base folder (manifest paths), a base preset (trade-off study), a base frequency",
     "kind": "which kind of thing (end relief, bearing, excitation, information measure)",
     "axis": "an array axis",
     "n": "a count of whatever the callable samples",
@@ -239,7 +240,7 @@ QUANTITY_OF: dict[tuple[str, str], str] = {
     # the origin of an analysed record (its reader's word) against a config's in a message
     ("bearing_envelope.diagnosis.records", "source"): "a record's origin",
     # a missing rig.load_kN read as nan, then refused (no default)
-    ("bearing_envelope.study.rig", "load_kN"): "missing-value marker",
+    ("bearing_envelope.study.rig.config", "load_kN"): "missing-value marker",
 }
 
 #: String defaults that name another home rather than give a value (like None).
