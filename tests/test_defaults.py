@@ -208,6 +208,7 @@ NOT_ONE_QUANTITY = {
     "level": "a threshold statistic (detection) or a burst level (cycles)",
     "mode": "load mode, acquisition mode, structural mode: unrelated settings",
     "seed": "the seed of the callable's own random stream",
+    "n_solves": "a counter's start (0): each object counts its own solves",
     "background": "a background band (multiples of a line) or where a background came from",
     "sideband": "a row selector: the sideband index (0 = the harmonic itself), not a setting",
     "x_d": "a row selector: the defect's offset in the contact (0 = centred), not a setting",
