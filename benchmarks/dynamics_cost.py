@@ -84,7 +84,7 @@ def integrators(duration: float = 1e-2, steps=(10, 20, 40, 80),
     lay = StateLayout(p.z)
     y0 = initial_state(p)
     fs = 1e6
-    r0 = simulate_dynamics(p, duration, fs, acquisition="point", settle_s=0.0, y0=y0)
+    r0 = simulate_dynamics(p, duration, fs, acquisition_mode="point", settle_s=0.0, y0=y0)
     t_eval = r0.t_s
     ref = reference_run(p, y0, r0.t_end_s, np.r_[t_eval, r0.t_end_s])
     scale = np.abs(y0[:lay.n_dof]).max()
@@ -98,7 +98,7 @@ def integrators(duration: float = 1e-2, steps=(10, 20, 40, 80),
     rows = []
     for s in steps:
         c0 = time.process_time()
-        r = simulate_dynamics(p, duration, fs, acquisition="point", settle_s=0.0, y0=y0,
+        r = simulate_dynamics(p, duration, fs, acquisition_mode="point", settle_s=0.0, y0=y0,
                               steps_per_period=float(s))
         cpu = time.process_time() - c0
         rows.append(dict(method=f"RK4 numba, S = {s} (dt {1e6 * r.step_s:.2f} us)", cpu=cpu, steps=r.steps,

@@ -70,7 +70,7 @@ def test_rhs_under_solve_ivp_agrees_with_the_rk4_kernel():
     p = p.with_(defect=law, defect_angle_rad=math.radians(2.0), defect_race="outer")
     y0 = initial_state(p)
     T = 1e-3                                     # the element crosses the slot at 0.4-0.5 ms
-    r = simulate_dynamics(p, T, 1e5, acquisition="point", settle_s=0.0, y0=y0)
+    r = simulate_dynamics(p, T, 1e5, acquisition_mode="point", settle_s=0.0, y0=y0)
     a = arrays(p, -1e-3, 2 * T)
     lay = StateLayout(p.z)
     sol = solve_ivp(rhs, (0.0, r.t_end_s), y0, method="DOP853", args=(p, a), rtol=1e-10,
@@ -87,7 +87,7 @@ def test_bad_input_is_refused_before_the_run():
     with pytest.raises(ValueError, match="duration_s got -1"):
         simulate_dynamics(p, -1, 12000.0)
     with pytest.raises(ValueError, match="acquisition got 'linear'"):
-        simulate_dynamics(p, 0.1, 12000.0, acquisition="linear")
+        simulate_dynamics(p, 0.1, 12000.0, acquisition_mode="linear")
     with pytest.raises(ValueError, match="steps_per_period: got 2"):
         step_size(p, 2)
     with pytest.raises(ValueError, match="element_mass_kg: got -1"):
@@ -114,7 +114,7 @@ def test_recorded_housing_force_balances_the_load_and_point_samples_agree():
     mean = r.housing_force_n.mean(axis=0)
     print(f"mean housing force {mean} N for {p.force_n} N; oversample {r.oversample}")
     assert mean[0] == pytest.approx(p.force_n, rel=2e-4) and abs(mean[1]) < 2e-4 * p.force_n
-    pt = simulate_dynamics(p, dur, fs, acquisition="point")
+    pt = simulate_dynamics(p, dur, fs, acquisition_mode="point")
     # the rings' relative displacement (varying compliance, well below fs/2): the anti-aliased
     # record equals the point samples to 1 % of its ripple (measured 0.2 %)
     x_aa = r.inner_displacement_m[:, 0] - r.housing_displacement_m[:, 0]

@@ -31,7 +31,7 @@ def over_pit(width, element, healthy=False, settle_s=0.9e-3, **kw):
     ang = 2 * math.pi * (p.cage_rate_hz * T_IN + element / p.z) + 0.5 * width / p.outer_race_radius_m
     law = None if healthy else slot_law(p.element_radius_m, width, DEPTH, p.k_outer, 1.5, 30e-6)
     p = p.with_(defect=law, defect_angle_rad=ang, defect_race="outer", **kw)
-    return p, simulate_dynamics(p, 2.5e-3, FS, acquisition="point", settle_s=settle_s)
+    return p, simulate_dynamics(p, 2.5e-3, FS, acquisition_mode="point", settle_s=settle_s)
 
 
 def speed(p):

@@ -43,7 +43,7 @@ def test_inner_race_pit_is_met_at_the_inner_pass_rate_for_the_crossing_time():
     # preloaded: every contact closed, so the defect force is on exactly while an element is on the pit
     p = p.with_(defect=law, defect_race="inner", defect_angle_rad=0.3, clearance_m=-30e-6)
     fs = 1e6
-    r = simulate_dynamics(p, 0.02, fs, acquisition="point")
+    r = simulate_dynamics(p, 0.02, fs, acquisition_mode="point")
     on = r.defect_force_n > 0
     starts = np.nonzero(on[1:] & ~on[:-1])[0] + 1
     ends = np.nonzero(~on[1:] & on[:-1])[0] + 1
@@ -66,7 +66,7 @@ def test_roller_bearing_static_limit_is_the_harris_load_distribution():
                 contact_damping_ns_m=4 * p.contact_damping_ns_m, housing_damping_ns_m=1e5,
                 housing_stiffness_n_m=1e9)
     lay = StateLayout(p.z)
-    r = simulate_dynamics(p, 0.02, 20000.0, acquisition="point", settle_s=0.3, y0=np.zeros(lay.size))
+    r = simulate_dynamics(p, 0.02, 20000.0, acquisition_mode="point", settle_s=0.3, y0=np.zeros(lay.size))
     ref = solve_row(p.force_n, p.z, math.degrees(p.contact_angle_rad), p.clearance_m,
                     p.series_constant, 10 / 9, 0.05).q
     assert p.exponent == pytest.approx(10 / 9)

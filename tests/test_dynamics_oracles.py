@@ -38,7 +38,7 @@ def at_rest(phase=0.0, **kw):
 def settled_loads(p, duration=0.05):
     """Outer contact loads at the end of a run started from rest with no displacement."""
     lay = StateLayout(p.z)
-    r = simulate_dynamics(p, duration, 20000.0, acquisition="point", settle_s=0.25,
+    r = simulate_dynamics(p, duration, 20000.0, acquisition_mode="point", settle_s=0.25,
                           y0=np.zeros(lay.size))
     return r.element_load_n[-1]
 
@@ -82,7 +82,7 @@ def test_slowly_turning_bearing_follows_the_harris_load_distribution():
     # the quasi-static ones at that cage angle
     p = params_from_scene(cwru_scene(), centrifugal=False)
     p = p.with_(cage_rate_hz=p.cage_rate_hz / 50, shaft_rate_hz=p.shaft_rate_hz / 50)
-    r = simulate_dynamics(p, 0.5, 200.0, acquisition="point")
+    r = simulate_dynamics(p, 0.5, 200.0, acquisition_mode="point")
     worst = row_worst = 0.0
     for k in range(0, r.t_s.size, 5):
         th = 2 * math.pi * p.cage_rate_hz * r.t_s[k]
@@ -196,7 +196,7 @@ def test_energy_is_conserved_without_damping(steps):
     y0[lay.velocity(lay.YI)] = 0.03
     y0[lay.velocity(lay.element(4))] = 0.02
     e0 = energy(p, y0)
-    r = simulate_dynamics(p, 0.02, 50000.0, acquisition="point", settle_s=0.0, y0=y0,
+    r = simulate_dynamics(p, 0.02, 50000.0, acquisition_mode="point", settle_s=0.0, y0=y0,
                           steps_per_period=steps)
     drift = abs(energy(p, r.state_end) - e0) / (e0 - e_eq)
     print(f"energy drift {drift:.2e} of the disturbance over {r.steps} steps")

@@ -67,6 +67,8 @@ from .kinematics import RADIAL_CONTACT_ANGLE_DEG
 
 #: The centrifugal force along the contact normal of a load law without it (N): off.
 CENTRIFUGAL_OFF_N = 0.0
+#: Cage phase of a load distribution when none is given: element 0 on the load line, rad.
+CAGE_PHASE_RAD = 0.0
 
 __all__ = ["LoadDistribution", "LOAD_ROUNDING_ULPS",
            "palmgren_stiffness", "centrifugal_force", "race_compliances",
@@ -294,7 +296,7 @@ def _inner_load(delta, c_i: float, c_o: float, fc: float, n: float) -> np.ndarra
 def solve_row(force_row: float, n_rollers: int,
               contact_angle_deg: float = RADIAL_CONTACT_ANGLE_DEG,
               clearance: float = 0.0, stiffness: float = 1e10, exponent: float = 10.0 / 9.0,
-              phase: float = 0.0, *, centrifugal: float = CENTRIFUGAL_OFF_N,
+              phase: float = CAGE_PHASE_RAD, *, centrifugal: float = CENTRIFUGAL_OFF_N,
               compliances: tuple[float, float] | None = None) -> LoadDistribution:
     """Solve the radial equilibrium of one row for ``delta_r``.
 

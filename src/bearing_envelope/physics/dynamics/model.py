@@ -14,9 +14,14 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..acquisition import acquire, antialias_filter
+from ..scene import Acquisition
 from .kernels import CDT, CT0, cage_angle_at, contact_forces, rhs_kernel, rk4_run
 from .layout import REC_FIXED, REC_SIZE_FIXED, StateLayout
-from .params import LOAD_FACTOR, MODEL_NAME, DynamicParams, highest_frequency_hz, quasi_static, step_size
+from .params import (MODEL_NAME, PEAK_LOAD_FACTOR, DynamicParams, highest_frequency_hz, quasi_static,
+                     step_size)
+
+#: Time at which a run starts when none is given, s.
+START_S = 0.0
 
 __all__ = ["Arrays", "arrays", "rhs", "element_loads", "initial_state", "simulate_dynamics",
            "DynamicResult", "jacobian", "linearised_frequencies_hz", "auto_oversample",
@@ -127,7 +132,7 @@ def element_loads(t: float, y: np.ndarray, params: DynamicParams,
     return qi, qo, float(f)
 
 
-def initial_state(params: DynamicParams, t: float = 0.0) -> np.ndarray:
+def initial_state(params: DynamicParams, t: float = START_S) -> np.ndarray:
     """The quasi-static state at ``t`` (zero velocities): the housing on its support, the inner
     ring displaced by the Harris/Stribeck ``delta_r`` (:func:`~.params.quasi_static`), each
     element where its inner contact carries its quasi-static load (or, unloaded, resting on the
@@ -168,7 +173,7 @@ def initial_state(params: DynamicParams, t: float = 0.0) -> np.ndarray:
     return y
 
 
-def jacobian(params: DynamicParams, y: np.ndarray, t: float = 0.0, rel: float = 1e-7) -> np.ndarray:
+def jacobian(params: DynamicParams, y: np.ndarray, t: float = START_S, rel: float = 1e-7) -> np.ndarray:
     """Central-difference Jacobian ``d(dy/dt)/dy`` of :func:`rhs` at ``(t, y)``.
 
     Parameters
@@ -196,7 +201,7 @@ def jacobian(params: DynamicParams, y: np.ndarray, t: float = 0.0, rel: float = 
     return J
 
 
-def linearised_frequencies_hz(params: DynamicParams, y: np.ndarray, t: float = 0.0) -> np.ndarray:
+def linearised_frequencies_hz(params: DynamicParams, y: np.ndarray, t: float = START_S) -> np.ndarray:
     """Natural frequencies (Hz, ascending, > 0) of the model linearised at ``(t, y)``: the
     eigenvalues of :func:`jacobian` (undamped: ``+- i omega``).
 
@@ -217,7 +222,7 @@ def linearised_frequencies_hz(params: DynamicParams, y: np.ndarray, t: float = 0
     return np.sort(lam.imag[lam.imag > 1e-6 * np.max(np.abs(lam))]) / (2 * math.pi)
 
 
-def auto_oversample(params: DynamicParams, fs_hz: float, load_factor: float = LOAD_FACTOR) -> int:
+def auto_oversample(params: DynamicParams, fs_hz: float, peak_factor: float = PEAK_LOAD_FACTOR) -> int:
     """The internal record rate as a multiple of ``fs``: the smallest ``N >= 2`` with
     ``N fs >= 2 f_max`` (:func:`~.params.highest_frequency_hz`), so that the record's point
     samples do not alias the resolved contact modes before the anti-alias filter.
@@ -227,7 +232,7 @@ def auto_oversample(params: DynamicParams, fs_hz: float, load_factor: float = LO
     params : DynamicParams
     fs_hz : float
         Output rate, Hz.
-    load_factor : float
+    peak_factor : float
         As :func:`~.params.highest_frequency_hz`.
 
     Returns
@@ -235,7 +240,7 @@ def auto_oversample(params: DynamicParams, fs_hz: float, load_factor: float = LO
     int
         ``N``.
     """
-    return max(2, int(math.ceil(2.0 * highest_frequency_hz(params, load_factor) / fs_hz)))
+    return max(2, int(math.ceil(2.0 * highest_frequency_hz(params, peak_factor) / fs_hz)))
 
 
 @dataclass(frozen=True)
@@ -375,7 +380,7 @@ def _settle_s(params: DynamicParams) -> float:
 
 def simulate_dynamics(params: DynamicParams, duration_s: float, fs_hz: float, *,
                       dt_s: float | None = None, steps_per_period: float | None = None,
-                      oversample: int | None = None, acquisition: str = "antialiased",
+                      oversample: int | None = None, acquisition_mode: str = Acquisition.mode,
                       settle_s: float | None = None, y0: np.ndarray | None = None) -> DynamicResult:
     """Run the model for ``duration_s`` and record it at ``fs_hz``.
 
@@ -399,7 +404,7 @@ def simulate_dynamics(params: DynamicParams, duration_s: float, fs_hz: float, *,
         The step rule's steps per period of the highest frequency.
     oversample : int, optional
         ``N`` (default :func:`auto_oversample`).
-    acquisition : {"antialiased", "point"}
+    acquisition_mode : {"antialiased", "point"}
     settle_s : float, optional
         Settling before ``t = 0``, s (default: :data:`SETTLE_PERIODS` housing periods).
     y0 : ndarray, optional
@@ -412,18 +417,18 @@ def simulate_dynamics(params: DynamicParams, duration_s: float, fs_hz: float, *,
     for name, v in (("duration_s", duration_s), ("fs_hz", fs_hz)):
         if not (isinstance(v, numbers.Real) and math.isfinite(v) and v > 0):
             raise ValueError(f"simulate_dynamics: {name} got {v!r}; allowed: finite > 0")
-    if acquisition not in ("antialiased", "point"):
-        raise ValueError(f"simulate_dynamics: acquisition got {acquisition!r}; allowed: antialiased | point")
+    if acquisition_mode not in ("antialiased", "point"):
+        raise ValueError(f"simulate_dynamics: acquisition_mode got {acquisition_mode!r}; allowed: antialiased | point")
     cpu0 = time.process_time()
     n_out = int(round(duration_s * fs_hz))
-    ov = 1 if acquisition == "point" else (auto_oversample(params, fs_hz) if oversample is None
+    ov = 1 if acquisition_mode == "point" else (auto_oversample(params, fs_hz) if oversample is None
                                            else int(oversample))
     rec_dt = 1.0 / (ov * fs_hz)
     dt = step_size(params, **({} if steps_per_period is None else
                               {"steps_per_period": steps_per_period})) if dt_s is None else float(dt_s)
     every = max(1, int(math.ceil(rec_dt / dt - 1e-9)))
     settle = _settle_s(params) if settle_s is None else float(settle_s)
-    lead = 0 if acquisition == "point" else (antialias_filter(ov).size - 1) // 2
+    lead = 0 if acquisition_mode == "point" else (antialias_filter(ov).size - 1) // 2
     j_first = -int(math.ceil(settle / rec_dt - 1e-9)) - lead
     t_first = j_first * rec_dt
     a = arrays(params, t_first, duration_s + 0.1)
@@ -434,7 +439,7 @@ def simulate_dynamics(params: DynamicParams, duration_s: float, fs_hz: float, *,
     st = _Stream(params, a, y, j_first, rec_dt, every)
     names = record_names(params.z)
     ranges: dict = {}
-    sig = acquire(st.evaluate, n_out, fs_hz, mode=acquisition, oversample=ov,
+    sig = acquire(st.evaluate, n_out, fs_hz, mode=acquisition_mode, oversample=ov,
                   filtered=names[:REC_SIZE_FIXED + params.z], ranges=ranges)
     peak = ranges.get("defect_force", [0.0, float(np.max(sig["defect_force"], initial=0.0))])[1]
     _check_table_range(params, peak)

@@ -14,13 +14,13 @@ from typing import Callable
 
 import numpy as np
 
-from ..loads import (ELEMENT_DENSITY_KG_M3, LoadDistribution, centrifugal_force, race_compliances,
-                     scene_load_distribution, solve_row)
+from ..loads import (CAGE_PHASE_RAD, ELEMENT_DENSITY_KG_M3, LoadDistribution, centrifugal_force,
+                     race_compliances, scene_load_distribution, solve_row)
 from .layout import P_NAMES
 
 __all__ = ["DefectLaw", "DynamicParams", "STRUCTURE_DEFAULTS", "slot_drop", "slot_law",
            "params_from_scene", "contact_stiffness", "highest_frequency_hz", "step_size",
-           "quasi_static", "contact_damping", "STEPS_PER_PERIOD", "LOAD_FACTOR", "MODEL_NAME"]
+           "quasi_static", "contact_damping", "STEPS_PER_PERIOD", "PEAK_LOAD_FACTOR", "MODEL_NAME"]
 
 #: Name of the model a result says made it.
 MODEL_NAME = "lumped_dynamic"
@@ -42,7 +42,7 @@ STRUCTURE_DEFAULTS = {
 STEPS_PER_PERIOD = 40.0
 #: The contact load of the step rule, as a multiple of the quasi-static largest element load
 #: (impacts load a contact above its static value).
-LOAD_FACTOR = 2.0
+PEAK_LOAD_FACTOR = 2.0
 
 
 @dataclass(frozen=True)
@@ -294,7 +294,7 @@ class DynamicParams:
         return (self.k_inner ** -m + self.k_outer ** -m) ** -self.exponent
 
 
-def quasi_static(params: DynamicParams, phase: float = 0.0) -> LoadDistribution:
+def quasi_static(params: DynamicParams, phase: float = CAGE_PHASE_RAD) -> LoadDistribution:
     """The quasi-static (Harris/Stribeck) load distribution of the same bearing
     (:func:`bearing_envelope.physics.loads.solve_row`, centrifugal force included).
 
@@ -333,23 +333,23 @@ def contact_stiffness(k: float, q: float, n: float) -> float:
     return n * k ** (1.0 / n) * max(q, 0.0) ** ((n - 1.0) / n)
 
 
-def highest_frequency_hz(params: DynamicParams, load_factor: float = LOAD_FACTOR) -> float:
+def highest_frequency_hz(params: DynamicParams, peak_factor: float = PEAK_LOAD_FACTOR) -> float:
     """Highest linearised natural frequency (Hz) bounding the model's: an element between its
-    two contacts at ``load_factor`` x the quasi-static largest load (with the centrifugal force
+    two contacts at ``peak_factor`` x the quasi-static largest load (with the centrifugal force
     on the outer contact), ``sqrt((k_i + k_o)/m)/(2 pi)``, or the resonator, the larger.
 
     Parameters
     ----------
     params : DynamicParams
-    load_factor : float
-        Contact load as a multiple of the quasi-static largest (``LOAD_FACTOR``).
+    peak_factor : float
+        Contact load as a multiple of the quasi-static largest (``PEAK_LOAD_FACTOR``).
 
     Returns
     -------
     float
         Frequency, Hz.
     """
-    q = load_factor * max(float(np.max(quasi_static(params).q)) if params.force_n > 0 else 0.0,
+    q = peak_factor * max(float(np.max(quasi_static(params).q)) if params.force_n > 0 else 0.0,
                           params.centrifugal_n, 1.0)
     k = (contact_stiffness(params.k_inner, q, params.exponent)
          + contact_stiffness(params.k_outer, q + params.centrifugal_n, params.exponent))
@@ -357,7 +357,7 @@ def highest_frequency_hz(params: DynamicParams, load_factor: float = LOAD_FACTOR
 
 
 def step_size(params: DynamicParams, steps_per_period: float = STEPS_PER_PERIOD,
-              load_factor: float = LOAD_FACTOR) -> float:
+              peak_factor: float = PEAK_LOAD_FACTOR) -> float:
     """The step rule: ``dt = 1 / (steps_per_period x f_max)`` with ``f_max`` from
     :func:`highest_frequency_hz`.
 
@@ -366,7 +366,7 @@ def step_size(params: DynamicParams, steps_per_period: float = STEPS_PER_PERIOD,
     params : DynamicParams
     steps_per_period : float
         RK4 steps per period of ``f_max`` (:data:`STEPS_PER_PERIOD`).
-    load_factor : float
+    peak_factor : float
         As :func:`highest_frequency_hz`.
 
     Returns
@@ -377,7 +377,7 @@ def step_size(params: DynamicParams, steps_per_period: float = STEPS_PER_PERIOD,
     if not steps_per_period >= 4:
         raise ValueError(f"steps_per_period: got {steps_per_period!r}; allowed: >= 4 (RK4 is "
                          "unstable near 2.2)")
-    return 1.0 / (steps_per_period * highest_frequency_hz(params, load_factor))
+    return 1.0 / (steps_per_period * highest_frequency_hz(params, peak_factor))
 
 
 def _element_mass(bearing) -> float:
@@ -428,7 +428,7 @@ def params_from_scene(scene, *, defect: DefectLaw | None = None, centrifugal: bo
               inner_race_radius_m=b.inner_race_radius_m, outer_race_radius_m=b.outer_race_radius_m,
               cage_rate_hz=scene.cage_rate_hz, shaft_rate_hz=scene.operation.shaft_rate_hz,
               defect=defect, defect_race="inner" if scene.defect.location == "inner_race" else "outer",
-              defect_angle_rad=math.radians(getattr(scene.defect, "position_deg", 0.0) or 0.0),
+              defect_angle_rad=math.radians(scene.defect.position_deg),
               cage_angle=partial(cage_angle, scene)
               if slip and scene.operation.cage_slip_percent > 0 else None)
     kw.update(overrides)
