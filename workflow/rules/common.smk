@@ -7,7 +7,7 @@ from pathlib import Path
 from bearing_envelope.study.figures import example_pairs
 from bearing_envelope.study.handoff import ENV_VAR as HANDOFF_VAR, hand_off, take_over
 from bearing_envelope.study.limits import checked_settings, paper_run_tables as run_tables, profile_files
-from bearing_envelope.study.recovery import is_dry_run, marker_if_present, recover_case_files
+from bearing_envelope.study.recovery import Artefact, is_dry_run, marker_if_present, recover_artefacts
 from bearing_envelope.study.provenance import code_dependencies
 from bearing_envelope.study.settings import CASE_NAME_REGEX, config_files, workflow_settings
 
@@ -154,9 +154,28 @@ HEALTHY = [c.name for c in CASE_IDS if c.depth_um == 0]
 ANALYSIS_STAGE = "sensor" if SETTINGS.analysis.signal == "acceleration" else "cases"
 
 
-def recovery_consumers(stage, case):
-    """Files made from results/{stage}/{case}.h5 (bearing_envelope.study.recovery)."""
-    return [f"results/bands/{case}.json"] + ([f"results/sensor/{case}.h5"] if stage == "cases" else [])
+#: Rebuild markers (bearing_envelope.study.recovery): results/.rebuild/{stage}/{case}.
+MARKERS = "results/.rebuild"
+
+
+def rebuild_marker(stage, case):
+    """The rebuild marker of results/{stage}/{case}.* (an input of its first consumer)."""
+    return f"{MARKERS}/{stage}/{case}"
+
+
+def recovery_artefacts():
+    """What is verified before the DAG: the case files (and their sensor copies) and the
+    sealed per-case harmonic tables, each with its marker and the files made from it."""
+    arts = []
+    for stage in dict.fromkeys(("cases", ANALYSIS_STAGE)):
+        for case in CASES:
+            consumers = [f"results/bands/{case}.json"] + (
+                [f"results/sensor/{case}.h5"] if stage == "cases" else [])
+            arts.append(Artefact(f"results/{stage}/{case}.h5", rebuild_marker(stage, case),
+                                 tuple(consumers)))
+    arts += [Artefact(f"results/harmonics/{case}.csv", rebuild_marker("harmonics", case),
+                      ("results/tables/harmonics.csv",), "sealed table") for case in CASES]
+    return arts
 
 
 def analysis_case(wildcards):
@@ -187,9 +206,9 @@ def paper_run_tables(wildcards=None):
     return run_tables(config.get("paper_run"))
 
 
-# Before the DAG: every case file verified in full (checksums, attribute digest); a bad one is
-# moved aside, and a bad or deleted one is rebuilt with what is made from it, in this run
-# (bearing_envelope.study.recovery; nothing changes on a dry run).
+# Before the DAG: every case file verified in full (checksums, attribute digest) and every
+# per-case harmonic table against its seal (its content, whatever its mtime); a bad one is moved
+# aside, and a bad or deleted one is rebuilt with what is made from it, in this run
+# (bearing_envelope.study.recovery; nothing changes on a dry run, one line says what would).
 if workflow.is_main_process:
-    recover_case_files({"cases": CASES, ANALYSIS_STAGE: CASES}, recovery_consumers,
-                       dry_run=is_dry_run(workflow=workflow))
+    recover_artefacts(recovery_artefacts(), dry_run=is_dry_run(workflow=workflow))
