@@ -82,11 +82,22 @@ _BASE_CPU_S = 1.5
 _CPU_S_PER_FINE_SAMPLE = 2.0e-6
 _CG_ITERATIONS = 60
 
-#: CPU seconds per cell x log2(cells) of one global solve: its iterations grow with the grid
-#: (draft, 750 kN / 50 um: 65,269 global cells cost 11 CPU s over the draft grid's 3 solves,
-#: 261,077 cells more than 26 s; ``global_dx_um: 0.01``, 10^7 cells, ran for hours), so the
-#: window's per-iteration constant would estimate a tenth of it.
-_CPU_S_PER_GLOBAL_CELL_LOG = 3.1e-6
+#: The global solves: CPU seconds per cell x log2(4 cells) and iteration, and the iterations
+#: per solve, about 2 sqrt(cells) up to the fidelity's ``max_iter``. Measured at draft (750 kN /
+#: 50 um, ``global_dx_um`` refined, 2026-12-05): 65,269 cells cost 11.5 CPU s over 3 solves
+#: (about 510 iterations each); 261,077 cells did not converge in ``max_iter`` = 1000
+#: iterations (33 ms each); ``global_dx_um: 0.01`` (10^7 cells) ran for hours (issue 43). The
+#: constant is the measured 6.3e-9 with a margin of 1.3.
+_CPU_S_PER_GLOBAL_CELL_ITERATION = 8.2e-9
+
+#: The window solves' iterations grow with the window grid too (each starts from the previous
+#: offset's solution, so far fewer than the global ones): :data:`_CG_ITERATIONS` up to the
+#: standard window (27,219 cells: 13.4 CPU s per default case measured, under its
+#: estimate), then 0.5 sqrt(cells): the paper window (248,221 cells) measured 1,328 CPU s for
+#: the heaviest default case (docs/cluster.md), which 60 iterations estimated at 426 s (now
+#: 1,430 s).
+_WINDOW_ITERATIONS_PER_SQRT_CELL = 0.5
+_GLOBAL_ITERATIONS_PER_SQRT_CELL = 2.0
 
 #: Load nodes above which the table's solve count, not its grid, is named as the cause.
 _MANY_LOADS = 50
@@ -195,8 +206,12 @@ def estimate_case(name: str, scene, fidelity) -> ResourceEstimate:
         + _EXTRA_WINDOW_SOLVES
     solves = fidelity.n_loads * (1 + offsets)
     fine = _CPU_S_PER_FINE_SAMPLE * n * over
-    global_solves = _CPU_S_PER_GLOBAL_CELL_LOG * fidelity.n_loads * g_cells * math.log2(4 * g_cells)
-    window_solves = _CPU_S_PER_CELL_ITERATION * _CG_ITERATIONS * fidelity.n_loads * \
+    iterations = min(fidelity.max_iter, _GLOBAL_ITERATIONS_PER_SQRT_CELL * math.sqrt(g_cells))
+    global_solves = _CPU_S_PER_GLOBAL_CELL_ITERATION * iterations * fidelity.n_loads * \
+        g_cells * math.log2(4 * g_cells)
+    w_iterations = min(fidelity.max_iter, max(_CG_ITERATIONS,
+                                              _WINDOW_ITERATIONS_PER_SQRT_CELL * math.sqrt(w_cells)))
+    window_solves = _CPU_S_PER_CELL_ITERATION * w_iterations * fidelity.n_loads * \
         offsets * w_cells * math.log2(4 * w_cells)
     solve = global_solves + window_solves
     grid_field = ("fidelity.n_loads" if fidelity.n_loads > _MANY_LOADS else
@@ -312,7 +327,7 @@ _JOB_BASE_CPU_S = 2.0
 _CPU_S_PER_KURTOGRAM_SAMPLE_LEVEL = 3.0e-7
 _CPU_S_PER_BAND, _CPU_S_PER_BAND_SAMPLE = 0.07, 5.0e-7
 _CPU_S_PER_RECORD, _CPU_S_PER_RECORD_SAMPLE = 0.01, 2.0e-7
-_CPU_S_PER_TEST, _CPU_S_PER_TEST_SAMPLE = 0.005, 1.0e-7
+_CPU_S_PER_TEST, _CPU_S_PER_TEST_SAMPLE = 0.005, 1.5e-7
 
 #: The default sweep's size on each axis: the refusal names the field whose value is the
 #: largest multiple of its default (the axis that made the job expensive).
