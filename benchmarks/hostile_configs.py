@@ -63,7 +63,7 @@ MUST_REFUSE_CLASSES = ("cost", "file", "plausibility", "yaml")
 
 def base_config() -> dict:
     """The draft test config with the default ``sensor:`` and ``diagnosability:`` sections."""
-    from bearing_envelope.study.settings import read_configs, read_yaml
+    from bearing_envelope.study.config_read import read_configs, read_yaml
 
     base = read_configs([ROOT / "config.yaml", ROOT / "tests" / "data" / "config_draft.yaml"])
     full = read_yaml(ROOT / "config.yaml")

@@ -17,13 +17,14 @@ from pathlib import Path
 import pytest
 import yaml
 
-from bearing_envelope.diagnosis.analysis import AnalysisOptions
+from bearing_envelope.diagnosis.options import AnalysisOptions
 from bearing_envelope.physics import catalogue
 from bearing_envelope.physics.fidelity import DEFAULT_PRESET, fidelity_from
 from bearing_envelope.physics.scene import DEFAULT_SCENE, STUDY_DESIGNATION, Scene
 from bearing_envelope.signal.envelope import DEFAULT_FILTER_ORDER, bandpass, envelope_spectrum
 from bearing_envelope.study.limits import DEFAULT_LIMITS
-from bearing_envelope.study.settings import full_schema, settings_from_mapping
+from bearing_envelope.study.schema import full_schema
+from bearing_envelope.study.settings import settings_from_mapping
 from bearing_envelope.study.schema import SCHEMA_PATH
 from bearing_envelope.study.tradeoff import TRADEOFF_DEFAULTS, tradeoff_study
 

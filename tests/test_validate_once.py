@@ -27,7 +27,8 @@ from bearing_envelope.study.handoff import ENV_VAR, HandOffError, hand_off, take
 from bearing_envelope.study.limits import (DEFAULT_LIMITS, checked_settings, estimate_jobs,
                                            paper_run_tables)
 from bearing_envelope.study.recovery import Artefact, recover_artefacts
-from bearing_envelope.study.settings import ConfigError, config_files, workflow_settings
+from bearing_envelope.study.config_read import ConfigError, config_files
+from bearing_envelope.study.settings import workflow_settings
 
 ROOT = Path(__file__).resolve().parents[1]
 DRAFT = ROOT / "tests" / "data" / "config_draft.yaml"

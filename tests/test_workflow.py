@@ -276,7 +276,8 @@ def test_config_yaml_scene_is_the_library_default():
     """config.yaml leaves the scene at its defaults (physics/scene.py, the one home): the
     sweep's scenes are the library's default scene (tests/test_defaults.py: nothing restated)."""
     from bearing_envelope.physics.scene import Scene
-    from bearing_envelope.study.settings import CaseId, load_settings
+    from bearing_envelope.study.case_id import CaseId
+    from bearing_envelope.study.settings import load_settings
 
     assert yaml.safe_load((ROOT / "config.yaml").read_text())["scene"] == {}
     st = load_settings(ROOT / "config.yaml")

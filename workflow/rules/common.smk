@@ -9,7 +9,9 @@ from bearing_envelope.study.handoff import ENV_VAR as HANDOFF_VAR, hand_off, tak
 from bearing_envelope.study.limits import checked_settings, paper_run_tables as run_tables, profile_files
 from bearing_envelope.study.recovery import Artefact, is_dry_run, marker_if_present, recover_artefacts
 from bearing_envelope.study.provenance import code_dependencies
-from bearing_envelope.study.settings import CASE_NAME_REGEX, config_files, workflow_settings
+from bearing_envelope.study.case_id import CASE_NAME_REGEX
+from bearing_envelope.study.config_read import config_files
+from bearing_envelope.study.settings import workflow_settings
 
 
 def refuse(exc):
@@ -94,9 +96,9 @@ def case_id(wildcards):
     return CASE_BY_NAME[wildcards.case]
 
 
-# Typed values reach the jobs as params (bearing_envelope.study.settings.JobValue): the canonical
+# Typed values reach the jobs as params (bearing_envelope.study.job_transport.JobValue): the canonical
 # JSON Snakemake compares to rerun a job when a value changes, carrying the value the loader
-# built; each script reads them with study.settings.job_settings (nothing validated again).
+# built; each script reads them with study.job_transport.job_settings (nothing validated again).
 
 
 def simulation_params(wildcards):

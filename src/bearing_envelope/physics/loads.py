@@ -64,7 +64,8 @@ from scipy.optimize import brentq
 
 from ..contact import hertz
 
-__all__ = ["LoadDistribution", "palmgren_stiffness", "centrifugal_force", "race_compliances",
+__all__ = ["LoadDistribution", "LOAD_ROUNDING_ULPS",
+           "palmgren_stiffness", "centrifugal_force", "race_compliances",
            "operating_clearance", "ELEMENT_DENSITY_KG_M3", "STEEL_EXPANSION_PER_K", "solve_row", "row_load_distribution",
            "load_zone_integral", "scene_load_distribution", "hertz_point_stiffness", "contact_law",
            "LINE_CONTACT_EXPONENT", "POINT_CONTACT_EXPONENT"]
@@ -118,6 +119,12 @@ def load_zone_integral(eps: float, n: float = 10.0 / 9.0) -> float:
         return max(0.0, 1.0 - (1.0 - math.cos(p)) / (2.0 * eps)) ** n * math.cos(p)
 
     return quad(f, -lim, lim, limit=200)[0] / (2.0 * math.pi)
+
+
+#: Rounding of an element's compression, in machine epsilons of its terms' magnitude
+#: (:attr:`LoadDistribution.rounding_load`): a subtraction of two terms of size ``delta_r`` and
+#: a cosine rounded to an epsilon each stay well inside 8.
+LOAD_ROUNDING_ULPS = 8.0
 
 
 @dataclass(frozen=True)
@@ -205,6 +212,42 @@ class LoadDistribution:
         else:
             q = np.interp(d, self.law_nodes[0], self.law_nodes[1], left=0.0)
         return q + self.centrifugal if race == "outer" else q
+
+    @property
+    def rounding_load(self) -> float:
+        """The element load (N) of a compression within the rounding of its computation.
+
+        The compression ``(delta_r cos psi - P_d/2) cos alpha`` is computed from terms of size
+        ``delta_r`` and ``P_d/2``; within :data:`LOAD_ROUNDING_ULPS` machine epsilons of them
+        it is zero computed badly (``delta_r cos(pi/2) = 6e-17 delta_r``: 2.3e-22 N at the
+        edge of a zero-clearance zone), not a load (issue 43).
+
+        Returns
+        -------
+        float
+            ``Q`` of that compression, N (the inner contact's; the centrifugal force is a real
+            load and is not part of it).
+        """
+        d = LOAD_ROUNDING_ULPS * np.finfo(float).eps * (abs(self.delta_r) + 0.5 * abs(
+            self.clearance)) * math.cos(self.contact_angle_rad)
+        if self.law_nodes is None:
+            return float(self.stiffness * d ** self.exponent)
+        return float(np.interp(d, self.law_nodes[0], self.law_nodes[1], left=0.0))
+
+    def loaded(self, q):
+        """Whether element loads ``q`` (N) are loads: above :attr:`rounding_load`.
+
+        Parameters
+        ----------
+        q : float or ndarray
+            Element loads, N (either contact's).
+
+        Returns
+        -------
+        bool or ndarray of bool
+            ``q > rounding_load``, shape of ``q``.
+        """
+        return np.asarray(q) > self.rounding_load
 
     def shape(self, psi):
         """``Q(psi) / Q_max``.

@@ -59,9 +59,10 @@ import os
 from dataclasses import dataclass
 from typing import Any, Mapping
 
-from .catalogue import bearing_values, designations, operation_values
+from .catalogue import bearing_values, designations, operation_values, resolve_designation
 from .geometry import defect_depth, read_defect_profile, read_profile
-from .kinematics import FaultFrequencies, fault_frequencies
+from .kinematics import FaultFrequencies, bearing_rates, fault_frequencies
+from .locations import FaultLocation, get_location, location_names
 
 __all__ = [
     "EndRelief", "Bearing", "MaterialProps", "Material", "Acquisition", "Operation", "Load",
@@ -417,19 +418,15 @@ class Bearing:
 
         Parameters
         ----------
-        location : {"inner_race", "outer_race", "rolling_element"}
-            The defect location.
+        location : str or FaultLocation
+            The defect location (:func:`~bearing_envelope.physics.locations.get_location`).
 
         Returns
         -------
         float
-            Thickness, m.
+            Thickness, m (:meth:`FaultLocation.thickness_m`).
         """
-        d, pd = self.roller_diameter_mm, self.pitch_diameter_mm
-        mm = {"inner_race": 0.5 * (pd - d) - 0.5 * self.bore_mm,
-              "outer_race": 0.5 * self.outside_diameter_mm - 0.5 * (pd + d),
-              "rolling_element": 0.5 * d}[location]
-        return 1e-3 * mm
+        return get_location(location).thickness_m(self)
 
     @property
     def half_length_m(self) -> float:
@@ -613,8 +610,10 @@ class Defect:
     spin_axis : {"fixed", "wandering"}
         ``rolling_element`` only. ``fixed``: the defect lies on the element's rolling track and
         meets a race every half spin turn. ``wandering``: the element's orientation about its
-        centre is redrawn (uniform on the sphere, seeded) once per cage turn in the unloaded
-        zone (at 180 deg from the load direction); the defect meets a contact only while its
+        centre is redrawn (uniform on the sphere, seeded) once per cage turn where it is least
+        loaded (180 deg from the load direction) when its inner contact is unloaded there; an
+        element loaded all round (a preload) keeps its first orientation, its spin axis held by
+        the contacts; the defect meets a contact only while its
         axial distance from the track, ``(d/2) sin(latitude)``, is within the contact's axial
         semi-axis ``b(Q)`` (:func:`bearing_envelope.physics.locations.rolling_element_kinematics`).
     spin_seed : int
@@ -647,6 +646,11 @@ class Defect:
     @property
     def active(self) -> bool:
         return self.depth_um > 0.0
+
+    @property
+    def fault_location(self) -> FaultLocation:
+        """The location object of :attr:`location` (:mod:`bearing_envelope.physics.locations`)."""
+        return get_location(self.location)
 
 
 @dataclass(frozen=True)
@@ -681,17 +685,16 @@ class Scene:
     @property
     def cage_rate_hz(self) -> float:
         """Cage rate used by the time history: ``f_r - BPFI/Z`` (= FTF without override), Hz."""
-        return self.operation.shaft_rate_hz - self.bpfi_hz / self.bearing.rollers_per_row
+        b = self.bearing   # the rates' one function (a stated BPFI sets the cage rate)
+        return bearing_rates(self.operation.shaft_rate_hz, b.rollers_per_row, b.roller_diameter_mm,
+                             b.pitch_diameter_mm, b.contact_angle_deg, bpfi=self.bpfi_hz)["ftf"]
 
     @property
     def defect_speed_m_s(self) -> float:
         """Speed (m/s) at which the defect sweeps through a contact: inner race
         ``2 pi (f_r - f_c) R_i`` (4.24 m/s in the default scene), outer race ``2 pi f_c R_o``,
         rolling element ``2 pi f_c R_o`` too (its surface rolls on the fixed outer race)."""
-        if self.defect.location == "inner_race":
-            return 2.0 * math.pi * (self.operation.shaft_rate_hz - self.cage_rate_hz) * \
-                self.bearing.inner_race_radius_m
-        return 2.0 * math.pi * self.cage_rate_hz * self.bearing.outer_race_radius_m
+        return self.defect.fault_location.speed_m_s(self)
 
     @property
     def n_samples(self) -> int:
@@ -762,8 +765,8 @@ class Scene:
                                        bearing.pitch_diameter_mm, bearing.contact_angle_deg)
         operation = _build_operation(m["operation"], scene_freq.bpfi, bearing.rollers_per_row)
         _check_override_bearing(operation, bearing)
-        if defect.location == "outer_race":
-            bearing = dataclasses.replace(bearing, contact_race="outer")
+        if defect.fault_location.contact_race != bearing.contact_race:
+            bearing = dataclasses.replace(bearing, contact_race=defect.fault_location.contact_race)
         return cls(bearing, material, operation, load, defect)
 
     def for_race(self, race: str) -> "Scene":
@@ -919,6 +922,8 @@ def _build_kind_fields(m: Mapping[str, Any], d: float, cr: float, length: float)
     des = m["designation"]
     if des is not None and not isinstance(des, str):
         raise _bad(p + "designation", des, "null or a catalogue designation")
+    if des is not None:   # an alias (6205, SKF 6205) names the entry as the catalogue writes it
+        des = resolve_designation(des)
     kind = _choice(p + "kind", m["kind"], BEARING_KINDS)
     out: dict[str, Any] = {"designation": des, "kind": kind}
     co = m["outer_raceway_profile_radius_mm"]
@@ -984,8 +989,9 @@ def _build_load(m: Mapping[str, Any], load_kN: float) -> Load:
     return Load(v * 1e3, mode, rl, cf)
 
 
-#: ``defect.location`` values.
-DEFECT_LOCATIONS = ("inner_race", "outer_race", "rolling_element")
+#: ``defect.location`` values built in (read at import, for the readers of before issue 44; the
+#: live table is :data:`bearing_envelope.physics.locations.LOCATIONS`).
+DEFECT_LOCATIONS = location_names()
 #: ``defect.spin_axis`` values (see :class:`Defect`).
 SPIN_AXES = ("fixed", "wandering")
 
@@ -993,6 +999,11 @@ SPIN_AXES = ("fixed", "wandering")
 #: ``dent`` (smooth cos^2 bump), ``cylinder`` (circular footprint of diameter ``width_um``, flat
 #: bottom, rounded rim: an EDM pit, CWRU), ``profile`` (measured profile from ``profile_file``).
 DEFECT_SHAPES = ("flat", "dent", "cylinder", "profile")
+
+
+def _names_where(attribute: str) -> str:
+    """The registered locations whose ``attribute`` is true, quoted, joined by ``or``."""
+    return " or ".join(repr(n) for n in location_names() if getattr(get_location(n), attribute))
 
 
 def _build_defect(m: Mapping[str, Any], depth_um: float, bearing: Bearing) -> Defect:
@@ -1007,21 +1018,22 @@ def _build_defect(m: Mapping[str, Any], depth_um: float, bearing: Bearing) -> De
     edge = _num(p + "edge_radius_um", m["edge_radius_um"], lo=0)
     ypos = _num(p + "axial_position_mm", m["axial_position_mm"])
     orient = _choice(p + "orientation", m["orientation"], ("axial", "circumferential"))
-    loc = _choice(p + "location", m["location"], DEFECT_LOCATIONS)
+    loc = _choice(p + "location", m["location"], location_names())
+    site = get_location(loc)
     pos = _num(p + "position_deg", m["position_deg"], lo=0, hi=360, hi_open=True,
                allowed="a finite angle in [0, 360) deg from the load direction (0 = centre of the "
                        "load zone)")
-    if pos != 0 and loc != "outer_race":
-        raise _bad(p + "position_deg", pos, f"0 unless defect.location is 'outer_race' (an "
-                   f"{loc.replace('_', ' ')} defect turns through the load zone; its angle "
+    if pos != 0 and not site.positioned:
+        raise _bad(p + "position_deg", pos, f"0 unless defect.location is "
+                   f"{_names_where('positioned')} (an {loc.replace('_', ' ')} defect turns through the load zone; its angle "
                    f"is not a setting)")
     pf = _defect_profile(m["profile_file"], shape)
     if depth > 0 and width <= 0:
         raise _bad(p + "width_um", width, "> 0 when depth_um > 0")
     spin = _choice(p + "spin_axis", m["spin_axis"], SPIN_AXES)
-    if spin != "fixed" and loc != "rolling_element":
-        raise _bad(p + "spin_axis", spin, f"'fixed' unless defect.location is 'rolling_element' "
-                   f"(got location {loc!r})")
+    if spin != "fixed" and not site.spins:
+        raise _bad(p + "spin_axis", spin, f"'fixed' unless defect.location is "
+                   f"{_names_where('spins')} (got location {loc!r})")
     d = Defect(depth, length, width, shape, edge, ypos, orient, loc, pos, pf, spin,
                _int(p + "spin_seed", m["spin_seed"], lo=0))
     if depth > 0:
@@ -1090,17 +1102,13 @@ def _check_defect_fits(d: Defect, bearing: Bearing) -> None:
     if abs(d.axial_position_mm) + 0.5 * ey_mm > half_l:
         raise _bad(p + "axial_position_mm", d.axial_position_mm,
                    f"|y| <= L/2 - axial extent/2 = {half_l - 0.5 * ey_mm:g} mm")
-    if d.location == "rolling_element":
-        room_mm, what = 0.5 * math.pi * bearing.roller_diameter_mm, "half the element's circumference"
-    else:
-        race = "inner" if d.location == "inner_race" else "outer"
-        room_mm = math.pi * 2e3 * bearing.race_radius_m(race) / bearing.rollers_per_row
-        room_mm, what = 0.5 * room_mm, f"half the element spacing on the {race} raceway"
+    room_m, what = d.fault_location.room_m(bearing)
+    room_mm = 1e3 * room_m
     if d.extent_x_m * 1e3 >= room_mm:
         field = "width_um" if d.orientation == "axial" else "length_um"
         raise _bad(p + field, getattr(d, field), f"a rolling-direction extent < {what} "
                    f"({room_mm:g} mm)")
-    t_um = 1e6 * bearing.race_thickness_m(d.location)
+    t_um = 1e6 * d.fault_location.thickness_m(bearing)
     if d.depth_um >= t_um:
         raise _bad(p + "depth_um", d.depth_um, f"a depth < the material under the {d.location} "
                    f"({t_um:g} um)")

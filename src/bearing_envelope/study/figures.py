@@ -30,7 +30,7 @@ from matplotlib.colors import to_rgb  # noqa: E402
 
 from ..diagnosis.faults import display_name  # noqa: E402
 from ..io import atomic_dir, read_case  # noqa: E402
-from ..physics.locations import LOCATION_FAMILIES  # noqa: E402
+from ..physics.locations import get_location  # noqa: E402
 from ..signal import spectral_kurtosis  # noqa: E402
 from .pipeline import case_fault_lines  # noqa: E402
 from .tables import public_mode  # noqa: E402
@@ -80,7 +80,7 @@ def example_pairs(cases, study=STUDY_EXAMPLES) -> list[dict]:
     ----------
     cases : iterable
         The sweep's cases: objects with ``load_kN``, ``depth_um`` and ``name`` (e.g.
-        :class:`bearing_envelope.study.settings.CaseId`).
+        :class:`bearing_envelope.study.case_id.CaseId`).
     study : sequence of (load_kN, depth_um)
         Target cases; default :data:`STUDY_EXAMPLES` (250 kN / 15 um, 500 kN / 50 um,
         750 kN / 100 um).
@@ -193,9 +193,21 @@ def _per_load(ax, df: pd.DataFrame, y: str, scale: float = 1.0, marker: str = "o
     ax.legend(title="load" if len(keys) == 1 else "load, location")
 
 
-#: The fault line the sweep tests for each defect location (:data:`bearing_envelope.physics.
-#: locations.LOCATION_FAMILIES`).
-LOCATION_LINE = {loc: display_name(fam) for loc, (fam, _) in LOCATION_FAMILIES.items()}
+def location_line(location: str) -> str:
+    """The display name of the fault line the sweep tests for a defect location (its
+    :attr:`~bearing_envelope.physics.locations.FaultLocation.family`).
+
+    Parameters
+    ----------
+    location : str
+        A registered ``defect.location``.
+
+    Returns
+    -------
+    str
+        E.g. ``BPFO``.
+    """
+    return display_name(get_location(location).family)
 
 #: Display names of the sweep's fault-family quantities (each location searches its own).
 FAMILY_TITLES = {"bpfi": "BPFI", "bpfo": "BPFO", "2bsf": "2xBSF"}
@@ -758,7 +770,7 @@ def make_figures(*, harmonics, cases, bands, case_files, kurtogram_files, spectr
         ``{"defect": name, "healthy": name, "pairs": [{"load_kN", "healthy", "defect"}, ...]}``:
         the case drawn alone (Figs 7, 9, 11) and the pairs of Figs 4 and 5
         (:func:`example_pairs`).
-    analysis : bearing_envelope.study.settings.AnalysisSettings
+    analysis : bearing_envelope.study.sections.AnalysisSettings
         The config's ``analysis`` section, typed.
     outdir : path
         Output folder (replaced whole, :func:`bearing_envelope.io.atomic_dir`).
@@ -804,7 +816,8 @@ def make_figures(*, harmonics, cases, bands, case_files, kurtogram_files, spectr
             written.append(fig_envelope_spectrum(
                 spectra_files[example["defect"]], example["defect"], b.name, f_sb, f_line,
                 tmp / f"fig11_envelope_spectrum_{b.name}.png",
-                n_harmonics=analysis.harmonics, n_sidebands=analysis.sidebands,
+                n_harmonics=analysis.options.n_harmonics,
+                n_sidebands=analysis.options.n_sidebands,
                 spacing_name=display_name(sb_name), **line))
         for i, b in enumerate(analysis.bands):
             written.append(fig_harmonics_vs_depth(tidy, b.name, tmp / f"fig{12 + i:02d}_harmonics_{b.name}.png"))
@@ -906,7 +919,7 @@ def fig_diagnosability_maps(df: pd.DataFrame, outdir) -> list[Path]:
                                            tmp / f"diagnosability_{band}.png"))
         else:  # a location sweep: one map per band and location (its own fault line)
             for (band, loc), g in df.groupby(["band", "location"], sort=False):
-                name = f"{LOCATION_LINE[loc]} ({loc})"
+                name = f"{location_line(loc)} ({loc})"
                 written.append(save_figure(
                     draw_diagnosability_map(g, band, vmax=vmax, line_name=name),
                     tmp / f"diagnosability_{band}_{loc}.png"))

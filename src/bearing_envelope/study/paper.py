@@ -26,6 +26,7 @@ import numpy as np
 import pandas as pd
 
 from ..io import atomic_path
+from ..physics.scene import DEFAULT_SCENE
 
 __all__ = ["Finding", "Tables", "read_tables", "flat_band", "findings", "compare", "render_markdown",
            "render_html", "write_page"]
@@ -97,8 +98,9 @@ class Finding:
     extra: dict = field(default_factory=dict)
 
 
-#: The defect location of the source study (its findings are about an inner-race defect).
-STUDY_LOCATION = "inner_race"
+#: The defect location of the source study (its findings are about an inner-race defect): the
+#: default scene's, the source study's scene.
+STUDY_LOCATION = DEFAULT_SCENE["defect"]["location"]
 
 
 def read_tables(cases, harmonics, bands, label: str = "default") -> Tables:

@@ -42,7 +42,7 @@ from ..physics.history import defect_angle, simulate, synthesize_case
 from ..physics.scene import Scene
 from ..physics.transfer import Mode, apply_structure, direction_gain, excitation_from_history
 from .rig_records import pair_figure, read_record, record_pairs, rig_rates, save_figure
-from .settings import read_yaml
+from .config_read import read_yaml
 
 __all__ = ["RigCondition", "RigSettings", "record_conditions", "condition_scene",
            "read_rig_config", "simulate_excitations", "INCH_UM", "POSITION_DEG"]
