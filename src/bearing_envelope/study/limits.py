@@ -400,7 +400,8 @@ def estimate_jobs(case_name: str, scene, analysis, sensor=None, diagnosability=N
         return []
     op = scene.operation
     n = int(math.ceil(op.revolutions / op.shaft_rate_hz * op.fs_hz))
-    nb, levels = len(analysis.bands), int(analysis.nlevel)
+    nlevel = analysis.options.nlevel           # None: the deepest the record allows
+    nb, levels = len(analysis.bands), int(nlevel or max(1, max_kurtogram_level(n)))
     samples = ("scene.operation.revolutions x fs_hz", n)
     kurt = _CPU_S_PER_KURTOGRAM_SAMPLE_LEVEL * n * levels if analysis.needs_kurtogram else 0.0
     band = _CPU_S_PER_BAND + _CPU_S_PER_BAND_SAMPLE * n
