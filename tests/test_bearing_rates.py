@@ -68,9 +68,9 @@ def test_every_alias_names_the_entry_everywhere(alias):
     sc = Scene.from_mapping({"bearing": {"designation": alias}}, load_kN=1.0, depth_um=0.0)
     assert sc.bearing.designation == "SKF 6205-2RS" and sc.bearing.rollers_per_row == 9
     # identify-path
-    from bearing_envelope.commands.identify_path import _rates
+    from bearing_envelope.commands.identify_path import event_rates
 
-    rates = _rates(SimpleNamespace(event_hz=None, bearing=alias), 10.0)
+    rates = event_rates(SimpleNamespace(event_hz=None, bearing=alias), 10.0)
     assert rates["bpfi"] / 10.0 == pytest.approx(CWRU_6205["bpfi"], abs=5e-5)
     # analyze's library call
     from bearing_envelope.diagnosis.records import fault_sources
@@ -81,10 +81,11 @@ def test_every_alias_names_the_entry_everywhere(alias):
 
 
 def test_the_rig_reads_its_bearing_from_the_catalogue():
-    from bearing_envelope.study.rig_records import RIG_BEARING, rig_rates
+    from bearing_envelope.study.rig.records import bearing_rates, resolve_bearing
 
-    assert RIG_BEARING["designation"] == "SKF 6205-2RS"
-    r = rig_rates(29.95)
+    b = resolve_bearing("6205")
+    assert b.designation == "SKF 6205-2RS"
+    r = bearing_rates(b, 29.95)
     assert r["bpfi"] / 29.95 == pytest.approx(CWRU_6205["bpfi"], abs=5e-5)
     assert set(r) == {"bpfo", "bpfi", "bsf", "bsf2"}
 
