@@ -6,14 +6,21 @@ and the issue's failures-inside-a-job) on the draft test config
 (``config.yaml`` + ``tests/data/config_draft.yaml`` with the ``sensor:`` section of
 ``config.yaml``), and for each one:
 
-1. runs the pre-run check in this process, as ``bearing-envelope check-config`` does
-   (:func:`bearing_envelope.study.settings.load_settings` then
-   :func:`bearing_envelope.study.limits.precheck`), and records refused/accepted, the CPU
-   seconds it took and whether a refusal is one line naming a field;
+1. runs the pre-run check in this process exactly as ``bearing-envelope check-config FILE``
+   and the workflow's main process do (:func:`bearing_envelope.study.limits.checked_settings`:
+   the file merged over ``./config.yaml``, validated, then every case's and job's cost
+   estimated), and records refused/accepted, the CPU seconds it took and whether a refusal is
+   one line naming a field;
 2. with ``--run``, runs every *accepted* config through the jobs of its first and last case
    (simulation, bands, envelope, and with a sensor the sensor and detection-map jobs: the
-   :mod:`bearing_envelope.study.pipeline` calls of ``workflow/scripts/*.py``), and records
-   whether it ran to the end or failed inside a job (the defect this benchmark exists to find).
+   :mod:`bearing_envelope.study.pipeline` calls of ``workflow/scripts/*.py``) in a child
+   process limited to :data:`MAX_JOB_CPU_S` CPU seconds, and records whether it ran to the
+   end, failed inside a job (the defect this benchmark exists to find) or ran past the limit
+   (accepted and expensive).
+
+Each special config says what it must give (``refuse`` or ``either``); one that must be refused
+and is accepted is counted as silently wrong (or, for the ``cost`` class, as accepted and
+expensive).
 
 Usage::
 
@@ -44,6 +51,14 @@ N_CONFIGS = 260
 
 #: CPU seconds ``check-config`` may take on any config (the issue's target).
 MAX_CHECK_CPU_S = 10.0
+
+#: CPU seconds the jobs of an accepted config may take (``--run``; the issue's 10 CPU minutes):
+#: the child running them is stopped there (RLIMIT_CPU) and the config counted as expensive.
+MAX_JOB_CPU_S = 600.0
+
+#: Special configs the pre-run check must refuse (their class and name): accepted, each is
+#: silently wrong (or, class ``cost``, an accepted resource bomb). The others may run.
+MUST_REFUSE_CLASSES = ("cost", "file", "plausibility", "yaml")
 
 
 def base_config() -> dict:
@@ -178,6 +193,26 @@ def special_configs(base: dict, work: Path) -> list[tuple[str, str, object]]:
          s(("sweep", "widths_um"), [20.0 + i for i in range(30)],
            ("sweep", "locations"), ["inner_race", "outer_race", "rolling_element"],
            ("sweep", "depths_um"), [0] + [10 + i for i in range(20)])),
+        # issue 43's stress test: resource bombs the estimate must refuse, a silently ignored path
+        ("global_dx_um 0.01 (draft)", "cost",
+         s(("fidelity",), {"preset": "draft", "global_dx_um": 0.01})),
+        ("false_alarm_trials 1e6", "cost",
+         s(("diagnosability", "false_alarm_trials"), 10 ** 6)),
+        ("false_alarm_trials 1e9", "cost",
+         s(("diagnosability", "false_alarm_trials"), 10 ** 9)),
+        ("10,000 SNR levels", "cost",
+         s(("diagnosability", "snr_db"), [round(-80 + 0.028 * i, 3) for i in range(10000)])),
+        ("1,000 bands", "cost",
+         s(("analysis", "bands"), [{"name": f"b{i}", "strategy": "fixed",
+                                    "low_hz": 1000.0 + i, "high_hz": 2000.0 + i}
+                                   for i in range(1000)])),
+        ("1,000 bands, 100 revolutions", "cost",
+         s(("analysis", "bands"), [{"name": f"b{i}", "strategy": "fixed",
+                                    "low_hz": 1000.0 + i, "high_hz": 2000.0 + i}
+                                   for i in range(1000)],
+           ("scene", "operation", "revolutions"), 100)),
+        ("paper_run /nonexistent/run", "silent", s(("paper_run",), "/nonexistent/run")),
+        ("paper_run without tables", "silent", s(("paper_run",), str(work))),
     ]
     return out
 
@@ -187,6 +222,11 @@ def _multi(base: dict, kv) -> dict:
     for i in range(0, len(kv), 2):
         cfg = _set(cfg, kv[i], kv[i + 1])
     return cfg
+
+
+#: The file the "yte code writing a file" config would create if anything evaluated it as a
+#: template (the check must not: it reads every config as data).
+YTE_WITNESS = Path(tempfile.gettempdir()) / "bearing_envelope_hostile_yte_witness"
 
 
 def yaml_texts(base: dict) -> list[tuple[str, str, str | bytes]]:
@@ -211,6 +251,11 @@ def yaml_texts(base: dict) -> list[tuple[str, str, str | bytes]]:
         ("nan load", "yaml", good.replace("- 750", "- .nan", 1)),
         ("inf depth", "yaml", good.replace("- 50", "- .inf", 1)),
         ("yte code", "yaml", "__use_yte__: true\n" + good),
+        ("yte code writing a file", "yaml",
+         f"__use_yte__: true\nfidelity: ?open({str(YTE_WITNESS)!r}, 'w').write('x') and "
+         f"'draft'\n"),
+        ("yte expression", "yaml", "__use_yte__: true\nfidelity: ?\"dr\" + \"aft\"\n"),
+        ("only comments", "yaml", "# nothing here\n\n# still nothing\n"),
         ("1e6 as text", "yaml", good.replace("edge_radius_um: 20.0", "edge_radius_um: 1e6")),
         ("yes as location", "yaml", good.replace("orientation: axial", "orientation: yes")),
         ("2 MB file", "yaml", good + "#" + "x" * (2 << 20) + "\n"),
@@ -236,19 +281,22 @@ def generate(work: Path, n: int = N_CONFIGS, seed: int = 34) -> list[tuple[str, 
 
 
 def check(path: str) -> dict:
-    """The pre-run check of one config file, as ``check-config`` runs it (in this process)."""
-    from bearing_envelope.study.limits import precheck
-    from bearing_envelope.study.settings import load_settings
+    """The pre-run check of one config file, as ``check-config FILE`` runs it (in this process,
+    from the repository's root: the file is an overlay over ``./config.yaml``)."""
+    from bearing_envelope.study.limits import checked_settings
 
     t0 = time.process_time()
+    here = os.getcwd()
     try:
-        st = load_settings(path)
-        precheck(st)
+        os.chdir(ROOT)
+        st, _estimates = checked_settings([path])
         status, msg = "accepted", f"{len(st.cases)} cases"
     except ValueError as exc:      # ConfigError: the refusal this benchmark expects
         st, status, msg = None, "refused", str(exc)
     except (Exception, RecursionError) as exc:  # noqa: BLE001 -- a crash is a finding
         st, status, msg = None, "crashed", f"{type(exc).__name__}: {exc}"
+    finally:
+        os.chdir(here)
     return {"status": status, "message": msg.replace(path, "FILE"), "settings": st,
             "check_cpu_s": time.process_time() - t0,
             "one_line": "\n" not in msg, "names_field": _names_field(msg)}
@@ -259,7 +307,7 @@ def _names_field(msg: str) -> bool:
     ``sweep.loads_kN[0]``, ``line 3``, a file-level problem)."""
     import re
 
-    return bool(re.search(r"(^|: )[a-z_]+(\.[A-Za-z_0-9]+|\[[^\]]+\])*( x [a-z_]+)?(:| must)|\bline \d+|"
+    return bool(re.search(r"(^|: )[a-z_]+(\.[A-Za-z_0-9]+|\[[^\]]+\])*( x [a-z_]+| / [a-z_]+)?(:| must)|\bline \d+|"
                           r"config file|cannot read the config|nested|mapping|expands", msg))
 
 
@@ -334,12 +382,13 @@ def main(argv: list[str] | None = None) -> int:
         configs = generate(work, args.n)[: args.limit]
         for name, cls, path in configs:
             r = check(path)
+            r["job_cpu_s"] = float("nan")
             if r["status"] == "accepted" and args.run:
                 jobdir = work / "jobs"
                 jobdir.mkdir(exist_ok=True)
-                r["status"], r["job_message"] = run_jobs(r["settings"], jobdir)
+                r["status"], r["job_message"], r["job_cpu_s"] = run_limited(r["settings"], jobdir)
             r.pop("settings")
-            rows.append({"name": name, "class": cls, **r})
+            rows.append({"name": name, "class": cls, "must_refuse": must_refuse(name, cls), **r})
             print(f"{r['status']:>16}  {r['check_cpu_s']:6.2f} s  {cls:<12} {name[:40]:<40} "
                   f"{(r.get('job_message') or r['message'])[:110]}", flush=True)
     df = pd.DataFrame(rows)
@@ -348,16 +397,66 @@ def main(argv: list[str] | None = None) -> int:
     return _summary(df)
 
 
+def must_refuse(name: str, cls: str) -> bool:
+    """Whether the pre-run check must refuse this config (:data:`MUST_REFUSE_CLASSES`, and the
+    silently wrong values but ``harmonics 3.0``, an integral float read as 3)."""
+    return cls in MUST_REFUSE_CLASSES or (cls == "silent" and name != "harmonics 3.0")
+
+
+def run_limited(settings, work: Path) -> tuple[str, str, float]:
+    """:func:`run_jobs` in a forked child limited to :data:`MAX_JOB_CPU_S` CPU seconds.
+
+    Returns
+    -------
+    (status, message, cpu_s)
+        ``run_jobs``'s status and message, or ``("ran past the CPU limit", ...)`` when the
+        child was stopped at the limit; the child's CPU seconds.
+    """
+    import multiprocessing as mp
+    import resource
+
+    ctx = mp.get_context("fork")
+    queue = ctx.SimpleQueue()
+
+    def child():
+        limit = int(MAX_JOB_CPU_S)
+        resource.setrlimit(resource.RLIMIT_CPU, (limit, limit + 5))
+        queue.put(run_jobs(settings, work))
+
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    proc = ctx.Process(target=child)
+    proc.start()
+    proc.join()
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+    if proc.exitcode == 0 and not queue.empty():
+        status, msg = queue.get()
+        return status, msg, cpu
+    if cpu >= MAX_JOB_CPU_S - 1:
+        return "ran past the CPU limit", f"stopped at {cpu:.0f} CPU s", cpu
+    return "failed in a job", f"the jobs' process died (exit code {proc.exitcode})", cpu
+
+
 def _summary(df) -> int:
     refused = df["status"] == "refused"
     bad_refusal = refused & ~(df["one_line"] & df["names_field"])
-    bad = df["status"].isin(["crashed", "failed in a job"]) | bad_refusal | \
+    tracebacks = df["status"] == "crashed"
+    accepted = ~refused & ~tracebacks
+    expensive = accepted & ((df["class"] == "cost") | (df["status"] == "ran past the CPU limit"))
+    silent = accepted & df["must_refuse"] & ~expensive
+    bad = tracebacks | (df["status"] == "failed in a job") | bad_refusal | expensive | silent | \
         (df["check_cpu_s"] > MAX_CHECK_CPU_S)
     print(f"\n{len(df)} configs: " + ", ".join(f"{k} {v}" for k, v in
                                                   df["status"].value_counts().items()))
+    print(f"tracebacks {int(tracebacks.sum())}, silently wrong {int(silent.sum())}, accepted "
+          f"and expensive {int(expensive.sum())}, refusals naming the field "
+          f"{int((refused & ~bad_refusal).sum())} of {int(refused.sum())}")
     print(f"refusals not one line naming a field: {int(bad_refusal.sum())}; check CPU s: "
           f"max {df['check_cpu_s'].max():.2f}, median {df['check_cpu_s'].median():.3f}, "
           f"total {df['check_cpu_s'].sum():.1f}")
+    if df["job_cpu_s"].notna().any():
+        print(f"jobs of the accepted configs: CPU s max {df['job_cpu_s'].max():.1f}, total "
+              f"{df['job_cpu_s'].sum():.1f} (limit {MAX_JOB_CPU_S:g} per config)")
     for _, r in df[bad].iterrows():
         print(f"  FINDING {r['status']}: {r['name']}: {r.get('job_message') or r['message']}")
     return 1 if bad.any() else 0

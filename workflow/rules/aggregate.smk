@@ -7,6 +7,7 @@ rule aggregate:
         bands=expand("results/bands/{case}.json", case=CASES),
         cases=expand("results/cases/{case}.h5", case=CASES),
         code=script_code("aggregate.py"),
+        rebuilt=lambda w: [m for c in CASES for m in marker_if_present(rebuild_marker("harmonics", c))],
     output:
         harmonics=report(
             "results/tables/harmonics.csv",

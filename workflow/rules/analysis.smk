@@ -6,7 +6,7 @@ rule bands:
     input:
         case=analysis_case,
         code=script_code("bands.py"),
-        rebuilt=lambda w: marker_if_present(ANALYSIS_STAGE, w.case),
+        rebuilt=lambda w: marker_if_present(rebuild_marker(ANALYSIS_STAGE, w.case)),
     output:
         bands="results/bands/{case}.json",
         kurtogram="results/bands/{case}_kurtogram.npz",

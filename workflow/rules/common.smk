@@ -5,41 +5,63 @@ import sys
 from pathlib import Path
 
 from bearing_envelope.study.figures import example_pairs
-from bearing_envelope.study.limits import precheck, profile_files
-from bearing_envelope.study.recovery import is_dry_run, marker_if_present, recover_case_files
+from bearing_envelope.study.handoff import ENV_VAR as HANDOFF_VAR, hand_off, take_over
+from bearing_envelope.study.limits import checked_settings, paper_run_tables as run_tables, profile_files
+from bearing_envelope.study.recovery import Artefact, is_dry_run, marker_if_present, recover_artefacts
 from bearing_envelope.study.provenance import code_dependencies
 from bearing_envelope.study.case_id import CASE_NAME_REGEX
+from bearing_envelope.study.config_read import config_files
 from bearing_envelope.study.settings import workflow_settings
 
 
-def check_limits(settings):
-    """bearing_envelope.study.limits.precheck (case names, lower bounds, tradeoff section,
-    resource estimate per case): one line naming the field, no job runs."""
-    try:
-        return precheck(settings)
-    except ValueError as exc:
-        print(f"bearing_envelope: invalid configuration: {exc}", file=sys.stderr)
-        raise SystemExit(1)
+def refuse(exc):
+    """One line naming the field, and no job runs."""
+    message = str(exc)
+    if "__use_yte__" in message:
+        message += YTE_NOTE
+    print(f"bearing_envelope: invalid configuration: {message}", file=sys.stderr)
+    raise SystemExit(1)
+
+
+#: Snakemake evaluates every --configfile as a YTE template (snakemake.common.configfile, from
+#: its command line, before this file is parsed): nothing of the workflow can run earlier.
+YTE_NOTE = ("; Snakemake has already evaluated this file as a YTE template before the workflow "
+            "started (its behaviour for every --configfile): check overlays with "
+            "`bearing-envelope check-config FILE` before passing them to Snakemake")
+
+#: Where the main process leaves the validated settings for its jobs (study.handoff).
+HANDOFF_DIR = Path(".snakemake") / "bearing_envelope"
 
 
 def load_workflow_settings():
-    """The one validating loader (bearing_envelope.study.settings.workflow_settings): reads
-    ./config.yaml and the --configfile files once each, merges them with --config (a designation
-    is a complete bearing), validates and types once; on error one line naming the field, and
-    no job runs. `config` becomes the validated mapping (schema defaults filled)."""
+    """The one validating loader, run once per run. The main process runs
+    bearing_envelope.study.settings.workflow_settings (./config.yaml and the --configfile files
+    read once each, merged with --config, validated and typed once) and the pre-run check
+    (bearing_envelope.study.limits.precheck: case names, lower bounds, the cost of every job),
+    then hands the settings to its jobs (study.handoff, through the environment). A job (a
+    cluster job parses this file again) takes them over: no loader, no check. On error one
+    line naming the field, and no job runs. `config` becomes the validated mapping."""
+    files = config_files(workflow.overwrite_configfiles)
+    overrides = dict(workflow.config_settings.config)
+    address = os.environ.get(HANDOFF_VAR)
     try:
-        settings = workflow_settings(workflow.overwrite_configfiles,
-                                     dict(workflow.config_settings.config))
-    except ValueError as exc:  # ConfigError, one line naming the field
-        print(f"bearing_envelope: invalid configuration: {exc}", file=sys.stderr)
-        raise SystemExit(1)
+        if workflow.is_main_process:
+            settings, estimates = checked_settings(workflow.overwrite_configfiles, overrides)
+        elif address:
+            settings, estimates = take_over(address, files, overrides), []
+        else:  # an executor that passed no hand-off: the loader once more (no pre-run check)
+            settings, estimates = workflow_settings(workflow.overwrite_configfiles, overrides), []
+    except ValueError as exc:  # ConfigError / HandOffError, one line naming the field
+        refuse(exc)
+    if workflow.is_main_process and not is_dry_run(workflow=workflow):
+        os.environ[HANDOFF_VAR] = hand_off(settings, HANDOFF_DIR, files, overrides)
+        workflow.register_envvars(HANDOFF_VAR)  # executors that pass declared variables
     config.clear()
     config.update(settings.config)
-    return settings
+    return settings, estimates
 
 
-SETTINGS = load_workflow_settings()
-ESTIMATES = check_limits(SETTINGS)  # bearing_envelope.study.limits
+SETTINGS, ESTIMATES = load_workflow_settings()
 
 # Library code is an input of the rules that use it: editing a module reruns the stages whose
 # script imports it (directly or through other package modules), derived from the imports.
@@ -134,9 +156,28 @@ HEALTHY = [c.name for c in CASE_IDS if c.depth_um == 0]
 ANALYSIS_STAGE = "sensor" if SETTINGS.analysis.signal == "acceleration" else "cases"
 
 
-def recovery_consumers(stage, case):
-    """Files made from results/{stage}/{case}.h5 (bearing_envelope.study.recovery)."""
-    return [f"results/bands/{case}.json"] + ([f"results/sensor/{case}.h5"] if stage == "cases" else [])
+#: Rebuild markers (bearing_envelope.study.recovery): results/.rebuild/{stage}/{case}.
+MARKERS = "results/.rebuild"
+
+
+def rebuild_marker(stage, case):
+    """The rebuild marker of results/{stage}/{case}.* (an input of its first consumer)."""
+    return f"{MARKERS}/{stage}/{case}"
+
+
+def recovery_artefacts():
+    """What is verified before the DAG: the case files (and their sensor copies) and the
+    sealed per-case harmonic tables, each with its marker and the files made from it."""
+    arts = []
+    for stage in dict.fromkeys(("cases", ANALYSIS_STAGE)):
+        for case in CASES:
+            consumers = [f"results/bands/{case}.json"] + (
+                [f"results/sensor/{case}.h5"] if stage == "cases" else [])
+            arts.append(Artefact(f"results/{stage}/{case}.h5", rebuild_marker(stage, case),
+                                 tuple(consumers)))
+    arts += [Artefact(f"results/harmonics/{case}.csv", rebuild_marker("harmonics", case),
+                      ("results/tables/harmonics.csv",), "sealed table") for case in CASES]
+    return arts
 
 
 def analysis_case(wildcards):
@@ -162,19 +203,14 @@ def all_targets():
 
 
 def paper_run_tables(wildcards=None):
-    """Tables of a paper-conventions run (config key `paper_run`: its working directory), when
-    that run exists: the page then shows both columns."""
-    run = config.get("paper_run")
-    if not run:
-        return {}
-    names = ("cases", "harmonics", "bands")
-    paths = {n: os.path.join(run, "results", "tables", f"{n}.csv") for n in names}
-    return paths if all(os.path.exists(p) for p in paths.values()) else {}
+    """Tables of a paper-conventions run (config key `paper_run`: its working directory; the
+    pre-run check refused one that is not a finished run): the page then shows both columns."""
+    return run_tables(config.get("paper_run"))
 
 
-# Before the DAG: every case file verified in full (checksums, attribute digest); a bad one is
-# moved aside, and a bad or deleted one is rebuilt with what is made from it, in this run
-# (bearing_envelope.study.recovery; nothing changes on a dry run).
+# Before the DAG: every case file verified in full (checksums, attribute digest) and every
+# per-case harmonic table against its seal (its content, whatever its mtime); a bad one is moved
+# aside, and a bad or deleted one is rebuilt with what is made from it, in this run
+# (bearing_envelope.study.recovery; nothing changes on a dry run, one line says what would).
 if workflow.is_main_process:
-    recover_case_files({"cases": CASES, ANALYSIS_STAGE: CASES}, recovery_consumers,
-                       dry_run=is_dry_run(workflow=workflow))
+    recover_artefacts(recovery_artefacts(), dry_run=is_dry_run(workflow=workflow))

@@ -7,7 +7,7 @@ rule sensor:
         case="results/cases/{case}.h5",
         reference=reference_case,
         code=script_code("sensor.py"),
-        rebuilt=lambda w: marker_if_present("cases", w.case),
+        rebuilt=lambda w: marker_if_present(rebuild_marker("cases", w.case)),
     output:
         "results/sensor/{case}.h5",
     params:

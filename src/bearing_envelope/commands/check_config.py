@@ -4,9 +4,12 @@ Reads ``./config.yaml`` (when present) and the file with the project's strict lo
 keys refused, YAML errors with their line), merges them as ``snakemake --configfile FILE`` from
 this directory would (:func:`bearing_envelope.study.settings.workflow_settings`: a partial file is
 an overlay, and a designation is a complete bearing), validates and runs every cross-field
-check; prints the cases it defines, or one line naming the field that is wrong. No simulation
-runs. Use it when Snakemake itself rejects a ``--configfile`` (a missing file, or "Config file is
-not valid JSON or YAML" without a line).
+check (:func:`bearing_envelope.study.limits.checked_settings`, the workflow's own pre-run
+check: the estimated cost of every job included); prints the cases it defines, or one line
+naming the field that is wrong. No simulation runs. Use it before passing a file to Snakemake:
+Snakemake evaluates a ``--configfile`` as a YTE template before any workflow code runs (this
+command reads it as data and refuses the template), and it rejects some files without a line
+("Config file is not valid JSON or YAML").
 
 Example::
 
@@ -54,13 +57,14 @@ def run(args) -> int:
         :func:`bearing_envelope.cli.main`).
     """
     # lazy: keeps `bearing-envelope --help` ~0.4 s (numba, pandas: ~4 s)
-    from bearing_envelope.study.limits import precheck
-    from bearing_envelope.study.settings import workflow_settings
+    from bearing_envelope.study.limits import checked_settings
 
-    st = workflow_settings([] if args.config is None else [args.config])
-    precheck(st)
+    st, estimates = checked_settings([] if args.config is None else [args.config])
     cases = st.cases
+    heaviest = max(estimates, key=lambda e: e.cpu_seconds, default=None)
+    cost = "" if heaviest is None else (f"; heaviest simulation about "
+                                        f"{heaviest.cpu_seconds:.3g} CPU s ({heaviest.case})")
     print(f"{st.source}: valid; fidelity {st.fidelity.name}; {len(cases)} cases: "
-          f"{', '.join(c.name for c in cases[:6])}{' ...' if len(cases) > 6 else ''}",
+          f"{', '.join(c.name for c in cases[:6])}{' ...' if len(cases) > 6 else ''}{cost}",
           file=sys.stdout)
     return 0

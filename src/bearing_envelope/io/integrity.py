@@ -25,7 +25,8 @@ import numpy as np
 
 __all__ = ["DIGEST_ATTR", "CHECKSUM_OPTIONS", "DiskFullError", "content_digest", "seal",
            "verify_file", "require_free_space", "free_bytes", "estimate_h5_bytes", "is_disk_full",
-           "file_sha256", "write_image", "TEXT_DIGEST_PREFIX", "seal_text", "unseal_text"]
+           "file_sha256", "write_image", "TEXT_DIGEST_PREFIX", "seal_text", "unseal_text",
+           "sealed_text_problem"]
 
 #: Root attribute holding the SHA-256 digest (hex) of :func:`content_digest`.
 DIGEST_ATTR = "content_sha256"
@@ -372,13 +373,45 @@ def unseal_text(text: str, path: str | os.PathLike) -> str:
         One line naming the file: no digest line, or the content no longer matches it (the
         file was edited after it was written).
     """
+    problem, body = _seal_problem(text)
+    if problem is not None:
+        raise ValueError(f"{os.fspath(path)}: {problem}; delete it so the workflow remakes it")
+    return body
+
+
+def _seal_problem(text: str) -> tuple[str | None, str]:
+    """(what is wrong with a sealed text or None, its body)."""
     first, _, body = text.partition("\n")
     if not first.startswith(TEXT_DIGEST_PREFIX):
-        raise ValueError(f"{os.fspath(path)}: no '{TEXT_DIGEST_PREFIX}' first line (not written "
-                         f"by this package, or edited); delete it so the workflow remakes it")
+        return (f"no '{TEXT_DIGEST_PREFIX}' first line (not written by this package, or "
+                f"edited)"), body
     stored = first[len(TEXT_DIGEST_PREFIX):].strip()
     actual = hashlib.sha256(body.encode("utf-8")).hexdigest()
     if actual != stored:
-        raise ValueError(f"{os.fspath(path)}: edited after it was written (digest {stored[:12]}... "
-                         f"stored, {actual[:12]}... now); delete it so the workflow remakes it")
-    return body
+        return (f"edited after it was written (digest {stored[:12]}... stored, "
+                f"{actual[:12]}... now)"), body
+    return None, body
+
+
+def sealed_text_problem(path: str | os.PathLike) -> str | None:
+    """Why an existing sealed text file (:func:`seal_text`) cannot be used (None when intact).
+
+    Reads the whole file and checks its content against its digest line (:func:`unseal_text`),
+    whatever its modification time: an edit that keeps the mtime is found too.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        An existing sealed file (a per-case table).
+
+    Returns
+    -------
+    str or None
+        One line saying what is wrong (no digest line, content edited, unreadable), or None.
+    """
+    try:
+        with open(path, encoding="utf-8", newline="") as fh:
+            text = fh.read()
+    except (OSError, UnicodeDecodeError) as exc:
+        return f"unreadable ({exc})"
+    return _seal_problem(text)[0]

@@ -11,7 +11,12 @@ allowed:
 - a missing ``scene.bearing.profile_file``;
 - a case whose estimated memory or CPU time (:func:`estimate_case`) exceeds the machine's
   available memory or the stated limits (``limits.max_case_memory_GB``,
-  ``limits.max_case_cpu_s``; :data:`DEFAULT_LIMITS`).
+  ``limits.max_case_cpu_s``; :data:`DEFAULT_LIMITS`);
+- a job of a case whose estimated CPU time exceeds ``limits.max_case_cpu_s``: every expensive
+  axis is estimated (:func:`estimate_jobs`: the simulation's grid cells and solves, the record's
+  samples, the kurtogram's levels, the bands, the SNR levels of the detection map and its
+  false-alarm trials), and the refusal names the field behind the largest factor;
+- a ``paper_run`` that is not the folder of a finished paper-conventions run.
 """
 
 from __future__ import annotations
@@ -28,18 +33,20 @@ from ..physics.acquisition import auto_oversample
 from ..physics.loads import scene_load_distribution
 from ..physics.solves import window_spec
 from ..signal.kurtogram import max_kurtogram_level
-from .config_read import ConfigError
-from .settings import DEFAULT_MAX_CASES
+from .config_read import ConfigError, config_files
+from .settings import DEFAULT_MAX_CASES, workflow_settings
 
 __all__ = ["DEFAULT_LIMITS", "MIN_HARDNESS_GPA", "MAX_CASE_NAME_CHARS", "ResourceEstimate",
-           "estimate_case", "check_case", "min_revolutions", "available_memory_bytes", "precheck",
+           "JobEstimate", "estimate_case", "estimate_jobs", "check_case", "PAPER_RUN_TABLES",
+           "paper_run_tables", "checked_settings", "EMPTY_CONFIG_NOTE", "min_revolutions", "available_memory_bytes", "precheck",
            "profile_files"]
 
-#: Stated limits when the config has no ``limits:`` section: CPU seconds of one simulation
-#: job (the default sweep needs 7-10 s per case), memory (None: the machine's available
-#: memory) and the number of cases (checked by the loader before any case is built, so its
-#: default lives there: :data:`bearing_envelope.study.settings.DEFAULT_MAX_CASES`).
-DEFAULT_LIMITS = {"max_case_cpu_s": 3600.0, "max_case_memory_GB": None,
+#: Stated limits when the config has no ``limits:`` section: estimated CPU seconds of any one
+#: job of a case (10 CPU minutes; the default sweep's heaviest job needs about 30 s, a
+#: paper-fidelity simulation about 1,300 s: raise it for those), memory (None: the machine's
+#: available memory) and the number of cases (checked by the loader before any case is built,
+#: so its default lives there: :data:`bearing_envelope.study.settings.DEFAULT_MAX_CASES`).
+DEFAULT_LIMITS = {"max_case_cpu_s": 600.0, "max_case_memory_GB": None,
                   "max_cases": DEFAULT_MAX_CASES}
 
 #: Lowest hardness accepted, GPa: below it the hardness bound flattens every contact (pure
@@ -76,6 +83,23 @@ _CPU_S_PER_CELL_ITERATION = 4.0e-9
 _BASE_CPU_S = 1.5
 _CPU_S_PER_FINE_SAMPLE = 2.0e-6
 _CG_ITERATIONS = 60
+
+#: The global solves: CPU seconds per cell x log2(4 cells) and iteration, and the iterations
+#: per solve, about 2 sqrt(cells) up to the fidelity's ``max_iter``. Measured at draft (750 kN /
+#: 50 um, ``global_dx_um`` refined, 2026-12-05): 65,269 cells cost 11.5 CPU s over 3 solves
+#: (about 510 iterations each); 261,077 cells did not converge in ``max_iter`` = 1000
+#: iterations (33 ms each); ``global_dx_um: 0.01`` (10^7 cells) ran for hours (issue 43). The
+#: constant is the measured 6.3e-9 with a margin of 1.3.
+_CPU_S_PER_GLOBAL_CELL_ITERATION = 8.2e-9
+
+#: The window solves' iterations grow with the window grid too (each starts from the previous
+#: offset's solution, so far fewer than the global ones): :data:`_CG_ITERATIONS` up to the
+#: standard window (27,219 cells: 13.4 CPU s per default case measured, under its
+#: estimate), then 0.5 sqrt(cells): the paper window (248,221 cells) measured 1,328 CPU s for
+#: the heaviest default case (docs/cluster.md), which 60 iterations estimated at 426 s (now
+#: 1,430 s).
+_WINDOW_ITERATIONS_PER_SQRT_CELL = 0.5
+_GLOBAL_ITERATIONS_PER_SQRT_CELL = 2.0
 
 #: Load nodes above which the table's solve count, not its grid, is named as the cause.
 _MANY_LOADS = 50
@@ -184,10 +208,16 @@ def estimate_case(name: str, scene, fidelity) -> ResourceEstimate:
         + _EXTRA_WINDOW_SOLVES
     solves = fidelity.n_loads * (1 + offsets)
     fine = _CPU_S_PER_FINE_SAMPLE * n * over
-    solve = _CPU_S_PER_CELL_ITERATION * _CG_ITERATIONS * fidelity.n_loads * (
-        g_cells * math.log2(4 * g_cells) + offsets * w_cells * math.log2(4 * w_cells))
+    iterations = min(fidelity.max_iter, _GLOBAL_ITERATIONS_PER_SQRT_CELL * math.sqrt(g_cells))
+    global_solves = _CPU_S_PER_GLOBAL_CELL_ITERATION * iterations * fidelity.n_loads * \
+        g_cells * math.log2(4 * g_cells)
+    w_iterations = min(fidelity.max_iter, max(_CG_ITERATIONS,
+                                              _WINDOW_ITERATIONS_PER_SQRT_CELL * math.sqrt(w_cells)))
+    window_solves = _CPU_S_PER_CELL_ITERATION * w_iterations * fidelity.n_loads * \
+        offsets * w_cells * math.log2(4 * w_cells)
+    solve = global_solves + window_solves
     grid_field = ("fidelity.n_loads" if fidelity.n_loads > _MANY_LOADS else
-                  "fidelity.local_dx_um / local_dy_um" if w_cells >= g_cells else
+                  "fidelity.local_dx_um / local_dy_um" if window_solves >= global_solves else
                   "fidelity.global_dx_um / global_dy_um")
     samples_field = "scene.operation.revolutions x fs_hz"
     over_field = "scene.operation.acquisition.oversample"
@@ -288,6 +318,164 @@ def _check_estimate(est: ResourceEstimate, limits: dict, memory_cap: float) -> N
                           f"<= {limits['max_case_cpu_s']:g} CPU s (limits.max_case_cpu_s)")
 
 
+#: CPU seconds of the analysis jobs, calibrated on this machine (2-core Xeon, 2026-12-05) on
+#: the draft record (16,456 samples) and the default sweep's logged jobs (411,393 samples;
+#: ``logs/benchmarks``) and rounded up: every job's start (imports, reading the case), the
+#: fast kurtogram per sample and level, one band's envelope analysis, one synthetic record
+#: (sensor model and noise) and one detection test of a band on a record (fixed part and per
+#: sample). Measured: a diagnose test 5 ms + 6e-8 s per sample, an envelope band 70 ms at 16k
+#: samples and 0.2 s at 411k, a false-alarm trial at 5 SNRs x 5 bands 0.12 s at 411k.
+_JOB_BASE_CPU_S = 2.0
+_CPU_S_PER_KURTOGRAM_SAMPLE_LEVEL = 3.0e-7
+_CPU_S_PER_BAND, _CPU_S_PER_BAND_SAMPLE = 0.07, 5.0e-7
+_CPU_S_PER_RECORD, _CPU_S_PER_RECORD_SAMPLE = 0.01, 2.0e-7
+_CPU_S_PER_TEST, _CPU_S_PER_TEST_SAMPLE = 0.005, 1.5e-7
+
+#: The default sweep's size on each axis: the refusal names the field whose value is the
+#: largest multiple of its default (the axis that made the job expensive).
+_AXIS_DEFAULTS = {"scene.operation.revolutions x fs_hz": 411_393, "analysis.bands": 5,
+                  "analysis.nlevel": 8, "diagnosability.snr_db": 5,
+                  "diagnosability.false_alarm_trials": 10}
+
+_AXIS_UNITS = {"scene.operation.revolutions x fs_hz": "samples", "analysis.bands": "bands",
+               "analysis.nlevel": "kurtogram levels", "diagnosability.snr_db": "SNR levels",
+               "diagnosability.false_alarm_trials": "trials"}
+
+
+@dataclass(frozen=True)
+class JobEstimate:
+    """Estimated CPU time of one analysis job of a case, and the axes it grows with."""
+
+    rule: str
+    case: str
+    cpu_seconds: float
+    #: Config field -> its size (samples, bands, levels, SNR levels, trials) in this job.
+    axes: tuple = ()
+
+    def culprit(self) -> str:
+        """The field whose size is the largest multiple of its default (:data:`_AXIS_DEFAULTS`).
+
+        Returns
+        -------
+        str
+            A dotted config field.
+        """
+        return max(self.axes, key=lambda a: a[1] / _AXIS_DEFAULTS[a[0]])[0]
+
+    def describe(self) -> str:
+        """The axes in one phrase (``411,393 samples x 5 bands x ...``).
+
+        Returns
+        -------
+        str
+        """
+        return " x ".join(f"{v:,} {_AXIS_UNITS[k]}" for k, v in self.axes)
+
+
+def estimate_jobs(case_name: str, scene, analysis, sensor=None, diagnosability=None, *,
+                  healthy: bool = True) -> list:
+    """CPU time of every analysis job of one case (rules ``bands``, ``envelope``, and with a
+    sensor ``sensor``, ``diagnose`` and, for a healthy case, ``false_alarms``).
+
+    Parameters
+    ----------
+    case_name : str
+        The case (named in the estimates).
+    scene : bearing_envelope.physics.scene.Scene
+        Its record length and sampling are read.
+    analysis : AnalysisSettings or None
+        The ``analysis:`` section (None: no analysis job).
+    sensor : TransferModel, optional
+        The ``sensor:`` section (None: no sensor or detection-map job).
+    diagnosability : DiagnosabilitySettings, optional
+        SNR levels, false-alarm trials and where the kurtogram comes from.
+    healthy : bool
+        A healthy case (depth 0): it also has a ``false_alarms`` job.
+
+    Returns
+    -------
+    list of JobEstimate
+        One per job of the case.
+    """
+    if analysis is None:
+        return []
+    op = scene.operation
+    n = int(math.ceil(op.revolutions / op.shaft_rate_hz * op.fs_hz))
+    nlevel = analysis.options.nlevel           # None: the deepest the record allows
+    nb, levels = len(analysis.bands), int(nlevel or max(1, max_kurtogram_level(n)))
+    samples = ("scene.operation.revolutions x fs_hz", n)
+    kurt = _CPU_S_PER_KURTOGRAM_SAMPLE_LEVEL * n * levels if analysis.needs_kurtogram else 0.0
+    band = _CPU_S_PER_BAND + _CPU_S_PER_BAND_SAMPLE * n
+    out = [JobEstimate("bands", case_name, _JOB_BASE_CPU_S + kurt + _CPU_S_PER_BAND * nb,
+                       (samples, ("analysis.nlevel", levels), ("analysis.bands", nb))),
+           JobEstimate("envelope", case_name, _JOB_BASE_CPU_S + nb * band,
+                       (samples, ("analysis.bands", nb)))]
+    if sensor is None or diagnosability is None:
+        return out
+    record = _CPU_S_PER_RECORD + _CPU_S_PER_RECORD_SAMPLE * n + nb * (
+        _CPU_S_PER_TEST + _CPU_S_PER_TEST_SAMPLE * n) + (
+        kurt if diagnosability.kurtogram_from == "record" else 0.0)
+    snrs, trials = len(diagnosability.snr_db), int(diagnosability.false_alarm_trials)
+    axes = (samples, ("analysis.bands", nb), ("diagnosability.snr_db", snrs))
+    out += [JobEstimate("sensor", case_name, _JOB_BASE_CPU_S + _CPU_S_PER_RECORD
+                        + _CPU_S_PER_RECORD_SAMPLE * n, (samples,)),
+            JobEstimate("diagnose", case_name, _JOB_BASE_CPU_S + kurt + snrs * record, axes)]
+    if healthy:
+        out.append(JobEstimate("false_alarms", case_name,
+                               _JOB_BASE_CPU_S + kurt + float(trials) * snrs * record,
+                               axes + (("diagnosability.false_alarm_trials", trials),)))
+    return out
+
+
+def _check_jobs(jobs: list, limits: dict) -> None:
+    """Refuse an analysis job whose estimate exceeds ``limits.max_case_cpu_s``."""
+    cap = limits["max_case_cpu_s"]
+    for job in jobs:
+        if cap is not None and job.cpu_seconds > cap:
+            raise ConfigError(f"{job.culprit()}: the {job.rule} job of case {job.case} would "
+                              f"need about {job.cpu_seconds:.3g} CPU s ({job.describe()}); "
+                              f"allowed: <= {cap:g} CPU s per job (limits.max_case_cpu_s)")
+
+
+#: The tables of a paper-conventions run the "study vs this model" page reads.
+PAPER_RUN_TABLES = ("cases", "harmonics", "bands")
+
+
+def paper_run_tables(run) -> dict:
+    """The tables of a finished paper-conventions run (config key ``paper_run``).
+
+    Parameters
+    ----------
+    run : str or None
+        The run's working folder (``snakemake --configfile config_paper.yaml --directory
+        DIR``); None or empty: none.
+
+    Returns
+    -------
+    dict
+        ``{name: path}`` of :data:`PAPER_RUN_TABLES` (``results/tables/{name}.csv``); ``{}``
+        without a run.
+
+    Raises
+    ------
+    ConfigError
+        ``paper_run`` given but not a folder, or a table missing from it.
+    """
+    if not run:
+        return {}
+    paths = {n: os.path.join(run, "results", "tables", f"{n}.csv") for n in PAPER_RUN_TABLES}
+    if not os.path.isdir(run):
+        raise ConfigError(f"paper_run: {run!r} is not a folder; allowed: null or the working "
+                          f"folder of a finished paper-conventions run (snakemake --configfile "
+                          f"config_paper.yaml --directory DIR)")
+    missing = [p for p in paths.values() if not os.path.isfile(p)]
+    if missing:
+        raise ConfigError(f"paper_run: {run!r} has no {missing[0]}; allowed: null or the "
+                          f"working folder of a finished paper-conventions run (its "
+                          f"results/tables/{{cases,harmonics,bands}}.csv)")
+    return paths
+
+
 def precheck(settings) -> list[ResourceEstimate]:
     """The checks of this module on validated settings; returns each case's estimate.
 
@@ -315,6 +503,7 @@ def precheck(settings) -> list[ResourceEstimate]:
     if profile and not os.path.isfile(profile):
         raise ConfigError(f"scene.bearing.profile_file: {profile!r} not found; allowed: an "
                           f"existing CSV file (position_mm, deviation_um)")
+    paper_run_tables(cfg.get("paper_run"))
     out = []
     if settings.sweep is None:
         return out
@@ -322,6 +511,8 @@ def precheck(settings) -> list[ResourceEstimate]:
     for case in settings.sweep.cases():
         scene = settings.scene(case)   # built once, by the loader
         out.append(_check_case(case, scene, settings.analysis, limits, cap, setup.fidelity))
+        _check_jobs(estimate_jobs(case.name, scene, settings.analysis, settings.sensor,
+                                  settings.diagnosability, healthy=case.depth_um == 0), limits)
     _check_physics(settings)   # after the estimates: they bound the record length first
     return out
 
@@ -497,3 +688,54 @@ def check_case(case, scene, fidelity, config: Mapping | None = None, analysis=No
     if limits["max_case_memory_GB"] is not None:
         cap = min(cap, limits["max_case_memory_GB"] * _GB)
     return _check_case(case, scene, analysis, limits, cap, fidelity)
+
+
+#: What Snakemake answers for a ``--configfile`` whose YAML document is empty (or only
+#: comments), before any workflow code runs: the project answers the same (refused).
+EMPTY_CONFIG_NOTE = ("Snakemake refuses such a --configfile itself ('Config file must be given "
+                     "as JSON or YAML with keys at top level')")
+
+
+def _is_null_document(path) -> bool:
+    """Whether a config file holds no YAML value: only blank lines, comments, document markers
+    or a lone null (``~``, ``null``); read as text, not parsed again."""
+    try:
+        with open(path, encoding="utf-8", errors="replace") as fh:
+            text = fh.read(1 << 16)
+    except OSError:
+        return False
+    lines = [ln.strip() for ln in text.splitlines()]
+    body = [ln for ln in lines if ln and not ln.startswith("#") and ln not in ("---", "...")]
+    return len(text) < (1 << 16) and body in ([], ["~"], ["null"], ["Null"], ["NULL"])
+
+
+def checked_settings(files=(), overrides: Mapping | None = None):
+    """The pre-run check of a run, the one path of ``check-config``, the workflow's main
+    process and ``benchmarks/hostile_configs.py``: ``./config.yaml`` and ``files`` merged
+    (:func:`~bearing_envelope.study.settings.workflow_settings`), then :func:`precheck`.
+
+    Parameters
+    ----------
+    files : sequence of path
+        The ``--configfile`` files (overlays over ``./config.yaml``), in merge order.
+    overrides : mapping, optional
+        Snakemake's ``--config`` values.
+
+    Returns
+    -------
+    (Settings, list of ResourceEstimate)
+        The validated settings and each case's estimate.
+
+    Raises
+    ------
+    ConfigError
+        One line naming the file or field: also a file that holds no settings (empty, only
+        comments), which Snakemake refuses itself before any workflow code runs.
+    """
+    settings = workflow_settings(files, overrides)
+    for f in config_files(files):
+        if _is_null_document(f):
+            raise ConfigError(f"{os.fspath(f)}: holds no settings (an empty YAML document); "
+                              f"allowed: a mapping of sections (sweep:, scene:, ...); "
+                              f"{EMPTY_CONFIG_NOTE}")
+    return settings, precheck(settings)

@@ -138,7 +138,8 @@ class log_to:
     Used by the workflow scripts: ``with log_to(snakemake.log[0]): ...``. An exception is
     written to the log and re-raised so that the job fails; a full disk (ENOSPC, EDQUOT,
     :class:`bearing_envelope.io.integrity.DiskFullError`) ends the job with one line on stderr
-    instead (``SystemExit``), wherever it was raised (an HDF5 case, a figure's PNG).
+    instead (``SystemExit``), wherever it was raised (an HDF5 case, a figure's PNG), and so does
+    a damaged input (an edited per-case table; the pre-run recovery normally rebuilds it first).
     """
 
     def __init__(self, path):
@@ -170,4 +171,14 @@ class log_to:
         sys.stderr = self._old
         if full:
             raise SystemExit(f"bearing_envelope: disk full: {exc}") from None
+        if exc is not None and _is_damaged_artefact(exc):  # traceback in the log, one line
+            raise SystemExit(f"bearing_envelope: damaged input: {exc}") from None
         return False
+
+
+def _is_damaged_artefact(exc) -> bool:
+    """An input the job refuses as damaged (an edited per-case table, a broken case file)."""
+    from ..io.artefacts import ArtefactFormatError
+    from ..io.case import CaseFormatError
+
+    return isinstance(exc, (ArtefactFormatError, CaseFormatError))

@@ -1,15 +1,16 @@
-"""Recovery before the DAG: a corrupt or deleted case file is rebuilt with everything after it.
+"""Recovery before the DAG: a damaged or deleted artefact is rebuilt with everything after it.
 
 Snakemake (>= 8) does not rerun the job of a missing intermediate file while the files made
 from it are present and up to date (it treats it like a ``temp()`` file): deleting a case file,
 or moving a corrupt one aside, then gives "Nothing to be done". So, before the DAG is built,
-:func:`recover_case_files` verifies every case file in full
-(:func:`bearing_envelope.io.case_file_problem`: every chunk against its checksum, the attribute
-digest), moves a bad one aside, and for a missing one whose consumers' outputs exist touches a
-*rebuild marker* (:func:`rebuild_marker`, ``results/.rebuild/{stage}/{case}``). The marker is
-an input of the case's first consumer (rules ``bands`` and ``sensor``) while it exists: newer
-than that consumer's outputs, it makes the consumer rerun, the consumer needs the missing case,
-and Snakemake reruns the case and everything downstream -- in the same run.
+:func:`recover_artefacts` verifies every artefact it is given in full (a case file: every chunk
+against its checksum, the attribute digest; a sealed per-case table: its content against its
+``# content_sha256=`` line, so an edit that keeps the file's mtime is found too), moves a bad
+one aside, and for it or a missing one whose consumers' outputs exist touches a *rebuild
+marker*. The marker is an input of the artefact's first consumer while it exists: newer than
+that consumer's outputs, it makes the consumer rerun, the consumer needs the missing file, and
+Snakemake rebuilds it and everything downstream -- in the same run. The paths (artefacts,
+markers, consumers) are the caller's: this module names no folder of the workflow.
 
 Nothing is moved or touched on a dry run or any other command that runs no job
 (:func:`is_dry_run`): then the warning says what a real run would do.
@@ -17,15 +18,17 @@ Nothing is moved or touched on a dry run or any other command that runs no job
 
 from __future__ import annotations
 
+import datetime as _dt
 import os
 import sys
 from dataclasses import dataclass
 from pathlib import Path
 
-from ..io import case_file_problem, set_aside_unreadable
+from ..io import case_file_problem
+from ..io.integrity import sealed_text_problem
 
-__all__ = ["NON_EXECUTING_FLAGS", "NON_EXECUTING_ARGS", "is_dry_run", "rebuild_marker", "marker_if_present",
-           "Recovery", "recover_case_files"]
+__all__ = ["NON_EXECUTING_FLAGS", "NON_EXECUTING_ARGS", "is_dry_run", "marker_if_present",
+           "ARTEFACT_KINDS", "Artefact", "Recovery", "recover_artefacts"]
 
 #: Long command-line options of Snakemake after which no job runs (dry run, summaries, reports,
 #: lint, unlock, cleanup, graph output): the pre-run recovery then changes nothing.
@@ -48,7 +51,6 @@ _NON_EXECUTING_SHORT = frozenset("ntSDlhv")
 #: Short options that take a value (the rest of a cluster is that value, not more flags).
 _SHORT_WITH_VALUE = frozenset("jcsdRTPCUO")
 
-MARKER_DIR = "results/.rebuild"
 
 
 def _short_flags(arg: str) -> set[str]:
@@ -142,44 +144,43 @@ def is_dry_run(argv: list[str] | None = None, workflow=None) -> bool:
     return parsed is not None and any(getattr(parsed, a, None) for a in NON_EXECUTING_ARGS)
 
 
-def rebuild_marker(stage: str, case: str) -> str:
-    """Path of the rebuild marker of ``results/{stage}/{case}.h5``.
+def marker_if_present(marker: str | os.PathLike) -> list[str]:
+    """``[marker]`` when the rebuild marker exists, else ``[]`` (a rule input).
 
     Parameters
     ----------
-    stage : str
-        The case file's stage folder (``cases``, ``sensor``).
-    case : str
-        Case name.
-
-    Returns
-    -------
-    str
-        ``results/.rebuild/{stage}/{case}``, relative to the working folder.
-    """
-    return f"{MARKER_DIR}/{stage}/{case}"
-
-
-def marker_if_present(stage: str, case: str) -> list[str]:
-    """``[marker]`` when the case's rebuild marker exists, else ``[]`` (a rule input).
-
-    Parameters
-    ----------
-    stage, case : str
-        As in :func:`rebuild_marker`.
+    marker : str or os.PathLike
+        A rebuild marker (:attr:`Artefact.marker`; the workflow names its folder).
 
     Returns
     -------
     list of str
-        ``[rebuild_marker(stage, case)]`` or ``[]``.
+        ``[marker]`` or ``[]``.
     """
-    path = rebuild_marker(stage, case)
-    return [path] if os.path.exists(path) else []
+    return [os.fspath(marker)] if os.path.exists(marker) else []
+
+
+#: What :func:`recover_artefacts` verifies, by kind: an HDF5 case file (every chunk against its
+#: checksum, the attribute digest: :func:`bearing_envelope.io.case_file_problem`) or a sealed
+#: text table (its ``# content_sha256=`` line against its content, whatever its mtime:
+#: :func:`bearing_envelope.io.integrity.sealed_text_problem`).
+ARTEFACT_KINDS = ("case", "sealed table")
+
+
+@dataclass(frozen=True)
+class Artefact:
+    """A file verified before the DAG: its path, its rebuild marker (an input of its first
+    consumer while the marker exists) and the files made from it (all paths the caller's)."""
+
+    path: str
+    marker: str
+    consumers: tuple = ()
+    kind: str = "case"
 
 
 @dataclass
 class Recovery:
-    """What :func:`recover_case_files` found and did (paths relative to the working folder)."""
+    """What :func:`recover_artefacts` found and did (paths as the caller gave them)."""
 
     set_aside: list[str]
     rebuilt_missing: list[str]
@@ -191,53 +192,59 @@ def _touch(path: str) -> None:
     Path(path).touch()
 
 
-def recover_case_files(stages: dict[str, list[str]], consumers, *, dry_run: bool,
-                       warn=None) -> Recovery:
-    """Verify every case file; move bad ones aside and mark missing ones for rebuilding.
+def _problem(art: Artefact) -> str | None:
+    if art.kind == "sealed table":
+        return sealed_text_problem(art.path)
+    return case_file_problem(art.path)
+
+
+def _set_aside(path: str, problem: str, say) -> None:
+    stamp = _dt.datetime.now(_dt.timezone.utc).strftime("%Y%m%dT%H%M%SZ")
+    aside = f"{path}.unreadable-{stamp}"
+    os.replace(path, aside)
+    say(f"warning: {path}: {problem}; moved aside to {aside}; it will be rebuilt as a missing "
+        f"file")
+
+
+def recover_artefacts(artefacts, *, dry_run: bool, warn=None) -> Recovery:
+    """Verify every artefact; move bad ones aside and mark them and missing ones for rebuilding.
 
     Parameters
     ----------
-    stages : dict
-        Stage (``cases``, ``sensor``) -> case names; the files are ``results/{stage}/{case}.h5``.
-    consumers : callable
-        ``consumers(stage, case)`` -> paths made from that file; when one exists, a missing
-        file gets its rebuild marker touched (otherwise nothing was built from it yet and
-        Snakemake builds it anyway).
+    artefacts : iterable of Artefact
+        The files to verify, each with its rebuild marker and consumers.
     dry_run : bool
-        Change nothing; the warnings say what a real run would do.
+        Change nothing; the warnings (one line each) say what a real run would do.
     warn : callable, optional
         Receives each one-line warning (default: stderr).
 
     Returns
     -------
     Recovery
-        ``set_aside``: the corrupt files moved aside (on a dry run: that would be);
-        ``rebuilt_missing``: the missing files whose consumers exist; ``dry_run`` as given.
-        Each file of either list gets its rebuild marker touched (not on a dry run).
+        ``set_aside``: the damaged files moved aside (on a dry run: that would be);
+        ``rebuilt_missing``: the missing files whose consumers exist. Each file of either list
+        gets its rebuild marker touched (not on a dry run): it then reruns its first consumer,
+        which needs the file, so Snakemake rebuilds it and everything after it in this run.
     """
     say = warn or (lambda m: print(m, file=sys.stderr))
     found = Recovery([], [], dry_run)
-    for stage, cases in stages.items():
-        for case in cases:
-            path = f"results/{stage}/{case}.h5"
-            if os.path.isfile(path):
-                problem = case_file_problem(path)
-                if problem is None:
-                    continue
-                if dry_run:
-                    say(f"warning: {path}: {problem}; a real run moves it aside and rebuilds it")
-                    found.set_aside.append(path)
-                    continue
-                set_aside_unreadable(path, warn=say)
-                found.set_aside.append(path)
-            elif not any(os.path.exists(p) for p in consumers(stage, case)):
+    for art in artefacts:
+        if os.path.isfile(art.path):
+            problem = _problem(art)
+            if problem is None:
                 continue
-            else:
-                found.rebuilt_missing.append(path)
-                if dry_run:
-                    say(f"warning: {path} is missing; a real run rebuilds it and what is made "
-                        f"from it")
-                    continue
-            if not dry_run:
-                _touch(rebuild_marker(stage, case))
+            found.set_aside.append(art.path)
+            if dry_run:
+                say(f"warning: {art.path}: {problem}; a real run moves it aside and rebuilds it")
+                continue
+            _set_aside(art.path, problem, say)
+        elif not any(os.path.exists(p) for p in art.consumers):
+            continue
+        else:
+            found.rebuilt_missing.append(art.path)
+            if dry_run:
+                say(f"warning: {art.path} is missing; a real run rebuilds it and what is made "
+                    f"from it")
+                continue
+        _touch(art.marker)
     return found
