@@ -86,7 +86,7 @@ def run(args) -> int:
     from bearing_envelope.diagnosis.transfer_path import identify_path
     from bearing_envelope.io.records import read_record
 
-    rec = read_record(args.record, column=args.column)
+    rec = read_record(args.record, column=args.column, fs=args.fs)
     fs = args.fs or rec.get("fs")
     if not fs:
         raise ValueError("--fs: the file gives no sampling rate; pass --fs (Hz)")
@@ -94,7 +94,7 @@ def run(args) -> int:
     rates = _rates(args, fr)
     bg = None
     if args.background is not None:
-        bg_rec = read_record(args.background, column=args.column)
+        bg_rec = read_record(args.background, column=args.column, fs=args.fs)
         if bg_rec.get("fs") not in (None, fs):
             raise ValueError(f"--background: fs {bg_rec['fs']:g} Hz; allowed: the record's "
                              f"{fs:g} Hz")
