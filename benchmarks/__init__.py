@@ -46,6 +46,8 @@ REGISTRY: dict[str, str] = {
                      "envelope line)",
     "hostile_configs": "bad and hostile configs: each refused before any job (or run to the "
                        "end with --run), and the check's cost",
+    "identify_path_truth": "identify-path on synthetic records of known f_n, zeta, gain and "
+                           "background at partial detection: within tolerance / flagged / wrong",
 }
 
 #: Benchmarks of work in flight, registered as soon as their module is in this folder (each

@@ -49,7 +49,7 @@ from .detection import threshold_db
 
 __all__ = ["TransferPath", "NoImpulsesError", "identify_path", "background_noise",
            "MIN_EVENTS", "DEFAULT_PFA", "EVENT_PFA", "MAX_LEVEL", "MODE_PFA", "MODE_FLOOR",
-           "MAX_MODES"]
+           "MAX_MODES", "IDENT_TOL", "MIN_BACKGROUND"]
 
 #: Fewest detected events an identification accepts (a record shorter than this many periods
 #: of the event rate is refused before any work).
@@ -87,6 +87,20 @@ MODE_PFA = 0.001
 MODE_FLOOR = DECAY_FLOOR ** 2
 #: Most modes identified from one record (the strongest first).
 MAX_MODES = 4
+#: The event track (:func:`_event_track`) averages the envelope's line at the event rate over
+#: enough periods for the line to stand this far over its floor (dB, power) ...
+TRACK_SNR_DB = 20.0
+#: ... and over at least this many periods.
+TRACK_PERIODS = 16
+#: Interleaved subsets of the events whose fits give the standard errors of zeta and gain.
+SUBSETS = 4
+#: A quantity is identified when twice its standard error is within this (relative); else it
+#: is flagged and listed in ``not_identified``.
+IDENT_TOL = 0.10
+#: Fewest samples between the events the background is read from (4 Welch segments); fewer,
+#: and the background is the record's spectrum less the events' modelled one (flagged where
+#: the events make most of it).
+MIN_BACKGROUND = 4 * WELCH_SEGMENT
 
 
 class NoImpulsesError(ValueError):
@@ -141,6 +155,12 @@ class TransferPath:
     modes_rejected : list of dict
         Significant peaks that gave no mode (``f_n_hz``, ``reason``: damping at the fit's
         bound, no power above the background at the events' peak).
+    not_identified : list of str
+        Quantities of the first mode the record does not identify within :data:`IDENT_TOL`
+        (``zeta``, ``gain``: twice their standard error over :data:`SUBSETS` subsets of the
+        events exceeds it, or zeta sits at the fit's bound; ``background``: the events make
+        most of the record's power at the resonance); each also has its line in ``flags``.
+        Empty in a path written before this was reported.
     """
 
     fs_hz: float
@@ -163,6 +183,7 @@ class TransferPath:
     flags: list = field(default_factory=list)
     modes: list = field(default_factory=list)
     modes_rejected: list = field(default_factory=list)
+    not_identified: list = field(default_factory=list)
 
     def mode(self, impulse_area: float = 1.0) -> Mode:
         """The mode whose response to an impulse of area ``impulse_area`` starts at
@@ -283,9 +304,7 @@ def identify_path(x, fs: float, event_rates: dict, *, background=None,
                          f"({MIN_EVENTS / slowest:.3g} s)")
     kg = fast_kurtogram(x, fs, min(8, max_kurtogram_level(x.size)), max_level=MAX_LEVEL)
     f_low = MIN_BAND_ORDER * max(rates.values())
-    band0, kurt = _resonance_band(kg, f_low, fs)
-    env0 = np.abs(sps.hilbert(bandpass(x, fs, band0, order=FILTER_ORDER)))
-    name, hz, line_db, thr = _event_line(env0, fs, rates)
+    band0, kurt, env0, (name, hz, line_db, thr) = _resonance_band(x, kg, f_low, fs, rates)
     peaks0, _ = _events(env0, fs, hz, band0)
     if peaks0.size < MIN_EVENTS:
         raise NoImpulsesError(f"x: {peaks0.size} events above the background in "
@@ -302,7 +321,8 @@ def identify_path(x, fs: float, event_rates: dict, *, background=None,
         raise NoImpulsesError(f"x: {peaks.size} events above the background in {n_periods} "
                               f"periods of {name} {hz:.4g} Hz around f_n {f_n:.0f} Hz; "
                               f"allowed: >= {MIN_EVENTS}")
-    zeta, amp, zr = _fit_mode(env, peaks, fs, band, n_post, hz, f_n)
+    every = _event_track(env0, fs, hz, line_db, peaks, max(int(0.4 * fs / hz), 4), n_post)
+    zeta, amp, zr, se = _fit_mode(env, every, fs, band, n_post, hz, f_n)
     modes = [{"f_n_hz": f_n, "zeta": zeta, "zeta_range": list(zr), "amplitude": amp,
               "band_hz": list(band), "n_events": int(peaks.size), "excess_db": 0.0,
               "prominence_z": None}]
@@ -315,12 +335,13 @@ def identify_path(x, fs: float, event_rates: dict, *, background=None,
         else:
             modes.append({**m, "excess_db": ex_db, "prominence_z": z})
     gate = _gate_samples(amp, zeta, f_n, fs, env, n_post, hz)
-    freq, psd, src = _background(x, fs, peaks, gate, background, background_name)
+    freq, psd, src, bg_flag = _background(x, fs, every, gate, background, background_name,
+                                          (hz, modes))
+    flags, unknown = _flags(band, f_n, zeta, zr, se, gate, fs / hz, bg_flag)
     return TransferPath(fs, tuple(band), kurt, name, hz, line_db, thr,
                         int(peaks.size), int(n_periods), f_n, zeta, zr, amp,
                         float(math.sqrt(np.trapezoid(psd, freq))), list(map(float, freq)),
-                        list(map(float, psd)), src, _flags(band, f_n, zeta, zr, gate, fs / hz),
-                        modes, rejected)
+                        list(map(float, psd)), src, flags, modes, rejected, unknown)
 
 
 def _mode_band(f_n, centres, half, resolution, f_low, fs) -> tuple[float, float]:
@@ -345,7 +366,7 @@ def _extra_mode(x, fs, hz, f_n, band, n_post, events):
     idx = events[:, None] + np.arange(-w, w + 1)[None, :]
     peaks = events - w + np.argmax(env[idx], axis=1)
     try:
-        zeta, amp, zr = _fit_mode(env, peaks, fs, band, n_post, hz, f_n)
+        zeta, amp, zr, _ = _fit_mode(env, peaks, fs, band, n_post, hz, f_n)
     except NoImpulsesError as exc:
         return str(exc).removeprefix("x: ")
     if zeta > 0.9 * ZETA_MAX or zeta < 1.1 * ZETA_MIN:
@@ -368,26 +389,48 @@ def _gate_samples(amp, zeta, f_n, fs, env, n_post, hz) -> int:
     return int(min(max(n, n_post // 2), 0.9 * fs / hz))
 
 
-def _resonance_band(kg, f_low: float, fs: float) -> tuple[tuple[float, float], float]:
-    """The kurtogram's best cell at level <= MAX_LEVEL whose lower edge is >= ``f_low``."""
-    best = None
-    for r, level in enumerate(kg.levels):
-        if level > MAX_LEVEL:
-            continue
-        bw = kg.bandwidths[r]
-        for i, k in enumerate(kg.rows[r]):
-            if i * bw >= f_low and (best is None or k > best[0]):
-                best = (float(k), i * bw, (i + 1) * bw)
-    if best is None:
+def _resonance_band(x, kg, f_low: float, fs: float, rates: dict):
+    """The band whose envelope spectrum holds the strongest event-rate line: over the
+    kurtogram's cells at level <= MAX_LEVEL whose lower edge is >= ``f_low``, the one whose
+    best candidate line stands highest over its threshold (the threshold's false-alarm
+    probability shared over the cells searched and the rates, Bonferroni). Kurtosis alone
+    picks a noise band when a lightly damped mode's events hardly raise it (zeta 0.015 at
+    noise sigma 0.5: 4-6 kHz, kurtosis 0.19, where 2.5-3.5 kHz holds the line 39 dB over its
+    floor).
+
+    Returns
+    -------
+    (band_hz, kurtosis, envelope, (name, hz, line_db, threshold_db))
+        Raises :class:`NoImpulsesError` when no cell's line clears its threshold.
+    """
+    cells = [(float(k), i * kg.bandwidths[r], (i + 1) * kg.bandwidths[r])
+             for r, level in enumerate(kg.levels) if level <= MAX_LEVEL
+             for i, k in enumerate(kg.rows[r]) if i * kg.bandwidths[r] >= f_low]
+    if not cells:
         raise ValueError(f"fs: {fs:g} Hz leaves no band above {f_low:g} Hz "
                          f"({MIN_BAND_ORDER} x the highest event rate); allowed: a higher fs")
-    return (best[1], min(best[2], 0.49 * fs)), best[0]
+    pfa = DEFAULT_PFA / (len(cells) * len(rates))
+    best = None
+    for k, lo, hi in cells:
+        band = (lo, min(hi, 0.49 * fs))
+        env = np.abs(sps.hilbert(bandpass(x, fs, band, order=FILTER_ORDER)))
+        line = _best_line(env, fs, rates, pfa)
+        if best is None or line[2] - line[3] > best[3][2] - best[3][3]:
+            best = (band, k, env, line)
+    line = best[3]
+    if line[2] <= line[3]:
+        raise NoImpulsesError(f"x: no envelope line at {', '.join(rates)} in any band: best "
+                              f"{line[0]} {line[2]:.1f} dB over floor in {best[0][0]:.0f}-"
+                              f"{best[0][1]:.0f} Hz, threshold {line[3]:.1f} dB; nothing "
+                              "identified")
+    return best
 
 
-def _flags(band, f_n, zeta, zeta_range, gate, period) -> list:
-    """Warnings a user must read with the numbers (one line each)."""
-    out = []
-    if gate >= 0.9 * period - 1:
+def _flags(band, f_n, zeta, zeta_range, se, gate, period, bg_flag) -> tuple[list, list]:
+    """Warnings a user must read with the numbers (one line each), and the quantities not
+    identified (``zeta``, ``gain``, ``background``)."""
+    out, unknown = [], []
+    if gate >= 0.9 * period - 1 and bg_flag is None:
         out.append("the events ring for most of a period: the background (events gated out) "
                    "holds part of their ringing")
     if min(f_n - band[0], band[1] - f_n) < 0.02 * (band[1] - band[0]):
@@ -396,10 +439,19 @@ def _flags(band, f_n, zeta, zeta_range, gate, period) -> list:
     if zeta > 0.9 * ZETA_MAX or zeta < 1.1 * ZETA_MIN:
         out.append(f"zeta {zeta:.3g} at the fit's bound [{ZETA_MIN:g}, {ZETA_MAX:g}]: "
                    "damping not resolved")
+        unknown += ["zeta", "gain"]
     if zeta_range[1] > 1.5 * zeta_range[0]:
         out.append(f"zeta differs by more than 1.5x between the halves of the record "
                    f"({zeta_range[0]:.3g}-{zeta_range[1]:.3g})")
-    return out
+    for name, e in (("zeta", se[0]), ("gain", se[1])):
+        if not e <= IDENT_TOL / 2 and name not in unknown:
+            out.append(f"{name} not identified within {IDENT_TOL:.0%}: its standard error "
+                       f"over {SUBSETS} subsets of the events is {e:.1%}")
+            unknown.append(name)
+    if bg_flag is not None:
+        out.append(bg_flag)
+        unknown.append("background")
+    return out, unknown
 
 
 def _check_rates(event_rates, fs: float) -> dict:
@@ -415,8 +467,10 @@ def _check_rates(event_rates, fs: float) -> dict:
     return out
 
 
-def _event_line(env, fs, rates) -> tuple[str, float, float, float]:
-    """The candidate rate with the highest envelope line over its floor, if above threshold."""
+def _best_line(env, fs, rates, pfa) -> tuple[str, float, float, float]:
+    """The candidate rate whose envelope line (+-1 %) stands highest over its floor (median
+    over [0.5, 1.5] x the rate) relative to its threshold at ``pfa``: ``(name, hz, line_db,
+    threshold_db)``."""
     n = env.size
     spec = np.abs(np.fft.rfft((env - env.mean()) * np.hanning(n)))
     df = fs / n
@@ -425,15 +479,56 @@ def _event_line(env, fs, rates) -> tuple[str, float, float, float]:
         lo, hi = int(hz * 0.99 / df), int(math.ceil(hz * 1.01 / df)) + 1
         k = lo + int(np.argmax(spec[lo:hi]))
         fl = np.r_[spec[int(0.5 * hz / df):lo - 2], spec[hi + 2:int(1.5 * hz / df)]]
-        s_db = 20 * math.log10(spec[k] / np.median(fl))
-        thr = threshold_db(DEFAULT_PFA / len(rates), n_bins=hi - lo, n_background=fl.size)
+        s_db = 20 * math.log10(max(spec[k], 1e-300) / max(np.median(fl), 1e-300))
+        thr = threshold_db(pfa, n_bins=hi - lo, n_background=fl.size)
         if best is None or s_db - thr > best[2] - best[3]:
             best = (name, k * df, s_db, thr)
-    if best[2] <= best[3]:
-        raise NoImpulsesError(f"x: no envelope line at {', '.join(rates)} in band: best "
-                              f"{best[0]} {best[2]:.1f} dB over floor, threshold "
-                              f"{best[3]:.1f} dB; nothing identified")
     return best
+
+
+def _event_track(env, fs: float, hz: float, line_db: float, peaks, pre: int,
+                 post: int) -> np.ndarray:
+    """Every period's event position (samples), not only the detected ones', from the phase of
+    the envelope's line at the event rate: the envelope demodulated at the rate (refined to a
+    fraction of a bin, :func:`_refine_rate`) and averaged over enough periods for that line to
+    stand :data:`TRACK_SNR_DB` over the floor (at least :data:`TRACK_PERIODS`) follows a
+    wandering rate; its phase places period ``k``'s event at ``k P - phase P / 2 pi + c``, the
+    offset ``c`` being the circular mean of the detected events'. No event's own noise moves
+    its position, so averaging at these positions over every period carries no selection
+    (the detected events are those the noise raised: averaging over them alone biased zeta
+    and the amplitude up at partial detection)."""
+    n = env.size
+    hz = _refine_rate(env, fs, hz)
+    period = fs / hz
+    z = (env - env.mean()) * np.exp(-2j * np.pi * hz * np.arange(n) / fs)
+    n_per = n / period
+    span = n_per * 10 ** ((TRACK_SNR_DB - line_db) / 10)
+    half = int(min(max(span, TRACK_PERIODS), n_per) * period / 2)
+    cs = np.r_[0, np.cumsum(z)]
+    i = np.arange(n)
+    lo, hi = np.clip(i - half, 0, n), np.clip(i + half + 1, 0, n)
+    phase = np.unwrap(np.angle((cs[hi] - cs[lo]) / (hi - lo)))
+    k = np.arange(int(n_per) + 2)
+    at = np.clip((k * period).astype(int), 0, n - 1)
+    pos0 = k * period - phase[at] * period / (2 * np.pi)
+    u = np.interp(peaks, pos0, k)  # the detected events' places on the track, in periods
+    off = period / (2 * np.pi) * np.angle(np.mean(np.exp(2j * np.pi * u)))
+    pos = np.round(pos0 + off).astype(int)
+    return pos[(pos >= pre) & (pos + post < n)]
+
+
+def _refine_rate(env, fs: float, hz: float) -> float:
+    """The event rate at the maximum of the envelope's transform within one bin of ``hz``."""
+    n = env.size
+    e = (env - env.mean()) * np.hanning(n)
+    t = np.arange(n) / fs
+
+    def neg(f):
+        return -abs(np.dot(e, np.exp(-2j * np.pi * f * t)))
+
+    res = optimize.minimize_scalar(neg, bounds=(hz - fs / n, hz + fs / n), method="bounded",
+                                   options={"xatol": 1e-3 * fs / n})
+    return float(res.x)
 
 
 def _events(env, fs, hz, band) -> tuple[np.ndarray, int]:
@@ -473,40 +568,59 @@ def _model_envelope(zeta, f_n, fs, band, n_post, pad) -> np.ndarray:
 
 
 def _fit_zeta(s2, f_n, fs, band, n_post, pad):
-    """zeta and amplitude fitting the decay of the averaged squared envelope ``s2``."""
+    """zeta and amplitude fitting the decay of the averaged squared envelope ``s2`` (the
+    background's power subtracted) from its peak down to ``DECAY_FLOOR`` of its amplitude:
+    least squares on the power itself, the amplitude profiled out (``a^2 = sum(s2 e) /
+    sum(e^2)`` for each zeta). On the power, not its logarithm: the average's noise is
+    additive, and the mean of a logarithm of noisy values sits below the logarithm of their
+    mean (a fit on the logarithm read the amplitude 5-20 % low at partial detection)."""
     top = s2[0]
     if not top > 0:
         raise NoImpulsesError(f"x: the events add no power above the background at their "
                               f"peak around f_n {f_n:.0f} Hz; nothing to fit a decay to")
     m = int(np.argmax(s2 < top * DECAY_FLOOR ** 2)) or s2.size
     m = max(m, 3)
-    y = np.log(np.maximum(s2[:m], top * 1e-6))
+    y = s2[:m]
+
+    def scale(e):
+        return float(np.dot(y, e) / np.dot(e, e))
 
     def cost(log_z):
         e = _model_envelope(math.exp(log_z), f_n, fs, band, n_post, pad)[:m]
-        r = y - np.log(np.maximum(e, 1e-300))
-        return float(np.sum((r - r.mean()) ** 2))
+        return float(np.sum((y - scale(e) * e) ** 2))
 
-    res = optimize.minimize_scalar(cost, bounds=(math.log(ZETA_MIN), math.log(ZETA_MAX)), method="bounded",
-                                   options={"xatol": 1e-3})
+    res = optimize.minimize_scalar(cost, bounds=(math.log(ZETA_MIN), math.log(ZETA_MAX)),
+                                   method="bounded", options={"xatol": 1e-3})
     z = math.exp(res.x)
     e = _model_envelope(z, f_n, fs, band, n_post, pad)[:m]
-    amp = math.exp(0.5 * float(np.mean(y - np.log(np.maximum(e, 1e-300)))))
-    return z, amp
+    return z, math.sqrt(max(scale(e), 0.0))
 
 
 def _fit_mode(env, peaks, fs, band, n_post, hz, f_n):
-    """zeta and amplitude from the events' averaged decay, and zeta on each half."""
+    """zeta and amplitude from the events' averaged decay, zeta on each half of the events,
+    and the relative standard errors of zeta and of the gain ``amplitude / zeta`` (from the
+    spread of the same fit over :data:`SUBSETS` interleaved subsets of the events)."""
     pre = max(int(0.4 * fs / hz), 4)
     p = _aligned_power(env, peaks, pre, n_post)
     bg = float(np.median(p[: pre // 2]))
     pad = 4 * n_post
+
+    def fit(idx):
+        ph = _aligned_power(env, idx, pre, n_post)
+        return _fit_zeta(np.maximum(ph[pre:] - bg, 0.0), f_n, fs, band, n_post, pad)
+
     z, amp = _fit_zeta(np.maximum(p[pre:] - bg, 0.0), f_n, fs, band, n_post, pad)
-    zs = []
-    for h in (peaks[: peaks.size // 2], peaks[peaks.size // 2:]):
-        ph = _aligned_power(env, h, pre, n_post)
-        zs.append(_fit_zeta(np.maximum(ph[pre:] - bg, 0.0), f_n, fs, band, n_post, pad)[0])
-    return z, amp, (min(zs), max(zs))
+    zs = [fit(h)[0] for h in (peaks[: peaks.size // 2], peaks[peaks.size // 2:])]
+    sub = []
+    for j in range(SUBSETS):
+        try:
+            sub.append(fit(peaks[j::SUBSETS]))
+        except NoImpulsesError:
+            sub.append((ZETA_MAX, 0.0))  # a subset with no power above the background
+    zk, gk = np.array([e[0] for e in sub]), np.array([e[1] / e[0] for e in sub])
+    se = (float(np.std(zk, ddof=1) / math.sqrt(SUBSETS) / z),
+          float(np.std(gk, ddof=1) / math.sqrt(SUBSETS) / (amp / z)))
+    return z, amp, (min(zs), max(zs)), se
 
 
 def _segments_spectra(x, starts, n, nfft, w) -> np.ndarray:
@@ -556,23 +670,73 @@ def _mode_peaks(x, peaks, fs, f_range, n_post, period):
                     for k, zk in zip(pk[ok], z[ok])), key=lambda e: -e[1])
     return float(f[i0]), extra[:MAX_MODES - 1]
 
-def _background(x, fs, peaks, gate, background, name):
-    """Welch PSD of the healthy record, or of the record with its events gated out."""
+def _background(x, fs, events, gate, background, name, train):
+    """Welch PSD of the healthy record, or of the record between its events (gated at every
+    period's event, detected or not), or, when those stretches hold fewer than
+    :data:`MIN_BACKGROUND` samples, the record's PSD less the identified events' modelled
+    spectrum (:func:`_train_psd`). Returns ``(freq, psd, source, flag)``; ``flag`` is None or
+    the warning that the background at the resonance is not identified."""
     if background is not None:
         b = check_signal(background, "background", min_length=WELCH_SEGMENT)
         f, p = sps.welch(b - b.mean(), fs, nperseg=WELCH_SEGMENT)
-        return f, p, name
+        return f, p, name, None
     keep = np.ones(x.size, bool)
-    for pk in peaks:
+    for pk in events:
         keep[max(pk - gate // 8 - 2, 0):pk + gate] = False
-    f, p = _gap_psd(x, fs, keep)
-    if f is None:
-        return (*sps.welch(x, fs, nperseg=WELCH_SEGMENT),
-                f"record, events included (no stretch of {MIN_GAP} samples between them)")
-    return f, p, "record"
+    f, gap, used = _gap_psd(x, fs, keep)
+    if used >= MIN_BACKGROUND:
+        return f, gap, "record", None
+    f, p = sps.welch(x, fs, nperseg=WELCH_SEGMENT)
+    model = _train_psd(f, fs, *train)
+    rate = train[0]
+    w = max(int(round(rate / (f[1] - f[0]))), 1)
+    smooth = np.convolve(np.pad(p, (w // 2, w - 1 - w // 2), mode="edge"), np.ones(w) / w,
+                         mode="valid")  # the events' lines spread over one rate
+    near = model > 0.5 * smooth
+    out = smooth - model
+    src = (f"record less the identified events' modelled spectrum ({used} samples between "
+           f"the events; {MIN_BACKGROUND} needed)")
+    if not near.any():
+        return f, out, src, None
+    if near.all() and gap is None:  # pragma: no cover - the gates leave the record's ends
+        raise NoImpulsesError("x: the events make more than half of the record's power at "
+                              "every frequency: no background to read; pass a healthy record "
+                              "(background)")
+    # where the events make most of the power the difference is no measurement: the
+    # background there is the few samples between the events' (a noisy estimate), else it
+    # is interpolated (log-linear) between the frequencies on either side
+    how = f"from the {used} samples between the events"
+    if near.all():
+        out = gap
+    else:
+        out[near] = np.exp(np.interp(f[near], f[~near], np.log(out[~near])))
+        how = "interpolated across"
+    flag = (f"background not identified at {f[near].min():.0f}-{f[near].max():.0f} Hz "
+            f"({how}): the events ring for most of each period and make more than half of "
+            f"the record's power there")
+    return f, out, f"{src}, {how} where the events dominate", flag
 
 
-def _gap_psd(x, fs, keep) -> tuple[np.ndarray | None, np.ndarray | None]:
+def _train_psd(f, fs: float, rate: float, modes: list) -> np.ndarray:
+    """One-sided PSD of a train of ``rate`` events per second, each ringing every mode as the
+    sampled ``a exp(-zeta wn t) cos(wd t)`` from its onset (an accelerometer's impulse
+    response starts at its maximum), the events' phases at the mode independent:
+    ``2 rate a^2 |D|^2 / fs^2`` with the sequence's transform
+    ``D = (1 - r cos(th) / z) / (1 - 2 r cos(th) / z + r^2 / z^2)``, ``r = exp(-zeta wn / fs)``,
+    ``th = wd / fs``, ``z = exp(2 pi i f / fs)`` (sampled, so that its tails far from the
+    mode and near 0 and fs/2 are the record's, not the analog one's)."""
+    zi = np.exp(-2j * np.pi * np.asarray(f) / fs)
+    out = np.zeros(zi.shape)
+    for m in modes:
+        wn = 2 * math.pi * m["f_n_hz"]
+        r = math.exp(-m["zeta"] * wn / fs)
+        c = r * math.cos(wn * math.sqrt(1 - m["zeta"] ** 2) / fs)
+        d = (1 - c * zi) / (1 - 2 * c * zi + r * r * zi * zi)
+        out += 2 * rate * m["amplitude"] ** 2 * np.abs(d) ** 2 / fs ** 2
+    return out
+
+
+def _gap_psd(x, fs, keep) -> tuple[np.ndarray | None, np.ndarray | None, int]:
     """PSD of the record between its events: the mean of the Hann-windowed periodograms
     (``nfft`` = :data:`WELCH_SEGMENT`) of the stretches ``keep`` marks, each cut into pieces of
     at most ``WELCH_SEGMENT`` and at least :data:`MIN_GAP` samples, weighted by length. Each
@@ -580,17 +744,18 @@ def _gap_psd(x, fs, keep) -> tuple[np.ndarray | None, np.ndarray | None]:
     gate) would spread the resonance's power over the whole band through the gate's edges
     (on the 48 kHz CWRU records, 30 dB over the record's own floor at 12-18 kHz). ``(None,
     None)`` when no stretch is that long (hardly reachable: events are only detected where the
-    envelope falls back between them, and the gates end where it has)."""
+    envelope falls back between them, and the gates end where it has); the third value is the
+    number of samples read."""
     edges = np.flatnonzero(np.diff(np.concatenate(([0], keep.astype(np.int8), [0]))))
     pieces = [(a, min(a + WELCH_SEGMENT, b)) for start, b in zip(edges[::2], edges[1::2])
               for a in range(start, b, WELCH_SEGMENT) if min(a + WELCH_SEGMENT, b) - a >= MIN_GAP]
     if not pieces:
-        return None, None
+        return None, None, 0
     acc, total = 0.0, 0
     for a, b in pieces:
         f, p = sps.periodogram(x[a:b], fs, window="hann", nfft=WELCH_SEGMENT)
         acc, total = acc + p * (b - a), total + (b - a)
-    return f, acc / total
+    return f, acc / total, total
 
 
 def background_noise(path: TransferPath, n: int, *, seed: int = 0) -> np.ndarray:
