@@ -39,7 +39,7 @@ import math
 from dataclasses import asdict, dataclass, field
 
 import numpy as np
-from scipy import optimize, signal as sps, stats
+from scipy import ndimage, optimize, signal as sps, stats
 
 from ..physics.transfer import Mode
 from ..signal.envelope import bandpass
@@ -76,8 +76,12 @@ FILTER_ORDER = 4
 WELCH_SEGMENT = 1024
 #: Shortest stretch between events the background spectrum is read from (samples).
 MIN_GAP = 64
-#: The decay is fitted from the peak down to this fraction of the peak's amplitude.
+#: A further mode must add at least DECAY_FLOOR squared of the first's power (the decay fit's
+#: floor when it was read from the peak down to this fraction of the peak's amplitude).
 DECAY_FLOOR = 0.1
+#: zeta is fitted on the decay from this many samples after the averaged events' peak (the
+#: peak itself is rounded off by the events' timing scatter).
+DECAY_FROM = 2
 #: False-alarm probability of a further mode: over the resolution cells searched (Bonferroni),
 #: a peak of the power the events add whose prominence over its standard error (across the
 #: events) exceeds the normal quantile is a mode, not the spread of noise.
@@ -97,6 +101,10 @@ SUBSETS = 4
 #: A quantity is identified when twice its standard error is within this (relative); else it
 #: is flagged and listed in ``not_identified``.
 IDENT_TOL = 0.10
+#: The events' modelled spectrum is subtracted from the record's within this many half-power
+#: bandwidths (2 zeta f_n) of each mode (and one event rate): a real ringing's far tails are
+#: no damped cosine's.
+MODE_SPAN = 30.0
 #: Fewest samples between the events the background is read from (4 Welch segments); fewer,
 #: and the background is the record's spectrum less the events' modelled one (flagged where
 #: the events make most of it).
@@ -305,23 +313,15 @@ def identify_path(x, fs: float, event_rates: dict, *, background=None,
     kg = fast_kurtogram(x, fs, min(8, max_kurtogram_level(x.size)), max_level=MAX_LEVEL)
     f_low = MIN_BAND_ORDER * max(rates.values())
     band0, kurt, env0, (name, hz, line_db, thr) = _resonance_band(x, kg, f_low, fs, rates)
-    peaks0, _ = _events(env0, fs, hz, band0)
-    if peaks0.size < MIN_EVENTS:
-        raise NoImpulsesError(f"x: {peaks0.size} events above the background in "
-                              f"{int(x.size * hz / fs)} periods of {name} {hz:.4g} Hz; "
-                              f"allowed: >= {MIN_EVENTS}")
-    n_post = max(int(0.45 * fs / hz), 4)
-    f_n, extra = _mode_peaks(x, peaks0, fs, (f_low, F_MAX * fs), n_post, fs / hz)
+    n_post, pre = max(int(0.45 * fs / hz), 4), max(int(0.4 * fs / hz), 4)
+    track = _event_track(env0, fs, hz, line_db, pre, n_post)
+    f_n, extra = _mode_peaks(x, track, fs, (f_low, F_MAX * fs), n_post, fs / hz)
     half = max(band0[1] - band0[0], MIN_DECAY_BAND * fs) / 2
     centres, res = [f_n] + [e[0] for e in extra], fs / _segment_length(n_post)
     band = _mode_band(f_n, centres, half, res, f_low, fs)
     env = np.abs(sps.hilbert(bandpass(x, fs, band, order=FILTER_ORDER)))
-    peaks, n_periods = _events(env, fs, hz, band)
-    if peaks.size < MIN_EVENTS:
-        raise NoImpulsesError(f"x: {peaks.size} events above the background in {n_periods} "
-                              f"periods of {name} {hz:.4g} Hz around f_n {f_n:.0f} Hz; "
-                              f"allowed: >= {MIN_EVENTS}")
-    every = _event_track(env0, fs, hz, line_db, peaks, max(int(0.4 * fs / hz), 4), n_post)
+    peaks, n_periods = _events(env, fs, hz, band)  # detected one by one: reported only
+    every = _align(env, track, max(n_post // 4, 1), pre, n_post)
     zeta, amp, zr, se = _fit_mode(env, every, fs, band, n_post, hz, f_n)
     modes = [{"f_n_hz": f_n, "zeta": zeta, "zeta_range": list(zr), "amplitude": amp,
               "band_hz": list(band), "n_events": int(peaks.size), "excess_db": 0.0,
@@ -329,7 +329,7 @@ def identify_path(x, fs: float, event_rates: dict, *, background=None,
     rejected = []
     for f_k, ex_db, z in extra:
         m = _extra_mode(x, fs, hz, f_k, _mode_band(f_k, centres, half, res, f_low, fs), n_post,
-                        peaks)
+                        track)
         if isinstance(m, str):
             rejected.append({"f_n_hz": f_k, "reason": m})
         else:
@@ -357,14 +357,12 @@ def _mode_band(f_n, centres, half, resolution, f_low, fs) -> tuple[float, float]
 def _extra_mode(x, fs, hz, f_n, band, n_post, events):
     """A further mode fitted in its own band: its parameters, or why it gave none (str).
 
-    The same impulses ring every mode, so the events are the first mode's, each moved to the
-    envelope's maximum in this band within a quarter of ``n_post`` of it (a weak mode's own
-    maxima rarely clear the background's bound one by one; their average does)."""
+    The same impulses ring every mode, so the events are the first mode's track (every
+    period), moved together to where their average in this band peaks within a quarter of
+    ``n_post`` (:func:`_align`; a weak mode's own maxima rarely clear the background's bound
+    one by one, and moving each event to its own maximum would pick the noise's)."""
     env = np.abs(sps.hilbert(bandpass(x, fs, band, order=FILTER_ORDER)))
-    w = max(n_post // 4, 1)
-    events = events[(events >= w) & (events + w < env.size)]
-    idx = events[:, None] + np.arange(-w, w + 1)[None, :]
-    peaks = events - w + np.argmax(env[idx], axis=1)
+    peaks = _align(env, events, max(n_post // 4, 1), max(int(0.4 * fs / hz), 4), n_post)
     try:
         zeta, amp, zr, _ = _fit_mode(env, peaks, fs, band, n_post, hz, f_n)
     except NoImpulsesError as exc:
@@ -445,7 +443,7 @@ def _flags(band, f_n, zeta, zeta_range, se, gate, period, bg_flag) -> tuple[list
                    f"({zeta_range[0]:.3g}-{zeta_range[1]:.3g})")
     for name, e in (("zeta", se[0]), ("gain", se[1])):
         if not e <= IDENT_TOL / 2 and name not in unknown:
-            out.append(f"{name} not identified within {IDENT_TOL:.0%}: its standard error "
+            out.append(f"{name} not resolved within {IDENT_TOL:.0%}: its standard error "
                        f"over {SUBSETS} subsets of the events is {e:.1%}")
             unknown.append(name)
     if bg_flag is not None:
@@ -486,17 +484,17 @@ def _best_line(env, fs, rates, pfa) -> tuple[str, float, float, float]:
     return best
 
 
-def _event_track(env, fs: float, hz: float, line_db: float, peaks, pre: int,
+def _event_track(env, fs: float, hz: float, line_db: float, pre: int,
                  post: int) -> np.ndarray:
-    """Every period's event position (samples), not only the detected ones', from the phase of
+    """Every period's event position (samples), detected one by one or not, from the phase of
     the envelope's line at the event rate: the envelope demodulated at the rate (refined to a
     fraction of a bin, :func:`_refine_rate`) and averaged over enough periods for that line to
     stand :data:`TRACK_SNR_DB` over the floor (at least :data:`TRACK_PERIODS`) follows a
     wandering rate; its phase places period ``k``'s event at ``k P - phase P / 2 pi + c``, the
-    offset ``c`` being the circular mean of the detected events'. No event's own noise moves
-    its position, so averaging at these positions over every period carries no selection
-    (the detected events are those the noise raised: averaging over them alone biased zeta
-    and the amplitude up at partial detection)."""
+    offset ``c`` being where the envelope's average over all periods on that track peaks. No
+    event's own noise moves its position, so averaging at these positions over every period
+    carries no selection (averaging over the events whose maximum cleared a bound, those the
+    noise raised, biased zeta and the amplitude up at partial detection)."""
     n = env.size
     hz = _refine_rate(env, fs, hz)
     period = fs / hz
@@ -508,13 +506,22 @@ def _event_track(env, fs: float, hz: float, line_db: float, peaks, pre: int,
     i = np.arange(n)
     lo, hi = np.clip(i - half, 0, n), np.clip(i + half + 1, 0, n)
     phase = np.unwrap(np.angle((cs[hi] - cs[lo]) / (hi - lo)))
-    k = np.arange(int(n_per) + 2)
-    at = np.clip((k * period).astype(int), 0, n - 1)
-    pos0 = k * period - phase[at] * period / (2 * np.pi)
-    u = np.interp(peaks, pos0, k)  # the detected events' places on the track, in periods
-    off = period / (2 * np.pi) * np.angle(np.mean(np.exp(2j * np.pi * u)))
-    pos = np.round(pos0 + off).astype(int)
+    k = np.arange(-1, int(n_per) + 2)
+    pos0 = k * period - phase[np.clip((k * period).astype(int), 0, n - 1)] * period / (2 * np.pi)
+    whole = pos0[(pos0 >= 0) & (pos0 + period < n - 1)].astype(int)
+    fold = np.mean(env[whole[:, None] + np.arange(int(period))[None, :]] ** 2, axis=0)
+    pos = np.round(pos0 + int(np.argmax(fold))).astype(int)
     return pos[(pos >= pre) & (pos + post < n)]
+
+
+def _align(env, pos, w: int, pre: int, post: int) -> np.ndarray:
+    """``pos`` moved together by the lag within ``+-w`` at which the envelope's power averaged
+    over all of them peaks (one lag for all: a band's envelope may peak a few samples from
+    another's)."""
+    pos = pos[(pos - w >= pre) & (pos + w + post < env.size)]
+    lags = np.arange(-w, w + 1)
+    power = np.mean(env[pos[:, None] + lags[None, :]] ** 2, axis=0)
+    return pos + int(lags[np.argmax(power)])
 
 
 def _refine_rate(env, fs: float, hz: float) -> float:
@@ -555,45 +562,59 @@ def _aligned_power(sig, peaks, pre: int, post: int) -> np.ndarray:
     return np.mean(sig[idx] ** 2, axis=0)
 
 
-def _model_envelope(zeta, f_n, fs, band, n_post, pad) -> np.ndarray:
-    """Squared envelope of a unit damped sine through the band-pass, from its peak on."""
-    t = np.arange(pad + n_post + pad) / fs
-    h = np.zeros_like(t)
+def _model_power(zeta, f_n, fs, band, pre, post, period) -> tuple[np.ndarray, np.ndarray]:
+    """Squared envelope, at lags ``-pre .. post - 1`` from its peak, of a unit damped cosine
+    through the band-pass, demodulated like the record; and the same of the three before it,
+    one ``period`` apart each (their powers added: the events' phases at the mode are
+    independent), whose tails reach into this event's window."""
+    per = int(round(period))
+    pad = 4 * post + pre
+    h = np.zeros(pad + pre + post + 4 * per)
     wn = 2 * math.pi * f_n
-    wd = wn * math.sqrt(1 - zeta * zeta)
-    h[pad:] = np.exp(-zeta * wn * t[:-pad]) * np.cos(wd * t[:-pad])
+    t = np.arange(h.size - pad) / fs
+    h[pad:] = np.exp(-zeta * wn * t) * np.cos(wn * math.sqrt(1 - zeta * zeta) * t)
     e = np.abs(sps.hilbert(bandpass(h, fs, band, order=FILTER_ORDER))) ** 2
     k = int(np.argmax(e))
-    return e[k:k + n_post]
+    lags = np.arange(-pre, post)
+    tails = sum(e[np.clip(k + lags + j * per, 0, e.size - 1)] for j in (1, 2, 3))
+    return e[k - pre:k + post], tails
 
 
-def _fit_zeta(s2, f_n, fs, band, n_post, pad):
-    """zeta and amplitude fitting the decay of the averaged squared envelope ``s2`` (the
-    background's power subtracted) from its peak down to ``DECAY_FLOOR`` of its amplitude:
-    least squares on the power itself, the amplitude profiled out (``a^2 = sum(s2 e) /
-    sum(e^2)`` for each zeta). On the power, not its logarithm: the average's noise is
-    additive, and the mean of a logarithm of noisy values sits below the logarithm of their
-    mean (a fit on the logarithm read the amplitude 5-20 % low at partial detection)."""
-    top = s2[0]
-    if not top > 0:
+def _fit_zeta(p, f_n, fs, band, pre, post, period):
+    """zeta and amplitude from ``p``, the squared envelope averaged over the events at lags
+    ``-pre .. post - 1`` from their peaks: least squares of ``A m(zeta)`` to ``p - B`` over
+    the decay, from :data:`DECAY_FROM` samples after the peak down to :data:`DECAY_FLOOR` of
+    its amplitude (:func:`_model_power`; ``A``, the amplitude squared, profiled out for each
+    zeta). ``B``, the background's power, is the median of ``p`` over lags ``-pre .. -pre/2``
+    less the earlier events' modelled tails there (a lightly damped mode still rings there:
+    taking it for background read zeta 6-14 % high at zeta 0.015). The peak itself is left
+    out: the events' timing scatter and their onsets between samples round it off (its height
+    read the amplitude 5-12 % low at zeta 0.05). On the power, not its logarithm, whose mean
+    over noisy values sits below the logarithm of their mean (the amplitude read low)."""
+    bg0 = float(np.median(p[:pre // 2]))
+    top = p[pre] - bg0
+    end = pre + (int(np.argmax(p[pre:] - bg0 < top * DECAY_FLOOR ** 2)) or post)
+    lags = np.arange(pre + DECAY_FROM, max(end, pre + DECAY_FROM + 3))
+
+    def solve(z, bg):
+        m, tails = _model_power(z, f_n, fs, band, pre, post, period)
+        y, mm = p[lags] - bg, m[lags]
+        a2 = float(np.dot(y, mm) / np.dot(mm, mm))
+        return a2, float(np.sum((y - a2 * mm) ** 2)), float(np.median(tails[:pre // 2]))
+
+    bg, z = bg0, None
+    for _ in range(3):  # the tails' share of the pre-event level follows the fit
+        res = optimize.minimize_scalar(lambda lz: solve(math.exp(lz), bg)[1],
+                                       bounds=(math.log(ZETA_MIN), math.log(ZETA_MAX)),
+                                       method="bounded", options={"xatol": 1e-3})
+        z = math.exp(res.x)
+        a2, _, tail = solve(z, bg)
+        bg = bg0 - max(a2, 0.0) * tail
+    a2 = solve(z, bg)[0]
+    if not a2 > 0:
         raise NoImpulsesError(f"x: the events add no power above the background at their "
                               f"peak around f_n {f_n:.0f} Hz; nothing to fit a decay to")
-    m = int(np.argmax(s2 < top * DECAY_FLOOR ** 2)) or s2.size
-    m = max(m, 3)
-    y = s2[:m]
-
-    def scale(e):
-        return float(np.dot(y, e) / np.dot(e, e))
-
-    def cost(log_z):
-        e = _model_envelope(math.exp(log_z), f_n, fs, band, n_post, pad)[:m]
-        return float(np.sum((y - scale(e) * e) ** 2))
-
-    res = optimize.minimize_scalar(cost, bounds=(math.log(ZETA_MIN), math.log(ZETA_MAX)),
-                                   method="bounded", options={"xatol": 1e-3})
-    z = math.exp(res.x)
-    e = _model_envelope(z, f_n, fs, band, n_post, pad)[:m]
-    return z, math.sqrt(max(scale(e), 0.0))
+    return z, math.sqrt(a2)
 
 
 def _fit_mode(env, peaks, fs, band, n_post, hz, f_n):
@@ -601,26 +622,38 @@ def _fit_mode(env, peaks, fs, band, n_post, hz, f_n):
     and the relative standard errors of zeta and of the gain ``amplitude / zeta`` (from the
     spread of the same fit over :data:`SUBSETS` interleaved subsets of the events)."""
     pre = max(int(0.4 * fs / hz), 4)
-    p = _aligned_power(env, peaks, pre, n_post)
-    bg = float(np.median(p[: pre // 2]))
-    pad = 4 * n_post
+    _check_events_add_power(env, peaks, pre, f_n)
 
     def fit(idx):
-        ph = _aligned_power(env, idx, pre, n_post)
-        return _fit_zeta(np.maximum(ph[pre:] - bg, 0.0), f_n, fs, band, n_post, pad)
+        return _fit_zeta(_aligned_power(env, idx, pre, n_post), f_n, fs, band, pre, n_post,
+                         fs / hz)
 
-    z, amp = _fit_zeta(np.maximum(p[pre:] - bg, 0.0), f_n, fs, band, n_post, pad)
-    zs = [fit(h)[0] for h in (peaks[: peaks.size // 2], peaks[peaks.size // 2:])]
+    z, amp = fit(peaks)
     sub = []
-    for j in range(SUBSETS):
+    for idx in [peaks[: peaks.size // 2], peaks[peaks.size // 2:]] + [
+            peaks[j::SUBSETS] for j in range(SUBSETS)]:
         try:
-            sub.append(fit(peaks[j::SUBSETS]))
+            sub.append(fit(idx))
         except NoImpulsesError:
             sub.append((ZETA_MAX, 0.0))  # a subset with no power above the background
+    zs, sub = [e[0] for e in sub[:2]], sub[2:]
     zk, gk = np.array([e[0] for e in sub]), np.array([e[1] / e[0] for e in sub])
     se = (float(np.std(zk, ddof=1) / math.sqrt(SUBSETS) / z),
           float(np.std(gk, ddof=1) / math.sqrt(SUBSETS) / (amp / z)))
     return z, amp, (min(zs), max(zs)), se
+
+
+def _check_events_add_power(env, peaks, pre: int, f_n: float) -> None:
+    """Refuse (one line) when the events, averaged over every period of the track, add no
+    significant power at their peak: the mean over periods of the peak's power less the
+    period's own pre-event level must exceed the normal quantile of :data:`DEFAULT_PFA`
+    times its standard error (the periods' spread)."""
+    d = env[peaks] ** 2 - np.mean(env[peaks[:, None] - np.arange(pre // 2, pre)] ** 2, axis=1)
+    z = float(np.mean(d) / (np.std(d, ddof=1) / math.sqrt(d.size)))
+    if not z > stats.norm.isf(DEFAULT_PFA):
+        raise NoImpulsesError(f"x: the events add {z:.1f} standard errors of power at their "
+                              f"peak over {d.size} periods around f_n {f_n:.0f} Hz; allowed: > "
+                              f"{stats.norm.isf(DEFAULT_PFA):.1f}; nothing identified")
 
 
 def _segments_spectra(x, starts, n, nfft, w) -> np.ndarray:
@@ -688,33 +721,33 @@ def _background(x, fs, events, gate, background, name, train):
         return f, gap, "record", None
     f, p = sps.welch(x, fs, nperseg=WELCH_SEGMENT)
     model = _train_psd(f, fs, *train)
-    rate = train[0]
-    w = max(int(round(rate / (f[1] - f[0]))), 1)
+    w = max(int(round(train[0] / (f[1] - f[0]))), 1)
     smooth = np.convolve(np.pad(p, (w // 2, w - 1 - w // 2), mode="edge"), np.ones(w) / w,
                          mode="valid")  # the events' lines spread over one rate
-    near = model > 0.5 * smooth
-    out = smooth - model
-    src = (f"record less the identified events' modelled spectrum ({used} samples between "
-           f"the events; {MIN_BACKGROUND} needed)")
-    if not near.any():
+    # the modelled spectrum is subtracted near the modes only (MODE_SPAN): far off, a real
+    # ringing's spectrum is no damped cosine's; where the events make over half the power
+    # (widened by one rate: the lines' ripple left in ``smooth`` must leave no island of
+    # event power) the difference is no measurement
+    span = np.zeros(f.size, bool)
+    for m in train[1]:
+        span |= np.abs(f - m["f_n_hz"]) <= MODE_SPAN * m["zeta"] * m["f_n_hz"] + train[0]
+    dom = ndimage.binary_dilation(model > 0.5 * smooth, iterations=w)
+    out = np.where(span, smooth - model, p)
+    src = (f"record less the identified events' modelled spectrum near the modes ({used} "
+           f"samples between the events; {MIN_BACKGROUND} needed)")
+    if not dom.any():
         return f, out, src, None
-    if near.all() and gap is None:  # pragma: no cover - the gates leave the record's ends
-        raise NoImpulsesError("x: the events make more than half of the record's power at "
-                              "every frequency: no background to read; pass a healthy record "
-                              "(background)")
-    # where the events make most of the power the difference is no measurement: the
-    # background there is the few samples between the events' (a noisy estimate), else it
-    # is interpolated (log-linear) between the frequencies on either side
-    how = f"from the {used} samples between the events"
-    if near.all():
-        out = gap
-    else:
-        out[near] = np.exp(np.interp(f[near], f[~near], np.log(out[~near])))
+    if (~dom).sum() >= 2:
+        out[dom] = np.exp(np.interp(f[dom], f[~dom], np.log(out[~dom])))
         how = "interpolated across"
-    flag = (f"background not identified at {f[near].min():.0f}-{f[near].max():.0f} Hz "
+    elif gap is not None:  # the few samples between the events: a noisy estimate
+        out, how = gap, f"from the {used} samples between the events"
+    else:
+        out, how = p, "the record's own spectrum"
+    flag = (f"background not identified at {f[dom].min():.0f}-{f[dom].max():.0f} Hz "
             f"({how}): the events ring for most of each period and make more than half of "
             f"the record's power there")
-    return f, out, f"{src}, {how} where the events dominate", flag
+    return f, out, f"{src}; {how} where the events dominate", flag
 
 
 def _train_psd(f, fs: float, rate: float, modes: list) -> np.ndarray:
