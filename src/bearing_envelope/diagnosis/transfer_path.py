@@ -101,10 +101,11 @@ SUBSETS = 4
 #: A quantity is identified when twice its standard error is within this (relative); else it
 #: is flagged and listed in ``not_identified``.
 IDENT_TOL = 0.10
-#: The events' modelled spectrum is subtracted from the record's within this many half-power
-#: bandwidths (2 zeta f_n) of each mode (and one event rate): a real ringing's far tails are
-#: no damped cosine's.
-MODE_SPAN = 30.0
+#: Where the events dominate within this many half bandwidths (zeta f_n) of a mode, plus one
+#: event rate, the background is interpolated across; a real ringing's far tails are no
+#: damped cosine's (its force has a finite rise time): where the events' modelled spectrum
+#: makes most of the record's farther off, half the record's power is the background (flagged).
+MODE_SPAN = 5.0
 #: Fewest samples between the events the background is read from (4 Welch segments); fewer,
 #: and the background is the record's spectrum less the events' modelled one (flagged where
 #: the events make most of it).
@@ -724,26 +725,26 @@ def _background(x, fs, events, gate, background, name, train):
     w = max(int(round(train[0] / (f[1] - f[0]))), 1)
     smooth = np.convolve(np.pad(p, (w // 2, w - 1 - w // 2), mode="edge"), np.ones(w) / w,
                          mode="valid")  # the events' lines spread over one rate
-    # the modelled spectrum is subtracted near the modes only (MODE_SPAN): far off, a real
-    # ringing's spectrum is no damped cosine's; where the events make over half the power
-    # (widened by one rate: the lines' ripple left in ``smooth`` must leave no island of
-    # event power) the difference is no measurement
+    # where the events make over half the power (widened by one rate: the lines' ripple left
+    # in ``smooth`` must leave no island of event power) the difference is no measurement:
+    # near a mode (MODE_SPAN) it is interpolated (log-linear) from either side; far off (a
+    # real ringing's far spectrum is no damped cosine's: its force has a finite rise time)
+    # half the record's power is taken for it. Never above the record's own spectrum.
     span = np.zeros(f.size, bool)
     for m in train[1]:
         span |= np.abs(f - m["f_n_hz"]) <= MODE_SPAN * m["zeta"] * m["f_n_hz"] + train[0]
     dom = ndimage.binary_dilation(model > 0.5 * smooth, iterations=w)
-    out = np.where(span, smooth - model, p)
-    src = (f"record less the identified events' modelled spectrum near the modes ({used} "
-           f"samples between the events; {MIN_BACKGROUND} needed)")
+    out = smooth - model
+    src = (f"record less the identified events' modelled spectrum ({used} samples between "
+           f"the events; {MIN_BACKGROUND} needed)")
     if not dom.any():
         return f, out, src, None
-    if (~dom).sum() >= 2:
-        out[dom] = np.exp(np.interp(f[dom], f[~dom], np.log(out[~dom])))
-        how = "interpolated across"
-    elif gap is not None:  # the few samples between the events: a noisy estimate
-        out, how = gap, f"from the {used} samples between the events"
-    else:
-        out, how = p, "the record's own spectrum"
+    near, far = dom & span, dom & ~span
+    if near.any() and (~dom).sum() >= 2:
+        out[near] = np.exp(np.interp(f[near], f[~dom], np.log(out[~dom])))
+    out[far | (near & ((~dom).sum() < 2))] = 0.5 * smooth[far | (near & ((~dom).sum() < 2))]
+    out = np.minimum(out, np.maximum(smooth, p))
+    how = "interpolated across the modes, half the record's elsewhere"
     flag = (f"background not identified at {f[dom].min():.0f}-{f[dom].max():.0f} Hz "
             f"({how}): the events ring for most of each period and make more than half of "
             f"the record's power there")
