@@ -129,13 +129,15 @@ def summary_by_detection(rows) -> str:
     """Pass counts (all three quantities within or flagged) by the fraction detected."""
     lines = ["| detected | records | refused | all pass | zeta within | gain within | "
              "background within |", "|---|---|---|---|---|---|---|"]
-    for lo, hi in ((0.0, 0.0), (0.0, 0.1), (0.1, 0.5), (0.5, 0.9), (0.9, 1.01)):
-        sel = [r for r in rows if (r["detected"] == 0.0 if hi == 0.0
-                                   else lo < r["detected"] <= hi or (lo == 0.0 and
-                                                                     0 < r["detected"] <= hi))]
+    bins = (("refused", lambda r: "refused" in r),
+            ("0-10 %", lambda r: "refused" not in r and r["detected"] <= 0.1),
+            ("10-50 %", lambda r: 0.1 < r["detected"] <= 0.5),
+            ("50-90 %", lambda r: 0.5 < r["detected"] <= 0.9),
+            ("90-100 %", lambda r: r["detected"] > 0.9))
+    for name, inside in bins:
+        sel = [r for r in rows if inside(r)]
         if not sel:
             continue
-        name = "refused / 0 %" if hi == 0.0 else f"{100 * lo:.0f}-{min(100 * hi, 100):.0f} %"
         ok = sum(all(r[k] != "wrong" for k in TOLERANCE) for r in sel)
         lines.append(f"| {name} | {len(sel)} | {sum('refused' in r for r in sel)} | {ok} | "
                      + " | ".join(str(sum(r[k] == "within" for r in sel)) for k in TOLERANCE)

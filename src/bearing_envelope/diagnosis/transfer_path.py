@@ -4,18 +4,21 @@ A fault impulse (a ball meeting a pit) rings the structure between the bearing a
 accelerometer; the record holds that ringing, repeated at the fault's event rate, on top of the
 machine's background. :func:`identify_path` recovers, from the record alone:
 
-1. **The resonance band**: the fast kurtogram's best band (Antoni 2007), its level limited so
-   that the band is wide enough to show the decay (:data:`MAX_LEVEL`).
-2. **The event rate and the events**: the envelope spectrum of that band must hold a line at
-   one of the candidate event rates (the bearing's BPFO, BPFI, BSF, 2 x BSF, or one given),
-   above the exact detection threshold of :func:`bearing_envelope.diagnosis.detection.threshold_db`
-   at :data:`DEFAULT_PFA`; else nothing is identified (:class:`NoImpulsesError`). The events are
-   the envelope maxima, one per period of that rate, above the Rayleigh bound of the
-   band's background at :data:`EVENT_PFA` per period.
-3. **Damping and natural frequency**: the squared envelopes of the events, aligned on their
-   peaks and averaged (the background's power subtracted), decay as the mode's envelope seen
-   through the same band-pass; ``zeta`` is fitted to that decay with the filter in the model
-   (a 1-D least-squares fit of a damped sine, band-passed and demodulated like the record).
+1. **The resonance band and the event rate**: of the fast kurtogram's cells (Antoni 2007) at a
+   level wide enough to show the decay (:data:`MAX_LEVEL`), the one whose envelope spectrum
+   holds the highest line at one of the candidate event rates (the bearing's BPFO, BPFI, BSF,
+   2 x BSF, or one given) over the exact detection threshold of
+   :func:`bearing_envelope.diagnosis.detection.threshold_db` at :data:`DEFAULT_PFA` shared
+   over the cells and rates; no line over it: nothing is identified (:class:`NoImpulsesError`).
+   Kurtosis alone picked a noise band for a lightly damped mode.
+2. **The events**: every period's, detected one by one or not, on the track of that line's
+   phase (:func:`_event_track`). The envelope maxima above the Rayleigh bound of the band's
+   background (:data:`EVENT_PFA` per period) are counted (``n_events``), not selected:
+   averaging over them alone biased zeta and the amplitude up at partial detection.
+3. **Damping and natural frequency**: the squared envelope averaged over every period's event
+   must hold the events' power at their peak (significant at :data:`DEFAULT_PFA`), and decays
+   as the mode's envelope seen through the same band-pass; ``zeta`` is fitted to that decay
+   past the peak with the filter and the earlier events' tails in the model (:func:`_fit_zeta`).
    ``f_n`` is the peak of the events' averaged spectrum over the background's, in the band.
    **More than one mode**: every further peak of that spectrum (the power the events add) that
    stands above its saddle by more than the false-alarm bound :data:`MODE_PFA` (the prominence
@@ -23,10 +26,16 @@ machine's background. :func:`identify_path` recovers, from the record alone:
    is a mode of its own, fitted like the first in a band centred on it (narrowed to half the
    distance to the next mode); a record whose second peak is not significant keeps one mode.
 4. **Amplitude**: the initial amplitude ``a`` of the mode's response to one event (record
-   units), from the same fit. With an excitation impulse of area ``A`` (N s, say) the mode's
-   gain at resonance is ``a / (A 2 zeta omega_n)`` (:meth:`TransferPath.mode`).
-5. **Background**: the power spectral density of the record with the events gated out (Welch),
-   or of a healthy record of the same machine when one is given.
+   units, rms over every period's event), from the same fit. With an excitation impulse of
+   area ``A`` (N s, say) the mode's gain at resonance is ``a / (A 2 zeta omega_n)``
+   (:meth:`TransferPath.mode`). zeta and the gain whose standard error over
+   :data:`SUBSETS` subsets of the events exceeds half of :data:`IDENT_TOL` are flagged and
+   listed in ``not_identified``.
+5. **Background**: the power spectral density of the record between its events (every
+   period's gated), when that leaves :data:`MIN_BACKGROUND` samples; else the record's less
+   the events' modelled spectrum, interpolated across the modes where the events make most
+   of the power (flagged, ``not_identified``); or of a healthy record of the same machine
+   when one is given.
 
 The result (:class:`TransferPath`) is JSON-serialisable, so that a simulated excitation can be
 made a record of that machine (:meth:`TransferPath.mode`, :func:`background_noise`).
@@ -137,7 +146,8 @@ class TransferPath:
     threshold_db : float
         Detection threshold of the line, dB.
     n_events, n_periods : int
-        Events detected, periods searched.
+        Events detected one by one (above the background's bound), periods searched; every
+        period's event is averaged, detected or not.
     f_n_hz : float
         Natural frequency of the excited mode, Hz.
     zeta : float

@@ -47,8 +47,9 @@ from .. import io as _io  # read_case looked up at call time (callers may substi
 # bearings by designation: one home, diagnosis.records (re-exported here for older callers)
 from ..diagnosis.records import bearing_geometry, known_bearings
 
-__all__ = ["SUFFIXES", "MEMORY_FACTOR", "MAX_MAGNITUDE", "read_record", "sniff_csv", "read_manifest",
-           "collect_records", "bearing_geometry", "known_bearings", "check_memory"]
+__all__ = ["SUFFIXES", "MEMORY_FACTOR", "MAX_MAGNITUDE", "read_record", "sniff_csv",
+           "read_manifest", "collect_records", "bearing_geometry", "known_bearings",
+           "check_memory"]
 
 #: File types :func:`read_record` reads.
 SUFFIXES = (".csv", ".npy", ".npz", ".mat", ".wav", ".h5", ".hdf5")
