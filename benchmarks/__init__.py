@@ -46,6 +46,10 @@ REGISTRY: dict[str, str] = {
                      "envelope line)",
     "hostile_configs": "bad and hostile configs: each refused before any job (or run to the "
                        "end with --run), and the check's cost",
+    "defect_contact": "the defect contact law F(x, delta) of the dynamic model: cost and errors per "
+                      "fidelity (CWRU 6205 pits), the defects' scales (CWRU pits, default sweep)",
+    "dynamics_cost": "dynamic bearing model: RK4 numba against solve_ivp (accuracy, CPU), the "
+                     "step rule's envelope-line convergence, CPU of a 12 kHz record",
     "identify_path_truth": "identify-path on synthetic records of known f_n, zeta, gain and "
                            "background at partial detection: within tolerance / flagged / wrong",
 }

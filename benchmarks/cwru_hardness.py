@@ -20,7 +20,7 @@ import numpy as np
 import yaml
 
 from bearing_envelope.physics.history import simulate
-from bearing_envelope.physics.locations import LOCATION_FAMILIES, scene_event_frequencies
+from bearing_envelope.physics.locations import scene_event_frequencies
 from bearing_envelope.physics.scene import BEARING_STEEL_HARDNESS_GPA, Scene
 from bearing_envelope.signal.envelope import envelope_spectrum
 from bearing_envelope.signal.spectrum import amplitude_at
@@ -50,7 +50,7 @@ def main(argv=None) -> int:
                 sc = Scene.from_mapping(m, load_kN=1.0, depth_um=279.4)
                 hist = simulate(sc, args.fidelity)
                 p, fs = hist.signals["p_max"], sc.operation.fs_hz
-                line = scene_event_frequencies(sc)[LOCATION_FAMILIES[loc][0]]
+                line = sc.defect.fault_location.event_rate(scene_event_frequencies(sc))
                 f, a = envelope_spectrum(p - p.mean(), fs, (0.25 * fs, 0.375 * fs))
                 out[h] = (p.max() / 1e9, hist.signals["removed_force"].max(),
                           amplitude_at(f, a, line, 0.01 * line)[1] / 1e6)

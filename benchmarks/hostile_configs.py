@@ -48,7 +48,7 @@ MAX_CHECK_CPU_S = 10.0
 
 def base_config() -> dict:
     """The draft test config with the default ``sensor:`` and ``diagnosability:`` sections."""
-    from bearing_envelope.study.settings import read_configs, read_yaml
+    from bearing_envelope.study.config_read import read_configs, read_yaml
 
     base = read_configs([ROOT / "config.yaml", ROOT / "tests" / "data" / "config_draft.yaml"])
     full = read_yaml(ROOT / "config.yaml")
@@ -296,7 +296,8 @@ def run_jobs(settings, work: Path) -> tuple[str, str]:
                 rule = "diagnose"
                 case_diagnosability(c, settings.sensor, settings.analysis,
                                     settings.diagnosability.snr_db[:2],
-                                    reference=refs.get(case.load_kN))
+                                    reference=refs.get(case.load_kN),
+                                    kurtogram_from=settings.diagnosability.kurtogram_from)
             refs.setdefault(case.load_kN, c)
         except Exception as exc:  # noqa: BLE001 -- the finding
             last = traceback.format_exception_only(type(exc), exc)[-1].strip()

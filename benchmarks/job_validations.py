@@ -4,7 +4,7 @@ trade-off values of a sweep are built and checked, by the workflow's loader and 
 A Snakemake dry run of the sweep runs in this process (the loader and the pre-run check of
 ``workflow/rules/common.smk``) with counters wrapped around the functions that build and check
 each value; then every job of the DAG that runs a script receives its params as Snakemake hands
-them (pickled) and runs the jobs' one loader, ``study.settings.job_settings``, counted the same
+them (pickled) and runs the jobs' one loader, ``study.job_transport.job_settings``, counted the same
 way. No job runs.
 
     python -m benchmarks job_validations [--configfile FILE ...] [--target T ...]
@@ -31,13 +31,14 @@ def _counted_targets():
     from bearing_envelope.physics.fidelity import Fidelity
     from bearing_envelope.physics.scene import Scene
     from bearing_envelope.physics.transfer import TransferModel
-    from bearing_envelope.study import settings, tradeoff
+    from bearing_envelope.study import tradeoff
+    from bearing_envelope.study.sections import AnalysisSettings
 
     out = {
         "scene (Scene.from_mapping)": [(Scene, "from_mapping")],
         "fidelity (a Fidelity built and checked)": [(Fidelity, "__post_init__")],
         "analysis (AnalysisSettings.from_mapping / from_json)": [
-            (settings.AnalysisSettings, "from_mapping"), (settings.AnalysisSettings, "from_json")],
+            (AnalysisSettings, "from_mapping"), (AnalysisSettings, "from_json")],
         "sensor (TransferModel.from_mapping)": [(TransferModel, "from_mapping")],
     }
     typed = getattr(tradeoff, "TradeoffSettings", None)
@@ -99,7 +100,7 @@ def count(configfiles: list[Path], targets: list[str], job_loader=None) -> dict:
     targets : list of str
         The dry run's targets.
     job_loader : callable, optional
-        What a job runs on its ``snakemake`` object (default ``study.settings.job_settings``).
+        What a job runs on its ``snakemake`` object (default ``study.job_transport.job_settings``).
 
     Returns
     -------
@@ -107,7 +108,7 @@ def count(configfiles: list[Path], targets: list[str], job_loader=None) -> dict:
         ``loader`` and ``jobs``: Counters of calls per value; ``rules``: jobs per rule.
     """
     if job_loader is None:
-        from bearing_envelope.study.settings import job_settings as job_loader
+        from bearing_envelope.study.job_transport import job_settings as job_loader
     loader, jobs = collections.Counter(), collections.Counter()
     with tempfile.TemporaryDirectory() as tmp:
         if not configfiles:

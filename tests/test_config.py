@@ -10,14 +10,10 @@ import numpy as np
 import pytest
 import yaml
 
-from bearing_envelope.study.settings import (
-    CaseId,
-    ConfigError,
-    SweepSettings,
-    format_number,
-    load_settings,
-    settings_from_mapping,
-)
+from bearing_envelope.study.case_id import CaseId, format_number
+from bearing_envelope.study.config_read import ConfigError
+from bearing_envelope.study.sections import SweepSettings
+from bearing_envelope.study.settings import load_settings, settings_from_mapping
 
 ROOT = Path(__file__).resolve().parents[1]
 DRAFT = yaml.safe_load((ROOT / "tests" / "data" / "config_draft.yaml").read_text())
@@ -91,7 +87,7 @@ def test_defaults_filled_as_a_json_schema_validator_does(tmp_path):
     ``snakemake.utils.validate(set_default=True)`` fills them, so jobs receive the same values."""
     from snakemake.utils import validate
 
-    from bearing_envelope.study.settings import full_schema
+    from bearing_envelope.study.schema import full_schema
 
     for cfg in (copy.deepcopy(DRAFT), {"sweep": {"loads_kN": [1], "depths_um": [0]},
                                        "scene": {"material": {"roller": {}}},

@@ -14,8 +14,9 @@ import pytest
 
 from bearing_envelope.cli import main
 from bearing_envelope.physics.history import simulate
-from bearing_envelope.study.settings import (CaseId, merge_configs, read_configs,
-                                             workflow_settings)
+from bearing_envelope.study.case_id import CaseId
+from bearing_envelope.study.config_read import merge_configs, read_configs
+from bearing_envelope.study.settings import workflow_settings
 
 ROOT = Path(__file__).resolve().parents[1]
 CWRU_BPFI, CWRU_BPFO = 5.4152, 3.5848

@@ -27,7 +27,7 @@ from bearing_envelope.diagnosis import AnalysisOptions, analyze_signal
 from bearing_envelope.signal import fast_kurtogram
 from bearing_envelope.study.tradeoff import DEFAULT_BANDS
 from bearing_envelope.study.pipeline import case_frequencies
-from bearing_envelope.study.settings import AnalysisSettings
+from bearing_envelope.study.sections import AnalysisSettings
 
 E_STAR = 115.4e9
 _REAL_SOLVE = contact.solve_contact

@@ -17,7 +17,7 @@ import pytest
 matplotlib.use("Agg")
 
 from bearing_envelope.study import figures  # noqa: E402
-from bearing_envelope.study.settings import CaseId  # noqa: E402
+from bearing_envelope.study.case_id import CaseId  # noqa: E402
 
 FS, FR, BPFI = 65000.0, 15.8, 231.9
 

@@ -28,7 +28,8 @@ from bearing_envelope.physics.geometry import read_profile
 from bearing_envelope.study.limits import precheck
 from bearing_envelope.study.provenance import log_to
 from bearing_envelope.study.recovery import is_dry_run
-from bearing_envelope.study.settings import ConfigError, load_settings, read_configs
+from bearing_envelope.study.config_read import ConfigError, read_configs
+from bearing_envelope.study.settings import load_settings
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
@@ -113,7 +114,7 @@ def test_yaml_oddities_are_one_line(tmp_path, text, says):
 
 
 def test_plain_numbers_still_read(tmp_path):
-    from bearing_envelope.study.settings import read_yaml
+    from bearing_envelope.study.config_read import read_yaml
 
     p = tmp_path / "c.yaml"
     p.write_text("a: [90, 1.5, -2.0e-3, 1_000, 0, .5, +3]\n")

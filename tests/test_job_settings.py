@@ -16,6 +16,9 @@ import pytest
 from bearing_envelope.physics.scene import Scene
 from bearing_envelope.physics.transfer import TransferModel
 from bearing_envelope.study import settings as st
+from bearing_envelope.study.job_transport import job_settings
+from bearing_envelope.study.sections import AnalysisSettings
+from bearing_envelope.study.tradeoff_settings import TradeoffSettings
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -41,11 +44,11 @@ def test_job_values_arrive_as_built_without_a_check(settings, monkeypatch):
         raise AssertionError("a job validated a value again")
 
     for owner, name in ((Scene, "from_mapping"), (TransferModel, "from_mapping"),
-                        (st.AnalysisSettings, "from_mapping"), (st, "fidelity_from"),
-                        (st.TradeoffSettings, "from_mapping")):
+                        (AnalysisSettings, "from_mapping"), (st, "fidelity_from"),
+                        (TradeoffSettings, "from_mapping")):
         monkeypatch.setattr(owner, name, refuse)
     monkeypatch.setattr(type(settings.fidelity), "__post_init__", refuse)
-    job = st.job_settings(pickle.loads(data))
+    job = job_settings(pickle.loads(data))
     assert job.simulation.case == case
     assert job.simulation.scene == settings.scene(case)
     assert job.simulation.fidelity == settings.fidelity
@@ -66,6 +69,6 @@ def test_the_rerun_trigger_is_the_canonical_text(settings):
 def test_a_plain_text_param_is_refused_in_one_line(settings):
     with pytest.raises(TypeError, match=r"^params\.analysis: got a str; allowed: a JobValue of "
                                         r"AnalysisSettings \(Settings\.analysis_param\)$"):
-        st.job_settings(_as_job(analysis=settings.analysis.to_json()))
+        job_settings(_as_job(analysis=settings.analysis.to_json()))
     with pytest.raises(TypeError, match=r"^params\.sensor: got a AnalysisSettings"):
-        st.job_settings(_as_job(sensor=settings.analysis_param()))
+        job_settings(_as_job(sensor=settings.analysis_param()))

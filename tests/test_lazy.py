@@ -40,7 +40,8 @@ def test_simulate_job_imports_neither_scipy_signal_nor_stats():
             "from bearing_envelope.io import write_case\n"
             "from bearing_envelope.study.accuracy import case_error_model\n"
             "from bearing_envelope.study.limits import check_case\n"
-            "from bearing_envelope.study.settings import CaseId, load_settings\n"
+            "from bearing_envelope.study.case_id import CaseId\n"
+            "from bearing_envelope.study.settings import load_settings\n"
             "print(sorted(m for m in ('scipy.signal', 'scipy.stats', 'pandas') if m in sys.modules))\n")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "[]"

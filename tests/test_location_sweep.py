@@ -16,9 +16,10 @@ from bearing_envelope.io.vocabulary import quantity_name
 from bearing_envelope.physics.locations import LOCATION_FAMILIES, event_frequencies
 from bearing_envelope.physics.scene import Scene
 from bearing_envelope.study.pipeline import case_bands, case_fault_lines, case_harmonics
-from bearing_envelope.study.settings import (AnalysisSettings, CaseId, ConfigError,
-                                             SweepSettings, read_configs,
-                                             settings_from_mapping)
+from bearing_envelope.study.case_id import CaseId
+from bearing_envelope.study.config_read import ConfigError, read_configs
+from bearing_envelope.study.sections import AnalysisSettings, SweepSettings
+from bearing_envelope.study.settings import settings_from_mapping
 from bearing_envelope.study.figures import fig_diagnosability_maps, fig_harmonics_vs_depth
 from bearing_envelope.study.tables import add_location, concat_tidy, pivot_tables
 

@@ -14,7 +14,7 @@ from bearing_envelope.study.pipeline import (case_bands, case_frequencies, case_
                                        case_summary)
 from bearing_envelope.io.vocabulary import TIDY_COLUMNS
 from bearing_envelope.study.pipeline import case_frequencies
-from bearing_envelope.study.settings import AnalysisSettings
+from bearing_envelope.study.sections import AnalysisSettings
 
 # fs / BPFI = 256 and fs / fr = 4096 samples: k x BPFI + m x fr lie on bins of a record of
 # 16 BPFI periods x 16 (65,536 samples), so the envelope lines carry no scalloping loss

@@ -13,7 +13,8 @@ from bearing_envelope.physics.geometry import defect_depth, gap_field, make_grid
 from bearing_envelope.physics.loads import scene_load_distribution
 from bearing_envelope.physics.scene import Scene
 from bearing_envelope.physics.solves import SolveStats, defect_solve, solve_load
-from bearing_envelope.study.settings import ConfigError, read_configs, settings_from_mapping
+from bearing_envelope.study.config_read import ConfigError, read_configs
+from bearing_envelope.study.settings import settings_from_mapping
 
 ROOT = Path(__file__).resolve().parents[1]
 

@@ -209,7 +209,7 @@ def test_tables_keep_every_width():
                      "band": "fixed", "band_strategy": "fixed", "band_low_hz": 1.0,
                      "band_high_hz": 2.0, "quantity": "envelope_bpfi", "order": 1.0,
                      "sideband": 0.0, "frequency_hz": 231.9, "amplitude": amp})
-    from bearing_envelope.study.settings import SweepSettings
+    from bearing_envelope.study.sections import SweepSettings
 
     cases = SweepSettings((500.0,), (0.0, 50.0), (100.0, 300.0)).cases()
     tidy = concat_tidy([pd.DataFrame([r]) for r in rows], cases)
@@ -271,7 +271,8 @@ def test_issue22_configs_are_refused_before_any_job(tmp_path, monkeypatch, name,
     """What common.smk runs (workflow_settings, then limits.precheck) refuses each config with
     one line naming the field, in well under a second, allocating nothing large."""
     from bearing_envelope.study.limits import precheck
-    from bearing_envelope.study.settings import ConfigError, workflow_settings
+    from bearing_envelope.study.config_read import ConfigError
+    from bearing_envelope.study.settings import workflow_settings
 
     path = tmp_path / "config.yaml"
     path.write_text(yaml.safe_dump(cfg))
@@ -291,7 +292,8 @@ def test_map_background_is_checked_only_when_the_map_is_built(tmp_path, enabled)
     not (the tiny sweep above). One revolution resolves bins of exactly fr: every bin is a shaft
     harmonic, which the map's background excludes."""
     from bearing_envelope.study.limits import precheck
-    from bearing_envelope.study.settings import ConfigError, load_settings
+    from bearing_envelope.study.config_read import ConfigError
+    from bearing_envelope.study.settings import load_settings
 
     cfg = _mutated("scene.operation.revolutions", 1)
     cfg["diagnosability"]["enabled"] = enabled
@@ -305,7 +307,7 @@ def test_map_background_is_checked_only_when_the_map_is_built(tmp_path, enabled)
 
 
 def test_alias_bomb_is_refused_fast(tmp_path):
-    from bearing_envelope.study.settings import ConfigError, read_yaml
+    from bearing_envelope.study.config_read import ConfigError, read_yaml
 
     lines = ["a0: &a0 [" + ", ".join(["lol"] * 10) + "]"]
     lines += [f"a{i}: &a{i} [" + ", ".join([f"*a{i - 1}"] * 10) + "]" for i in range(1, 9)]

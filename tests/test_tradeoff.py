@@ -141,7 +141,8 @@ def test_element_series_and_presets_on_a_healthy_case():
 def test_the_section_is_checked_once_by_the_loader_and_never_by_the_study(monkeypatch):
     """The loader types the section (``Settings.tradeoff``) and refuses a bad one in one line
     naming the key; ``study_from_config`` runs the typed section without checking it again."""
-    from bearing_envelope.study.settings import ConfigError, settings_from_mapping
+    from bearing_envelope.study.config_read import ConfigError
+    from bearing_envelope.study.settings import settings_from_mapping
     from bearing_envelope.study.tradeoff import TradeoffSettings
 
     sweep = {"sweep": {"loads_kN": [250], "depths_um": [0]}}

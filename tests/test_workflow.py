@@ -138,7 +138,8 @@ def test_detection_statistic_does_not_fall_as_snr_rises(draft_run):
         defect, healthy = read_case(cases / f"F{load:g}kN_h50um.h5"), read_case(cases / f"F{load:g}kN_h0um.h5")
         for seed in range(24):
             sensor = dataclasses.replace(settings.sensor, seed=1000 + seed)
-            rows.append(case_diagnosability(defect, sensor, settings.analysis, snrs, reference=healthy))
+            rows.append(case_diagnosability(defect, sensor, settings.analysis, snrs, reference=healthy,
+                                            kurtogram_from=settings.diagnosability.kurtogram_from))
     d = pd.concat(rows, ignore_index=True)
     g = d.groupby(["band", "snr_db"])["statistic_db"]
     mean = g.mean().unstack("band").sort_index()
@@ -276,7 +277,8 @@ def test_config_yaml_scene_is_the_library_default():
     """config.yaml leaves the scene at its defaults (physics/scene.py, the one home): the
     sweep's scenes are the library's default scene (tests/test_defaults.py: nothing restated)."""
     from bearing_envelope.physics.scene import Scene
-    from bearing_envelope.study.settings import CaseId, load_settings
+    from bearing_envelope.study.case_id import CaseId
+    from bearing_envelope.study.settings import load_settings
 
     assert yaml.safe_load((ROOT / "config.yaml").read_text())["scene"] == {}
     st = load_settings(ROOT / "config.yaml")

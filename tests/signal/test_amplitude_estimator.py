@@ -12,7 +12,8 @@ import pytest
 from bearing_envelope.signal import amplitude_at, amplitude_spectrum
 from bearing_envelope.study.pipeline import (AMPLITUDE_ESTIMATORS, amplitude_estimator,
                                              case_bands, case_frequencies, case_harmonics)
-from bearing_envelope.study.settings import AnalysisSettings, validate_mapping
+from bearing_envelope.study.schema import validate_mapping
+from bearing_envelope.study.sections import AnalysisSettings
 
 #: The sweep's rates; a 2^18-sample record puts BPFI at 935.4 bins, fr at 59.6 bins: off-bin.
 FS, FR, BPFI, N = 65000.0, 15.8, 231.9, 2**18
@@ -79,7 +80,7 @@ def test_sweep_chooses_interpolated_over_the_library_default(case):
     from pathlib import Path
 
     from bearing_envelope.diagnosis import AnalysisOptions
-    from bearing_envelope.study.settings import read_yaml
+    from bearing_envelope.study.config_read import read_yaml
     filled = validate_mapping({"analysis": {"bands": ANALYSIS["bands"]}}, partial=True)
     lib = "interpolated" if AnalysisOptions().interpolate else "peak_bin"
     assert filled["analysis"]["amplitude"] == lib

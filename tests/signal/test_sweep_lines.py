@@ -11,7 +11,7 @@ import pytest
 
 from bearing_envelope.study.pipeline import case_bands, case_harmonics
 from bearing_envelope.study.pipeline import case_frequencies
-from bearing_envelope.study.settings import AnalysisSettings
+from bearing_envelope.study.sections import AnalysisSettings
 
 FS, FR, BPFI, N = 65000.0, 15.8, 231.9, 2**18
 

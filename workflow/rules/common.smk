@@ -8,7 +8,8 @@ from bearing_envelope.study.figures import example_pairs
 from bearing_envelope.study.limits import precheck, profile_files
 from bearing_envelope.study.recovery import is_dry_run, marker_if_present, recover_case_files
 from bearing_envelope.study.provenance import code_dependencies
-from bearing_envelope.study.settings import CASE_NAME_REGEX, workflow_settings
+from bearing_envelope.study.case_id import CASE_NAME_REGEX
+from bearing_envelope.study.settings import workflow_settings
 
 
 def check_limits(settings):
@@ -73,9 +74,9 @@ def case_id(wildcards):
     return CASE_BY_NAME[wildcards.case]
 
 
-# Typed values reach the jobs as params (bearing_envelope.study.settings.JobValue): the canonical
+# Typed values reach the jobs as params (bearing_envelope.study.job_transport.JobValue): the canonical
 # JSON Snakemake compares to rerun a job when a value changes, carrying the value the loader
-# built; each script reads them with study.settings.job_settings (nothing validated again).
+# built; each script reads them with study.job_transport.job_settings (nothing validated again).
 
 
 def simulation_params(wildcards):

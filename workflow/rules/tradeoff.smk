@@ -20,7 +20,7 @@ rule tradeoff:
         ),
     params:
         # the study's section, the scene and the typed analysis, validated, as canonical JSON
-        # (a change reruns the study) carrying them typed (study.settings.TradeoffSetup)
+        # (a change reruns the study) carrying them typed (study.job_transport.TradeoffSetup)
         tradeoff=lambda w: SETTINGS.tradeoff_param(),
     log:
         "logs/tradeoff.log",

@@ -2,7 +2,7 @@
 from bearing_envelope.io import read_case, write_bands, write_kurtogram
 from bearing_envelope.study.pipeline import case_bands
 from bearing_envelope.study.provenance import log_to
-from bearing_envelope.study.settings import job_settings
+from bearing_envelope.study.job_transport import job_settings
 
 with log_to(snakemake.log[0]):  # noqa: F821
     bands, kurtogram = case_bands(read_case(snakemake.input.case),  # noqa: F821

@@ -2,7 +2,7 @@
 from bearing_envelope.io import read_case
 from bearing_envelope.study.pipeline import case_diagnosability, log_to
 from bearing_envelope.study.tables import write_csv_atomic
-from bearing_envelope.study.settings import job_settings
+from bearing_envelope.study.job_transport import job_settings
 
 with log_to(snakemake.log[0]):  # noqa: F821
     inp, job = snakemake.input, job_settings(snakemake)  # noqa: F821

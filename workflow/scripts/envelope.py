@@ -2,7 +2,7 @@
 from bearing_envelope.io import read_bands, read_case, write_spectra, write_tidy
 from bearing_envelope.study.pipeline import case_envelope
 from bearing_envelope.study.provenance import log_to
-from bearing_envelope.study.settings import job_settings
+from bearing_envelope.study.job_transport import job_settings
 
 with log_to(snakemake.log[0]):  # noqa: F821
     inp, out = snakemake.input, snakemake.output  # noqa: F821

@@ -4,7 +4,7 @@ from pathlib import Path
 
 from bearing_envelope.study.figures import make_figures
 from bearing_envelope.study.pipeline import log_to
-from bearing_envelope.study.settings import job_settings
+from bearing_envelope.study.job_transport import job_settings
 
 inp = snakemake.input  # noqa: F821
 with log_to(snakemake.log[0]) as log:  # noqa: F821

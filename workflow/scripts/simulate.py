@@ -5,7 +5,7 @@ from bearing_envelope.physics.history import simulate
 from bearing_envelope.io import write_case
 from bearing_envelope.study.accuracy import case_error_model
 from bearing_envelope.study.provenance import log_to
-from bearing_envelope.study.settings import job_settings
+from bearing_envelope.study.job_transport import job_settings
 
 #: The content-addressed store of the no-defect global solves (bearing_envelope.physics.nodefect_cache).
 NODEFECT_CACHE = "results/cache/nodefect"

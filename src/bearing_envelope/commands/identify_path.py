@@ -51,18 +51,40 @@ def register(subparsers) -> None:
     p.set_defaults(func=run)
 
 
-def _rates(args, fr):
-    from bearing_envelope.io.records import bearing_geometry
-    from bearing_envelope.physics.kinematics import fault_frequencies
+def event_rates(args, fr):
+    """The event rates identify-path searches: ``--event-hz`` and, with ``--bearing``, the
+    bearing's BPFO, BPFI, BSF and 2 x BSF from the project's one resolver and rates function.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        Parsed arguments; reads ``event_hz`` (Hz, list or None) and ``bearing`` (a designation
+        or alias, or None).
+    fr : float or None
+        Shaft rate, Hz (None: the file gives none).
+
+    Returns
+    -------
+    dict of str to float
+        Name -> rate, Hz.
+
+    Raises
+    ------
+    ValueError
+        A bearing without a shaft rate, or neither a bearing nor event rates (one line naming
+        the option).
+    """
+    from bearing_envelope.physics.catalogue import bearing_geometry
+    from bearing_envelope.physics.kinematics import bearing_rates
 
     rates = {f"event{i + 1}": hz for i, hz in enumerate(args.event_hz or [])}
     if args.bearing is not None:
         if fr is None:
             raise ValueError("--shaft-hz: the file gives no shaft rate; pass --shaft-hz (Hz)")
-        g = bearing_geometry(args.bearing)
-        ff = fault_frequencies(fr, g["n_rollers"], g["roller_diameter_mm"],
-                               g["pitch_diameter_mm"], g["contact_angle_deg"])
-        rates.update(bpfo=ff.bpfo, bpfi=ff.bpfi, bsf=ff.bsf, bsf2=2 * ff.bsf)
+        g = bearing_geometry(args.bearing, names={"designation": "--bearing"})
+        r = bearing_rates(fr, g["n_rollers"], g["roller_diameter_mm"], g["pitch_diameter_mm"],
+                          g["contact_angle_deg"])
+        rates.update({k: r[k] for k in ("bpfo", "bpfi", "bsf", "bsf2")})
     if not rates:
         raise ValueError("--bearing: give the bearing (with --shaft-hz) or --event-hz")
     return rates
@@ -92,7 +114,7 @@ def run(args) -> int:
     if not fs:
         raise ValueError("--fs: the file gives no sampling rate; pass --fs (Hz)")
     fr = args.shaft_hz or rec.get("fr")
-    rates = _rates(args, fr)
+    rates = event_rates(args, fr)
     bg = None
     if args.background is not None:
         bg_rec = read_record(args.background, column=args.column, fs=args.fs)

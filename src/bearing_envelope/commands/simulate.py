@@ -86,7 +86,7 @@ def resolve_config(path: str | None):
         The config path, or ``None`` (the built-in scene).
     """
     # lazy: keeps `bearing-envelope --help` ~0.4 s (numba, pandas: ~4 s)
-    from bearing_envelope.study.settings import default_config_path
+    from bearing_envelope.study.config_read import default_config_path
 
     if path is not None:
         return path
@@ -114,7 +114,8 @@ def run(args) -> int:
     from bearing_envelope.io import write_case
     from bearing_envelope.study.accuracy import case_error_model
     from bearing_envelope.study.limits import check_case
-    from bearing_envelope.study.settings import CaseId, load_settings
+    from bearing_envelope.study.case_id import CaseId
+    from bearing_envelope.study.settings import load_settings
 
     path = resolve_config(args.config)
     if path is None:

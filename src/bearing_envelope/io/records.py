@@ -21,10 +21,9 @@ the option) and what is allowed, instead of guessing:
 
 Complex, boolean and object data are refused (an imaginary part is never dropped silently).
 
-Bearings named by designation (:func:`bearing_geometry`, defined in
-:mod:`bearing_envelope.diagnosis.records` and re-exported here) come from the bearing catalogue
-(:mod:`bearing_envelope.physics.catalogue`, ``data/bearings.yaml``): ``6205`` is ``SKF
-6205-2RS``, ``6203`` is ``SKF 6203``. Analysing what is read: :mod:`bearing_envelope.io.analysis`.
+Bearings named by designation or alias come from the bearing catalogue
+(:func:`bearing_envelope.physics.catalogue.bearing_geometry`, ``data/bearings.yaml``): ``6205``
+is ``SKF 6205-2RS``, ``6203`` is ``SKF 6203``. Analysing what is read: :mod:`bearing_envelope.io.analysis`.
 """
 
 # pandas (CSV) and scipy.io (.mat, .wav) are imported by the reader that needs them: reading an
@@ -44,12 +43,15 @@ import numpy as np
 from numpy.lib import format as npf
 
 from .. import io as _io  # read_case looked up at call time (callers may substitute it)
-# bearings by designation: one home, diagnosis.records (re-exported here for older callers)
-from ..diagnosis.records import bearing_geometry, known_bearings
+from ..physics.catalogue import bearing_geometry  # the one resolver of bearing names
 
-__all__ = ["SUFFIXES", "MEMORY_FACTOR", "MAX_MAGNITUDE", "read_record", "sniff_csv",
-           "read_manifest", "collect_records", "bearing_geometry", "known_bearings",
-           "check_memory"]
+#: The channel read from a record holding several when none is named: the drive end (CWRU's
+#: ``X###_DE_time``), and the signal read from a simulated case file: the peak pressure.
+DEFAULT_CHANNEL = "DE"
+DEFAULT_SIGNAL = "p_max"
+
+__all__ = ["DEFAULT_CHANNEL", "DEFAULT_SIGNAL", "SUFFIXES", "MEMORY_FACTOR", "MAX_MAGNITUDE",
+           "read_record", "sniff_csv", "read_manifest", "collect_records", "check_memory"]
 
 #: File types :func:`read_record` reads.
 SUFFIXES = (".csv", ".npy", ".npz", ".mat", ".wav", ".h5", ".hdf5")
@@ -657,7 +659,8 @@ def _read_case(path, signal) -> dict:
 
 
 # --------------------------------------------------------------------------------- entry
-def read_record(path: str, *, column=None, channel: str = "DE", signal: str = "p_max",
+def read_record(path: str, *, column=None, channel: str = DEFAULT_CHANNEL,
+                signal: str = DEFAULT_SIGNAL,
                 delimiter: str | None = None, decimal: str | None = None,
                 fs: float | None = None) -> dict:
     """Read one record and what the file says about it.

@@ -10,9 +10,13 @@
 - :mod:`.table`: the pressure table ``P(Q, x)`` built from those solves;
 - :mod:`.kernels`: numba kernels of the table reading and the synthesis;
 - :mod:`.acquisition`: point or anti-aliased sampling, noise;
-- :mod:`.history`: kinematics of the defect, synthesis, :func:`~.history.simulate`;
+- :mod:`.locations`: the fault locations, one object each in one table (kinematics, exposure,
+  table needs, signals of the inner race, outer race and rolling element);
+- :mod:`.exposure`: the loads a defect meets, before any solve;
+- :mod:`.history`: the case's tables and signals from its location, :func:`~.history.simulate`;
 - :mod:`.pit`: when the bottom of a pit carries load;
-- :mod:`.transfer`: the structural path to a synthetic accelerometer.
+- :mod:`.transfer`: the structural path to a synthetic accelerometer;
+- :mod:`.dynamics`: the dynamic lumped-parameter bearing (docs/dynamics.md).
 
 Nothing here imports from the layers above (signal, diagnosis, io, study, cli).
 """

@@ -3,14 +3,20 @@
 The defect changes the history only while it is inside a loaded contact (design.md section 2).
 From the load distribution and the location alone (no solve) this module gives, per contact
 (race) the defect passes through, the element loads of its passages, sampled uniformly over
-the angles at which they happen:
+the angles at which they happen (the location's
+:meth:`~bearing_envelope.physics.locations.FaultLocation.passage_angles`):
 
 - inner race: the defect turns with the shaft; it passes elements at every angle ``psi`` from
   the load direction (uniformly over a record of whole revolutions): ``Q_i(psi)``;
 - outer race: the defect is fixed at ``phi_d``; ``smooth``: every passage at ``Q_o(phi_d)``;
-  ``discrete``: the passing element's angle, uniform over ``phi_d +- pi/Z``;
+  ``discrete``: the load of the element over the pit, at the angles where the pit lies inside
+  its contact (``phi_d +- (a_H + w_x/2)/R_o``);
 - rolling element: the element orbits with the cage; its defect meets the inner race at
   ``Q_i(theta_c)`` and the outer race at ``Q_o(theta_c)``, ``theta_c`` uniform.
+
+A passage is loaded when its load exceeds the rounding of the load law
+(:meth:`~bearing_envelope.physics.loads.LoadDistribution.loaded`: ``delta_r cos(pi/2)`` is
+6e-17 ``delta_r``, not a load).
 
 From those: whether the defect ever meets a loaded contact (a case that never does is reported
 before its 416 solves of zeros, :func:`exposure`), the range of loads the table must cover
@@ -22,7 +28,6 @@ hole is not the contact that happens (the element drops into the pit onto its ri
 
 from __future__ import annotations
 
-import math
 
 import numpy as np
 
@@ -59,17 +64,8 @@ def passage_loads(scene, ld: LoadDistribution, n: int = PASSAGE_SAMPLES) -> dict
     dict
         ``{"inner": loads}``, ``{"outer": loads}`` or both (rolling element).
     """
-    psi = 2.0 * math.pi * np.arange(n) / n        # includes psi = 0: the largest load exactly
-    loc = scene.defect.location
-    if loc == "inner_race":
-        return {"inner": ld.load_at(psi, "inner")}
-    if loc == "outer_race":
-        phi = math.radians(scene.defect.position_deg)
-        if scene.load.roller_load == "discrete":
-            half = math.pi / scene.bearing.rollers_per_row
-            return {"outer": ld.load_at(phi + np.linspace(-half, half, n), "outer")}
-        return {"outer": ld.load_at(np.full(1, phi), "outer")}
-    return {"inner": ld.load_at(psi, "inner"), "outer": ld.load_at(psi, "outer")}
+    angles = scene.defect.fault_location.passage_angles(scene, ld, n)
+    return {race: ld.load_at(psi, race) for race, psi in angles.items()}
 
 
 def _pit_limits(scene, race: str) -> tuple[float, float]:
@@ -96,7 +92,8 @@ def exposure(scene, ld: LoadDistribution) -> dict:
     -------
     dict
         ``loaded`` (bool), and per race (``inner`` / ``outer``): ``q_min_N``, ``q_max_N`` (loads
-        met, loaded passages only; 0 when none), ``loaded_fraction`` (passages with ``Q > 0``),
+        met, loaded passages only; 0 when none), ``loaded_fraction`` (passages with a load above
+        the rounding of the load law, :meth:`~.loads.LoadDistribution.loaded`),
         ``bridge_load_N`` and ``longer_load_N`` (:func:`_pit_limits`), and among the loaded
         passages the fractions ``beyond_bridge_fraction`` (pit longer than 0.26 x 2b) and
         ``longer_than_contact_fraction`` (pit longer than 2b). Without a defect only ``loaded``
@@ -104,7 +101,7 @@ def exposure(scene, ld: LoadDistribution) -> dict:
     """
     out: dict = {"loaded": False, "races": {}}
     for race, q in passage_loads(scene, ld).items():
-        on = q[q > 0]
+        on = q[ld.loaded(q)]
         r = {"q_min_N": float(on.min()) if on.size else 0.0,
              "q_max_N": float(on.max()) if on.size else 0.0,
              "loaded_fraction": float(on.size / q.size)}
@@ -134,14 +131,13 @@ def exposure_line(scene, exp: dict) -> str | None:
     str or None
         The line, None when the case needs none.
     """
-    loc = scene.defect.location
     if not scene.defect.active:
         return None
     if not exp["loaded"]:
-        where = f" at {scene.defect.position_deg:g} deg" if loc == "outer_race" else ""
-        return (f"{loc}{where}: the defect never meets a loaded contact (element load 0 at every "
-                f"passage; load.centrifugal or a preload would load it): no contact solve, the "
-                f"history is that of an unloaded contact")
+        where = scene.defect.fault_location.where(scene)
+        return (f"{where}: the defect never meets a loaded contact (element load 0, or within the "
+                f"load law's rounding, at every passage; load.centrifugal or a preload would "
+                f"load it): no contact solve, the history is that of an unloaded contact")
     parts = []
     for race, r in exp["races"].items():
         if r.get("beyond_bridge_fraction", 0.0) > 0:

@@ -48,14 +48,18 @@ Model only what the scene requires (issue 3, design.md section 2):
    and offset. Synthesis over all samples by a numba kernel (:func:`synthesize`) or numpy
    (:func:`synthesize_numpy`).
 
-This is the inner-race defect (the study's). An outer-race or rolling-element defect
-(``defect.location``, issue 23) takes its kinematics, loads and contact tables from
-:mod:`bearing_envelope.physics.locations`; :func:`simulate` and :func:`evaluate_signals`
-dispatch to it and leave the inner-race path untouched.
+Points 1, 2 and 4 describe the inner-race defect (the study's). Every location, the inner race
+included, is one object of :mod:`bearing_envelope.physics.locations` (issue 44): its kinematics
+and signals (:meth:`~bearing_envelope.physics.locations.FaultLocation.signals`), the loads its
+tables cover (:meth:`~bearing_envelope.physics.locations.FaultLocation.table_loads`) and its
+exposure; :func:`simulate` and :func:`evaluate_signals` ask it and never branch on its name.
+The inner race's kinematics and synthesis (:func:`kinematics`, :func:`synthesize`) live in
+:mod:`bearing_envelope.physics.locations.inner_race` and are re-exported here.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import os
 import time as _time
@@ -63,100 +67,30 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .acquisition import acquire, acquisition_settings, add_noise, antialias_undershoot
+from .acquisition import (acquire, acquisition_settings, add_noise, antialias_undershoot,
+                          signal_bounds)
 from .exposure import exposure, exposure_line
 from .fidelity import Fidelity, fidelity_from
-from .kernels import HAVE_NUMBA, synth_kernel
+from .geometry import hertz_estimate
 from .loads import LoadDistribution, scene_load_distribution
-from .locations import location_signals, location_tables
+from .locations import cage_angle
+from .locations.inner_race import kinematics, synthesize, synthesize_numpy
 from .nodefect_cache import NoDefectCache
 from .scene import Scene
 from .solves import SolveStats
 from .table import PressureTable, build_table, unloaded_table
 
 __all__ = ["History", "simulate", "synthesize", "synthesize_numpy", "kinematics", "cage_angle",
-           "defect_angle",
+           "defect_angle", "location_tables", "resolved_load", "check_resolved", "MIN_CONTACT_CELLS",
            "evaluate_signals", "synthesize_case", "CONTACT_SIGNALS", "STATE_SIGNALS",
            "SIGNAL_UNITS"]
-
-def kinematics(scene: Scene, t: np.ndarray, *, t_end: float | None = None) -> dict[str, np.ndarray]:
-    """Shaft and cage angles, defect offset and roller index at times ``t`` (s).
-
-    Returns a dict with ``theta_shaft`` (rad, the defect's angle from the load direction),
-    ``theta_cage`` (rad), ``offset`` (m), ``roller`` (index of the nearest roller) and
-    ``theta_roller`` (rad, that roller's angle from the load direction). ``t_end`` (s): end of
-    the whole record when ``t`` is one block of it (keeps the seeded slip process the same).
-
-    Parameters
-    ----------
-    scene : Scene
-        The case's scene.
-    t : ndarray
-        Times, s, shape ``(n,)``.
-    t_end : float, optional
-        End of the whole record, s, when ``t`` is one block of it.
-
-    Returns
-    -------
-    dict of str to ndarray
-        ``theta_shaft``, ``theta_cage``, ``offset``, ``roller`` (int64), ``theta_roller``; each
-        of shape ``(n,)``.
-    """
-    b = scene.bearing
-    z = b.rollers_per_row
-    theta_d = 2.0 * np.pi * scene.operation.shaft_rate_hz * t
-    theta_c = cage_angle(scene, t, t_end=t_end)
-    pitch = 2.0 * np.pi / z
-    rel = theta_d - theta_c
-    k = np.floor((rel + 0.5 * pitch) / pitch)
-    wrapped = rel - k * pitch
-    return {"theta_shaft": theta_d, "theta_cage": theta_c,
-            "offset": b.inner_race_radius_m * wrapped, "roller": np.mod(k, z).astype(np.int64),
-            "theta_roller": theta_d - wrapped}
-
-
-def cage_angle(scene: Scene, t: np.ndarray, *, t_end: float | None = None) -> np.ndarray:
-    """Cage angle (rad) at times ``t``; with slip a seeded, piecewise-constant random slip.
-
-    ``t_end`` (s): the record's end when ``t`` is a block of it (the slip draws depend only on
-    the seed and ``t_end``, so blocks of one record agree). Times slightly before 0 (the
-    anti-alias filter's lead-in) continue the first period's rate.
-
-    Parameters
-    ----------
-    scene : Scene
-        The case's scene.
-    t : ndarray
-        Times, s.
-    t_end : float, optional
-        End of the whole record, s, when ``t`` is one block of it.
-
-    Returns
-    -------
-    ndarray
-        Cage angle, rad, shape of ``t``; ``2 pi f_c t`` without slip.
-    """
-    op = scene.operation
-    fc = scene.cage_rate_hz
-    if op.cage_slip_percent <= 0:
-        return 2.0 * np.pi * fc * t
-    rng = np.random.default_rng(op.slip_seed)
-    period = 1.0 / scene.bpfi_hz
-    last = max(float(t[-1]) if t.size else 0.0, 0.0 if t_end is None else float(t_end))
-    n = int(np.ceil(last / period)) + 2
-    s = rng.uniform(0.0, 2e-2 * op.cage_slip_percent, n)
-    rate = 2.0 * np.pi * fc * (1.0 - s)
-    edges = np.concatenate([[0.0], np.cumsum(rate * period)])   # angle at k * period
-    k = np.clip((t / period).astype(np.int64), 0, n - 1)
-    return edges[k] + rate[k] * (t - k * period)
-
 
 def defect_angle(scene: Scene, t: np.ndarray, *, t_end: float | None = None) -> np.ndarray:
     """Angle (rad, from the load direction) of the contact where the defect is met, at ``t``.
 
-    The direction of the force the defect removes from the contact: the inner-race defect's
-    own angle (it turns with the shaft), the outer-race defect's fixed position, and for a
-    rolling element its centre's angle (the cage angle: it meets both races on that radius).
+    The direction of the force the defect removes from the contact: the location's
+    :meth:`~bearing_envelope.physics.locations.FaultLocation.angle` (the inner-race defect's
+    own angle, the outer-race defect's fixed position, a rolling element's centre).
 
     Parameters
     ----------
@@ -172,92 +106,7 @@ def defect_angle(scene: Scene, t: np.ndarray, *, t_end: float | None = None) -> 
     ndarray
         Angle, rad, shape of ``t`` (not wrapped).
     """
-    loc = scene.defect.location
-    if loc == "inner_race":
-        theta = kinematics(scene, np.atleast_1d(t), t_end=t_end)["theta_shaft"]
-        return theta.reshape(np.shape(t))
-    if loc == "outer_race":
-        return np.full(np.shape(t), math.radians(scene.defect.position_deg))
-    return cage_angle(scene, np.asarray(t, dtype=float), t_end=t_end)
-
-
-def _law_params(ld: LoadDistribution):
-    return (ld.stiffness, ld.delta_r, ld.clearance, math.cos(ld.contact_angle_rad), ld.exponent)
-
-
-def synthesize_numpy(scene: Scene, table: PressureTable, ld: LoadDistribution, t: np.ndarray,
-                     *, t_end: float | None = None):
-    """Per-sample synthesis, numpy version: ``(p_max, p_max_defect, roller_load, offset)``.
-
-    The roller load is the load-zone law at the defect's angle (``load.roller_load: smooth``)
-    or at the angle of the roller over the defect (``discrete``).
-
-    Parameters
-    ----------
-    scene : Scene
-        The case's scene.
-    table : PressureTable
-        The inner-race contact table.
-    ld : LoadDistribution
-        The load-zone law.
-    t : ndarray
-        Times, s, shape ``(n,)``.
-    t_end : float, optional
-        End of the whole record, s, when ``t`` is one block of it.
-
-    Returns
-    -------
-    tuple of ndarray
-        ``p_max`` (Pa), ``p_max_defect`` (Pa), ``roller_load`` (N), ``offset`` (m); each of
-        shape ``(n,)``.
-    """
-    kin = kinematics(scene, t, t_end=t_end)
-    psi = kin["theta_roller"] if scene.load.roller_load == "discrete" else kin["theta_shaft"]
-    Q = ld.load_at(psi)
-    P, Pd = table.evaluate(Q, kin["offset"])
-    return P, Pd, Q, kin["offset"]
-
-
-def synthesize(scene: Scene, table: PressureTable, ld: LoadDistribution, t: np.ndarray,
-               *, t_end: float | None = None):
-    """Per-sample synthesis with the numba kernel (falls back to numpy without numba).
-
-    Same outputs as :func:`synthesize_numpy`: ``(p_max, p_max_defect, roller_load, offset)``;
-    the pressures are capped at ``table.p_cap`` when set.
-
-    Parameters
-    ----------
-    scene : Scene
-        The case's scene.
-    table : PressureTable
-        The inner-race contact table.
-    ld : LoadDistribution
-        The load-zone law.
-    t : ndarray
-        Times, s, shape ``(n,)``.
-    t_end : float, optional
-        End of the whole record, s, when ``t`` is one block of it.
-
-    Returns
-    -------
-    tuple of ndarray
-        ``p_max`` (Pa), ``p_max_defect`` (Pa), ``roller_load`` (N), ``offset`` (m); each of
-        shape ``(n,)``.
-    """
-    if not HAVE_NUMBA:  # pragma: no cover
-        return synthesize_numpy(scene, table, ld, t, t_end=t_end)
-    t = np.ascontiguousarray(t, dtype=float)
-    theta_c = np.ascontiguousarray(cage_angle(scene, t, t_end=t_end))
-    n = t.size
-    P, Pd, Q, X = (np.empty(n) for _ in range(4))
-    K, dr, c, ca, ex = _law_params(ld)
-    synth_kernel(t, theta_c, scene.operation.shaft_rate_hz, scene.bearing.rollers_per_row,
-                  scene.bearing.inner_race_radius_m, K, dr, c, ca, ex,
-                  scene.load.roller_load == "discrete", *table.args(), P, Pd, Q, X)
-    if table.p_cap is not None:
-        np.minimum(P, table.p_cap, out=P)
-        np.minimum(Pd, table.p_cap, out=Pd)
-    return P, Pd, Q, X
+    return scene.defect.fault_location.angle(scene, t, t_end=t_end)
 
 
 #: Signals of a case that describe the contact (filtered by the anti-alias acquisition), and the
@@ -276,16 +125,16 @@ def evaluate_signals(scene: Scene, table: PressureTable, ld: LoadDistribution, t
                      *, t_end: float | None = None, use_numba: bool = True) -> dict[str, np.ndarray]:
     """Every signal of :data:`CONTACT_SIGNALS` and :data:`STATE_SIGNALS` at the instants ``t``
     (s): pressures from :meth:`PressureTable.evaluate`, integrals from
-    :meth:`PressureTable.evaluate_integrals`. An outer-race or rolling-element defect
-    (``table`` then the dict of :func:`~.locations.location_tables`):
-    :func:`~.locations.location_signals`.
+    :meth:`PressureTable.evaluate_integrals`, by the location's
+    :meth:`~bearing_envelope.physics.locations.FaultLocation.signals`.
 
     Parameters
     ----------
     scene : Scene
         The case's scene.
-    table : PressureTable or dict of str to PressureTable
-        The contact table (inner race), or the location's tables.
+    table : dict of str to PressureTable, or PressureTable
+        The location's tables by race (``History.tables``); one table: that of the scene's
+        contact (``bearing.contact_race``).
     ld : LoadDistribution
         The load-zone law.
     t : ndarray
@@ -300,17 +149,9 @@ def evaluate_signals(scene: Scene, table: PressureTable, ld: LoadDistribution, t
     dict of str to ndarray
         Signal name -> values at ``t`` (SI units, :data:`SIGNAL_UNITS`), each of shape ``(n,)``.
     """
-    if scene.defect.location != "inner_race":
-        return location_signals(scene, table, ld, cage_angle(scene, t, t_end=t_end),
-                                use_numba=use_numba)
-    # the numba kernel has the closed-form load law; the centrifugal law is read by numpy
-    fn = synthesize if use_numba and ld.centrifugal == 0 else synthesize_numpy
-    P, Pd, Q, X = fn(scene, table, ld, t, t_end=t_end)
-    out = {"p_max": P, "p_max_defect": Pd, "roller_load": Q, "defect_offset": X}
-    out.update(table.evaluate_integrals(Q, X, use_numba=use_numba))
-    return out
-
-
+    tables = {scene.bearing.contact_race: table} if isinstance(table, PressureTable) else table
+    return scene.defect.fault_location.signals(scene, tables, ld, t, t_end=t_end,
+                                               use_numba=use_numba)
 
 
 @dataclass
@@ -363,8 +204,9 @@ def synthesize_case(scene: Scene, table: PressureTable, ld: LoadDistribution,
     signals : dict of str to ndarray
         Every signal at ``fs``, each of shape ``(n,)``.
     acquisition : dict
-        The settings used; for ``antialiased`` also ``internal_range`` and
-        ``undershoot_bound``.
+        The settings used; for ``antialiased`` also ``internal_range``, ``undershoot_bound``
+        and ``clipped`` (the samples the filter rang past a physical bound, clipped back:
+        :func:`~bearing_envelope.physics.acquisition.clip_to_bounds`).
     """
     op = scene.operation
     acq = acquisition or acquisition_settings(scene, fidelity)
@@ -375,12 +217,145 @@ def synthesize_case(scene: Scene, table: PressureTable, ld: LoadDistribution,
         return evaluate_signals(scene, table, ld, t, t_end=t_end, use_numba=use_numba)
 
     ranges: dict[str, list[float]] = {}
+    clipped: dict[str, dict] = {}
     sig = acquire(ev, n, op.fs_hz, mode=acq["mode"], oversample=acq["oversample"],
-                  filtered=CONTACT_SIGNALS, ranges=ranges)
+                  filtered=CONTACT_SIGNALS, ranges=ranges, bounds=signal_bounds(scene),
+                  clipped=clipped)
     if acq["mode"] == "antialiased":
-        acq = {**acq, "internal_range": ranges,
+        acq = {**acq, "internal_range": ranges, "clipped": clipped,
                "undershoot_bound": antialias_undershoot(acq["oversample"])}
     return np.arange(n) / op.fs_hz, sig, acq
+
+
+#: Fewest global cells across rolling (``2 a_H`` over ``fidelity.global_dx_um``) of the smallest
+#: contact a table solves: the inner race's smallest node at ``draft`` on the 6205 at 1 kN
+#: (``Q_MIN_FRACTION`` x 534 N = 27 N, 2a = 4.2 cells) is the smallest the tables solve
+#: routinely; a 0.03 N contact (0.4 cells) gave a 3,440 % interpolation error and 2.8e-4 N a
+#: GlobalGridError (issue 43).
+MIN_CONTACT_CELLS = 4.0
+
+
+def resolved_load(scene: Scene, fid: Fidelity, q_lo: float, q_hi: float) -> float:
+    """The smallest load in ``[q_lo, q_hi]`` (N) whose Hertz contact spans
+    :data:`MIN_CONTACT_CELLS` global cells across rolling (``q_lo`` when it does already;
+    bisection in ``log Q``: ``a_H`` grows with ``Q``).
+
+    Parameters
+    ----------
+    scene : Scene
+        The scene with its modelled contact (``for_race``).
+    fid : Fidelity
+        The fidelity (``global_dx_m``).
+    q_lo, q_hi : float
+        The load range, N (``0 < q_lo <= q_hi``; ``q_hi`` resolved).
+
+    Returns
+    -------
+    float
+        The load, N.
+    """
+    def resolved(q):
+        return 2.0 * hertz_estimate(scene, q).a >= MIN_CONTACT_CELLS * fid.global_dx_m
+
+    if resolved(q_lo):
+        return q_lo
+    lo, hi = math.log(q_lo), math.log(q_hi)
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (lo, mid) if resolved(math.exp(mid)) else (mid, hi)
+    return math.exp(hi)
+
+
+def _check_resolved(scene: Scene, fid: Fidelity, ld: LoadDistribution, q_max: float) -> None:
+    """Refuse, in one line, a table whose largest load is too small a contact for the solver."""
+    if q_max > 0 and 2.0 * hertz_estimate(scene, q_max).a >= MIN_CONTACT_CELLS * fid.global_dx_m:
+        return
+    site = scene.defect.fault_location
+    where = (f"defect.position_deg further inside the load zone (its edge at "
+             f"{math.degrees(ld.half_angle):.4g} deg), " if site.positioned else "")
+    raise ValueError(
+        f"{site.where(scene)}: the largest element load the defect meets on the "
+        f"{scene.bearing.contact_race} race, {q_max:.3g} N (load {scene.load.load_kN:g} kN, "
+        f"bearing.radial_clearance_um {scene.bearing.radial_clearance_um:g}), is a contact "
+        f"narrower than {MIN_CONTACT_CELLS:g} global cells (fidelity.global_dx_um "
+        f"{fid.global_dx_um:g}), too small for the contact solver; allowed: {where}a larger "
+        f"load or a smaller bearing.radial_clearance_um, or a finer fidelity.global_dx_um")
+
+
+def check_resolved(scene: Scene, fidelity: Fidelity | str | None = None) -> None:
+    """Refuse, before any solve, a case whose contact tables would be too small a contact for
+    the solver (the check :func:`simulate` makes; cheap: the load law and the exposure only),
+    for a pre-run check of every case.
+
+    Parameters
+    ----------
+    scene : Scene
+        The case's scene.
+    fidelity : Fidelity, preset name or None
+        The fidelity of the solves (``global_dx_um``).
+
+    Raises
+    ------
+    ValueError
+        One line naming ``defect.position_deg`` / ``bearing.radial_clearance_um``
+        (:func:`_check_resolved`); none for a case that never meets a loaded contact.
+    """
+    fid = fidelity_from(fidelity)
+    ld = scene_load_distribution(scene)
+    exp = exposure(scene, ld)
+    if scene.defect.active and not exp["loaded"]:
+        return
+    for race, (q_max, _) in scene.defect.fault_location.table_loads(scene, ld, exp).items():
+        _check_resolved(scene.for_race(race), fid, ld, q_max)
+
+
+def location_tables(scene: Scene, fid: Fidelity, ld: LoadDistribution, exposure: dict,
+                    stats: SolveStats, progress: bool = False) -> tuple[dict, dict]:
+    """The contact tables of the scene's location: one per race it asks for, over the loads
+    it asks (:meth:`~bearing_envelope.physics.locations.FaultLocation.table_loads`); a
+    smallest load too small a contact for the grid is raised to the smallest resolved
+    (:func:`resolved_load`; readings below the first node are scaled), a largest one refused.
+
+    Parameters
+    ----------
+    scene : Scene
+        The case's scene.
+    fid : Fidelity
+        The fidelity of the solves.
+    ld : LoadDistribution
+        The load law.
+    exposure : dict
+        :func:`~.exposure.exposure` of the scene.
+    stats : SolveStats
+        Accumulates the solve statistics.
+    progress : bool, default False
+        Show progress.
+
+    Returns
+    -------
+    tables : dict of str to PressureTable
+        Race -> table.
+    snapshots : dict
+        The first table's pressure fields at a few offsets per load.
+
+    Raises
+    ------
+    ValueError
+        One line naming ``defect.position_deg`` / ``bearing.radial_clearance_um`` when the
+        largest load is too small a contact for the solver (:func:`_check_resolved`).
+    """
+    tables, snaps = {}, None
+    for race, (q_max, q_min) in scene.defect.fault_location.table_loads(scene, ld,
+                                                                        exposure).items():
+        sc = scene.for_race(race)
+        _check_resolved(sc, fid, ld, q_max)
+        if q_min is not None:
+            q_min = resolved_load(sc, fid, q_min, q_max)
+        tab, _, sn = build_table(sc, fid, q_max=q_max, stats=stats, progress=progress,
+                                 q_min=q_min)
+        tables[race] = tab
+        snaps = sn if snaps is None else snaps
+    return tables, snaps
 
 
 def simulate(scene: Scene, fidelity: Fidelity | str | None = None, *, progress: bool = False,
@@ -429,19 +404,18 @@ def simulate(scene: Scene, fidelity: Fidelity | str | None = None, *, progress: 
     if not exp["loaded"] and scene.defect.active:
         # recognised before any solve: the contact at the defect never carries load
         tables = {r: unloaded_table(scene.for_race(r)) for r in exp["races"]}
-        table, snaps = next(iter(tables.values())), {}
-    elif scene.defect.location == "inner_race":
-        table, nodes, snaps = build_table(scene, fid, q_max=ld.q_max, stats=stats,
-                                          progress=progress)
-        tables = {"inner": table}
+        snaps = {}
+        # the history of an unloaded contact: its load is 0, not the law's rounding (2e-22 N at
+        # a zero-clearance zone's edge) nor a neighbour's load the pit never meets (discrete)
+        ld_sig = dataclasses.replace(ld, stiffness=0.0, law_nodes=None, centrifugal=0.0)
     else:
-        tables, nodes, snaps = location_tables(scene, fid, exp, stats, progress)
-        table = next(iter(tables.values()))
+        tables, snaps = location_tables(scene, fid, ld, exp, stats, progress)
+        ld_sig = ld
+    table = next(iter(tables.values()))
     t_table = _time.perf_counter() - t_start
     op = scene.operation
     t1 = _time.perf_counter()
-    t, sig, acq = synthesize_case(scene, table if scene.defect.location == "inner_race" else tables,
-                                  ld, fid, use_numba=use_numba)
+    t, sig, acq = synthesize_case(scene, tables, ld_sig, fid, use_numba=use_numba)
     t_synth = _time.perf_counter() - t1
     P, Pd, Q, X = sig["p_max"], sig["p_max_defect"], sig["roller_load"], sig["defect_offset"]
     signals = {k: sig[k] for k in CONTACT_SIGNALS}
@@ -461,7 +435,7 @@ def simulate(scene: Scene, fidelity: Fidelity | str | None = None, *, progress: 
         "synthesis_seconds": t_synth, "wall_seconds": _time.perf_counter() - t_start,
         "exposure": exp, "exposure_note": exposure_line(scene, exp),
     }
-    if scene.defect.location != "inner_race":
+    if not scene.defect.fault_location.solves_every_row:
         # defect solves on the contact's rows that were solved again on the whole window
         # (physics/solves.py, window_solve); the inner race solves every row
         stats_d["n_rows_fallback"] = stats.n_rows_fallback

@@ -63,8 +63,13 @@ from scipy.integrate import quad
 from scipy.optimize import brentq
 
 from ..contact import hertz
+from .kinematics import RADIAL_CONTACT_ANGLE_DEG
 
-__all__ = ["LoadDistribution", "palmgren_stiffness", "centrifugal_force", "race_compliances",
+#: The centrifugal force along the contact normal of a load law without it (N): off.
+CENTRIFUGAL_OFF_N = 0.0
+
+__all__ = ["LoadDistribution", "LOAD_ROUNDING_ULPS",
+           "palmgren_stiffness", "centrifugal_force", "race_compliances",
            "operating_clearance", "ELEMENT_DENSITY_KG_M3", "STEEL_EXPANSION_PER_K", "solve_row", "row_load_distribution",
            "load_zone_integral", "scene_load_distribution", "hertz_point_stiffness", "contact_law",
            "LINE_CONTACT_EXPONENT", "POINT_CONTACT_EXPONENT"]
@@ -120,6 +125,12 @@ def load_zone_integral(eps: float, n: float = 10.0 / 9.0) -> float:
     return quad(f, -lim, lim, limit=200)[0] / (2.0 * math.pi)
 
 
+#: Rounding of an element's compression, in machine epsilons of its terms' magnitude
+#: (:attr:`LoadDistribution.rounding_load`): a subtraction of two terms of size ``delta_r`` and
+#: a cosine rounded to an epsilon each stay well inside 8.
+LOAD_ROUNDING_ULPS = 8.0
+
+
 @dataclass(frozen=True)
 class LoadDistribution:
     """Solved load distribution of one row.
@@ -154,7 +165,7 @@ class LoadDistribution:
     psi: np.ndarray
     q: np.ndarray
     #: Centrifugal force of an element along the contact normal, ``F_c cos(alpha)`` (N); 0 = off.
-    centrifugal: float = 0.0
+    centrifugal: float = CENTRIFUGAL_OFF_N
     #: ``(delta, Q_i)`` nodes of the inner contact's load against the element's compression
     #: (with the centrifugal force only; :func:`_inner_load` solved exactly at each node).
     law_nodes: tuple | None = None
@@ -206,6 +217,42 @@ class LoadDistribution:
             q = np.interp(d, self.law_nodes[0], self.law_nodes[1], left=0.0)
         return q + self.centrifugal if race == "outer" else q
 
+    @property
+    def rounding_load(self) -> float:
+        """The element load (N) of a compression within the rounding of its computation.
+
+        The compression ``(delta_r cos psi - P_d/2) cos alpha`` is computed from terms of size
+        ``delta_r`` and ``P_d/2``; within :data:`LOAD_ROUNDING_ULPS` machine epsilons of them
+        it is zero computed badly (``delta_r cos(pi/2) = 6e-17 delta_r``: 2.3e-22 N at the
+        edge of a zero-clearance zone), not a load (issue 43).
+
+        Returns
+        -------
+        float
+            ``Q`` of that compression, N (the inner contact's; the centrifugal force is a real
+            load and is not part of it).
+        """
+        d = LOAD_ROUNDING_ULPS * np.finfo(float).eps * (abs(self.delta_r) + 0.5 * abs(
+            self.clearance)) * math.cos(self.contact_angle_rad)
+        if self.law_nodes is None:
+            return float(self.stiffness * d ** self.exponent)
+        return float(np.interp(d, self.law_nodes[0], self.law_nodes[1], left=0.0))
+
+    def loaded(self, q):
+        """Whether element loads ``q`` (N) are loads: above :attr:`rounding_load`.
+
+        Parameters
+        ----------
+        q : float or ndarray
+            Element loads, N (either contact's).
+
+        Returns
+        -------
+        bool or ndarray of bool
+            ``q > rounding_load``, shape of ``q``.
+        """
+        return np.asarray(q) > self.rounding_load
+
     def shape(self, psi):
         """``Q(psi) / Q_max``.
 
@@ -244,9 +291,10 @@ def _inner_load(delta, c_i: float, c_o: float, fc: float, n: float) -> np.ndarra
     return 0.5 * (lo + hi)
 
 
-def solve_row(force_row: float, n_rollers: int, contact_angle_deg: float = 0.0,
+def solve_row(force_row: float, n_rollers: int,
+              contact_angle_deg: float = RADIAL_CONTACT_ANGLE_DEG,
               clearance: float = 0.0, stiffness: float = 1e10, exponent: float = 10.0 / 9.0,
-              phase: float = 0.0, *, centrifugal: float = 0.0,
+              phase: float = 0.0, *, centrifugal: float = CENTRIFUGAL_OFF_N,
               compliances: tuple[float, float] | None = None) -> LoadDistribution:
     """Solve the radial equilibrium of one row for ``delta_r``.
 
@@ -302,7 +350,11 @@ def solve_row(force_row: float, n_rollers: int, contact_angle_deg: float = 0.0,
     while residual(hi) < 0:
         hi *= 2.0
         if hi > 1.0:
-            raise ValueError("load distribution: no equilibrium found (check stiffness/clearance)")
+            raise ValueError(
+                f"load distribution: no equilibrium found: the radial load {force_row:g} N per "
+                f"row needs a ring displacement over 1 m (contact_angle_deg {contact_angle_deg:g}, "
+                f"allowed: a radial bearing, <= 45 deg; clearance {clearance:g} m; stiffness "
+                f"{stiffness:g} N m^-n)")
     dr = brentq(residual, lo, hi, xtol=1e-18, rtol=1e-14, maxiter=500)
     nodes = None
     if centrifugal > 0:
@@ -440,8 +492,8 @@ def operating_clearance(bearing, *, shaft_interference_um: float = 0.0,
     large section narrows its raceway by ``I_h D_o / OD`` (``D_o = D + d``); an inner ring
     warmer than the outer by ``dT`` widens by ``a dT D_i`` against the outer
     (``a`` = :data:`STEEL_EXPANSION_PER_K`). Harris & Kotzalas (2007), vol. 1 ch. 8 (fits and
-    clearance); the fractions (0.80 and 0.87 for the 6205) lie in the 70-90 % that bearing
-    makers quote for the clearance taken up by a fit.
+    clearance); the fractions (0.804 and 0.903 for the 6205: 25/31.10 and 46.98/52) lie near the
+    70-90 % that bearing makers quote for the clearance taken up by a fit.
 
     Parameters
     ----------

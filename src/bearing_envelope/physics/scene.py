@@ -59,15 +59,17 @@ import os
 from dataclasses import dataclass
 from typing import Any, Mapping
 
-from .catalogue import bearing_values, designations, operation_values
+from .catalogue import bearing_values, designations, operation_values, resolve_designation
 from .geometry import defect_depth, read_defect_profile, read_profile
-from .kinematics import FaultFrequencies, fault_frequencies
+from .kinematics import FaultFrequencies, bearing_rates, fault_frequencies
+from .locations import FaultLocation, get_location, location_names
 
 __all__ = [
     "EndRelief", "Bearing", "MaterialProps", "Material", "Acquisition", "Operation", "Load",
     "Defect", "Scene", "ACQUISITION_MODES", "ROLLER_LOAD_MODELS", "BEARING_STEEL_HARDNESS_GPA",
     "DEFAULT_SCENE", "default_scene_mapping", "MAX_BAND_ORDER", "DEFECT_LOCATIONS", "DEFECT_SHAPES",
-    "BEARING_KINDS", "DEFAULT_GROOVE_CONFORMITY", "STUDY_DESIGNATION",
+    "BEARING_KINDS", "DEFAULT_GROOVE_CONFORMITY", "STUDY_DESIGNATION", "STEEL_E_GPA", "STEEL_NU",
+    "MAX_CONTACT_ANGLE_DEG", "WIDTH_PER_DEPTH", "default_width_um",
 ]
 
 #: The analysis needs bands up to 13 x BPFI (the study's 10-13 x BPFI band); fs must exceed
@@ -90,14 +92,19 @@ _BEARING_EXTRA = {
     "outer_groove_conformity": None,
 }
 
+#: Young's modulus (GPa) and Poisson ratio of through-hardened bearing steel (AISI 52100 /
+#: 100Cr6): both bodies' material when a config names none.
+STEEL_E_GPA = 210.0
+STEEL_NU = 0.3
+
 #: The default scene: the study's bearing from its catalogue entry (``designation`` null means
 #: this bearing) and the defaults of every other section, written here only (the config schema
 #: holds no scene default; ``tests/test_defaults.py``).
 DEFAULT_SCENE: dict[str, Any] = {
     "bearing": {**_BEARING_EXTRA, **bearing_values(STUDY_DESIGNATION), "designation": None},
     "material": {
-        "roller": {"E_GPa": 210.0, "nu": 0.3},
-        "race": {"E_GPa": 210.0, "nu": 0.3},
+        "roller": {"E_GPa": STEEL_E_GPA, "nu": STEEL_NU},
+        "race": {"E_GPa": STEEL_E_GPA, "nu": STEEL_NU},
         "hardness_GPa": None,
     },
     "operation": {
@@ -221,8 +228,8 @@ class EndRelief:
         Length of the logarithmic relief zone at each end (``kind = log``), mm, 0 < l < L/2.
     """
 
-    kind: str = "radius"
-    radius_mm: float | None = 1.0
+    kind: str
+    radius_mm: float | None
     drop_um: float | None = None
     length_mm: float | None = None
 
@@ -244,7 +251,7 @@ class Bearing:
     pitch_diameter_mm : float
         Pitch diameter ``D``, mm; ``None`` in the mapping means ``(bore + OD)/2``.
     contact_angle_deg : float
-        Contact angle ``alpha``, degrees, in [0, 90).
+        Contact angle ``alpha``, degrees, in [0, 45] (:data:`MAX_CONTACT_ANGLE_DEG`).
     roller_crown_radius_mm : float
         Roller profile (crown) radius ``c_r`` (convex), mm.
     raceway_profile_radius_mm : float
@@ -289,7 +296,7 @@ class Bearing:
     radial_clearance_um: float
     profile_file: str | None
     designation: str | None = None
-    kind: str = "roller"
+    kind: str = _BEARING_EXTRA["kind"]
     outer_raceway_profile_radius_mm: float | None = None
     inner_groove_conformity: float | None = None
     outer_groove_conformity: float | None = None
@@ -417,19 +424,15 @@ class Bearing:
 
         Parameters
         ----------
-        location : {"inner_race", "outer_race", "rolling_element"}
-            The defect location.
+        location : str or FaultLocation
+            The defect location (:func:`~bearing_envelope.physics.locations.get_location`).
 
         Returns
         -------
         float
-            Thickness, m.
+            Thickness, m (:meth:`FaultLocation.thickness_m`).
         """
-        d, pd = self.roller_diameter_mm, self.pitch_diameter_mm
-        mm = {"inner_race": 0.5 * (pd - d) - 0.5 * self.bore_mm,
-              "outer_race": 0.5 * self.outside_diameter_mm - 0.5 * (pd + d),
-              "rolling_element": 0.5 * d}[location]
-        return 1e-3 * mm
+        return get_location(location).thickness_m(self)
 
     @property
     def half_length_m(self) -> float:
@@ -441,11 +444,11 @@ class Bearing:
 class MaterialProps:
     """Young's modulus ``E_GPa`` (GPa) and Poisson ratio ``nu`` of one body."""
 
-    E_GPa: float = 210.0
-    nu: float = 0.3
+    E_GPa: float = STEEL_E_GPA
+    nu: float = STEEL_NU
 
 
-#: Indentation hardness of through-hardened bearing steel (AISI 52100 / 100Cr6, 60-62 HRC): the
+#: Indentation hardness of through-hardened bearing steel (AISI 52100 / 100Cr6, ~62 HRC): the
 #: Vickers hardness HV 10 = 750 kgf/mm^2 (ASTM E140: 61 HRC ~ 720 HV, 62 HRC ~ 746 HV) is
 #: HV * g = 7.36 GPa, the mean pressure under a Vickers indenter. An elastic-perfectly-plastic
 #: surface caps the contact pressure at it (``material.hardness_GPa``). ISO 76's 4.0 GPa (the
@@ -506,8 +509,8 @@ class Acquisition:
         Ignored for ``point``.
     """
 
-    mode: str = "antialiased"
-    oversample: int | str = "auto"
+    mode: str = DEFAULT_SCENE["operation"]["acquisition"]["mode"]
+    oversample: int | str = DEFAULT_SCENE["operation"]["acquisition"]["oversample"]
 
 
 @dataclass(frozen=True)
@@ -570,9 +573,9 @@ class Load:
     """
 
     value_N: float
-    mode: str = "bearing"
-    roller_load: str = "smooth"
-    centrifugal: bool = False
+    mode: str = DEFAULT_SCENE["load"]["mode"]
+    roller_load: str = DEFAULT_SCENE["load"]["roller_load"]
+    centrifugal: bool = DEFAULT_SCENE["load"]["centrifugal"]
 
     @property
     def load_kN(self) -> float:
@@ -613,8 +616,10 @@ class Defect:
     spin_axis : {"fixed", "wandering"}
         ``rolling_element`` only. ``fixed``: the defect lies on the element's rolling track and
         meets a race every half spin turn. ``wandering``: the element's orientation about its
-        centre is redrawn (uniform on the sphere, seeded) once per cage turn in the unloaded
-        zone (at 180 deg from the load direction); the defect meets a contact only while its
+        centre is redrawn (uniform on the sphere, seeded) once per cage turn where it is least
+        loaded (180 deg from the load direction) when its inner contact is unloaded there; an
+        element loaded all round (a preload) keeps its first orientation, its spin axis held by
+        the contacts; the defect meets a contact only while its
         axial distance from the track, ``(d/2) sin(latitude)``, is within the contact's axial
         semi-axis ``b(Q)`` (:func:`bearing_envelope.physics.locations.rolling_element_kinematics`).
     spin_seed : int
@@ -628,11 +633,11 @@ class Defect:
     edge_radius_um: float
     axial_position_mm: float
     orientation: str
-    location: str = "inner_race"
-    position_deg: float = 0.0
+    location: str = DEFAULT_SCENE["defect"]["location"]
+    position_deg: float = DEFAULT_SCENE["defect"]["position_deg"]
     profile_file: str | None = None
-    spin_axis: str = "fixed"
-    spin_seed: int = 0
+    spin_axis: str = DEFAULT_SCENE["defect"]["spin_axis"]
+    spin_seed: int = DEFAULT_SCENE["defect"]["spin_seed"]
 
     @property
     def extent_x_m(self) -> float:
@@ -647,6 +652,11 @@ class Defect:
     @property
     def active(self) -> bool:
         return self.depth_um > 0.0
+
+    @property
+    def fault_location(self) -> FaultLocation:
+        """The location object of :attr:`location` (:mod:`bearing_envelope.physics.locations`)."""
+        return get_location(self.location)
 
 
 @dataclass(frozen=True)
@@ -681,17 +691,16 @@ class Scene:
     @property
     def cage_rate_hz(self) -> float:
         """Cage rate used by the time history: ``f_r - BPFI/Z`` (= FTF without override), Hz."""
-        return self.operation.shaft_rate_hz - self.bpfi_hz / self.bearing.rollers_per_row
+        b = self.bearing   # the rates' one function (a stated BPFI sets the cage rate)
+        return bearing_rates(self.operation.shaft_rate_hz, b.rollers_per_row, b.roller_diameter_mm,
+                             b.pitch_diameter_mm, b.contact_angle_deg, bpfi=self.bpfi_hz)["ftf"]
 
     @property
     def defect_speed_m_s(self) -> float:
         """Speed (m/s) at which the defect sweeps through a contact: inner race
         ``2 pi (f_r - f_c) R_i`` (4.24 m/s in the default scene), outer race ``2 pi f_c R_o``,
         rolling element ``2 pi f_c R_o`` too (its surface rolls on the fixed outer race)."""
-        if self.defect.location == "inner_race":
-            return 2.0 * math.pi * (self.operation.shaft_rate_hz - self.cage_rate_hz) * \
-                self.bearing.inner_race_radius_m
-        return 2.0 * math.pi * self.cage_rate_hz * self.bearing.outer_race_radius_m
+        return self.defect.fault_location.speed_m_s(self)
 
     @property
     def n_samples(self) -> int:
@@ -762,8 +771,8 @@ class Scene:
                                        bearing.pitch_diameter_mm, bearing.contact_angle_deg)
         operation = _build_operation(m["operation"], scene_freq.bpfi, bearing.rollers_per_row)
         _check_override_bearing(operation, bearing)
-        if defect.location == "outer_race":
-            bearing = dataclasses.replace(bearing, contact_race="outer")
+        if defect.fault_location.contact_race != bearing.contact_race:
+            bearing = dataclasses.replace(bearing, contact_race=defect.fault_location.contact_race)
         return cls(bearing, material, operation, load, defect)
 
     def for_race(self, race: str) -> "Scene":
@@ -864,7 +873,9 @@ def _build_bearing(m: Mapping[str, Any]) -> Bearing:
     pd = 0.5 * (bore + od) if pd is None else _num(
         p + "pitch_diameter_mm", pd, lo=bore + d, hi=od - d,
         allowed=f"null or a number in [bore + d, OD - d] = [{bore + d:g}, {od - d:g}]")
-    alpha = _num(p + "contact_angle_deg", m["contact_angle_deg"], lo=0, hi=90, hi_open=True)
+    alpha = _num(p + "contact_angle_deg", m["contact_angle_deg"], lo=0, hi=MAX_CONTACT_ANGLE_DEG,
+                 allowed=f"a finite angle in [0, {MAX_CONTACT_ANGLE_DEG:g}] deg (a radial bearing: "
+                         f"the load distribution balances a radial load only)")
     if z * d >= math.pi * pd:
         raise _bad(p + "rollers_per_row", z,
                    f"rollers that fit on the pitch circle: Z * d < pi * D ({math.pi * pd / d:.1f})")
@@ -897,6 +908,16 @@ def _build_bearing(m: Mapping[str, Any]) -> Bearing:
     return Bearing(bore, od, d, z, rows, pd, alpha, cr, ci, length, relief, clearance, pf, **extra)
 
 
+#: Largest contact angle (deg) of the bearings the load distribution describes. It balances a
+#: radial load alone (:func:`bearing_envelope.physics.loads.solve_row`), each element carrying
+#: ``Q cos(alpha)`` of it: the ring's displacement grows as ``cos(alpha)^(-(n+1)/n)`` and has no
+#: solution at 90 deg (at 89.99 deg the 6205 at 1 kN would need a displacement over 1 m). ISO 76 /
+#: ISO 281 call a bearing radial up to 45 deg and a thrust bearing above, where the induced axial
+#: load exceeds the radial one and a radial-only equilibrium no longer describes the bearing; up
+#: to 45 deg the displacement is at most 2^((n+1)/(2n)) (1.8-1.9) times that at 0 deg.
+MAX_CONTACT_ANGLE_DEG = 45.0
+
+
 #: Largest radial clearance, as a fraction of the rolling-element diameter: ISO 5753 groups
 #: reach about 1 % (C5 of a large bearing), 5 % is a loose bearing; a clearance near the ball
 #: itself leaves one element carrying the load with no physical meaning.
@@ -919,6 +940,8 @@ def _build_kind_fields(m: Mapping[str, Any], d: float, cr: float, length: float)
     des = m["designation"]
     if des is not None and not isinstance(des, str):
         raise _bad(p + "designation", des, "null or a catalogue designation")
+    if des is not None:   # an alias (6205, SKF 6205) names the entry as the catalogue writes it
+        des = resolve_designation(des)
     kind = _choice(p + "kind", m["kind"], BEARING_KINDS)
     out: dict[str, Any] = {"designation": des, "kind": kind}
     co = m["outer_raceway_profile_radius_mm"]
@@ -984,8 +1007,9 @@ def _build_load(m: Mapping[str, Any], load_kN: float) -> Load:
     return Load(v * 1e3, mode, rl, cf)
 
 
-#: ``defect.location`` values.
-DEFECT_LOCATIONS = ("inner_race", "outer_race", "rolling_element")
+#: ``defect.location`` values built in (read at import, for the readers of before issue 44; the
+#: live table is :data:`bearing_envelope.physics.locations.LOCATIONS`).
+DEFECT_LOCATIONS = location_names()
 #: ``defect.spin_axis`` values (see :class:`Defect`).
 SPIN_AXES = ("fixed", "wandering")
 
@@ -995,33 +1019,61 @@ SPIN_AXES = ("fixed", "wandering")
 DEFECT_SHAPES = ("flat", "dent", "cylinder", "profile")
 
 
+#: A defect's width when ``defect.width_um`` is null, per unit of its depth (the source study's
+#: defects are twice as wide as they are deep).
+WIDTH_PER_DEPTH = 2.0
+
+
+def default_width_um(depth_um: float) -> float:
+    """The width of a defect whose ``width_um`` is null: :data:`WIDTH_PER_DEPTH` x depth.
+
+    Parameters
+    ----------
+    depth_um : float
+        Defect depth, um.
+
+    Returns
+    -------
+    float
+        Width, um.
+    """
+    return WIDTH_PER_DEPTH * depth_um
+
+
+def _names_where(attribute: str) -> str:
+    """The registered locations whose ``attribute`` is true, quoted, joined by ``or``."""
+    return " or ".join(repr(n) for n in location_names() if getattr(get_location(n), attribute))
+
+
 def _build_defect(m: Mapping[str, Any], depth_um: float, bearing: Bearing) -> Defect:
     p = "defect."
     depth = _num(p + "depth_um", depth_um, lo=0)
     shape = _choice(p + "shape", m["shape"], DEFECT_SHAPES)
     width = m["width_um"]
-    width = 2.0 * depth if width is None else _num(p + "width_um", width, lo=0, lo_open=True)
+    width = default_width_um(depth) if width is None else _num(p + "width_um", width, lo=0,
+                                                                  lo_open=True)
     # a cylindrical pit is round: its length is its diameter
     length = width if shape == "cylinder" else _num(p + "length_um", m["length_um"], lo=0,
                                                         lo_open=True)
     edge = _num(p + "edge_radius_um", m["edge_radius_um"], lo=0)
     ypos = _num(p + "axial_position_mm", m["axial_position_mm"])
     orient = _choice(p + "orientation", m["orientation"], ("axial", "circumferential"))
-    loc = _choice(p + "location", m["location"], DEFECT_LOCATIONS)
+    loc = _choice(p + "location", m["location"], location_names())
+    site = get_location(loc)
     pos = _num(p + "position_deg", m["position_deg"], lo=0, hi=360, hi_open=True,
                allowed="a finite angle in [0, 360) deg from the load direction (0 = centre of the "
                        "load zone)")
-    if pos != 0 and loc != "outer_race":
-        raise _bad(p + "position_deg", pos, f"0 unless defect.location is 'outer_race' (an "
-                   f"{loc.replace('_', ' ')} defect turns through the load zone; its angle "
+    if pos != 0 and not site.positioned:
+        raise _bad(p + "position_deg", pos, f"0 unless defect.location is "
+                   f"{_names_where('positioned')} (an {loc.replace('_', ' ')} defect turns through the load zone; its angle "
                    f"is not a setting)")
     pf = _defect_profile(m["profile_file"], shape)
     if depth > 0 and width <= 0:
         raise _bad(p + "width_um", width, "> 0 when depth_um > 0")
     spin = _choice(p + "spin_axis", m["spin_axis"], SPIN_AXES)
-    if spin != "fixed" and loc != "rolling_element":
-        raise _bad(p + "spin_axis", spin, f"'fixed' unless defect.location is 'rolling_element' "
-                   f"(got location {loc!r})")
+    if spin != "fixed" and not site.spins:
+        raise _bad(p + "spin_axis", spin, f"'fixed' unless defect.location is "
+                   f"{_names_where('spins')} (got location {loc!r})")
     d = Defect(depth, length, width, shape, edge, ypos, orient, loc, pos, pf, spin,
                _int(p + "spin_seed", m["spin_seed"], lo=0))
     if depth > 0:
@@ -1090,17 +1142,13 @@ def _check_defect_fits(d: Defect, bearing: Bearing) -> None:
     if abs(d.axial_position_mm) + 0.5 * ey_mm > half_l:
         raise _bad(p + "axial_position_mm", d.axial_position_mm,
                    f"|y| <= L/2 - axial extent/2 = {half_l - 0.5 * ey_mm:g} mm")
-    if d.location == "rolling_element":
-        room_mm, what = 0.5 * math.pi * bearing.roller_diameter_mm, "half the element's circumference"
-    else:
-        race = "inner" if d.location == "inner_race" else "outer"
-        room_mm = math.pi * 2e3 * bearing.race_radius_m(race) / bearing.rollers_per_row
-        room_mm, what = 0.5 * room_mm, f"half the element spacing on the {race} raceway"
+    room_m, what = d.fault_location.room_m(bearing)
+    room_mm = 1e3 * room_m
     if d.extent_x_m * 1e3 >= room_mm:
         field = "width_um" if d.orientation == "axial" else "length_um"
         raise _bad(p + field, getattr(d, field), f"a rolling-direction extent < {what} "
                    f"({room_mm:g} mm)")
-    t_um = 1e6 * bearing.race_thickness_m(d.location)
+    t_um = 1e6 * d.fault_location.thickness_m(bearing)
     if d.depth_um >= t_um:
         raise _bad(p + "depth_um", d.depth_um, f"a depth < the material under the {d.location} "
                    f"({t_um:g} um)")

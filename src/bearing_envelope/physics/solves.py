@@ -418,7 +418,9 @@ def contact_rows(scene: Scene, g0: np.ndarray, approach: float) -> tuple[int, in
     window's. The window spans the defect's reach across rolling (``xi_max s(Q)``): for the
     CWRU ball pit (0.18 mm against a 0.23 mm wide contact) about twice these rows.
     :func:`window_solve` checks every solve and solves the whole window where a row outside
-    would overlap. None (every row): the inner race, whose default sweep and
+    would overlap. None (every row): a location that solves every row
+    (:attr:`~bearing_envelope.physics.locations.FaultLocation.solves_every_row`: the inner
+    race, whose default sweep and
     discretisation-error model were computed on the whole window (the same solution, but not
     bit for bit: the convolutions' rounding differs), a defect-free scene, or rows that cover
     most of the window anyway.
@@ -437,7 +439,7 @@ def contact_rows(scene: Scene, g0: np.ndarray, approach: float) -> tuple[int, in
     tuple of (int, int) or None
         The rows, or None for every row.
     """
-    if scene.defect.location == "inner_race" or not scene.defect.active:
+    if scene.defect.fault_location.solves_every_row or not scene.defect.active:
         return None
     nz = np.flatnonzero((g0 < approach).any(axis=1))
     n = g0.shape[0]

@@ -29,11 +29,21 @@ import pandas as pd  # noqa: E402
 from matplotlib.colors import to_rgb  # noqa: E402
 
 from ..diagnosis.faults import display_name  # noqa: E402
+from ..diagnosis.plots import FIGURE_DPI  # noqa: E402
 from ..io import atomic_dir, read_case  # noqa: E402
-from ..physics.locations import LOCATION_FAMILIES  # noqa: E402
+from ..physics.locations import get_location  # noqa: E402
 from ..signal import spectral_kurtosis  # noqa: E402
 from .pipeline import case_fault_lines  # noqa: E402
 from .tables import public_mode  # noqa: E402
+
+#: What the peak-pressure figure's note says of the grid when the caller does not name it.
+GRID_NOTE = "stored in each case file"
+#: Harmonic orders of the amplitude-against-depth figure.
+ORDERS_VS_DEPTH = (1, 2)
+#: Fault periods shown by the time-history figure.
+TIME_HISTORY_PERIODS = 6.0
+#: The fault line a figure names when the caller does not (the inner race's, the study's).
+LINE_NAME = "BPFI"
 
 __all__ = [
     "STUDY_EXAMPLES",
@@ -80,7 +90,7 @@ def example_pairs(cases, study=STUDY_EXAMPLES) -> list[dict]:
     ----------
     cases : iterable
         The sweep's cases: objects with ``load_kN``, ``depth_um`` and ``name`` (e.g.
-        :class:`bearing_envelope.study.settings.CaseId`).
+        :class:`bearing_envelope.study.case_id.CaseId`).
     study : sequence of (load_kN, depth_um)
         Target cases; default :data:`STUDY_EXAMPLES` (250 kN / 15 um, 500 kN / 50 um,
         750 kN / 100 um).
@@ -136,7 +146,7 @@ def _note(fig, case, y=-0.02):
              fontsize=8, wrap=True, style="italic")
 
 
-def save_figure(fig, path: str | os.PathLike, dpi: int = 120) -> Path:
+def save_figure(fig, path: str | os.PathLike, dpi: int = FIGURE_DPI) -> Path:
     """Save ``fig`` as PNG through a temporary file and close it.
 
     Parameters
@@ -193,9 +203,21 @@ def _per_load(ax, df: pd.DataFrame, y: str, scale: float = 1.0, marker: str = "o
     ax.legend(title="load" if len(keys) == 1 else "load, location")
 
 
-#: The fault line the sweep tests for each defect location (:data:`bearing_envelope.physics.
-#: locations.LOCATION_FAMILIES`).
-LOCATION_LINE = {loc: display_name(fam) for loc, (fam, _) in LOCATION_FAMILIES.items()}
+def location_line(location: str) -> str:
+    """The display name of the fault line the sweep tests for a defect location (its
+    :attr:`~bearing_envelope.physics.locations.FaultLocation.family`).
+
+    Parameters
+    ----------
+    location : str
+        A registered ``defect.location``.
+
+    Returns
+    -------
+    str
+        E.g. ``BPFO``.
+    """
+    return display_name(get_location(location).family)
 
 #: Display names of the sweep's fault-family quantities (each location searches its own).
 FAMILY_TITLES = {"bpfi": "BPFI", "bpfo": "BPFO", "2bsf": "2xBSF"}
@@ -207,7 +229,7 @@ def _family_title(quantities, prefix: str) -> str:
     return " / ".join(FAMILY_TITLES.get(f, f) for f in fams) or "BPFI"
 
 
-def draw_peak_pressure(cases: pd.DataFrame, *, grid: str = "stored in each case file"):
+def draw_peak_pressure(cases: pd.DataFrame, *, grid: str = GRID_NOTE):
     """Fig. 6: peak contact pressure against depth, one line per load (whole contact and defect).
 
     ``grid`` is printed in the elastic/grid-dependence note under the panels.
@@ -243,7 +265,7 @@ def draw_peak_pressure(cases: pd.DataFrame, *, grid: str = "stored in each case 
     return fig
 
 
-def fig_peak_pressure(cases: pd.DataFrame, path, *, grid: str = "stored in each case file") -> Path:
+def fig_peak_pressure(cases: pd.DataFrame, path, *, grid: str = GRID_NOTE) -> Path:
     """Fig. 6 (:func:`draw_peak_pressure`) saved as PNG.
 
     Parameters
@@ -263,7 +285,7 @@ def fig_peak_pressure(cases: pd.DataFrame, path, *, grid: str = "stored in each 
     return save_figure(draw_peak_pressure(cases, grid=grid), path)
 
 
-def fig_harmonics_vs_depth(tidy: pd.DataFrame, band: str, path, *, orders=(1, 2)) -> Path:
+def fig_harmonics_vs_depth(tidy: pd.DataFrame, band: str, path, *, orders=ORDERS_VS_DEPTH) -> Path:
     """Figs 12-20: envelope harmonic amplitudes k x BPFI against depth, one line per load
     (k x each location's fault frequency, one line per location and load, in a location sweep).
 
@@ -460,7 +482,7 @@ def fig_pressure_maps(pairs, path) -> Path:
     return save_figure(draw_pressure_maps(pairs), path)
 
 
-def draw_time_histories(pairs, *, periods: float = 6.0):
+def draw_time_histories(pairs, *, periods: float = TIME_HISTORY_PERIODS):
     """Fig. 5: p_max(t), one shaft revolution and a zoom on the largest defect event.
 
     Parameters
@@ -513,7 +535,7 @@ def _darker(colour: str) -> tuple:
     return tuple(0.55 * c for c in to_rgb(colour))
 
 
-def fig_time_histories(pairs, path, *, periods: float = 6.0) -> Path:
+def fig_time_histories(pairs, path, *, periods: float = TIME_HISTORY_PERIODS) -> Path:
     """Fig. 5 (:func:`draw_time_histories`) saved as PNG.
 
     Parameters
@@ -539,7 +561,7 @@ def _spectra(spectra_file):
 
 
 def fig_raw_spectrum(spectra_file, case: str, fr: float, bpfi: float, path, *, fmax=None,
-                     line_name: str = "BPFI") -> Path:
+                     line_name: str = LINE_NAME) -> Path:
     """Fig. 7: raw amplitude spectrum of one case with k x fr and k x BPFI marked (``bpfi``:
     the case's fault frequency, named ``line_name``: BPFO, 2xBSF for other locations).
 
@@ -691,7 +713,7 @@ def fig_kurtogram(kurtogram_file, case: str, path, *, signal=None, fs=None, nper
 
 
 def fig_envelope_spectrum(spectra_file, case: str, band: str, fr: float, bpfi: float, path, *,
-                          n_harmonics: int = 3, n_sidebands: int = 2, line_name: str = "BPFI",
+                          n_harmonics: int, n_sidebands: int, line_name: str = LINE_NAME,
                           spacing_name: str = "fr") -> Path:
     """Fig. 11: envelope spectrum of one case and band, BPFI harmonics and fr sidebands marked
     (another location: its fault frequency ``bpfi`` named ``line_name`` and its sideband
@@ -758,7 +780,7 @@ def make_figures(*, harmonics, cases, bands, case_files, kurtogram_files, spectr
         ``{"defect": name, "healthy": name, "pairs": [{"load_kN", "healthy", "defect"}, ...]}``:
         the case drawn alone (Figs 7, 9, 11) and the pairs of Figs 4 and 5
         (:func:`example_pairs`).
-    analysis : bearing_envelope.study.settings.AnalysisSettings
+    analysis : bearing_envelope.study.sections.AnalysisSettings
         The config's ``analysis`` section, typed.
     outdir : path
         Output folder (replaced whole, :func:`bearing_envelope.io.atomic_dir`).
@@ -804,7 +826,8 @@ def make_figures(*, harmonics, cases, bands, case_files, kurtogram_files, spectr
             written.append(fig_envelope_spectrum(
                 spectra_files[example["defect"]], example["defect"], b.name, f_sb, f_line,
                 tmp / f"fig11_envelope_spectrum_{b.name}.png",
-                n_harmonics=analysis.harmonics, n_sidebands=analysis.sidebands,
+                n_harmonics=analysis.options.n_harmonics,
+                n_sidebands=analysis.options.n_sidebands,
                 spacing_name=display_name(sb_name), **line))
         for i, b in enumerate(analysis.bands):
             written.append(fig_harmonics_vs_depth(tidy, b.name, tmp / f"fig{12 + i:02d}_harmonics_{b.name}.png"))
@@ -828,7 +851,7 @@ def _fig_raw_terms(raw: pd.DataFrame, path) -> Path:
 
 
 def draw_diagnosability_map(g: pd.DataFrame, band: str, *, vmax: float | None = None,
-                            line_name: str = "BPFI"):
+                            line_name: str = LINE_NAME):
     """Heat map of the BPFI detection statistic of one band: one panel per load, depth x SNR
     cells coloured by the statistic (dB) and marked where detected. Panels share the SNR axis,
     labelled once, so no label runs into the next panel. ``line_name``: the fault line tested
@@ -906,7 +929,7 @@ def fig_diagnosability_maps(df: pd.DataFrame, outdir) -> list[Path]:
                                            tmp / f"diagnosability_{band}.png"))
         else:  # a location sweep: one map per band and location (its own fault line)
             for (band, loc), g in df.groupby(["band", "location"], sort=False):
-                name = f"{LOCATION_LINE[loc]} ({loc})"
+                name = f"{location_line(loc)} ({loc})"
                 written.append(save_figure(
                     draw_diagnosability_map(g, band, vmax=vmax, line_name=name),
                     tmp / f"diagnosability_{band}_{loc}.png"))

@@ -23,11 +23,13 @@ import numpy as np
 from collections.abc import Mapping
 from dataclasses import dataclass
 
+from ..diagnosis.detection import EXCLUDED_SIDEBANDS
 from ..physics.acquisition import auto_oversample
 from ..physics.loads import scene_load_distribution
 from ..physics.solves import window_spec
 from ..signal.kurtogram import max_kurtogram_level
-from .settings import DEFAULT_MAX_CASES, ConfigError
+from .config_read import ConfigError
+from .settings import DEFAULT_MAX_CASES
 
 __all__ = ["DEFAULT_LIMITS", "MIN_HARDNESS_GPA", "MAX_CASE_NAME_CHARS", "ResourceEstimate",
            "estimate_case", "check_case", "min_revolutions", "available_memory_bytes", "precheck",
@@ -330,7 +332,7 @@ MIN_BAND_BINS = 2
 
 #: Sidebands of the fault line excluded from the detection map's background (the default of
 #: :func:`bearing_envelope.diagnosis.detection.detection_statistic`, which the map uses).
-_MAP_SIDEBANDS = 3
+_MAP_SIDEBANDS = EXCLUDED_SIDEBANDS
 
 
 def _location_scenes(settings) -> dict:
@@ -413,13 +415,13 @@ def _check_band_widths(analysis, scene) -> None:
 def _map_background_problem(scene, revolutions: float) -> str | None:
     """Why the detection map could not test this scene's fault line at ``revolutions``."""
     from ..diagnosis.detection import background_mask, background_problem
-    from ..physics.locations import LOCATION_FAMILIES, scene_event_frequencies
+    from ..physics.locations import scene_event_frequencies
     from .pipeline import MAP_BACKGROUND, MAP_FMAX
 
     op = scene.operation
     n = int(math.ceil(revolutions / op.shaft_rate_hz * op.fs_hz))
     df = op.fs_hz / n
-    line = scene_event_frequencies(scene)[LOCATION_FAMILIES[scene.defect.location][0]]
+    line = scene.defect.fault_location.event_rate(scene_event_frequencies(scene))
     f = np.arange(int(MAP_FMAX * line / df) + 2) * df
     bg = background_mask(f, line, max(0.01 * line, 0.5 * df), MAP_BACKGROUND,
                          fr=op.shaft_rate_hz, sidebands=_MAP_SIDEBANDS)
@@ -468,7 +470,7 @@ def check_case(case, scene, fidelity, config: Mapping | None = None, analysis=No
 
     Parameters
     ----------
-    case : bearing_envelope.study.settings.CaseId
+    case : bearing_envelope.study.case_id.CaseId
         The case (its name's length is checked).
     scene : bearing_envelope.physics.scene.Scene
         The case's validated scene.
@@ -476,7 +478,7 @@ def check_case(case, scene, fidelity, config: Mapping | None = None, analysis=No
         The fidelity it will run at.
     config : mapping, optional
         A config mapping; only its ``limits:`` section is read.
-    analysis : bearing_envelope.study.settings.AnalysisSettings, optional
+    analysis : bearing_envelope.study.sections.AnalysisSettings, optional
         When given, the record must be long enough for the kurtogram
         (:func:`min_revolutions`).
 

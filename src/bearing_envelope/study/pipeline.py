@@ -31,11 +31,12 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from ..diagnosis import AnalysisOptions, analyze_signal
+from ..diagnosis import analyze_signal
 from ..diagnosis.detection import detection_statistic
 from ..io import BandLimits, Case, CaseBands, CaseSpectra
-from ..physics.locations import LOCATION_FAMILIES
-from ..physics.scene import DEFECT_LOCATIONS
+from ..physics.kinematics import spin_events
+from ..physics.locations import get_location
+from ..physics.scene import DEFAULT_SCENE
 from ..physics.transfer import (TransferModel, excitation_from_history, select_excitation,
                                 synthesize_acceleration)
 from ..signal import envelope_spectrum, fast_kurtogram, max_kurtogram_level, resolve_band
@@ -43,7 +44,8 @@ from ..signal.bands import clamp_band
 from .accuracy import ErrorModel, attach_errors
 from .accuracy import case_error_model as accuracy_case_error_model
 from .provenance import log_to
-from .settings import AnalysisSettings, CaseId
+from .case_id import CaseId
+from .sections import AnalysisSettings
 from .tables import TIDY_COLUMNS, TIDY_EXTRA_COLUMNS, tidy_from_analysis
 
 __all__ = ["AMPLITUDE_ESTIMATORS", "amplitude_estimator", "history_case", "case_signal", "case_frequencies", "case_location", "case_fault_lines",
@@ -62,7 +64,8 @@ AMPLITUDE_ESTIMATORS = {
 
 
 def amplitude_estimator(analysis: AnalysisSettings) -> str:
-    """``analysis.amplitude`` (default: AnalysisOptions'; the default sweep chooses ``interpolated``), checked.
+    """``analysis.amplitude``: the estimator of every line amplitude (AnalysisOptions'
+    ``interpolate``, checked there; the default sweep chooses ``interpolated``).
 
     Parameters
     ----------
@@ -73,21 +76,12 @@ def amplitude_estimator(analysis: AnalysisSettings) -> str:
     -------
     str
         A key of :data:`AMPLITUDE_ESTIMATORS` (``interpolated`` or ``peak_bin``).
-
-    Raises
-    ------
-    ValueError
-        Any other name.
     """
-    name = analysis.amplitude
-    if name not in AMPLITUDE_ESTIMATORS:
-        raise ValueError(f"analysis.amplitude: got {name!r}; allowed: "
-                         f"{' | '.join(AMPLITUDE_ESTIMATORS)}")
-    return name
+    return "interpolated" if analysis.options.interpolate else "peak_bin"
 
 
 def _case_id(case) -> str:
-    """The case's canonical name (:class:`bearing_envelope.study.settings.CaseId`)."""
+    """The case's canonical name (:class:`bearing_envelope.study.case_id.CaseId`)."""
 
     return CaseId.from_case(case).name
 
@@ -174,7 +168,7 @@ def case_location(case) -> str:
         ``inner_race``, ``outer_race`` or ``rolling_element``.
     """
     defect = (getattr(case, "scene", None) or {}).get("defect") or {}
-    return str(defect.get("location") or DEFECT_LOCATIONS[0])
+    return str(defect.get("location") or DEFAULT_SCENE["defect"]["location"])
 
 
 def case_fault_lines(case) -> tuple[dict[str, float], dict[str, tuple[str, float]] | None]:
@@ -182,8 +176,8 @@ def case_fault_lines(case) -> tuple[dict[str, float], dict[str, tuple[str, float
 
     Inner race: ``{"bpfi": BPFI used}`` with the default fr sidebands (today's analysis);
     outer race: ``{"bpfo": Z f_c}`` with fr sidebands as a check; rolling element:
-    ``{"bsf2": 2 BSF}`` with FTF sidebands (:data:`bearing_envelope.physics.locations.
-    LOCATION_FAMILIES`). The rates are those the case file states (:func:`case_frequencies`:
+    ``{"bsf2": 2 BSF}`` with FTF sidebands (the location's :meth:`~bearing_envelope.physics.
+    locations.FaultLocation.fault_lines`). The rates are those the case file states (:func:`case_frequencies`:
     the history's own event rates).
 
     Parameters
@@ -198,13 +192,9 @@ def case_fault_lines(case) -> tuple[dict[str, float], dict[str, tuple[str, float
     sideband_spacing : dict or None
         ``family -> (spacing name, Hz)``; None for the inner race (the default spacing).
     """
-    loc = case_location(case)
-    if loc == DEFECT_LOCATIONS[0]:
-        return {"bpfi": float(case.bpfi)}, None
     ev = case_frequencies(case)
-    ev["bsf2"] = 2.0 * ev["bsf"]
-    family, spacing = LOCATION_FAMILIES[loc]
-    return {family: ev[family]}, {family: (spacing, ev[spacing])}
+    ev["bsf2"] = spin_events(ev["bsf"])
+    return get_location(case_location(case)).fault_lines(ev)
 
 
 def _fundamental(case) -> float:
@@ -214,12 +204,10 @@ def _fundamental(case) -> float:
 
 def _kurtogram(x, fs, analysis: AnalysisSettings):
 
-    nlevel = min(analysis.nlevel, max_kurtogram_level(x.size))
-    return fast_kurtogram(
-        x - x.mean(), fs, nlevel,
-        max_level=analysis.max_level,
-        min_bandwidth=analysis.min_bandwidth_hz,
-    )
+    opt = analysis.options
+    nlevel = min(opt.nlevel, max_kurtogram_level(x.size))
+    return fast_kurtogram(x - x.mean(), fs, nlevel, max_level=opt.max_level,
+                          min_bandwidth=opt.min_bandwidth)
 
 
 def case_bands(case, analysis: AnalysisSettings) -> tuple[CaseBands, Any]:
@@ -318,11 +306,9 @@ def case_harmonics(case, analysis: AnalysisSettings, bands, *, full_output: bool
     strategies = {b.name: b.strategy for b in bands.bands}
     clamped = {b.name: b.clamped for b in bands.bands}
     faults, spacing = case_fault_lines(case)
-    options = AnalysisOptions(
-        bands=specs, n_harmonics=analysis.harmonics, n_sidebands=analysis.sidebands,
-        n_raw_harmonics=analysis.raw_orders_fr, nlevel=None,
-        filter_order=analysis.filter_order, squared=analysis.squared_envelope,
-        sideband_spacing=spacing, interpolate=estimator == "interpolated")
+    # the section's options, with the case's bands as fixed limits (no kurtogram run here)
+    options = dataclasses.replace(analysis.options, bands=specs, nlevel=None, max_level=None,
+                                  min_bandwidth=None, sideband_spacing=spacing)
     res = analyze_signal(x, fs, fr=float(case.fr), fault_frequencies=faults, options=options,
                          full_output=full_output)
     df, extra = (res if full_output else (res, None))
@@ -398,7 +384,7 @@ def case_envelope(case, analysis: AnalysisSettings, bands) -> tuple[pd.DataFrame
         ``(harmonics + 1.5) x BPFI`` (:data:`SPECTRA_MARGIN_ORDERS`).
     """
     df, extra = case_harmonics(case, analysis, bands, full_output=True)
-    fmax = (analysis.harmonics + SPECTRA_MARGIN_ORDERS) * _fundamental(case)
+    fmax = (analysis.options.n_harmonics + SPECTRA_MARGIN_ORDERS) * _fundamental(case)
     env = {}
     for name, b in extra["bands"].items():
         keep = b["f"] <= fmax
@@ -652,8 +638,8 @@ def _record_tests(case, sensor: TransferModel, analysis: AnalysisSettings, setup
         bands = diagnosability_bands(case, sensor, analysis, record=acc)
     out = []
     for spec, lo, hi in bands:
-        f, a = envelope_spectrum(acc, fs, (lo, hi), order=analysis.filter_order,
-                                 squared=analysis.squared_envelope,
+        f, a = envelope_spectrum(acc, fs, (lo, hi), order=analysis.options.filter_order,
+                                 squared=analysis.options.squared,
                                  fmax_hz=MAP_FMAX * _fundamental(case))
         d = detection_statistic(f, a, _fundamental(case), fr=float(case.fr),
                                 background=MAP_BACKGROUND, level="two_sided")
@@ -662,7 +648,7 @@ def _record_tests(case, sensor: TransferModel, analysis: AnalysisSettings, setup
 
 
 def case_diagnosability(case, sensor: TransferModel, analysis: AnalysisSettings,
-                        snr_db, *, reference=None, kurtogram_from: str = "clean") -> pd.DataFrame:
+                        snr_db, *, kurtogram_from: str, reference=None) -> pd.DataFrame:
     """Is BPFI detected in the synthetic acceleration of a case, per SNR and band strategy?
 
     The case's contact history goes through the transfer path of ``sensor`` (modes, noise at
@@ -677,7 +663,7 @@ def case_diagnosability(case, sensor: TransferModel, analysis: AnalysisSettings,
     case : bearing_envelope.io.Case
     sensor : bearing_envelope.physics.transfer.TransferModel
         The config's ``sensor`` section, typed.
-    analysis : bearing_envelope.study.settings.AnalysisSettings
+    analysis : bearing_envelope.study.sections.AnalysisSettings
         The config's ``analysis`` section, typed.
     snr_db : sequence of float
         SNR levels (dB). Every level uses the same noise realisation (seed ``sensor.seed``),
@@ -693,7 +679,8 @@ def case_diagnosability(case, sensor: TransferModel, analysis: AnalysisSettings,
         is that of the whole response.
     kurtogram_from : {"clean", "record"}
         Where the bands come from (:func:`diagnosability_bands`): once per case from the
-        noise-free acceleration (default), or the kurtogram of each noisy record.
+        noise-free acceleration (the config's default, ``diagnosability.kurtogram_from``), or
+        the kurtogram of each noisy record.
 
     Returns
     -------
@@ -736,7 +723,7 @@ def _trial_seed(base: int, case, trial: int, snr: float) -> int:
 
 
 def case_false_alarms(case, sensor: TransferModel, analysis: AnalysisSettings, snr_db,
-                      n_trials: int, *, reference=None, kurtogram_from: str = "clean") -> pd.DataFrame:
+                      n_trials: int, *, kurtogram_from: str, reference=None) -> pd.DataFrame:
     """Measured false alarms of the detection map on a healthy case: ``n_trials`` noise
     realisations per SNR, each tested in every band exactly as :func:`case_diagnosability`
     tests the map's cells (same bands, same noise definition), each trial with its own noise:

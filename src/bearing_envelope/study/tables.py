@@ -40,7 +40,7 @@ from ..io import public_mode as _io_public_mode
 from ..io import write_csv_atomic as _io_write_csv_atomic
 from ..io.vocabulary import (BAND_STRATEGIES, QUANTITIES, RAW_BAND, TIDY_COLUMNS,  # noqa: F401
                          TIDY_EXTRA_COLUMNS, TIDY_SORT, quantity_name)
-from .settings import CaseId, format_number
+from .case_id import CaseId, format_number
 
 
 def tidy_from_analysis(table: pd.DataFrame, strategies: Mapping[str, str] | None = None
