@@ -64,8 +64,7 @@ __all__ = ["TransferPath", "NoImpulsesError", "identify_path", "background_noise
            "MIN_EVENTS", "DEFAULT_PFA", "EVENT_PFA", "MAX_LEVEL", "MODE_PFA", "MODE_FLOOR",
            "MAX_MODES", "IDENT_TOL", "MIN_BACKGROUND"]
 
-#: Fewest detected events an identification accepts (a record shorter than this many periods
-#: of the event rate is refused before any work).
+#: Fewest periods of the slowest event rate a record must hold (refused before any work).
 MIN_EVENTS = 20
 #: False-alarm probability of the event-rate line over all candidate rates.
 DEFAULT_PFA = 0.001
@@ -314,7 +313,8 @@ def identify_path(x, fs: float, event_rates: dict, *, background=None,
     ValueError
         Bad input, or a record too short for :data:`MIN_EVENTS` periods (one line).
     NoImpulsesError
-        No event-rate line above the threshold, or fewer than :data:`MIN_EVENTS` events.
+        No event-rate line above the threshold, or events that add no significant power at
+        their peak averaged over every period.
     """
     fs = check_fs(fs)
     x = check_signal(x, "x", min_length=16)
