@@ -50,6 +50,8 @@ REGISTRY: dict[str, str] = {
                       "fidelity (CWRU 6205 pits), the defects' scales (CWRU pits, default sweep)",
     "dynamics_cost": "dynamic bearing model: RK4 numba against solve_ivp (accuracy, CPU), the "
                      "step rule's envelope-line convergence, CPU of a 12 kHz record",
+    "identify_path_truth": "identify-path on synthetic records of known f_n, zeta, gain and "
+                           "background at partial detection: within tolerance / flagged / wrong",
 }
 
 #: Benchmarks of work in flight, registered as soon as their module is in this folder (each

@@ -170,13 +170,84 @@ def test_path_without_modes_reads_as_its_one_mode():
 
 
 def test_background_far_from_the_resonance_is_the_noise_floor():
-    """Strong ringing at 2 kHz over a weak white floor: the background read between the events
-    holds the floor's PSD far from the resonance (a rectangular gate would spread the ringing's
-    power over the band through its edges)."""
-    noise = 0.05
-    x = _record(f_n=2000.0, zeta=0.05, gain=100.0, area=1e-3, noise=noise)
-    p = identify_path(x, FS, RATES)
+    """Ringing at 2 kHz 28 dB over a weak white floor, 60 events a second, so that stretches
+    free of it lie between the events: the background read there holds the floor's PSD far
+    from the resonance (a rectangular gate would spread the ringing's power over the band
+    through its edges)."""
+    noise, rate = 0.05, 60.0
+    n = int(4 * FS)
+    x = _ringing(n, FS, np.arange(0.01, 3.99, 1 / rate), 1e-3, 2000.0, 0.05, 1.0)
+    x = x + noise * np.random.default_rng(2).standard_normal(n)
+    p = identify_path(x, FS, {"bpfo": rate})
+    assert p.background_source == "record" and "background" not in p.not_identified
     f, psd = np.asarray(p.background_freq_hz), np.asarray(p.background_psd)
     far = (f > 4500.0) & (f < 5800.0)
     white = 2 * noise ** 2 / FS                      # one-sided PSD of the white floor
     assert 10 * np.log10(psd[far].mean() / white) == pytest.approx(0.0, abs=1.5)
+
+
+# ------------------------------------------------ issue 43: partial detection, light damping
+def _train(f_n, zeta, amplitude, noise, seconds=4.0, seed=7, jitter=0.003):
+    """107 Hz impulses (each time jittered by ``jitter`` of a period) whose ringing starts at
+    ``amplitude``, plus white noise; returns the record and the resonator's gain for
+    impulses of area 1e-3."""
+    rng = np.random.default_rng(seed)
+    period = 1 / 107.0
+    times = np.arange(0.004, seconds - 0.004, period)
+    times = times + jitter * period * rng.standard_normal(times.size)
+    wn = 2 * math.pi * f_n
+    gain = amplitude / (1e-3 * 2 * zeta * wn)
+    n = int(seconds * FS)
+    x = _ringing(n, FS, times, 1e-3, f_n, zeta, gain) + noise * rng.standard_normal(n)
+    return x, gain
+
+
+@pytest.mark.parametrize("seed", [1, 2, 3])
+def test_a_lightly_damped_mode_under_noise_is_found(seed):
+    """zeta 0.015 at 3 kHz, noise sigma 0.5: the kurtogram's best cell was noise (4-6 kHz)
+    and the record was refused; the band is the one holding the event rate's line."""
+    x, gain = _train(3000.0, 0.015, 1.0, 0.5, seed=seed)
+    p = identify_path(x, FS, RATES)
+    assert p.event_name == "bpfo"
+    assert p.band_hz[0] < 3000.0 < p.band_hz[1]
+    assert p.f_n_hz == pytest.approx(3000.0, rel=0.02)
+    assert p.zeta == pytest.approx(0.015, rel=0.1) or "zeta" in p.not_identified
+
+
+@pytest.mark.parametrize("f_n, zeta, amplitude, noise", [(3000.0, 0.03, 0.6, 0.4),
+                                                         (2660.0, 0.02, 0.5, 0.3),
+                                                         (3000.0, 0.05, 0.9, 0.4)])
+def test_partial_detection_gives_unbiased_damping_and_gain(f_n, zeta, amplitude, noise):
+    """A minority of the events stand out one by one: averaging over the detected ones read
+    zeta 0.03 as 0.034-0.049 and the amplitude 10-20 % high; every period's event, on the
+    track of the rate's line, gives both within 10 % (or flags them)."""
+    x, gain = _train(f_n, zeta, amplitude, noise, seconds=8.0)
+    p = identify_path(x, FS, RATES)
+    assert p.n_events < 0.6 * p.n_periods
+    # each within 10 %, or listed as not identified (its standard error over subsets of the
+    # events says so) and then still within 20 %
+    for name, got, true in (("zeta", p.zeta, zeta), ("gain", p.mode(1e-3).gain, gain)):
+        err = abs(got / true - 1)
+        assert err <= 0.1 or (name in p.not_identified and err <= 0.2), (name, got, true)
+
+
+def test_background_when_the_events_ring_through_every_period():
+    """zeta 0.015 at 2.66 kHz: the ringing fills every period, no stretch between the events
+    is long enough; the background was read from a few stretches, one holding an undetected
+    event (+68 % rms, source 'record', no flag). Now the record's spectrum less the events'
+    modelled one, within 25 %, the resonance's part flagged as not identified."""
+    noise = 0.2
+    x, _ = _train(2660.0, 0.015, 2.4, noise, seconds=8.0)
+    p = identify_path(x, FS, RATES)
+    assert p.background_rms == pytest.approx(noise, rel=0.25)
+    assert p.background_source != "record" and "background" in p.not_identified
+    assert any(f.startswith("background not identified") for f in p.flags)
+
+
+def test_not_identified_round_trips_and_defaults_to_empty():
+    x, _ = _train(3000.0, 0.03, 1.2, 0.3, seconds=3.0)
+    p = identify_path(x, FS, RATES)
+    assert TransferPath.from_dict(json.loads(p.to_json())) == p
+    d = p.to_dict()
+    del d["not_identified"]  # a path written before it was reported
+    assert TransferPath.from_dict(d).not_identified == []

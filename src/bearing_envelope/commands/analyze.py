@@ -560,7 +560,8 @@ def library_arguments(args) -> dict:
             "faults": args.faults, "options": args.options,
             "fixed_band": args.fixed_band, "clamp": args.clamp, "names": OPTION_NAMES,
             "reader": partial(read_task, column=args.column, channel=args.channel,
-                              signal=args.signal, delimiter=delim, decimal=args.decimal)}
+                              signal=args.signal, delimiter=delim, decimal=args.decimal,
+                              fs=args.fs)}
 
 
 def analyze_record(task: dict, args, library: dict):

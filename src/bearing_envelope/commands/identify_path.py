@@ -1,11 +1,12 @@
 """``bearing-envelope identify-path``: the transfer path a record's fault impulses excite.
 
-Reads a measured record (the formats of ``analyze``), finds the resonance band (fast kurtogram),
-the event rate among the bearing's BPFO, BPFI, BSF and 2 x BSF (or --event-hz) on the band's
-envelope spectrum, the events themselves, and fits the mode they ring (natural frequency,
-damping from the decay of the averaged impulse envelope, amplitude per event) and the
-background spectrum (the record with its events gated out, or --background, a healthy record
-of the same machine). Writes the result as JSON (bearing_envelope.diagnosis.transfer_path).
+Reads a measured record (the formats of ``analyze``), finds the resonance band (the fast
+kurtogram's cell whose envelope spectrum holds the strongest line at the bearing's BPFO, BPFI,
+BSF or 2 x BSF, or --event-hz), every period's event on that line's track, and fits the mode
+they ring (natural frequency, damping from the decay of the averaged impulse envelope,
+amplitude per event) and the background spectrum (the record with its events gated out, or
+--background, a healthy record of the same machine). What the record does not identify is
+flagged (warning lines). Writes the result as JSON (bearing_envelope.diagnosis.transfer_path).
 A record without periodic impulses, or too short, is refused with one line. See
 docs/virtual_rig.md.
 
@@ -108,7 +109,7 @@ def run(args) -> int:
     from bearing_envelope.diagnosis.transfer_path import identify_path
     from bearing_envelope.io.records import read_record
 
-    rec = read_record(args.record, column=args.column)
+    rec = read_record(args.record, column=args.column, fs=args.fs)
     fs = args.fs or rec.get("fs")
     if not fs:
         raise ValueError("--fs: the file gives no sampling rate; pass --fs (Hz)")
@@ -116,7 +117,7 @@ def run(args) -> int:
     rates = event_rates(args, fr)
     bg = None
     if args.background is not None:
-        bg_rec = read_record(args.background, column=args.column)
+        bg_rec = read_record(args.background, column=args.column, fs=args.fs)
         if bg_rec.get("fs") not in (None, fs):
             raise ValueError(f"--background: fs {bg_rec['fs']:g} Hz; allowed: the record's "
                              f"{fs:g} Hz")
@@ -131,6 +132,9 @@ def run(args) -> int:
             fh.write(text + "\n")
     for flag in path.flags:
         print(f"bearing-envelope identify-path: warning: {flag}", file=sys.stderr)
+    if path.not_identified:
+        print(f"bearing-envelope identify-path: warning: not identified: "
+              f"{', '.join(path.not_identified)}", file=sys.stderr)
     print(f"# {path.event_name} {path.event_hz:.2f} Hz, {path.n_events} events; band "
           f"{path.band_hz[0]:.0f}-{path.band_hz[1]:.0f} Hz; f_n {path.f_n_hz:.0f} Hz, zeta "
           f"{path.zeta:.4f} ({path.zeta_range[0]:.4f}-{path.zeta_range[1]:.4f}); amplitude "

@@ -4,18 +4,22 @@ A fault impulse (a ball meeting a pit) rings the structure between the bearing a
 accelerometer; the record holds that ringing, repeated at the fault's event rate, on top of the
 machine's background. :func:`identify_path` recovers, from the record alone:
 
-1. **The resonance band**: the fast kurtogram's best band (Antoni 2007), its level limited so
-   that the band is wide enough to show the decay (:data:`MAX_LEVEL`).
-2. **The event rate and the events**: the envelope spectrum of that band must hold a line at
-   one of the candidate event rates (the bearing's BPFO, BPFI, BSF, 2 x BSF, or one given),
-   above the exact detection threshold of :func:`bearing_envelope.diagnosis.detection.threshold_db`
-   at :data:`DEFAULT_PFA`; else nothing is identified (:class:`NoImpulsesError`). The events are
-   the envelope maxima, one per period of that rate, above the Rayleigh bound of the
-   band's background at :data:`EVENT_PFA` per period.
-3. **Damping and natural frequency**: the squared envelopes of the events, aligned on their
-   peaks and averaged (the background's power subtracted), decay as the mode's envelope seen
-   through the same band-pass; ``zeta`` is fitted to that decay with the filter in the model
-   (a 1-D least-squares fit of a damped sine, band-passed and demodulated like the record).
+1. **The resonance band and the event rate**: the fast kurtogram's best cell (Antoni 2007) at a
+   level wide enough to show the decay (:data:`MAX_LEVEL`), when its envelope spectrum holds a
+   line at one of the candidate event rates (the bearing's BPFO, BPFI, BSF, 2 x BSF, or one
+   given) over the exact detection threshold of
+   :func:`bearing_envelope.diagnosis.detection.threshold_db` at :data:`DEFAULT_PFA`; else the
+   cell whose line stands highest over that threshold, the probability then shared over the
+   cells searched too (kurtosis alone picked a noise band for a lightly damped mode); no line
+   over it: nothing is identified (:class:`NoImpulsesError`).
+2. **The events**: every period's, detected one by one or not, on the track of that line's
+   phase (:func:`_event_track`). The envelope maxima above the Rayleigh bound of the band's
+   background (:data:`EVENT_PFA` per period) are counted (``n_events``), not selected:
+   averaging over them alone biased zeta and the amplitude up at partial detection.
+3. **Damping and natural frequency**: the squared envelope averaged over every period's event
+   must hold the events' power at their peak (significant at :data:`DEFAULT_PFA`), and decays
+   as the mode's envelope seen through the same band-pass; ``zeta`` is fitted to that decay
+   past the peak with the filter and the earlier events' tails in the model (:func:`_fit_zeta`).
    ``f_n`` is the peak of the events' averaged spectrum over the background's, in the band.
    **More than one mode**: every further peak of that spectrum (the power the events add) that
    stands above its saddle by more than the false-alarm bound :data:`MODE_PFA` (the prominence
@@ -23,10 +27,16 @@ machine's background. :func:`identify_path` recovers, from the record alone:
    is a mode of its own, fitted like the first in a band centred on it (narrowed to half the
    distance to the next mode); a record whose second peak is not significant keeps one mode.
 4. **Amplitude**: the initial amplitude ``a`` of the mode's response to one event (record
-   units), from the same fit. With an excitation impulse of area ``A`` (N s, say) the mode's
-   gain at resonance is ``a / (A 2 zeta omega_n)`` (:meth:`TransferPath.mode`).
-5. **Background**: the power spectral density of the record with the events gated out (Welch),
-   or of a healthy record of the same machine when one is given.
+   units, rms over every period's event), from the same fit. With an excitation impulse of
+   area ``A`` (N s, say) the mode's gain at resonance is ``a / (A 2 zeta omega_n)``
+   (:meth:`TransferPath.mode`). zeta and the gain whose standard error over
+   :data:`SUBSETS` subsets of the events exceeds half of :data:`IDENT_TOL` are flagged and
+   listed in ``not_identified``.
+5. **Background**: the power spectral density of the record between its events (every
+   period's gated), when that leaves :data:`MIN_BACKGROUND` samples; else the record's less
+   the events' modelled spectrum, interpolated across the modes where the events make most
+   of the power (flagged, ``not_identified``); or of a healthy record of the same machine
+   when one is given.
 
 The result (:class:`TransferPath`) is JSON-serialisable, so that a simulated excitation can be
 made a record of that machine (:meth:`TransferPath.mode`, :func:`background_noise`).
@@ -39,7 +49,7 @@ import math
 from dataclasses import asdict, dataclass, field
 
 import numpy as np
-from scipy import optimize, signal as sps, stats
+from scipy import ndimage, optimize, signal as sps, stats
 
 from ..physics.transfer import Mode
 from ..signal.envelope import bandpass
@@ -52,10 +62,9 @@ UNIT_IMPULSE_AREA = 1.0
 
 __all__ = ["TransferPath", "NoImpulsesError", "identify_path", "background_noise",
            "MIN_EVENTS", "DEFAULT_PFA", "EVENT_PFA", "MAX_LEVEL", "MODE_PFA", "MODE_FLOOR",
-           "MAX_MODES"]
+           "MAX_MODES", "IDENT_TOL", "MIN_BACKGROUND"]
 
-#: Fewest detected events an identification accepts (a record shorter than this many periods
-#: of the event rate is refused before any work).
+#: Fewest periods of the slowest event rate a record must hold (refused before any work).
 MIN_EVENTS = 20
 #: False-alarm probability of the event-rate line over all candidate rates.
 DEFAULT_PFA = 0.001
@@ -79,8 +88,12 @@ FILTER_ORDER = 4
 WELCH_SEGMENT = 1024
 #: Shortest stretch between events the background spectrum is read from (samples).
 MIN_GAP = 64
-#: The decay is fitted from the peak down to this fraction of the peak's amplitude.
+#: A further mode must add at least DECAY_FLOOR squared of the first's power (the decay fit's
+#: floor when it was read from the peak down to this fraction of the peak's amplitude).
 DECAY_FLOOR = 0.1
+#: zeta is fitted on the decay from this many samples after the averaged events' peak (the
+#: peak itself is rounded off by the events' timing scatter).
+DECAY_FROM = 2
 #: False-alarm probability of a further mode: over the resolution cells searched (Bonferroni),
 #: a peak of the power the events add whose prominence over its standard error (across the
 #: events) exceeds the normal quantile is a mode, not the spread of noise.
@@ -90,6 +103,25 @@ MODE_PFA = 0.001
 MODE_FLOOR = DECAY_FLOOR ** 2
 #: Most modes identified from one record (the strongest first).
 MAX_MODES = 4
+#: The event track (:func:`_event_track`) averages the envelope's line at the event rate over
+#: enough periods for the line to stand this far over its floor (dB, power) ...
+TRACK_SNR_DB = 20.0
+#: ... and over at least this many periods.
+TRACK_PERIODS = 16
+#: Interleaved subsets of the events whose fits give the standard errors of zeta and gain.
+SUBSETS = 4
+#: A quantity is identified when twice its standard error is within this (relative); else it
+#: is flagged and listed in ``not_identified``.
+IDENT_TOL = 0.10
+#: Where the events dominate within this many half bandwidths (zeta f_n) of a mode, plus one
+#: event rate, the background is interpolated across; a real ringing's far tails are no
+#: damped cosine's (its force has a finite rise time): where the events' modelled spectrum
+#: makes most of the record's farther off, half the record's power is the background (flagged).
+MODE_SPAN = 5.0
+#: Fewest samples between the events the background is read from (4 Welch segments); fewer,
+#: and the background is the record's spectrum less the events' modelled one (flagged where
+#: the events make most of it).
+MIN_BACKGROUND = 4 * WELCH_SEGMENT
 
 
 class NoImpulsesError(ValueError):
@@ -117,7 +149,8 @@ class TransferPath:
     threshold_db : float
         Detection threshold of the line, dB.
     n_events, n_periods : int
-        Events detected, periods searched.
+        Events detected one by one (above the background's bound), periods searched; every
+        period's event is averaged, detected or not.
     f_n_hz : float
         Natural frequency of the excited mode, Hz.
     zeta : float
@@ -144,6 +177,12 @@ class TransferPath:
     modes_rejected : list of dict
         Significant peaks that gave no mode (``f_n_hz``, ``reason``: damping at the fit's
         bound, no power above the background at the events' peak).
+    not_identified : list of str
+        Quantities of the first mode the record does not identify within :data:`IDENT_TOL`
+        (``zeta``, ``gain``: twice their standard error over :data:`SUBSETS` subsets of the
+        events exceeds it, or zeta sits at the fit's bound; ``background``: the events make
+        most of the record's power at the resonance); each also has its line in ``flags``.
+        Empty in a path written before this was reported.
     """
 
     fs_hz: float
@@ -166,6 +205,7 @@ class TransferPath:
     flags: list = field(default_factory=list)
     modes: list = field(default_factory=list)
     modes_rejected: list = field(default_factory=list)
+    not_identified: list = field(default_factory=list)
 
     def mode(self, impulse_area: float = UNIT_IMPULSE_AREA) -> Mode:
         """The mode whose response to an impulse of area ``impulse_area`` starts at
@@ -273,7 +313,8 @@ def identify_path(x, fs: float, event_rates: dict, *, background=None,
     ValueError
         Bad input, or a record too short for :data:`MIN_EVENTS` periods (one line).
     NoImpulsesError
-        No event-rate line above the threshold, or fewer than :data:`MIN_EVENTS` events.
+        No event-rate line above the threshold, or events that add no significant power at
+        their peak averaged over every period.
     """
     fs = check_fs(fs)
     x = check_signal(x, "x", min_length=16)
@@ -286,44 +327,36 @@ def identify_path(x, fs: float, event_rates: dict, *, background=None,
                          f"({MIN_EVENTS / slowest:.3g} s)")
     kg = fast_kurtogram(x, fs, min(8, max_kurtogram_level(x.size)), max_level=MAX_LEVEL)
     f_low = MIN_BAND_ORDER * max(rates.values())
-    band0, kurt = _resonance_band(kg, f_low, fs)
-    env0 = np.abs(sps.hilbert(bandpass(x, fs, band0, order=FILTER_ORDER)))
-    name, hz, line_db, thr = _event_line(env0, fs, rates)
-    peaks0, _ = _events(env0, fs, hz, band0)
-    if peaks0.size < MIN_EVENTS:
-        raise NoImpulsesError(f"x: {peaks0.size} events above the background in "
-                              f"{int(x.size * hz / fs)} periods of {name} {hz:.4g} Hz; "
-                              f"allowed: >= {MIN_EVENTS}")
-    n_post = max(int(0.45 * fs / hz), 4)
-    f_n, extra = _mode_peaks(x, peaks0, fs, (f_low, F_MAX * fs), n_post, fs / hz)
+    band0, kurt, env0, (name, hz, line_db, thr) = _resonance_band(x, kg, f_low, fs, rates)
+    n_post, pre = max(int(0.45 * fs / hz), 4), max(int(0.4 * fs / hz), 4)
+    track = _event_track(env0, fs, hz, line_db, pre, n_post)
+    f_n, extra = _mode_peaks(x, track, fs, (f_low, F_MAX * fs), n_post, fs / hz)
     half = max(band0[1] - band0[0], MIN_DECAY_BAND * fs) / 2
     centres, res = [f_n] + [e[0] for e in extra], fs / _segment_length(n_post)
     band = _mode_band(f_n, centres, half, res, f_low, fs)
     env = np.abs(sps.hilbert(bandpass(x, fs, band, order=FILTER_ORDER)))
-    peaks, n_periods = _events(env, fs, hz, band)
-    if peaks.size < MIN_EVENTS:
-        raise NoImpulsesError(f"x: {peaks.size} events above the background in {n_periods} "
-                              f"periods of {name} {hz:.4g} Hz around f_n {f_n:.0f} Hz; "
-                              f"allowed: >= {MIN_EVENTS}")
-    zeta, amp, zr = _fit_mode(env, peaks, fs, band, n_post, hz, f_n)
+    peaks, n_periods = _events(env, fs, hz, band)  # detected one by one: reported only
+    every = _align(env, track, max(n_post // 4, 1), pre, n_post)
+    zeta, amp, zr, se = _fit_mode(env, every, fs, band, n_post, hz, f_n)
     modes = [{"f_n_hz": f_n, "zeta": zeta, "zeta_range": list(zr), "amplitude": amp,
               "band_hz": list(band), "n_events": int(peaks.size), "excess_db": 0.0,
               "prominence_z": None}]
     rejected = []
     for f_k, ex_db, z in extra:
         m = _extra_mode(x, fs, hz, f_k, _mode_band(f_k, centres, half, res, f_low, fs), n_post,
-                        peaks)
+                        track)
         if isinstance(m, str):
             rejected.append({"f_n_hz": f_k, "reason": m})
         else:
             modes.append({**m, "excess_db": ex_db, "prominence_z": z})
     gate = _gate_samples(amp, zeta, f_n, fs, env, n_post, hz)
-    freq, psd, src = _background(x, fs, peaks, gate, background, background_name)
+    freq, psd, src, bg_flag = _background(x, fs, every, gate, background, background_name,
+                                          (hz, modes))
+    flags, unknown = _flags(band, f_n, zeta, zr, se, gate, fs / hz, bg_flag)
     return TransferPath(fs, tuple(band), kurt, name, hz, line_db, thr,
                         int(peaks.size), int(n_periods), f_n, zeta, zr, amp,
                         float(math.sqrt(np.trapezoid(psd, freq))), list(map(float, freq)),
-                        list(map(float, psd)), src, _flags(band, f_n, zeta, zr, gate, fs / hz),
-                        modes, rejected)
+                        list(map(float, psd)), src, flags, modes, rejected, unknown)
 
 
 def _mode_band(f_n, centres, half, resolution, f_low, fs) -> tuple[float, float]:
@@ -339,16 +372,14 @@ def _mode_band(f_n, centres, half, resolution, f_low, fs) -> tuple[float, float]
 def _extra_mode(x, fs, hz, f_n, band, n_post, events):
     """A further mode fitted in its own band: its parameters, or why it gave none (str).
 
-    The same impulses ring every mode, so the events are the first mode's, each moved to the
-    envelope's maximum in this band within a quarter of ``n_post`` of it (a weak mode's own
-    maxima rarely clear the background's bound one by one; their average does)."""
+    The same impulses ring every mode, so the events are the first mode's track (every
+    period), moved together to where their average in this band peaks within a quarter of
+    ``n_post`` (:func:`_align`; a weak mode's own maxima rarely clear the background's bound
+    one by one, and moving each event to its own maximum would pick the noise's)."""
     env = np.abs(sps.hilbert(bandpass(x, fs, band, order=FILTER_ORDER)))
-    w = max(n_post // 4, 1)
-    events = events[(events >= w) & (events + w < env.size)]
-    idx = events[:, None] + np.arange(-w, w + 1)[None, :]
-    peaks = events - w + np.argmax(env[idx], axis=1)
+    peaks = _align(env, events, max(n_post // 4, 1), max(int(0.4 * fs / hz), 4), n_post)
     try:
-        zeta, amp, zr = _fit_mode(env, peaks, fs, band, n_post, hz, f_n)
+        zeta, amp, zr, _ = _fit_mode(env, peaks, fs, band, n_post, hz, f_n)
     except NoImpulsesError as exc:
         return str(exc).removeprefix("x: ")
     if zeta > 0.9 * ZETA_MAX or zeta < 1.1 * ZETA_MIN:
@@ -371,26 +402,55 @@ def _gate_samples(amp, zeta, f_n, fs, env, n_post, hz) -> int:
     return int(min(max(n, n_post // 2), 0.9 * fs / hz))
 
 
-def _resonance_band(kg, f_low: float, fs: float) -> tuple[tuple[float, float], float]:
-    """The kurtogram's best cell at level <= MAX_LEVEL whose lower edge is >= ``f_low``."""
-    best = None
-    for r, level in enumerate(kg.levels):
-        if level > MAX_LEVEL:
-            continue
-        bw = kg.bandwidths[r]
-        for i, k in enumerate(kg.rows[r]):
-            if i * bw >= f_low and (best is None or k > best[0]):
-                best = (float(k), i * bw, (i + 1) * bw)
-    if best is None:
+def _resonance_band(x, kg, f_low: float, fs: float, rates: dict):
+    """The kurtogram's best cell at level <= MAX_LEVEL whose lower edge is >= ``f_low``, when
+    its envelope spectrum holds an event-rate line over the threshold (false-alarm
+    probability :data:`DEFAULT_PFA` over the rates); else, of all those cells, the one whose
+    best line stands highest over its threshold, the probability then shared over the cells
+    searched too (Bonferroni). Kurtosis alone picks a noise band when a lightly damped mode's
+    events hardly raise it (zeta 0.015 at noise sigma 0.5: 4-6 kHz, kurtosis 0.19, where
+    2.5-3.5 kHz holds the line 39 dB over its floor).
+
+    Returns
+    -------
+    (band_hz, kurtosis, envelope, (name, hz, line_db, threshold_db))
+        Raises :class:`NoImpulsesError` when no cell's line clears its threshold.
+    """
+    cells = [(float(k), i * kg.bandwidths[r], (i + 1) * kg.bandwidths[r])
+             for r, level in enumerate(kg.levels) if level <= MAX_LEVEL
+             for i, k in enumerate(kg.rows[r]) if i * kg.bandwidths[r] >= f_low]
+    if not cells:
         raise ValueError(f"fs: {fs:g} Hz leaves no band above {f_low:g} Hz "
                          f"({MIN_BAND_ORDER} x the highest event rate); allowed: a higher fs")
-    return (best[1], min(best[2], 0.49 * fs)), best[0]
+    cells.sort(key=lambda c: -c[0])
+
+    def cell(k, lo, hi, pfa):
+        band = (lo, min(hi, 0.49 * fs))
+        env = np.abs(sps.hilbert(bandpass(x, fs, band, order=FILTER_ORDER)))
+        return band, k, env, _best_line(env, fs, rates, pfa)
+
+    best = cell(*cells[0], DEFAULT_PFA / len(rates))
+    if best[3][2] > best[3][3]:
+        return best
+    best = None
+    for c in cells:
+        cand = cell(*c, DEFAULT_PFA / (len(cells) * len(rates)))
+        if best is None or cand[3][2] - cand[3][3] > best[3][2] - best[3][3]:
+            best = cand
+    line = best[3]
+    if line[2] <= line[3]:
+        raise NoImpulsesError(f"x: no envelope line at {', '.join(rates)} in any band: best "
+                              f"{line[0]} {line[2]:.1f} dB over floor in {best[0][0]:.0f}-"
+                              f"{best[0][1]:.0f} Hz, threshold {line[3]:.1f} dB; nothing "
+                              "identified")
+    return best
 
 
-def _flags(band, f_n, zeta, zeta_range, gate, period) -> list:
-    """Warnings a user must read with the numbers (one line each)."""
-    out = []
-    if gate >= 0.9 * period - 1:
+def _flags(band, f_n, zeta, zeta_range, se, gate, period, bg_flag) -> tuple[list, list]:
+    """Warnings a user must read with the numbers (one line each), and the quantities not
+    identified (``zeta``, ``gain``, ``background``)."""
+    out, unknown = [], []
+    if gate >= 0.9 * period - 1 and bg_flag is None:
         out.append("the events ring for most of a period: the background (events gated out) "
                    "holds part of their ringing")
     if min(f_n - band[0], band[1] - f_n) < 0.02 * (band[1] - band[0]):
@@ -399,10 +459,19 @@ def _flags(band, f_n, zeta, zeta_range, gate, period) -> list:
     if zeta > 0.9 * ZETA_MAX or zeta < 1.1 * ZETA_MIN:
         out.append(f"zeta {zeta:.3g} at the fit's bound [{ZETA_MIN:g}, {ZETA_MAX:g}]: "
                    "damping not resolved")
+        unknown += ["zeta", "gain"]
     if zeta_range[1] > 1.5 * zeta_range[0]:
         out.append(f"zeta differs by more than 1.5x between the halves of the record "
                    f"({zeta_range[0]:.3g}-{zeta_range[1]:.3g})")
-    return out
+    for name, e in (("zeta", se[0]), ("gain", se[1])):
+        if not e <= IDENT_TOL / 2 and name not in unknown:
+            out.append(f"{name} not resolved within {IDENT_TOL:.0%}: its standard error "
+                       f"over {SUBSETS} subsets of the events is {e:.1%}")
+            unknown.append(name)
+    if bg_flag is not None:
+        out.append(bg_flag)
+        unknown.append("background")
+    return out, unknown
 
 
 def _check_rates(event_rates, fs: float) -> dict:
@@ -418,8 +487,10 @@ def _check_rates(event_rates, fs: float) -> dict:
     return out
 
 
-def _event_line(env, fs, rates) -> tuple[str, float, float, float]:
-    """The candidate rate with the highest envelope line over its floor, if above threshold."""
+def _best_line(env, fs, rates, pfa) -> tuple[str, float, float, float]:
+    """The candidate rate whose envelope line (+-1 %) stands highest over its floor (median
+    over [0.5, 1.5] x the rate) relative to its threshold at ``pfa``: ``(name, hz, line_db,
+    threshold_db)``."""
     n = env.size
     spec = np.abs(np.fft.rfft((env - env.mean()) * np.hanning(n)))
     df = fs / n
@@ -428,15 +499,65 @@ def _event_line(env, fs, rates) -> tuple[str, float, float, float]:
         lo, hi = int(hz * 0.99 / df), int(math.ceil(hz * 1.01 / df)) + 1
         k = lo + int(np.argmax(spec[lo:hi]))
         fl = np.r_[spec[int(0.5 * hz / df):lo - 2], spec[hi + 2:int(1.5 * hz / df)]]
-        s_db = 20 * math.log10(spec[k] / np.median(fl))
-        thr = threshold_db(DEFAULT_PFA / len(rates), n_bins=hi - lo, n_background=fl.size)
+        s_db = 20 * math.log10(max(spec[k], 1e-300) / max(np.median(fl), 1e-300))
+        thr = threshold_db(pfa, n_bins=hi - lo, n_background=fl.size)
         if best is None or s_db - thr > best[2] - best[3]:
             best = (name, k * df, s_db, thr)
-    if best[2] <= best[3]:
-        raise NoImpulsesError(f"x: no envelope line at {', '.join(rates)} in band: best "
-                              f"{best[0]} {best[2]:.1f} dB over floor, threshold "
-                              f"{best[3]:.1f} dB; nothing identified")
     return best
+
+
+def _event_track(env, fs: float, hz: float, line_db: float, pre: int,
+                 post: int) -> np.ndarray:
+    """Every period's event position (samples), detected one by one or not, from the phase of
+    the envelope's line at the event rate: the envelope demodulated at the rate (refined to a
+    fraction of a bin, :func:`_refine_rate`) and averaged over enough periods for that line to
+    stand :data:`TRACK_SNR_DB` over the floor (at least :data:`TRACK_PERIODS`) follows a
+    wandering rate; its phase places period ``k``'s event at ``k P - phase P / 2 pi + c``, the
+    offset ``c`` being where the envelope's average over all periods on that track peaks. No
+    event's own noise moves its position, so averaging at these positions over every period
+    carries no selection (averaging over the events whose maximum cleared a bound, those the
+    noise raised, biased zeta and the amplitude up at partial detection)."""
+    n = env.size
+    hz = _refine_rate(env, fs, hz)
+    period = fs / hz
+    z = (env - env.mean()) * np.exp(-2j * np.pi * hz * np.arange(n) / fs)
+    n_per = n / period
+    span = n_per * 10 ** ((TRACK_SNR_DB - line_db) / 10)
+    half = int(min(max(span, TRACK_PERIODS), n_per) * period / 2)
+    cs = np.r_[0, np.cumsum(z)]
+    i = np.arange(n)
+    lo, hi = np.clip(i - half, 0, n), np.clip(i + half + 1, 0, n)
+    phase = np.unwrap(np.angle((cs[hi] - cs[lo]) / (hi - lo)))
+    k = np.arange(-1, int(n_per) + 2)
+    pos0 = k * period - phase[np.clip((k * period).astype(int), 0, n - 1)] * period / (2 * np.pi)
+    whole = pos0[(pos0 >= 0) & (pos0 + period < n - 1)].astype(int)
+    fold = np.mean(env[whole[:, None] + np.arange(int(period))[None, :]] ** 2, axis=0)
+    pos = np.round(pos0 + int(np.argmax(fold))).astype(int)
+    return pos[(pos >= pre) & (pos + post < n)]
+
+
+def _align(env, pos, w: int, pre: int, post: int) -> np.ndarray:
+    """``pos`` moved together by the lag within ``+-w`` at which the envelope's power averaged
+    over all of them peaks (one lag for all: a band's envelope may peak a few samples from
+    another's)."""
+    pos = pos[(pos - w >= pre) & (pos + w + post < env.size)]
+    lags = np.arange(-w, w + 1)
+    power = np.mean(env[pos[:, None] + lags[None, :]] ** 2, axis=0)
+    return pos + int(lags[np.argmax(power)])
+
+
+def _refine_rate(env, fs: float, hz: float) -> float:
+    """The event rate at the maximum of the envelope's transform within one bin of ``hz``."""
+    n = env.size
+    e = (env - env.mean()) * np.hanning(n)
+    t = np.arange(n) / fs
+
+    def neg(f):
+        return -abs(np.dot(e, np.exp(-2j * np.pi * f * t)))
+
+    res = optimize.minimize_scalar(neg, bounds=(hz - fs / n, hz + fs / n), method="bounded",
+                                   options={"xatol": 1e-3 * fs / n})
+    return float(res.x)
 
 
 def _events(env, fs, hz, band) -> tuple[np.ndarray, int]:
@@ -463,53 +584,98 @@ def _aligned_power(sig, peaks, pre: int, post: int) -> np.ndarray:
     return np.mean(sig[idx] ** 2, axis=0)
 
 
-def _model_envelope(zeta, f_n, fs, band, n_post, pad) -> np.ndarray:
-    """Squared envelope of a unit damped sine through the band-pass, from its peak on."""
-    t = np.arange(pad + n_post + pad) / fs
-    h = np.zeros_like(t)
+def _model_power(zeta, f_n, fs, band, pre, post, period) -> tuple[np.ndarray, np.ndarray]:
+    """Squared envelope, at lags ``-pre .. post - 1`` from its peak, of a unit damped cosine
+    through the band-pass, demodulated like the record; and the same of the three before it,
+    one ``period`` apart each (their powers added: the events' phases at the mode are
+    independent), whose tails reach into this event's window."""
+    per = int(round(period))
+    pad = 4 * post + pre
+    h = np.zeros(pad + pre + post + 4 * per)
     wn = 2 * math.pi * f_n
-    wd = wn * math.sqrt(1 - zeta * zeta)
-    h[pad:] = np.exp(-zeta * wn * t[:-pad]) * np.cos(wd * t[:-pad])
+    t = np.arange(h.size - pad) / fs
+    h[pad:] = np.exp(-zeta * wn * t) * np.cos(wn * math.sqrt(1 - zeta * zeta) * t)
     e = np.abs(sps.hilbert(bandpass(h, fs, band, order=FILTER_ORDER))) ** 2
     k = int(np.argmax(e))
-    return e[k:k + n_post]
+    lags = np.arange(-pre, post)
+    tails = sum(e[np.clip(k + lags + j * per, 0, e.size - 1)] for j in (1, 2, 3))
+    return e[k - pre:k + post], tails
 
 
-def _fit_zeta(s2, f_n, fs, band, n_post, pad):
-    """zeta and amplitude fitting the decay of the averaged squared envelope ``s2``."""
-    top = s2[0]
-    if not top > 0:
+def _fit_zeta(p, f_n, fs, band, pre, post, period):
+    """zeta and amplitude from ``p``, the squared envelope averaged over the events at lags
+    ``-pre .. post - 1`` from their peaks: least squares of ``A m(zeta)`` to ``p - B`` over
+    the decay, from :data:`DECAY_FROM` samples after the peak down to :data:`DECAY_FLOOR` of
+    its amplitude (:func:`_model_power`; ``A``, the amplitude squared, profiled out for each
+    zeta). ``B``, the background's power, is the median of ``p`` over lags ``-pre .. -pre/2``
+    less the earlier events' modelled tails there (a lightly damped mode still rings there:
+    taking it for background read zeta 6-14 % high at zeta 0.015). The peak itself is left
+    out: the events' timing scatter and their onsets between samples round it off (its height
+    read the amplitude 5-12 % low at zeta 0.05). On the power, not its logarithm, whose mean
+    over noisy values sits below the logarithm of their mean (the amplitude read low)."""
+    bg0 = float(np.median(p[:pre // 2]))
+    top = p[pre] - bg0
+    end = pre + (int(np.argmax(p[pre:] - bg0 < top * DECAY_FLOOR ** 2)) or post)
+    lags = np.arange(pre + DECAY_FROM, max(end, pre + DECAY_FROM + 3))
+
+    def solve(z, bg):
+        m, tails = _model_power(z, f_n, fs, band, pre, post, period)
+        y, mm = p[lags] - bg, m[lags]
+        a2 = float(np.dot(y, mm) / np.dot(mm, mm))
+        return a2, float(np.sum((y - a2 * mm) ** 2)), float(np.median(tails[:pre // 2]))
+
+    bg, z = bg0, None
+    for _ in range(3):  # the tails' share of the pre-event level follows the fit
+        res = optimize.minimize_scalar(lambda lz: solve(math.exp(lz), bg)[1],
+                                       bounds=(math.log(ZETA_MIN), math.log(ZETA_MAX)),
+                                       method="bounded", options={"xatol": 1e-3})
+        z = math.exp(res.x)
+        a2, _, tail = solve(z, bg)
+        bg = bg0 - max(a2, 0.0) * tail
+    a2 = solve(z, bg)[0]
+    if not a2 > 0:
         raise NoImpulsesError(f"x: the events add no power above the background at their "
                               f"peak around f_n {f_n:.0f} Hz; nothing to fit a decay to")
-    m = int(np.argmax(s2 < top * DECAY_FLOOR ** 2)) or s2.size
-    m = max(m, 3)
-    y = np.log(np.maximum(s2[:m], top * 1e-6))
-
-    def cost(log_z):
-        e = _model_envelope(math.exp(log_z), f_n, fs, band, n_post, pad)[:m]
-        r = y - np.log(np.maximum(e, 1e-300))
-        return float(np.sum((r - r.mean()) ** 2))
-
-    res = optimize.minimize_scalar(cost, bounds=(math.log(ZETA_MIN), math.log(ZETA_MAX)), method="bounded",
-                                   options={"xatol": 1e-3})
-    z = math.exp(res.x)
-    e = _model_envelope(z, f_n, fs, band, n_post, pad)[:m]
-    amp = math.exp(0.5 * float(np.mean(y - np.log(np.maximum(e, 1e-300)))))
-    return z, amp
+    return z, math.sqrt(a2)
 
 
 def _fit_mode(env, peaks, fs, band, n_post, hz, f_n):
-    """zeta and amplitude from the events' averaged decay, and zeta on each half."""
+    """zeta and amplitude from the events' averaged decay, zeta on each half of the events,
+    and the relative standard errors of zeta and of the gain ``amplitude / zeta`` (from the
+    spread of the same fit over :data:`SUBSETS` interleaved subsets of the events)."""
     pre = max(int(0.4 * fs / hz), 4)
-    p = _aligned_power(env, peaks, pre, n_post)
-    bg = float(np.median(p[: pre // 2]))
-    pad = 4 * n_post
-    z, amp = _fit_zeta(np.maximum(p[pre:] - bg, 0.0), f_n, fs, band, n_post, pad)
-    zs = []
-    for h in (peaks[: peaks.size // 2], peaks[peaks.size // 2:]):
-        ph = _aligned_power(env, h, pre, n_post)
-        zs.append(_fit_zeta(np.maximum(ph[pre:] - bg, 0.0), f_n, fs, band, n_post, pad)[0])
-    return z, amp, (min(zs), max(zs))
+    _check_events_add_power(env, peaks, pre, f_n)
+
+    def fit(idx):
+        return _fit_zeta(_aligned_power(env, idx, pre, n_post), f_n, fs, band, pre, n_post,
+                         fs / hz)
+
+    z, amp = fit(peaks)
+    sub = []
+    for idx in [peaks[: peaks.size // 2], peaks[peaks.size // 2:]] + [
+            peaks[j::SUBSETS] for j in range(SUBSETS)]:
+        try:
+            sub.append(fit(idx))
+        except NoImpulsesError:
+            sub.append((ZETA_MAX, 0.0))  # a subset with no power above the background
+    zs, sub = [e[0] for e in sub[:2]], sub[2:]
+    zk, gk = np.array([e[0] for e in sub]), np.array([e[1] / e[0] for e in sub])
+    se = (float(np.std(zk, ddof=1) / math.sqrt(SUBSETS) / z),
+          float(np.std(gk, ddof=1) / math.sqrt(SUBSETS) / (amp / z)))
+    return z, amp, (min(zs), max(zs)), se
+
+
+def _check_events_add_power(env, peaks, pre: int, f_n: float) -> None:
+    """Refuse (one line) when the events, averaged over every period of the track, add no
+    significant power at their peak: the mean over periods of the peak's power less the
+    period's own pre-event level must exceed the normal quantile of :data:`DEFAULT_PFA`
+    times its standard error (the periods' spread)."""
+    d = env[peaks] ** 2 - np.mean(env[peaks[:, None] - np.arange(pre // 2, pre)] ** 2, axis=1)
+    z = float(np.mean(d) / (np.std(d, ddof=1) / math.sqrt(d.size)))
+    if not z > stats.norm.isf(DEFAULT_PFA):
+        raise NoImpulsesError(f"x: the events add {z:.1f} standard errors of power at their "
+                              f"peak over {d.size} periods around f_n {f_n:.0f} Hz; allowed: > "
+                              f"{stats.norm.isf(DEFAULT_PFA):.1f}; nothing identified")
 
 
 def _segments_spectra(x, starts, n, nfft, w) -> np.ndarray:
@@ -559,23 +725,73 @@ def _mode_peaks(x, peaks, fs, f_range, n_post, period):
                     for k, zk in zip(pk[ok], z[ok])), key=lambda e: -e[1])
     return float(f[i0]), extra[:MAX_MODES - 1]
 
-def _background(x, fs, peaks, gate, background, name):
-    """Welch PSD of the healthy record, or of the record with its events gated out."""
+def _background(x, fs, events, gate, background, name, train):
+    """Welch PSD of the healthy record, or of the record between its events (gated at every
+    period's event, detected or not), or, when those stretches hold fewer than
+    :data:`MIN_BACKGROUND` samples, the record's PSD less the identified events' modelled
+    spectrum (:func:`_train_psd`). Returns ``(freq, psd, source, flag)``; ``flag`` is None or
+    the warning that the background at the resonance is not identified."""
     if background is not None:
         b = check_signal(background, "background", min_length=WELCH_SEGMENT)
         f, p = sps.welch(b - b.mean(), fs, nperseg=WELCH_SEGMENT)
-        return f, p, name
+        return f, p, name, None
     keep = np.ones(x.size, bool)
-    for pk in peaks:
+    for pk in events:
         keep[max(pk - gate // 8 - 2, 0):pk + gate] = False
-    f, p = _gap_psd(x, fs, keep)
-    if f is None:
-        return (*sps.welch(x, fs, nperseg=WELCH_SEGMENT),
-                f"record, events included (no stretch of {MIN_GAP} samples between them)")
-    return f, p, "record"
+    f, gap, used = _gap_psd(x, fs, keep)
+    if used >= MIN_BACKGROUND:
+        return f, gap, "record", None
+    f, p = sps.welch(x, fs, nperseg=WELCH_SEGMENT)
+    model = _train_psd(f, fs, *train)
+    w = max(int(round(train[0] / (f[1] - f[0]))), 1)
+    smooth = np.convolve(np.pad(p, (w // 2, w - 1 - w // 2), mode="edge"), np.ones(w) / w,
+                         mode="valid")  # the events' lines spread over one rate
+    # where the events make over half the power (widened by one rate: the lines' ripple left
+    # in ``smooth`` must leave no island of event power) the difference is no measurement:
+    # near a mode (MODE_SPAN) it is interpolated (log-linear) from either side; far off (a
+    # real ringing's far spectrum is no damped cosine's: its force has a finite rise time)
+    # half the record's power is taken for it. Never above the record's own spectrum.
+    span = np.zeros(f.size, bool)
+    for m in train[1]:
+        span |= np.abs(f - m["f_n_hz"]) <= MODE_SPAN * m["zeta"] * m["f_n_hz"] + train[0]
+    dom = ndimage.binary_dilation(model > 0.5 * smooth, iterations=w)
+    out = smooth - model
+    src = (f"record less the identified events' modelled spectrum ({used} samples between "
+           f"the events; {MIN_BACKGROUND} needed)")
+    if not dom.any():
+        return f, out, src, None
+    near, far = dom & span, dom & ~span
+    if near.any() and (~dom).sum() >= 2:
+        out[near] = np.exp(np.interp(f[near], f[~dom], np.log(out[~dom])))
+    out[far | (near & ((~dom).sum() < 2))] = 0.5 * smooth[far | (near & ((~dom).sum() < 2))]
+    out = np.minimum(out, np.maximum(smooth, p))
+    how = "interpolated across the modes, half the record's elsewhere"
+    flag = (f"background not identified at {f[dom].min():.0f}-{f[dom].max():.0f} Hz "
+            f"({how}): the events ring for most of each period and make more than half of "
+            f"the record's power there")
+    return f, out, f"{src}; {how} where the events dominate", flag
 
 
-def _gap_psd(x, fs, keep) -> tuple[np.ndarray | None, np.ndarray | None]:
+def _train_psd(f, fs: float, rate: float, modes: list) -> np.ndarray:
+    """One-sided PSD of a train of ``rate`` events per second, each ringing every mode as the
+    sampled ``a exp(-zeta wn t) cos(wd t)`` from its onset (an accelerometer's impulse
+    response starts at its maximum), the events' phases at the mode independent:
+    ``2 rate a^2 |D|^2 / fs^2`` with the sequence's transform
+    ``D = (1 - r cos(th) / z) / (1 - 2 r cos(th) / z + r^2 / z^2)``, ``r = exp(-zeta wn / fs)``,
+    ``th = wd / fs``, ``z = exp(2 pi i f / fs)`` (sampled, so that its tails far from the
+    mode and near 0 and fs/2 are the record's, not the analog one's)."""
+    zi = np.exp(-2j * np.pi * np.asarray(f) / fs)
+    out = np.zeros(zi.shape)
+    for m in modes:
+        wn = 2 * math.pi * m["f_n_hz"]
+        r = math.exp(-m["zeta"] * wn / fs)
+        c = r * math.cos(wn * math.sqrt(1 - m["zeta"] ** 2) / fs)
+        d = (1 - c * zi) / (1 - 2 * c * zi + r * r * zi * zi)
+        out += 2 * rate * m["amplitude"] ** 2 * np.abs(d) ** 2 / fs ** 2
+    return out
+
+
+def _gap_psd(x, fs, keep) -> tuple[np.ndarray | None, np.ndarray | None, int]:
     """PSD of the record between its events: the mean of the Hann-windowed periodograms
     (``nfft`` = :data:`WELCH_SEGMENT`) of the stretches ``keep`` marks, each cut into pieces of
     at most ``WELCH_SEGMENT`` and at least :data:`MIN_GAP` samples, weighted by length. Each
@@ -583,17 +799,18 @@ def _gap_psd(x, fs, keep) -> tuple[np.ndarray | None, np.ndarray | None]:
     gate) would spread the resonance's power over the whole band through the gate's edges
     (on the 48 kHz CWRU records, 30 dB over the record's own floor at 12-18 kHz). ``(None,
     None)`` when no stretch is that long (hardly reachable: events are only detected where the
-    envelope falls back between them, and the gates end where it has)."""
+    envelope falls back between them, and the gates end where it has); the third value is the
+    number of samples read."""
     edges = np.flatnonzero(np.diff(np.concatenate(([0], keep.astype(np.int8), [0]))))
     pieces = [(a, min(a + WELCH_SEGMENT, b)) for start, b in zip(edges[::2], edges[1::2])
               for a in range(start, b, WELCH_SEGMENT) if min(a + WELCH_SEGMENT, b) - a >= MIN_GAP]
     if not pieces:
-        return None, None
+        return None, None, 0
     acc, total = 0.0, 0
     for a, b in pieces:
         f, p = sps.periodogram(x[a:b], fs, window="hann", nfft=WELCH_SEGMENT)
         acc, total = acc + p * (b - a), total + (b - a)
-    return f, acc / total
+    return f, acc / total, total
 
 
 def background_noise(path: TransferPath, n: int, *, seed: int = 0) -> np.ndarray:

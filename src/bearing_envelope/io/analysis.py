@@ -20,7 +20,8 @@ __all__ = ["read_task", "analyze_record", "analyze_records"]
 
 
 def read_task(item, *, column=None, channel: str = DEFAULT_CHANNEL, signal: str = DEFAULT_SIGNAL,
-              delimiter: str | None = None, decimal: str | None = None) -> dict:
+              delimiter: str | None = None, decimal: str | None = None,
+              fs: float | None = None) -> dict:
     """Read one record: a path, or a task mapping ``{"file", "column", "channel"}`` whose
     non-None values override the keyword arguments.
 
@@ -30,6 +31,9 @@ def read_task(item, *, column=None, channel: str = DEFAULT_CHANNEL, signal: str 
         The file, or a task (a manifest row).
     column, channel, signal, delimiter, decimal
         As :func:`bearing_envelope.io.records.read_record`.
+    fs : float, optional
+        The caller's sampling rate, Hz (a task's own ``fs`` wins): the file's time column is
+        then not read for one (:func:`~bearing_envelope.io.records.read_record`).
 
     Returns
     -------
@@ -40,10 +44,11 @@ def read_task(item, *, column=None, channel: str = DEFAULT_CHANNEL, signal: str 
         path = os.fspath(item["file"])
         column = item.get("column") or column
         channel = item.get("channel") or channel
+        fs = item.get("fs") or fs
     else:
         path = os.fspath(item)
     return read_record(path, column=column, channel=channel, signal=signal,
-                       delimiter=delimiter, decimal=decimal)
+                       delimiter=delimiter, decimal=decimal, fs=fs)
 
 
 def analyze_record(path_or_array, fs: float | None = None, **kwargs):

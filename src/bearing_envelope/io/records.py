@@ -50,8 +50,8 @@ from ..physics.catalogue import bearing_geometry  # the one resolver of bearing 
 DEFAULT_CHANNEL = "DE"
 DEFAULT_SIGNAL = "p_max"
 
-__all__ = ["DEFAULT_CHANNEL", "DEFAULT_SIGNAL", "SUFFIXES", "MEMORY_FACTOR", "read_record",
-           "sniff_csv", "read_manifest", "collect_records", "check_memory"]
+__all__ = ["DEFAULT_CHANNEL", "DEFAULT_SIGNAL", "SUFFIXES", "MEMORY_FACTOR", "MAX_MAGNITUDE",
+           "read_record", "sniff_csv", "read_manifest", "collect_records", "check_memory"]
 
 #: File types :func:`read_record` reads.
 SUFFIXES = (".csv", ".npy", ".npz", ".mat", ".wav", ".h5", ".hdf5")
@@ -134,15 +134,42 @@ def _real_vector(a, path: str, what: str) -> np.ndarray:
     return np.array(a, dtype=np.float64).ravel()
 
 
-def _fs_from_time(t, path: str) -> float:
+def _fs_from_time(t, path: str, quantum: float = 0.0) -> float:
+    """The sampling rate of a time column: uniform within 0.1 % of its step, or within the
+    precision it is written to (``quantum``, s: a column printed to 6 decimals is uniform
+    within 1e-6 s, and its rate is then read end to end, ``(n - 1) / (t[-1] - t[0])``)."""
     t = np.asarray(t, dtype=float)
     dt = np.diff(t)
     if t.size < 3 or not np.all(dt > 0):
         raise ValueError(f"file: {path}: the time column is not increasing; give --fs")
     step = float(np.median(dt))
-    if np.max(np.abs(dt - step)) > 1e-3 * step:
-        raise ValueError(f"file: {path}: the time column is not uniformly sampled; give --fs")
+    dev = float(np.max(np.abs(dt - step)))
+    if dev > 1e-3 * step + 1.001 * quantum:
+        printed = f" (written to {quantum:.3g} s)" if quantum > 0 else ""
+        raise ValueError(f"file: {path}: the time column is not uniformly sampled: steps "
+                         f"{dt.min():.6g}-{dt.max():.6g} s{printed}, allowed: within 0.1 % "
+                         f"of the step or the column's printed precision; give --fs")
+    if quantum > 0:
+        return float((t.size - 1) / (t[-1] - t[0]))
     return 1.0 / step
+
+
+#: A number as written in a CSV field: its digits after the decimal mark and its exponent.
+_DECIMALS = r"^[+-]?\d*(?:\.(?P<frac>\d*))?(?:[eE](?P<exp>[+-]?\d+))?$"
+
+
+def _printed_quantum(series, dec: str) -> float:
+    """The coarsest last written digit of a column of numbers (s for a time column): 1e-6
+    for ``0.000083``, 1e-9 for ``8.3333e-05``; 0 when the texts are not plain numbers."""
+    text = series.str.strip()
+    if dec == ",":
+        text = text.str.replace(",", ".", regex=False)
+    parts = text.str.extract(_DECIMALS)
+    if not text.str.fullmatch(_DECIMALS).all():
+        return 0.0
+    frac = parts["frac"].fillna("").str.len().to_numpy(dtype=float)
+    exp = parts["exp"].fillna("0").astype(int).to_numpy(dtype=float)
+    return float(np.max(10.0 ** (exp - frac)))
 
 
 def _pick(names, column, what: str, path: str) -> str:
@@ -286,7 +313,7 @@ def _guess_decimal(lines: list[str], sep: str, path: str) -> str:
     return "."
 
 
-def _read_csv(path, column, delimiter, decimal) -> dict:
+def _read_csv(path, column, delimiter, decimal, fs=None) -> dict:
     import pandas as pd
 
     sep, dec, header = sniff_csv(path, delimiter=delimiter, decimal=decimal)
@@ -307,9 +334,9 @@ def _read_csv(path, column, delimiter, decimal) -> dict:
     name = _pick(data_cols if column is None else cols, column, "column", path)
     out = {"x": _csv_numbers(df[name], path, name, sep, dec, header), "fs": None,
            "source": f"csv:{name}"}
-    if tcols:
+    if tcols and fs is None:
         out["fs"] = _fs_from_time(_csv_numbers(df[tcols[0]], path, tcols[0], sep, dec, header),
-                                  path)
+                                  path, _printed_quantum(df[tcols[0]], dec))
     return out
 
 
@@ -421,7 +448,7 @@ def _npz_members(zf: zipfile.ZipFile, path: str) -> dict:
     return out
 
 
-def _read_npz(path, column) -> dict:
+def _read_npz(path, column, fs=None) -> dict:
     try:
         with zipfile.ZipFile(path) as zf:
             members = _npz_members(zf, path)
@@ -429,13 +456,14 @@ def _read_npz(path, column) -> dict:
             raise ValueError(f"file: {path} holds no arrays; allowed: an .npz with a real "
                              f"signal vector (and optionally fs)")
         with np.load(path, allow_pickle=False) as z:
-            return _from_npz(z, members, column, path)
+            return _from_npz(z, members, column, path, fs)
     except (zipfile.BadZipFile, zipfile.LargeZipFile, EOFError, OSError, zlib.error) as exc:
         raise ValueError(f"file: {path} is not a readable .npz (truncated or corrupt: "
                          f"{exc})") from None
 
 
-def _from_npz(z, members: dict, column, path: str) -> dict:
+def _from_npz(z, members: dict, column, path: str, fs=None) -> dict:
+    _check_rate_shapes(members, path)
     small = {k: z[k] for k, (shape, dt) in members.items()
              if math.prod(shape) <= 1 and dt.kind in "iuf"}
     out = _scalars(small, path)
@@ -453,12 +481,22 @@ def _from_npz(z, members: dict, column, path: str) -> dict:
                          f"signal (a vector; save one channel per variable)")
     check_memory(math.prod(shape), path)
     out["x"] = _real_vector(z[name], path, f"variable {name!r}")
-    if out["fs"] is None:
+    if out["fs"] is None and fs is None:
         for k, (shape, _) in members.items():
             if k.lower() in _TIME_NAMES and math.prod(shape) == out["x"].size:
                 out["fs"] = _fs_from_time(np.ravel(z[k]), path)
     out["source"] = f"npz:{name}"
     return out
+
+
+def _check_rate_shapes(members: dict, path: str) -> None:
+    """Refuse an entry named as a rate (``fs``, ``shaft_hz``, ``rpm``...) that is not one
+    number: it names the entry and its shape instead of taking it for a signal."""
+    for k, (shape, dt) in members.items():
+        if k in _FS_NAMES + _FR_NAMES + _RPM_NAMES and (math.prod(shape) != 1
+                                                        or dt.kind not in "iuf"):
+            raise ValueError(f"file: {path}: {k!r} holds {dt} of shape {shape}; allowed: one "
+                             f"real number (a rate, {'rpm' if k in _RPM_NAMES else 'Hz'})")
 
 
 def _choose(members: dict, column, path: str) -> str:
@@ -495,9 +533,14 @@ def _meta(raw, out: dict, path: str) -> dict:
         raise ValueError(f"file: {path}: 'meta_json' holds a JSON {type(meta).__name__}; "
                          f"allowed: a JSON object (or no meta_json)")
     fr = meta.get("shaft_hz")
-    if out.get("fr") is None and isinstance(fr, (int, float)) and math.isfinite(fr) and fr > 0:
-        return {"fr": float(fr)}
-    return {}
+    if fr is None or out.get("fr") is not None:
+        return {}
+    if isinstance(fr, bool) or not isinstance(fr, (int, float)):
+        raise ValueError(f"file: {path}: 'meta_json' shaft_hz = {fr!r}; allowed: a shaft rate "
+                         f"> 0 (Hz, a number) or no shaft_hz")
+    # a non-positive or non-finite rate is returned as the file gives it: the consumer names
+    # it and its allowed range ("the file gives fr = -29.95; pass a shaft rate > 0 ...")
+    return {"fr": float(fr)}
 
 
 # --------------------------------------------------------------------------------- .mat
@@ -618,7 +661,8 @@ def _read_case(path, signal) -> dict:
 # --------------------------------------------------------------------------------- entry
 def read_record(path: str, *, column=None, channel: str = DEFAULT_CHANNEL,
                 signal: str = DEFAULT_SIGNAL,
-                delimiter: str | None = None, decimal: str | None = None) -> dict:
+                delimiter: str | None = None, decimal: str | None = None,
+                fs: float | None = None) -> dict:
     """Read one record and what the file says about it.
 
     Parameters
@@ -634,6 +678,9 @@ def read_record(path: str, *, column=None, channel: str = DEFAULT_CHANNEL,
         Signal of a case file.
     delimiter, decimal : str, optional
         Force the CSV dialect (see :func:`sniff_csv`).
+    fs : float, optional
+        The caller's sampling rate (Hz, ``--fs``): a time column is then not read for one (nor
+        refused when not uniform). The returned ``fs`` stays the file's (None here).
 
     Returns
     -------
@@ -655,9 +702,9 @@ def read_record(path: str, *, column=None, channel: str = DEFAULT_CHANNEL,
     ext = os.path.splitext(path)[1].lower()
     if ext in (".h5", ".hdf5"):
         return _read_case(path, signal)
-    readers = {".csv": lambda: _read_csv(path, column, delimiter, decimal),
+    readers = {".csv": lambda: _read_csv(path, column, delimiter, decimal, fs),
                ".npy": lambda: _read_npy(path, column),
-               ".npz": lambda: _read_npz(path, column),
+               ".npz": lambda: _read_npz(path, column, fs),
                ".mat": lambda: _read_mat(path, column, channel),
                ".wav": lambda: _read_wav(path, column)}
     if ext not in readers:
@@ -665,7 +712,26 @@ def read_record(path: str, *, column=None, channel: str = DEFAULT_CHANNEL,
                          f"{', '.join(SUFFIXES)}")
     out = {"fs": None, "fr": None, "bpfi": None}
     out.update(readers[ext]())
+    _check_magnitude(out["x"], path)
     return out
+
+
+#: Largest |sample| a record may hold (and 1/MAX_MAGNITUDE the smallest peak): the analysis
+#: squares the samples and takes fourth powers (kurtosis), which overflow above ~1e77 and lose
+#: their digits in the subnormals; 1e50 keeps the fourth powers of 1e8 samples finite and
+#: normal, and holds any physical unit (m to nm, g, Pa).
+MAX_MAGNITUDE = 1e50
+
+
+def _check_magnitude(x: np.ndarray, path: str) -> None:
+    """Refuse, before any work, finite samples whose scale the analysis cannot carry (their
+    squares overflow or underflow): one line with the peak and the allowed range."""
+    finite = x[np.isfinite(x)]
+    peak = float(np.max(np.abs(finite))) if finite.size else 0.0
+    if peak > MAX_MAGNITUDE or 0.0 < peak < 1.0 / MAX_MAGNITUDE:
+        raise ValueError(f"file: {path}: samples peak at |x| = {peak:.3g}; allowed: a peak "
+                         f"within {1 / MAX_MAGNITUDE:g}-{MAX_MAGNITUDE:g} (rescale the record: "
+                         f"its squares over- or underflow)")
 
 
 # ------------------------------------------------------------------------------ batches
