@@ -24,7 +24,16 @@ __all__ = [
 
 
 class ContactGridError(ValueError):
-    """Pressure reaches the edge of the grid: the domain is too small for this load."""
+    """Pressure reaches the edge of the grid: the domain is too small for this load.
+
+    Parameters
+    ----------
+    message : str
+        The one-line explanation (edge cells loaded, their share of the force, the remedy).
+    fraction : float
+        Share of the total force carried by the loaded edge cells (dimensionless, 0..1);
+        kept as :attr:`fraction`.
+    """
 
     def __init__(self, message: str, fraction: float):
         super().__init__(message)
@@ -36,7 +45,19 @@ class ContactGridWarning(UserWarning):
 
 
 class ContactConvergenceError(RuntimeError):
-    """The solver did not reach ``tol`` within ``max_iter`` iterations."""
+    """The solver did not reach ``tol`` within ``max_iter`` iterations.
+
+    Parameters
+    ----------
+    message : str
+        The diagnostic: last residual against ``tol``, iterations done, last residuals.
+    residual_history : list of float
+        The convergence measure at every iteration (dimensionless); kept as
+        :attr:`residual_history`.
+    solution : ContactSolution or None, optional
+        The last (unconverged) iterate when one exists, for inspection; kept as
+        :attr:`solution`.
+    """
 
     def __init__(self, message: str, residual_history: list[float], solution: "ContactSolution | None" = None):
         super().__init__(message)

@@ -115,7 +115,7 @@ def code_dependencies(*paths: str | os.PathLike) -> list[str]:
 
     Examples
     --------
-    >>> deps = code_dependencies(PACKAGE_DIR / "history.py")
+    >>> deps = code_dependencies(PACKAGE_DIR / "physics" / "history.py")
     >>> any(p.endswith("contact/solver.py") for p in deps)
     True
     """
@@ -139,6 +139,11 @@ class log_to:
     written to the log and re-raised so that the job fails; a full disk (ENOSPC, EDQUOT,
     :class:`bearing_envelope.io.integrity.DiskFullError`) ends the job with one line on stderr
     instead (``SystemExit``), wherever it was raised (an HDF5 case, a figure's PNG).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The log file, created (or truncated) on entering the block; its parent must exist.
     """
 
     def __init__(self, path):
