@@ -437,6 +437,7 @@ class SensorSignal:
 
     @property
     def time(self) -> np.ndarray:
+        """Sample times (s) from 0 at ``1 / fs``, one per sample of :attr:`acceleration`."""
         return np.arange(self.acceleration.size) / self.fs
 
 
