@@ -376,6 +376,9 @@ def detection_statistic(
         Half-width in Hz; overrides ``tolerance``. At least half a bin is always used.
     background : (lo, hi)
         Background band ``[lo, hi] x line_hz`` (default 0.5-1.5).
+    sidebands : int
+        Highest sideband order ``m`` of the shaft-rate sidebands ``k line +- m fr`` taken out
+        of the background (default 3; only with ``fr``).
     exclude_hz : iterable of float
         Further lines (Hz) to exclude from the background (e.g. a gear-mesh tone).
     threshold : float, optional
