@@ -22,7 +22,7 @@ ENTRY_POINTS = [
     # physics
     ("bearing_envelope.physics.scene", "Scene.from_mapping"),
     ("bearing_envelope.physics.history", "simulate"),
-    ("bearing_envelope.physics.loads", "roller_loads"),
+    ("bearing_envelope.physics.loads", "solve_row"),
     ("bearing_envelope.physics.kinematics", "fault_frequencies"),
     # signal
     ("bearing_envelope.signal.envelope", "envelope_spectrum"),

@@ -57,6 +57,7 @@ class Grid:
 
     @property
     def shape(self) -> tuple[int, int]:
+        """``(nx, ny)``: cells along x (rolling, axis 0) and y (axial, axis 1)."""
         return (self.x.size, self.y.size)
 
     def mesh(self):

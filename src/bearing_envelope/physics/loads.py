@@ -319,6 +319,24 @@ def solve_row(force_row: float, n_rollers: int, contact_angle_deg: float = 0.0,
     Returns
     -------
     LoadDistribution
+        ``delta_r`` (m) and the roller loads ``q`` (N) at the angles ``psi`` (rad) of the
+        solved equilibrium, with the law's constants.
+
+    Raises
+    ------
+    ValueError
+        A load, roller count, clearance or centrifugal force out of range, or no equilibrium
+        below 1 m of ring displacement.
+
+    Examples
+    --------
+    Zero clearance, rollers (``n = 10/9``): the most loaded roller carries Stribeck's
+    ``4.08 F / Z`` and the load zone spans half the ring (``epsilon = 0.5``):
+
+    >>> from bearing_envelope.physics.loads import solve_row
+    >>> ld = solve_row(1000.0, 40)
+    >>> round(ld.q_max * 40 / 1000.0, 2), round(ld.epsilon, 2)
+    (4.08, 0.5)
     """
     if not (force_row > 0):
         raise ValueError(f"force_row must be > 0, got {force_row!r}")

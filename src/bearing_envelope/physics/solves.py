@@ -277,7 +277,22 @@ def global_extent(fid: Fidelity, kappa: float, a_hertz: float) -> float:
     ``global_extent x kappa x a_H``, the contact and a margin. It does not depend on the defect
     (the zoom window may reach further: :func:`_far_field` extends the global pressure with
     unloaded cells), so every depth case of a load solves the same global contacts (issue 25:
-    shared through :mod:`~bearing_envelope.physics.nodefect_cache`)."""
+    shared through :mod:`~bearing_envelope.physics.nodefect_cache`).
+
+    Parameters
+    ----------
+    fid : Fidelity
+        Numerical settings; its ``global_extent`` is the multiple of the contact half-width.
+    kappa : float
+        Solved/Hertz half-width ratio (dimensionless, about 1).
+    a_hertz : float
+        Hertz semi-axis across rolling at this load (m).
+
+    Returns
+    -------
+    float
+        Half-extent of the global grid across rolling (m).
+    """
     return fid.global_extent * kappa * a_hertz
 
 
@@ -582,7 +597,21 @@ class FarResponse:
         changes by ``dp`` (Pa) at fixed approach: the far field's pressure change is taken as
         ``alpha psi_c`` (the take-up's shape); it unloads the window further by ``alpha R``;
         reciprocity fixes ``alpha``: ``alpha stiffness = -sum(z (dp + alpha R)) dA``; the gain
-        is ``alpha (stiffness + window_force)``."""
+        is ``alpha (stiffness + window_force)``.
+
+        Parameters
+        ----------
+        dp : ndarray
+            Change of the window's pressure (Pa), window shape.
+        cell : float
+            Area of one window cell ``dx dy`` (m^2).
+
+        Returns
+        -------
+        float
+            The force regained (N); positive when the window sheds load (``dp`` < 0 where
+            ``z`` > 0).
+        """
         alpha = -float(np.sum(self.z * dp)) * cell / (self.stiffness + self.window_z)
         return alpha * (self.stiffness + self.window_force)
 
@@ -607,7 +636,35 @@ def far_response(scene: Scene, fid: Fidelity, grid: Grid, pg: np.ndarray, win: G
        far field's take-up unloads the window further (:meth:`FarResponse.uptake` closes the
        loop).
 
-    Returns None for a healthy race or when the far field carries no load.
+    Parameters
+    ----------
+    scene : Scene
+        The case's scene (elastic modulus, hardness, the defect).
+    fid : Fidelity
+        Numerical settings (solver tolerance and iterations, element shape).
+    grid : Grid
+        The global grid (m).
+    pg : ndarray
+        The global no-defect pressure (Pa), ``grid`` shape.
+    win : Grid
+        The defect window (m).
+    j_lo, j_hi : int
+        The global grid's axial columns the window covers (inclusive): the far field is the
+        loaded cells outside them.
+    m : int
+        Window axial cells per global axial cell.
+    stats : SolveStats
+        Counts the solves done.
+    w0 : WindowState
+        The no-defect window: its gap with the far field's displacement (m), approach (m),
+        pressure (Pa) and half-space operator.
+
+    Returns
+    -------
+    FarResponse or None
+        The far field's response ``z`` (dimensionless), the take-up's force per unit
+        amplitude and the window's response sums (N); None for a healthy race or when the far
+        field carries no load.
     """
     far = pg > 0
     far[:, j_lo:j_hi + 1] = False
@@ -898,6 +955,7 @@ class RimStrip:
 
     @property
     def counted(self) -> np.ndarray:
+        """The parent cells (bool, window shape) whose force and area this strip counts."""
         return self.own if self.count is None else self.count
 
     @property
