@@ -35,7 +35,7 @@ ENTRY_POINTS = [
     ("bearing_envelope.io.case", "read_case"),
     # study
     ("bearing_envelope.study.settings", "load_settings"),
-    ("bearing_envelope.study.pipeline", "simulate_case"),
+    ("bearing_envelope.study.pipeline", "case_summary"),
 ]
 
 

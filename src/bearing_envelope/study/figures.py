@@ -175,6 +175,16 @@ def depth_label(df: pd.DataFrame) -> str:
     Depth alone matters only while the pit bottom carries load (below 1.7-2.5 um at
     w = 2 h: docs/benchmarks.md, "Depth below which the pit bottom carries load"), so over
     15-100 um a w = 2 h sweep is a sweep of the defect's width.
+
+    Parameters
+    ----------
+    df : pandas.DataFrame
+        The sweep table plotted; a ``width_um`` column means the width is set on its own.
+
+    Returns
+    -------
+    str
+        The axis label (depth in um), naming ``w = 2h`` when the table has no width column.
     """
     if "width_um" in df.columns:
         return "defect depth h (µm)"

@@ -424,6 +424,28 @@ def case_summary(case) -> dict[str, Any]:
         ``interp_max_rel_error_p_max``; ``snapshot_roller_load_N``, ``p_centre_Pa``,
         ``p_end_Pa`` and ``edge_ratio`` of the healthy contact's axial profile; ``git_commit``.
         NaN where the file stores no value.
+
+    Examples
+    --------
+    One case of a sweep run the way the workflow's jobs run it (one shaft revolution at the
+    ``draft`` fidelity, so that it is quick):
+
+    >>> import os, tempfile
+    >>> from bearing_envelope.physics.history import simulate
+    >>> from bearing_envelope.study.pipeline import case_summary, history_case
+    >>> from bearing_envelope.study.settings import load_settings
+    >>> path = os.path.join(tempfile.mkdtemp(), "config.yaml")
+    >>> with open(path, "w") as f:
+    ...     _ = f.write("{sweep: {loads_kN: [250], depths_um: [50]}, fidelity: draft, "
+    ...                 "scene: {operation: {revolutions: 1}}}")
+    >>> settings = load_settings(path)
+    >>> case_id = settings.cases[0]
+    >>> case = history_case(simulate(settings.scene(case_id), settings.fidelity))
+    >>> row = case_summary(case)
+    >>> row["case"], row["bpfi_used_hz"], row["n_samples"]
+    ('F250kN_h50um', 231.9, 4114)
+    >>> bool(row["p_max_defect_peak_Pa"] > row["p_centre_Pa"])  # the defect's rims
+    True
     """
 
     stats = case.attrs.get("stats") or {}
@@ -788,6 +810,19 @@ def case_false_alarms(case, sensor: TransferModel, analysis: AnalysisSettings, s
 
 
 def jsonable(obj):
+    """``obj`` in JSON types, recursively (for a job's provenance attributes).
+
+    Parameters
+    ----------
+    obj : object
+        Nested mappings, lists and tuples of numpy scalars and arrays and JSON values.
+
+    Returns
+    -------
+    object
+        The same structure in JSON types: mappings as dicts with str keys, tuples and arrays
+        as lists, numpy scalars as Python ones; anything else unchanged.
+    """
     if isinstance(obj, Mapping):
         return {str(k): jsonable(v) for k, v in obj.items()}
     if isinstance(obj, (list, tuple)):

@@ -91,6 +91,7 @@ class Settings:
 
     @property
     def cases(self) -> list[CaseId]:
+        """Every case of the sweep (load x depth x location ...), empty without a sweep."""
         return [] if self.sweep is None else self.sweep.cases()
 
     @property
@@ -359,11 +360,28 @@ def load_settings(path: str | os.PathLike | Sequence[str | os.PathLike] | None =
     Returns
     -------
     Settings
+        The validated, typed configuration: the sweep's cases, each case's scene, the
+        fidelity, the analysis, sensor and trade-off sections.
 
     Raises
     ------
     ConfigError
         One line naming the file(s), the field, the value and what is allowed.
+
+    Examples
+    --------
+    A sweep of one load and two depths (every other key at its default):
+
+    >>> import os, tempfile
+    >>> from bearing_envelope.study.settings import load_settings
+    >>> path = os.path.join(tempfile.mkdtemp(), "config.yaml")
+    >>> with open(path, "w") as f:
+    ...     _ = f.write("{sweep: {loads_kN: [250], depths_um: [0, 50]}, fidelity: draft}")
+    >>> settings = load_settings(path)
+    >>> [case.name for case in settings.cases]
+    ['F250kN_h0um', 'F250kN_h50um']
+    >>> settings.scene(settings.cases[1]).operation.shaft_rate_hz
+    15.8
     """
     if path is None:
         path = default_config_path()

@@ -75,7 +75,13 @@ def tidy_from_analysis(table: pd.DataFrame, strategies: Mapping[str, str] | None
 
 
 def public_mode(path) -> None:
-    """Alias of :func:`bearing_envelope.io.public_mode` (kept for existing callers)."""
+    """Alias of :func:`bearing_envelope.io.public_mode` (kept for existing callers).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        A file made by ``mkstemp`` (mode 0600); it gets 0666 minus the umask.
+    """
     _io_public_mode(path)
 
 
