@@ -753,6 +753,20 @@ class Scene:
         ------
         ValueError
             Naming the dotted field (``scene.defect.depth_um`` ...), the value and what is allowed.
+
+        Examples
+        --------
+        The source study's scene at 250 kN with a 50 um deep defect, then another bearing from
+        the catalogue:
+
+        >>> from bearing_envelope.physics.scene import Scene
+        >>> scene = Scene.from_mapping(None, load_kN=250.0, depth_um=50.0)
+        >>> scene.operation.shaft_rate_hz, scene.operation.fs_hz, scene.defect.active
+        (15.8, 65000.0, True)
+        >>> ball = Scene.from_mapping({"bearing": {"designation": "SKF 6205-2RS"}},
+        ...                           load_kN=2.0, depth_um=0.0)
+        >>> ball.bearing.rollers_per_row, ball.defect.active
+        (9, False)
         """
         m = _merge(_base_mapping(mapping), mapping or {}, "")
         bearing = _build_bearing(m["bearing"])
