@@ -14,7 +14,9 @@ What each one must carry:
   the section may be in the class docstring (the numpydoc convention);
 - one that returns a value (a ``return`` carrying anything but ``None``, or a return
   annotation other than ``None`` on a body that is only a docstring / ``...`` / ``raise``):
-  ``Returns``; a generator: ``Yields``.
+  ``Returns``; a generator: ``Yields``;
+- every entry of those sections a description under it (what it means, with its unit): a
+  bare ``x : float`` or ``DataFrame`` is a gap.
 
 ``python tests/test_numpydoc.py`` prints the counts (functions fully documented, methods with
 their ``Parameters``, functions with ``Examples``) and every gap.
@@ -79,6 +81,19 @@ def _documented_names(body: str) -> set[str]:
         for part in ln.split(":", 1)[0].split(","):
             names.add(part.strip().replace("\\", "").lstrip("*"))
     return names
+
+
+def _bare_entries(body: str) -> list[str]:
+    """Entries of a section body (lines at its base indent) with no description under them
+    (a ``None`` return type aside)."""
+    lines = [ln for ln in body.splitlines() if ln.strip()]
+    if not lines:
+        return ["(empty)"]
+    indent = [len(ln) - len(ln.lstrip()) for ln in lines]
+    base = indent[0]
+    return [ln.strip() for i, ln in enumerate(lines)
+            if indent[i] == base and ln.strip() != "None"
+            and (i + 1 == len(lines) or indent[i + 1] <= base)]
 
 
 def _returns_value(fn: ast.AST) -> tuple[bool, bool]:
@@ -191,6 +206,7 @@ def gaps(row: Row) -> list[str]:
         else:
             named = _documented_names(body)
             out += [f"Parameters: {p}" for p in params if p not in named]
+            out += [f"Parameters: no description of {e!r}" for e in _bare_entries(body)]
     if init:
         return out
     value, gen = _returns_value(fn)
@@ -198,6 +214,10 @@ def gaps(row: Row) -> list[str]:
         out.append("Yields")
     elif (value or _declares_value(fn)) and not gen and _section(doc, "Returns") is None:
         out.append("Returns")
+    for name in ("Returns", "Yields"):
+        body = _section(doc, name)
+        if body is not None:
+            out += [f"{name}: no description of {e!r}" for e in _bare_entries(body)]
     return out
 
 
@@ -313,6 +333,22 @@ def generator(n):
     yield n
 
 
+def bare(a, b):
+    """Boilerplate.
+
+    Parameters
+    ----------
+    a : float
+    b : float
+        Described, m.
+
+    Returns
+    -------
+    float
+    """
+    return a + b
+
+
 def declared() -> float:
     """An abstract value."""
     raise NotImplementedError
@@ -331,6 +367,8 @@ def test_checker_flags_planted_gaps():
         "Rig.Inner.step": ["Parameters"],
         "documented": [],
         "generator": ["Yields"],
+        "bare": ["Parameters: no description of 'a : float'",
+                 "Returns: no description of 'float'"],
         "declared": ["Returns"],
     }
 
