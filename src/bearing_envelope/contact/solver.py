@@ -254,6 +254,8 @@ def solve_contact(
     Returns
     -------
     ContactSolution
+        Pressure (Pa) on the grid, approach (m), contact area (m^2), force (N), iterations and
+        the final residual of the stated convergence measure.
 
     Notes
     -----

@@ -395,6 +395,8 @@ def detection_statistic(
     Returns
     -------
     Detection
+        The statistic (dB), the peak (amplitude, Hz), the background level, the bin counts,
+        the threshold (dB) and whether the line is detected.
     """
     f, a, df_hz = _spectrum(f, amplitude)
     line = check_positive(line_hz, "line_hz")
@@ -459,11 +461,12 @@ def background_mask(f, line: float, half: float, background: tuple[float, float]
     sidebands : int
         Sidebands ``k line +- m fr`` excluded (m <= ``sidebands``).
     exclude_hz : iterable of float
-        Further lines excluded.
+        Further lines excluded (Hz).
 
     Returns
     -------
     numpy.ndarray of bool
+        True on the background bins, the shape of ``f``.
     """
     lo, hi = background
     bg = (f >= lo * line) & (f <= hi * line) & (f > 0)
@@ -500,10 +503,14 @@ def background_problem(f, bg, line: float, level: str) -> str | None:
     line : float
         The line (Hz).
     level : {"median", "two_sided"}
+        The background level of :func:`detection_statistic` (``two_sided`` needs bins on
+        both sides of the line).
 
     Returns
     -------
     str or None
+        The reason, one line naming the line (Hz) and the bins found; None when the
+        background suffices.
     """
     if bg.sum() < 5:
         return f"too few background bins ({int(bg.sum())}) around {line:g} Hz"

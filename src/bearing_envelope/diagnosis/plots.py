@@ -51,6 +51,7 @@ def plot_kurtogram(kurtogram, ax=None, *, title: str | None = None, cmap: str = 
     Returns
     -------
     matplotlib Axes
+        The axes drawn on (``ax``, or those of a new figure).
     """
     kg = kurtogram
     ax = _axes(ax, (7.0, 4.2))
@@ -105,6 +106,7 @@ def plot_envelope_spectrum(f, amplitude, *, base: float | None = None, fr: float
     Returns
     -------
     matplotlib Axes
+        The axes drawn on (``ax``, or those of a new figure).
     """
     ax = _axes(ax, (7.0, 3.6))
     f = np.asarray(f)
@@ -159,6 +161,7 @@ def plot_fault_lines(f, amplitude, lines: dict, *, fmax: float | None = None, ax
     Returns
     -------
     matplotlib Axes
+        The axes drawn on (``ax``, or those of a new figure).
     """
     ax = _axes(ax, (8.0, 4.0))
     f = np.asarray(f)
@@ -348,6 +351,7 @@ def plot_raw_spectrum(details: dict, ax=None, *, db: bool = False, orders: bool 
     details : dict
         ``analyze_signal(..., full_output=True)[1]``.
     ax : matplotlib Axes, optional
+        Where to draw; a new figure otherwise.
     db : bool
         Amplitude in dB re the largest bin.
     orders : bool
@@ -360,6 +364,7 @@ def plot_raw_spectrum(details: dict, ax=None, *, db: bool = False, orders: bool 
     Returns
     -------
     matplotlib Axes
+        The axes drawn on (``ax``, or those of a new figure).
     """
     ax = _axes(ax, (8.0, 3.0))
     f, a = details["raw"]
@@ -392,6 +397,7 @@ def plot_envelope_waveform(x, details: dict, band: str, ax=None, *, periods: flo
     band : str
         The band (a key of ``details["bands"]``).
     ax : matplotlib Axes, optional
+        Where to draw; a new figure otherwise.
     periods : float
         Length shown, in periods of ``family``'s frequency found (else 0.1 s).
     family : str, optional
@@ -402,6 +408,7 @@ def plot_envelope_waveform(x, details: dict, band: str, ax=None, *, periods: flo
     Returns
     -------
     matplotlib Axes
+        The axes drawn on (``ax``, or those of a new figure).
     """
 
     ax = _axes(ax, (8.0, 2.6))
@@ -458,6 +465,7 @@ def plot_record_lines(details: dict, band: str, family: str | None = None, ax=No
     family : str, optional
         The family labelled (the diagnosis, or the closest); None: all in grey.
     ax : matplotlib Axes, optional
+        Where to draw; a new figure otherwise.
     n_harmonics : int
         Harmonics the default ``fmax`` covers.
     db : bool
@@ -472,6 +480,7 @@ def plot_record_lines(details: dict, band: str, family: str | None = None, ax=No
     Returns
     -------
     matplotlib Axes
+        The axes drawn on (``ax``, or those of a new figure).
     """
     ax = _axes(ax, (8.0, 3.6))
     b = details["bands"][band]

@@ -538,6 +538,7 @@ class RecordAnalysis:
         Returns
         -------
         pandas.DataFrame
+            The rows of :func:`record_rows` (the record, its verdict, the family and its lines).
         """
         return pd.DataFrame.from_records(list(self.rows))
 
@@ -553,6 +554,11 @@ class RecordAnalysis:
         Returns
         -------
         dict
+            JSON types only: ``file``, ``source``, ``n_samples``, ``fs_hz``, ``fr_hz``,
+            ``bearing``, ``families`` (name, ``frequency_hz``, sideband), ``search_percent``,
+            ``kurtogram`` (level, ``fc_hz``, ``bandwidth_hz``, kurtosis), ``bands`` (name,
+            ``low_hz``, ``high_hz``, strategy), ``lines`` (one dict per line; NaN as None) and
+            ``verdict`` (:meth:`Verdict.to_dict`).
         """
         table = self.lines if lines is None else lines
         kg = self.kurtogram
@@ -817,6 +823,7 @@ def record_rows(res: RecordAnalysis) -> list[dict]:
     Returns
     -------
     list of dict
+        One row per fault family, the columns above.
     """
     vd = res.verdict.to_dict()
     f = res.file if res.file is not None else (res.name or "")

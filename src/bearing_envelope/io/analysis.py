@@ -64,6 +64,7 @@ def analyze_record(path_or_array, fs: float | None = None, **kwargs):
     Returns
     -------
     RecordAnalysis
+        The record's rates (Hz), bands, line table, verdict per fault family and spectra.
     """
     kwargs.setdefault("reader", read_task)
     return _records.analyze_record(path_or_array, fs, **kwargs)

@@ -659,6 +659,9 @@ def read_tidy(path: str | os.PathLike, *, sealed: bool = False):
     Returns
     -------
     pandas.DataFrame
+        One row per line (case, band, quantity, order, sideband, frequency in Hz, amplitude
+        in the signal's unit, ...): the columns of :data:`~.vocabulary.TIDY_COLUMNS` and the
+        optional ones present.
 
     Raises
     ------

@@ -88,8 +88,9 @@ def settling_samples(fs: float, band, *, order: int = DEFAULT_FILTER_ORDER, tol:
     band : (float, float)
         As in :func:`bandpass`.
     order : int, default 4
+        Butterworth order of the band-pass (as in :func:`bandpass`).
     tol : float
-        Relative settling level.
+        Relative settling level (dimensionless, of the response's maximum).
 
     Returns
     -------

@@ -155,10 +155,13 @@ class Infogram:
         Parameters
         ----------
         kind : {"time", "spectral", "average"}
+            The map: time (impulsiveness) or spectral (repetition) negentropy, or their mean.
 
         Returns
         -------
         list of ndarray
+            One array per row of the tree (dimensionless negentropies), band ``i`` of row
+            ``r`` spanning ``[i, i + 1] * bandwidths[r]`` Hz; NaN where a row's SES is too short.
         """
         if kind == "time":
             return self.time
@@ -174,10 +177,13 @@ class Infogram:
         Parameters
         ----------
         kind : {"time", "spectral", "average"}
+            The map, as in :meth:`rows`.
 
         Returns
         -------
         ndarray, shape (2 * nlevel, 3 * 2**nlevel)
+            The negentropies (dimensionless), row ``r`` of the tree on row ``r``, frequency
+            from 0 to fs/2 along the columns.
         """
         ncol = 3 * 2 ** self.nlevel
         return np.vstack([np.repeat(v, ncol // v.size) for v in self.rows(kind)])
@@ -190,6 +196,7 @@ class Infogram:
         Parameters
         ----------
         kind : {"time", "spectral", "average"}, default "spectral"
+            The map searched, as in :meth:`rows`.
         max_level : float, optional
             Deepest level searched.
         min_bandwidth : float, optional
