@@ -450,10 +450,12 @@ def centrifugal_force(bearing, cage_rate_hz: float,
     Parameters
     ----------
     bearing : Bearing
+        Its element diameter, roller length (rollers) and pitch diameter (mm in the
+        catalogue, m inside).
     cage_rate_hz : float
         Orbit rate of the element (Hz): the cage rate.
     density_kg_m3 : float
-        Element density.
+        Element density (kg/m^3).
 
     Returns
     -------

@@ -235,6 +235,8 @@ class PressureTable:
             ``dF / Q``); ``approach_change`` ``delta - delta0(Q)`` (m, >= 0); ``contact_area``
             (m^2): ``A0(Q + dF) + dA`` with ``dA`` the window's area change at fixed approach.
 
+        Notes
+        -----
         ``dF`` and ``dA`` themselves (``Q_i ratio_force``, ``A0(Q_i) ratio_area`` per node) are
         blended linearly in ``q`` between the rows, each row read like ``P_d/W0``: both hardly
         change with the load at a given distance from the contact edge, while their ratios to
@@ -757,6 +759,7 @@ def build_table(scene: Scene, fidelity: Fidelity, *, q_max: float,
     Returns
     -------
     table : PressureTable
+        The ``P(Q, x)`` / ``P_d(Q, x)`` table (Pa over N and m) with its integral signals.
     nodes : list of LoadNode
         Per-load solutions (for snapshots).
     snapshots : dict

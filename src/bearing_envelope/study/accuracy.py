@@ -309,6 +309,7 @@ def error_model(fidelity: Fidelity, depth_um: float,
     Parameters
     ----------
     fidelity : Fidelity
+        The case's numerical settings; its preset name selects the measured errors.
     depth_um : float
         The case's defect depth (0 = healthy race: the healthy case's errors apply).
     scene : mapping, optional

@@ -344,6 +344,7 @@ def draw_band_limits(bands: pd.DataFrame, *, fs: float | None = None):
     Returns
     -------
     matplotlib.figure.Figure
+        The figure, not saved (:func:`save_figure` writes it).
     """
     names = list(dict.fromkeys(bands["band"]))
     varying = [n for n in names
@@ -432,6 +433,7 @@ def draw_pressure_maps(pairs):
     Returns
     -------
     matplotlib.figure.Figure
+        The figure, not saved (:func:`save_figure` writes it).
     """
     pairs = list(pairs)
     fig, axes = plt.subplots(len(pairs), 2, figsize=(11, 3.3 * len(pairs)), squeeze=False)
@@ -498,6 +500,7 @@ def draw_time_histories(pairs, *, periods: float = 6.0):
     Returns
     -------
     matplotlib.figure.Figure
+        The figure, not saved (:func:`save_figure` writes it).
     """
     fig, axes = plt.subplots(2, 1, figsize=(10, 7))
     for i, (healthy, defect) in enumerate(pairs):
@@ -650,6 +653,7 @@ def draw_kurtogram(kurtogram, case: str, *, signal=None, fs=None, nperseg=None):
     Returns
     -------
     matplotlib.figure.Figure
+        The figure, not saved (:func:`save_figure` writes it).
     """
     k = kurtogram
     ncols = 2 if signal is not None else 1

@@ -225,6 +225,7 @@ def case_bands(case, analysis: AnalysisSettings) -> tuple[CaseBands, Any]:
     Parameters
     ----------
     case : bearing_envelope.io.Case
+        The simulated case (its signal, sampling rate and fault frequencies are read).
     analysis : mapping
         The config's ``analysis`` section (``signal``, ``nlevel``, ``max_level``,
         ``min_bandwidth_hz``, ``bands``).
@@ -289,6 +290,7 @@ def case_harmonics(case, analysis: AnalysisSettings, bands, *, full_output: bool
     Parameters
     ----------
     case : bearing_envelope.io.Case
+        The simulated case (its signal, sampling rate and fault frequencies are read).
     analysis : AnalysisSettings
         The config's ``analysis`` section (``signal``, ``harmonics``, ``sidebands``,
         ``raw_orders_fr``, ``filter_order``, ``squared_envelope``, ``amplitude``: the line
@@ -359,10 +361,13 @@ def case_error_model(case) -> ErrorModel:
     Parameters
     ----------
     case : bearing_envelope.io.Case
+        A case read from its file or made by :func:`history_case`.
 
     Returns
     -------
     ErrorModel
+        The measured relative errors per signal and quantity class that apply to the case,
+        and their basis (one sentence); an empty table, with the reason, when it has none.
     """
     stored = getattr(case, "error_model", None)
     if stored is not None:
@@ -381,6 +386,7 @@ def case_envelope(case, analysis: AnalysisSettings, bands) -> tuple[pd.DataFrame
     Parameters
     ----------
     case : bearing_envelope.io.Case
+        The simulated case (its signal, sampling rate and fault frequencies are read).
     analysis : AnalysisSettings
         The config's ``analysis`` section, typed (as in :func:`case_harmonics`).
     bands : bearing_envelope.io.CaseBands
@@ -525,6 +531,7 @@ def case_acceleration(case, sensor: TransferModel, *, reference=None, snr_db="mo
     Parameters
     ----------
     case : bearing_envelope.io.Case
+        The simulated case: its excitation signal (Pa) drives the transfer path.
     sensor : bearing_envelope.physics.transfer.TransferModel
         The config's ``sensor:`` section, typed (``Settings.sensor``).
     reference : Case, optional
@@ -620,6 +627,7 @@ def diagnosability_bands(case, sensor: TransferModel, analysis: AnalysisSettings
     Parameters
     ----------
     case : bearing_envelope.io.Case
+        The simulated case: its excitation signal (Pa) drives the transfer path.
     sensor : bearing_envelope.physics.transfer.TransferModel
         The config's ``sensor`` section, typed.
     analysis : AnalysisSettings
@@ -694,6 +702,7 @@ def case_diagnosability(case, sensor: TransferModel, analysis: AnalysisSettings,
     Parameters
     ----------
     case : bearing_envelope.io.Case
+        The simulated case: its excitation signal (Pa) drives the transfer path.
     sensor : bearing_envelope.physics.transfer.TransferModel
         The config's ``sensor`` section, typed.
     analysis : bearing_envelope.study.sections.AnalysisSettings

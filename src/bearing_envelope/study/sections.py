@@ -218,6 +218,8 @@ class AnalysisSettings:
         Returns
         -------
         AnalysisSettings
+            Signal, bands, harmonics, sidebands, kurtogram and detection settings, typed and
+            checked against the scene's sampling rate and frequencies.
 
         Raises
         ------
@@ -305,6 +307,8 @@ class DiagnosabilitySettings:
         Returns
         -------
         DiagnosabilitySettings
+            Whether the map is built, its SNRs (dB), false-alarm trials per SNR and where
+            its kurtogram band comes from.
         """
         m = {**section_defaults("diagnosability"), **dict(m or {})}
         return cls(bool(m["enabled"]), tuple(float(x) for x in m["snr_db"]),

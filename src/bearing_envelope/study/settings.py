@@ -130,6 +130,8 @@ class Settings:
         Returns
         -------
         JobValue
+            The text Snakemake compares (scene section and fidelity as JSON), carrying the
+            case, its built scene and the fidelity.
         """
         return JobValue(self.simulation.to_json(), CaseSetup(case, self.scene(case), self.fidelity))
 
@@ -140,6 +142,7 @@ class Settings:
         Returns
         -------
         JobValue
+            The analysis section's canonical JSON, carrying the typed :class:`AnalysisSettings`.
         """
         return JobValue(self.analysis.to_json(), self.analysis)
 
@@ -150,6 +153,7 @@ class Settings:
         Returns
         -------
         JobValue
+            The transfer model's canonical JSON, carrying the typed model (or None).
         """
         if self.sensor is None:
             return JobValue("{}", None)
@@ -162,6 +166,7 @@ class Settings:
         Returns
         -------
         JobValue
+            That JSON text, carrying the typed section, the scene mapping and the analysis.
         """
         text = json.dumps({"tradeoff": self.tradeoff.section, "scene": self.scene_mapping,
                            "analysis": self.analysis.to_mapping()}, sort_keys=True)
@@ -411,5 +416,6 @@ def workflow_settings(files: Sequence[str | os.PathLike] = (),
     Returns
     -------
     Settings
+        The run's validated, typed configuration (:func:`load_settings` of those files).
     """
     return load_settings(config_files(files), overrides=overrides)

@@ -116,6 +116,8 @@ def concat_tidy(frames: Iterable[pd.DataFrame], cases: Iterable[CaseId] | None =
     Returns
     -------
     pandas.DataFrame
+        Every frame's rows in one table (:data:`TIDY_COLUMNS` first), sorted by
+        :data:`TIDY_SORT`, with the cases' ``location`` / ``width_um`` columns where they vary.
 
     Raises
     ------
@@ -181,6 +183,7 @@ def add_location(df: pd.DataFrame, cases: Iterable[CaseId]) -> pd.DataFrame:
     Returns
     -------
     pandas.DataFrame
+        A new table with the ``location`` column, or ``df`` itself when no case has one.
     """
     locations = [c.location for c in _case_ids(df, cases)]
     if all(loc is None for loc in locations):
@@ -205,6 +208,8 @@ def add_width(df: pd.DataFrame, cases: Iterable[CaseId]) -> pd.DataFrame:
     Returns
     -------
     pandas.DataFrame
+        A new table with the ``width_um`` column (um), or ``df`` itself when no case has a
+        width.
     """
     widths = [c.width_um for c in _case_ids(df, cases)]
     if all(w is None for w in widths):

@@ -152,6 +152,8 @@ class TradeoffSettings:
         Returns
         -------
         TradeoffSettings
+            The cases ``(load_kN, depth_um)``, revolutions, base and reference fidelities, the
+            presets and the knobs (each a list of values, coarse to fine), checked.
 
         Raises
         ------
