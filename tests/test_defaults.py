@@ -17,7 +17,7 @@ from pathlib import Path
 import pytest
 import yaml
 
-from bearing_envelope.diagnosis.analysis import AnalysisOptions
+from bearing_envelope.diagnosis.options import AnalysisOptions
 from bearing_envelope.physics import catalogue
 from bearing_envelope.physics.fidelity import DEFAULT_PRESET, fidelity_from
 from bearing_envelope.physics.scene import DEFAULT_SCENE, STUDY_DESIGNATION, Scene

@@ -102,7 +102,7 @@ def test_bad_arguments(kw, match):
 @pytest.mark.parametrize("kw, match", [
     ({"n_harmonics": 0}, r"AnalysisOptions.n_harmonics = 0: allowed an integer 1 \.\. 1000"),
     ({"pfa": 1.5}, r"AnalysisOptions.pfa = 1.5: allowed a number in \(0, 1\)"),
-    ({"level0": "x"}, r"AnalysisOptions.level0 = 'x': allowed \('analytic', 'real'\)"),
+    ({"level0": "x"}, r"AnalysisOptions.level0 = 'x': allowed one of \('analytic', 'real'\)"),
     ({"kurtogram_min_orders": -1.0}, r"AnalysisOptions.kurtogram_min_orders = -1.0"),
     ({"bands": {"strategy": "fixed"}}, r"AnalysisOptions.bands = .*allowed a sequence"),
 ])

@@ -37,7 +37,6 @@ import sys
 from ._analyze_batch import (figure_dir, figure_options, is_batch, record_json, run_batch,
                              single_threaded, tidy_lines, write_batch_outputs, write_text)
 
-_MM_PER_INCH = 25.4
 
 
 def plain_text(text: str) -> str:
@@ -234,10 +233,10 @@ def _add_output_args(p) -> None:
 
 
 # --------------------------------------------------------------------------- validation
-def _positive(opt: str, v, *, allow_zero: bool = False) -> None:
-    if v is not None and (not math.isfinite(v) or v < 0 or (v == 0 and not allow_zero)):
+def _positive(opt: str, v) -> None:
+    if v is not None and (not math.isfinite(v) or v <= 0):
         raise ValueError(f"{opt}: {opt.lstrip('-').replace('-', '_')} must be a finite "
-                         f"number {'>= 0' if allow_zero else '> 0'}, got {v!r}")
+                         f"number > 0, got {v!r}")
 
 
 def check_args(args) -> None:
@@ -247,17 +246,16 @@ def check_args(args) -> None:
     ``--harmonics``, ``--search-percent``, ...) are AnalysisOptions' own, checked when
     :func:`build_options` makes them, also before any file is read (``--harmonics`` is checked
     again against each record's Nyquist frequency); every output must be writable;
-    ``--bands`` is read here. Sets ``args.faults``, ``args.band_specs`` and ``args.geometry``.
+    ``--bands`` is read here. Sets ``args.faults``, ``args.band_specs``, ``args.geometry`` and
+    ``args.options`` (:func:`build_options`).
 
     Parameters
     ----------
     args : argparse.Namespace
         Parsed ``analyze`` arguments; modified in place (also ``args.routes``).
     """
-    for opt in ("--fs", "--fr", "--bpfi", "--roller-diameter-mm", "--pitch-diameter-mm",
-                "--roller-diameter-in", "--pitch-diameter-in", "--min-bandwidth", "--fmax"):
+    for opt in ("--fs", "--fr", "--bpfi", "--fmax"):
         _positive(opt, getattr(args, opt[2:].replace("-", "_")))
-    _positive("--max-level", args.max_level, allow_zero=True)
     args.routes = parse_routes(args.routes)
     args.faults = parse_faults(args.fault)
     args.geometry = geometry_args(args)
@@ -274,6 +272,7 @@ def check_args(args) -> None:
                          f"file or a folder of them")
     check_outputs(args)
     args.band_specs = load_bands(args.bands)
+    args.options = build_options(args)   # every option's range and rule: AnalysisOptions'
 
 
 def parse_routes(text: str | None) -> tuple[str, ...] | None:
@@ -303,21 +302,23 @@ def parse_routes(text: str | None) -> tuple[str, ...] | None:
 
 
 def _check_counts(args) -> None:
-    if args.n_rollers is not None and args.n_rollers < 1:
-        raise ValueError(f"--n-rollers: got {args.n_rollers}; allowed: an integer >= 1")
-    if args.contact_angle_deg is not None and (not math.isfinite(args.contact_angle_deg)
-                                               or not 0 <= args.contact_angle_deg < 90):
-        raise ValueError(f"--contact-angle-deg: got {args.contact_angle_deg!r}; allowed: "
-                         f"0 <= angle < 90")
     if args.jobs is not None and not 0 <= args.jobs <= 1024:
         raise ValueError(f"--jobs: got {args.jobs}; allowed: an integer 0 .. 1024")
-    if args.max_level is not None and args.nlevel is not None and args.max_level > args.nlevel:
-        raise ValueError(f"--max-level: got {args.max_level:g}; allowed: <= --nlevel "
-                         f"({args.nlevel})")
+
+
+#: ``bearing_geometry`` parameter -> the option that gives it (the rules of a bearing given by
+#: designation or geometry, mm or inch, are the library's: physics.catalogue.bearing_geometry).
+_BEARING_OPTIONS = {"designation": "bearing", "n_rollers": "n_rollers",
+                    "roller_diameter_mm": "roller_diameter_mm",
+                    "pitch_diameter_mm": "pitch_diameter_mm",
+                    "roller_diameter_in": "roller_diameter_in",
+                    "pitch_diameter_in": "pitch_diameter_in",
+                    "contact_angle_deg": "contact_angle_deg"}
 
 
 def geometry_args(args) -> dict | None:
-    """The bearing of ``--bearing`` or of the geometry options (mm), or None.
+    """The bearing of ``--bearing`` or of the geometry options, or None
+    (:func:`bearing_envelope.physics.catalogue.bearing_geometry` with the options' values).
 
     Parameters
     ----------
@@ -330,32 +331,11 @@ def geometry_args(args) -> dict | None:
         ``designation``, ``n_rollers``, ``roller_diameter_mm``, ``pitch_diameter_mm``,
         ``contact_angle_deg`` (inch options converted to mm); ``None`` when no bearing is given.
     """
-    for unit in ("roller", "pitch"):
-        if getattr(args, f"{unit}_diameter_mm") is not None and \
-                getattr(args, f"{unit}_diameter_in") is not None:
-            raise ValueError(f"--{unit}-diameter-in: give the {unit} diameter once, in mm or "
-                             f"in inch")
-    d_mm = args.roller_diameter_mm
-    p_mm = args.pitch_diameter_mm
-    if args.roller_diameter_in is not None:
-        d_mm = args.roller_diameter_in * _MM_PER_INCH
-    if args.pitch_diameter_in is not None:
-        p_mm = args.pitch_diameter_in * _MM_PER_INCH
-    given = (args.n_rollers, d_mm, p_mm)
-    if args.bearing is not None:
-        if any(v is not None for v in given) or args.contact_angle_deg is not None:
-            raise ValueError("--bearing: give the bearing by designation or by its geometry "
-                             "(--n-rollers, --roller-diameter-*, --pitch-diameter-*), not both")
-        from bearing_envelope.diagnosis.records import bearing_geometry  # start-up time
+    from bearing_envelope.physics.catalogue import bearing_geometry  # start-up time
 
-        return bearing_geometry(args.bearing, name="--bearing")
-    if all(v is None for v in given):
-        return None
-    if any(v is None for v in given):
-        raise ValueError("bearing geometry: give --n-rollers, --roller-diameter-mm (or -in) "
-                         "and --pitch-diameter-mm (or -in) together")
-    return {"designation": None, "n_rollers": args.n_rollers, "roller_diameter_mm": d_mm,
-            "pitch_diameter_mm": p_mm, "contact_angle_deg": args.contact_angle_deg or 0.0}
+    return bearing_geometry(**{p: getattr(args, a) for p, a in _BEARING_OPTIONS.items()},
+                            names={p: "--" + a.replace("_", "-")
+                                   for p, a in _BEARING_OPTIONS.items()})
 
 
 def _writable(opt: str, path: str | None, *, directory: bool = False) -> None:
@@ -411,6 +391,8 @@ def parse_faults(items) -> dict[str, float]:
     dict of str to float
         Lower-cased name -> frequency, Hz; a malformed item raises ``ValueError``.
     """
+    from bearing_envelope.diagnosis.analysis import check_fault_name  # start-up time
+
     out: dict[str, float] = {}
     for item in items or []:
         name, sep, value = str(item).partition("=")
@@ -424,8 +406,7 @@ def parse_faults(items) -> dict[str, float]:
             raise ValueError(f"--fault {name}: {value!r} is not a number (Hz)") from None
         if not math.isfinite(hz) or hz <= 0:
             raise ValueError(f"--fault {name}: got {hz!r}; allowed: a frequency > 0 Hz")
-        if name in ("fr", "dc"):
-            raise ValueError(f"--fault {name}: {name!r} is reserved (the shaft rate is --fr)")
+        check_fault_name(name, f"--fault {name}")   # the library's rule (fr, dc reserved)
         out[name] = hz
     return out
 
@@ -576,7 +557,7 @@ def library_arguments(args) -> dict:
 
     delim = {"tab": "\t"}.get(args.delimiter, args.delimiter)
     return {"shaft_hz": args.fr, "bearing": args.geometry, "bpfi": args.bpfi,
-            "faults": args.faults, "options": build_options(args),
+            "faults": args.faults, "options": args.options,
             "fixed_band": args.fixed_band, "clamp": args.clamp, "names": OPTION_NAMES,
             "reader": partial(read_task, column=args.column, channel=args.channel,
                               signal=args.signal, delimiter=delim, decimal=args.decimal)}

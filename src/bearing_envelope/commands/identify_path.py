@@ -51,17 +51,17 @@ def register(subparsers) -> None:
 
 
 def _rates(args, fr):
-    from bearing_envelope.io.records import bearing_geometry
-    from bearing_envelope.physics.kinematics import fault_frequencies
+    from bearing_envelope.physics.catalogue import bearing_geometry
+    from bearing_envelope.physics.kinematics import bearing_rates
 
     rates = {f"event{i + 1}": hz for i, hz in enumerate(args.event_hz or [])}
     if args.bearing is not None:
         if fr is None:
             raise ValueError("--shaft-hz: the file gives no shaft rate; pass --shaft-hz (Hz)")
-        g = bearing_geometry(args.bearing)
-        ff = fault_frequencies(fr, g["n_rollers"], g["roller_diameter_mm"],
-                               g["pitch_diameter_mm"], g["contact_angle_deg"])
-        rates.update(bpfo=ff.bpfo, bpfi=ff.bpfi, bsf=ff.bsf, bsf2=2 * ff.bsf)
+        g = bearing_geometry(args.bearing, names={"designation": "--bearing"})
+        r = bearing_rates(fr, g["n_rollers"], g["roller_diameter_mm"], g["pitch_diameter_mm"],
+                          g["contact_angle_deg"])
+        rates.update({k: r[k] for k in ("bpfo", "bpfi", "bsf", "bsf2")})
     if not rates:
         raise ValueError("--bearing: give the bearing (with --shaft-hz) or --event-hz")
     return rates

@@ -13,8 +13,8 @@ signal, and its plots.
 - :mod:`.plots`: figures of an analysis (matplotlib, imported on demand).
 """
 
-from .analysis import (COLUMNS, KURTOGRAM_MIN_ORDERS, AnalysisOptions, analyze_signal,
-                       fault_frequency_map, options_with)
+from .analysis import COLUMNS, analyze_signal, fault_frequency_map
+from .options import KURTOGRAM_MIN_ORDERS, AnalysisOptions, options_with
 from .faults import (CANNOT_TELL, CONFIDENCE_LEVELS, DEFAULT_SEARCH_PERCENT, FamilyVerdict,
                      FaultFamily, Verdict, evidence_level, fault_families, fault_verdict,
                      search_lines)

@@ -2,28 +2,26 @@
 
 from __future__ import annotations
 
-import dataclasses
 import math
-from dataclasses import dataclass
-from collections.abc import Mapping, Sequence
+from collections.abc import Mapping
 
 import numpy as np
 
 from ..signal.validation import check_fs, check_positive, check_signal
-from ..signal.bands import DEFAULT_BANDS, NYQUIST_MARGIN, resolve_band
-from ..signal.envelope import DEFAULT_FILTER_ORDER, envelope_spectrum, peak_value, settling_samples
-from .faults import (DEFAULT_SEARCH_PERCENT, FaultFamily, fault_families, fault_verdict,
-                     search_lines)
+from ..signal.bands import DEFAULT_BANDS, resolve_band
+from ..signal.envelope import envelope_spectrum, peak_value, settling_samples
+from .faults import FaultFamily, fault_families, fault_verdict, search_lines
 from ..signal.kurtogram import fast_kurtogram, max_kurtogram_level
 from ..signal.spectrum import TOLERANCE_MIN_BINS, amplitude_spectrum, prewhiten
-from .routes import ROUTES, apply_routes, combine_routes, run_routes
-from .speed import MEASURED_SPEED_SEARCH_PERCENT, estimate_shaft_rate
+from .options import AnalysisOptions
+from .routes import apply_routes, combine_routes, run_routes
+from .speed import estimate_shaft_rate
 from ..lazy import lazy_module
 
 pd = lazy_module("pandas")  # imported on first use (docs/architecture.md, lazy.py)
 
-__all__ = ["COLUMNS", "DEFAULT_PFA", "KURTOGRAM_MIN_ORDERS", "AnalysisOptions", "analyze_signal",
-           "fault_frequency_map", "OPTION_INT_RANGES", "OptionError", "options_with"]
+__all__ = ["COLUMNS", "analyze_signal", "fault_frequency_map", "check_fault_name",
+           "RESERVED_LINE_NAMES"]
 
 #: Columns of the table returned by :func:`analyze_signal`, in order.
 COLUMNS = [
@@ -46,16 +44,43 @@ COLUMNS = [
     "detected",
 ]
 
-#: Record-wise false-alarm probability of the verdict (the 1 % design of ``diagnosis``).
-DEFAULT_PFA = 0.01
+#: Line names that are not fault families: the shaft rate and the 0 Hz term of every spectrum.
+RESERVED_LINE_NAMES = ("fr", "dc")
+
+
+def check_fault_name(name: str, where: str) -> str:
+    """Refuse a fault-family name the spectra already use (:data:`RESERVED_LINE_NAMES`).
+
+    Parameters
+    ----------
+    name : str
+        The family's name (``bpfo``, ``gear``, ...).
+    where : str
+        How the caller names the entry, for the message (``--fault fr``).
+
+    Returns
+    -------
+    str
+        ``name``.
+
+    Raises
+    ------
+    ValueError
+        ``name`` is ``fr`` or ``dc``.
+    """
+    if name in RESERVED_LINE_NAMES:
+        raise ValueError(f"{where}: {name!r} is reserved (fr: the shaft rate, given as such; "
+                         f"dc: the 0 Hz term); allowed: any other name")
+    return name
 
 
 def fault_frequency_map(bpfi=None, fault_frequencies=None) -> dict[str, float]:
     """Named fault frequencies (Hz) from ``bpfi`` and/or ``fault_frequencies``.
 
     ``fault_frequencies`` may be a mapping ``name -> Hz`` or an object with attributes
-    ``bpfo``, ``bpfi``, ``ftf``, ``bsf`` (:class:`bearing_envelope.physics.kinematics.FaultFrequencies`;
-    its ``bsf2`` = 2 BSF joins in :func:`~bearing_envelope.diagnosis.faults.fault_families`).
+    ``bpfo``, ``bpfi``, ``ftf``, ``bsf``, ``bsf2``
+    (:class:`bearing_envelope.physics.kinematics.FaultFrequencies`, every rate of
+    :func:`~bearing_envelope.physics.kinematics.bearing_rates`).
     ``bpfi`` overrides the mapping's ``"bpfi"``.
 
     Parameters
@@ -75,223 +100,17 @@ def fault_frequency_map(bpfi=None, fault_frequencies=None) -> dict[str, float]:
         if isinstance(fault_frequencies, Mapping):
             items = dict(fault_frequencies).items()
         else:
-            items = [(k, getattr(fault_frequencies, k)) for k in ("bpfo", "bpfi", "ftf", "bsf")
+            items = [(k, getattr(fault_frequencies, k))
+                     for k in ("bpfo", "bpfi", "ftf", "bsf", "bsf2")
                      if hasattr(fault_frequencies, k)]
         for k, v in items:
+            check_fault_name(str(k), f"fault_frequencies[{k!r}]")
             out[str(k)] = check_positive(v, f"fault_frequencies[{k!r}]")
     if bpfi is not None:
         out["bpfi"] = check_positive(bpfi, "bpfi")
     if not out:
         raise ValueError("give bpfi or fault_frequencies (at least one fault frequency in Hz)")
     return out
-
-
-#: The kurtogram band must be at least ``KURTOGRAM_MIN_ORDERS x n_harmonics x`` the highest
-#: fault frequency wide (unless ``min_bandwidth`` is given): the envelope of a band ``W`` Hz
-#: wide holds components up to ``W`` only, so a narrower cell (levels 6-8 at 12 kHz, 23-94 Hz)
-#: cannot hold the lines searched; 2 leaves room for the sidebands on both sides of the
-#: highest harmonic and for the band-pass skirts.
-KURTOGRAM_MIN_ORDERS = 2.0
-
-_LEVEL0 = ("analytic", "real")
-
-
-#: Ranges of the integer options (inclusive): the lower bounds are what the chain needs, the
-#: upper ones refuse a value no analysis means (a record's own limits, e.g. the kurtogram depth
-#: its length allows, are checked with the record).
-OPTION_INT_RANGES = {"n_harmonics": (1, 1000), "n_sidebands": (0, 100),
-                     "n_raw_harmonics": (1, 1000), "nlevel": (1, 30), "filter_order": (1, 20)}
-
-
-class OptionError(ValueError):
-    """A value :class:`AnalysisOptions` refuses: the field, the value and what is allowed.
-
-    Its message names ``AnalysisOptions.<field>``; :func:`options_with` names the field as the
-    caller does (``names``).
-    """
-
-    def __init__(self, field: str, value, allowed: str):
-        self.field, self.value, self.allowed = field, value, allowed
-        super().__init__(f"AnalysisOptions.{field} = {value!r}: allowed {allowed}")
-
-
-def _option_int(name, value, minimum):
-    lo, hi = OPTION_INT_RANGES.get(name, (minimum, None))
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < lo \
-            or (hi is not None and value > hi):
-        raise OptionError(name, value, f"an integer {lo} .. {hi}" if hi is not None
-                          else f"an integer >= {lo}")
-    return int(value)
-
-
-def _option_float(name, value, low, high, *, allow_none=False, closed_low=False):
-    if value is None and allow_none:
-        return None
-    ok = isinstance(value, (int, float, np.floating)) and not isinstance(value, bool)
-    v = float(value) if ok else math.nan
-    inside = (v >= low if closed_low else v > low) and v < high
-    if not (math.isfinite(v) and inside):
-        what = f"{'[' if closed_low else '('}{low:g}, {high:g})"
-        raise OptionError(name, value, f"a number in {what}{' or None' if allow_none else ''}")
-    return v
-
-
-@dataclass(frozen=True)
-class AnalysisOptions:
-    """Settings of :func:`analyze_signal`, defaults in one place (frozen; change one with
-    ``dataclasses.replace(options, n_harmonics=3)``).
-
-    Attributes
-    ----------
-    bands : tuple of mapping or None, default None
-        Band specifications, plain mappings as a YAML config carries them; None:
-        :data:`~bearing_envelope.signal.bands.DEFAULT_BANDS` (kurtogram, fs/4-3fs/8, 3-6 x
-        BPFI, 10-13 x BPFI). Keys: ``name`` (unique; default the strategy), ``strategy``
-        (``kurtogram``, ``fraction``: fractions of fs, ``orders``: multiples of ``base``,
-        ``fixed``: Hz), ``clamp``, ``prewhiten`` (the band of the cepstrum-pre-whitened
-        signal), and for ``kurtogram`` the guards ``max_level``/``min_bandwidth``. See
-        :mod:`bearing_envelope.signal.bands`.
-    n_harmonics : int, default 3
-        Envelope harmonics k = 1..K.
-    n_sidebands : int, default 2
-        Sidebands m = 1..M on each side of each harmonic (0: none), for families with a spacing.
-    n_raw_harmonics : int, default 3
-        Orders of fr and of each fault frequency read in the raw spectrum.
-
-    These defaults are the sweep's and ``bearing-envelope analyze``'s (one home: the config
-    schema's ``analysis`` section, the command line and the trade-off study read them here).
-    nlevel : int or None, default 8
-        Kurtogram depth; reduced to ``floor(log2(n)) - 7`` for short signals; None: the
-        default of :func:`~bearing_envelope.signal.kurtogram.fast_kurtogram`.
-    max_level, min_bandwidth : float or None
-        Guards of the kurtogram's best cell (level; Hz).
-    kurtogram_min_orders : float or None, default :data:`KURTOGRAM_MIN_ORDERS`
-        Without ``min_bandwidth``, the kurtogram cell must be at least this many times
-        ``n_harmonics x`` the highest fault frequency wide; None: no limit (the former
-        choice). Only the ``kurtogram`` band strategy is affected (the simulation sweep passes
-        its bands as fixed limits).
-    filter_order : int, default 4
-        Butterworth order of the band-pass (applied forward and backward).
-    squared : bool, default False
-        Squared envelope (amplitudes in ``U^2``).
-    window : str or tuple, default "hann"
-        Window of the raw and envelope spectra.
-    tolerance_hz : float or None
-        A fixed search half-width (Hz) for every line instead of ``search_percent`` and the
-        narrow windows around the speed-corrected harmonics and sidebands.
-    interpolate : bool, default False
-        Scalloping-corrected, interpolated peaks; default the largest bin.
-    nyquist_margin : float, default 0.98
-        Clamped upper edges are set to ``nyquist_margin * fs/2``.
-    demean : bool, default True
-        De-mean before the kurtogram (the raw 0 Hz term always uses the original signal).
-    level0 : {"analytic", "real"}, default "analytic"
-        Kurtosis of the kurtogram's level 0 (``"real"``: Antoni's).
-    search_percent : float, default 1.0
-        Half-width of the search for each fundamental, percent of its nominal frequency.
-    sideband_spacing : mapping or None
-        ``family -> spacing name`` overriding
-        :data:`~bearing_envelope.diagnosis.faults.SIDEBAND_SPACING`.
-    pfa : float, default 0.01
-        Record-wise false-alarm probability of the verdict: each of the F families x B bands
-        tests runs at ``pfa / (F B)``.
-    measure_speed : bool, default False
-        Measure the shaft rate from the shaft harmonics of the raw spectrum
-        (:func:`~bearing_envelope.diagnosis.speed.estimate_shaft_rate`, around ``fr``), scale
-        ``fr`` and every fault frequency to it, and search each fundamental within
-        ``measured_speed_search_percent`` instead of ``search_percent``. Off by default (the
-        simulation sweep knows its speed exactly).
-    measured_speed_search_percent : float, default 0.5
-        :data:`~bearing_envelope.diagnosis.speed.MEASURED_SPEED_SEARCH_PERCENT`: what remains
-        once the speed is measured is the slip of the rolling elements.
-    routes : tuple of str, default ()
-        Routes of :mod:`~bearing_envelope.diagnosis.routes` besides the envelope bands
-        (``cpw``, ``drs_sk``, ``ees``; ``envelope`` is always one): the verdict is then
-        :func:`~bearing_envelope.diagnosis.routes.combine_routes` of them (the ``analyze``
-        command runs every route by default; the simulation sweep none).
-    """
-
-    bands: tuple[Mapping, ...] | None = None
-    n_harmonics: int = 3
-    n_sidebands: int = 2
-    n_raw_harmonics: int = 3
-    nlevel: int | None = 8
-    max_level: float | None = None
-    min_bandwidth: float | None = None
-    kurtogram_min_orders: float | None = KURTOGRAM_MIN_ORDERS
-    filter_order: int = DEFAULT_FILTER_ORDER
-    squared: bool = False
-    window: str | tuple = "hann"
-    tolerance_hz: float | None = None
-    interpolate: bool = False
-    nyquist_margin: float = NYQUIST_MARGIN
-    demean: bool = True
-    level0: str = "analytic"
-    search_percent: float = DEFAULT_SEARCH_PERCENT
-    sideband_spacing: Mapping[str, str | None] | None = None
-    pfa: float = DEFAULT_PFA
-    measure_speed: bool = False
-    measured_speed_search_percent: float = MEASURED_SPEED_SEARCH_PERCENT
-    routes: tuple[str, ...] = ()
-
-    def __post_init__(self):
-        if self.bands is not None:
-            if isinstance(self.bands, (str, bytes, Mapping)):
-                raise ValueError(f"AnalysisOptions.bands = {self.bands!r}: allowed a sequence "
-                                 "of band mappings or None")
-            object.__setattr__(self, "bands", tuple(self.bands))
-        _option_int("n_harmonics", self.n_harmonics, 1)
-        _option_int("n_sidebands", self.n_sidebands, 0)
-        _option_int("n_raw_harmonics", self.n_raw_harmonics, 1)
-        if self.nlevel is not None:
-            _option_int("nlevel", self.nlevel, 1)
-        _option_int("filter_order", self.filter_order, 1)
-        _option_float("kurtogram_min_orders", self.kurtogram_min_orders, 0.0, math.inf,
-                      allow_none=True)
-        _option_float("nyquist_margin", self.nyquist_margin, 0.0, 1.0 + 1e-12)
-        _option_float("search_percent", self.search_percent, 0.0, 50.0)
-        _option_float("pfa", self.pfa, 0.0, 1.0)
-        _option_float("measured_speed_search_percent", self.measured_speed_search_percent, 0.0,
-                      50.0)
-        routes = (self.routes,) if isinstance(self.routes, str) else tuple(self.routes)
-        if any(r not in ROUTES for r in routes):
-            raise ValueError(f"AnalysisOptions.routes = {self.routes!r}: allowed any of {ROUTES}")
-        object.__setattr__(self, "routes", routes)
-        if self.level0 not in _LEVEL0:
-            raise ValueError(f"AnalysisOptions.level0 = {self.level0!r}: allowed {_LEVEL0}")
-
-
-def options_with(base: AnalysisOptions | None = None, *,
-                 names: Mapping[str, str] | None = None, **given) -> AnalysisOptions:
-    """``base`` with the ``given`` fields replaced, checked by :class:`AnalysisOptions` (the one
-    place its ranges are written); an error names the field as the caller does.
-
-    Parameters
-    ----------
-    base : AnalysisOptions, optional
-        The options to start from (default ``AnalysisOptions()``).
-    names : mapping, optional
-        Field -> the caller's name for it (the command line's ``--harmonics``); the message is
-        then ``{name}: got {value}; allowed: {what}``.
-    **given
-        Fields of :class:`AnalysisOptions`.
-
-    Returns
-    -------
-    AnalysisOptions
-
-    Raises
-    ------
-    ValueError
-        One line naming the field (as ``names`` says), the value and what is allowed.
-    """
-    try:
-        return dataclasses.replace(base or AnalysisOptions(), **given)
-    except OptionError as exc:
-        if names is None or exc.field not in names:
-            raise
-        raise ValueError(f"{names[exc.field]}: got {exc.value!r}; allowed: {exc.allowed}") \
-            from None
 
 
 def analyze_signal(x, fs: float, *, fr: float, bpfi: float | None = None,

@@ -66,6 +66,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from ..physics.kinematics import spin_events
 from ..signal.spectrum import amplitude_at, default_tolerance
 from .detection import BACKGROUND_BAND, detection_statistic
 
@@ -176,7 +177,7 @@ def fault_families(frequencies: Mapping[str, float], *, fr: float,
         for k, v in freqs.items():
             items.append((k, v))
             if k == "bsf":
-                items.append(("bsf2", 2.0 * v))
+                items.append(("bsf2", spin_events(v)))
         freqs = dict(items)
     spacing_map = {**SIDEBAND_SPACING, **dict(sidebands or {})}
     known = {"fr": float(fr), **freqs}

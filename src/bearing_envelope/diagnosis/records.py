@@ -6,7 +6,8 @@ command line (``bearing-envelope analyze``) and for a notebook:
 
 - the sampling frequency and the shaft rate: the caller's, else the record's own;
 - the fault frequencies and where each comes from (:func:`fault_sources`): the bearing (a
-  catalogue designation, :func:`bearing_geometry`, or its geometry), then ``bpfi`` and
+  catalogue designation or alias,
+  :func:`~bearing_envelope.physics.catalogue.bearing_geometry`, or its geometry), then ``bpfi`` and
   ``faults`` (overriding the bearing's value of the same name), then a case file's BPFI;
 - the kurtogram depth for the record's length (:func:`record_nlevel`);
 - the band list with an optional fixed band (:func:`record_bands`);
@@ -28,15 +29,14 @@ from __future__ import annotations
 
 import math
 import os
-import re
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field, replace
 from typing import Any, NamedTuple
 
 import numpy as np
 
-from ..physics.catalogue import bearing_sources, bearing_values, designations
-from ..physics.kinematics import fault_frequencies
+from ..physics.catalogue import bearing_geometry
+from ..physics.kinematics import bearing_rates, spin_events
 from ..signal.bands import DEFAULT_BANDS
 from ..signal.kurtogram import max_kurtogram_level
 from .analysis import AnalysisOptions, analyze_signal
@@ -48,7 +48,7 @@ from ..lazy import lazy_module
 pd = lazy_module("pandas")  # imported on first use (docs/architecture.md, lazy.py)
 
 __all__ = ["MIN_BINS", "RECORD_OPTIONS", "RecordAnalysis", "RecordFailure", "Source",
-           "analyze_record", "bearing_geometry", "known_bearings", "fault_sources",
+           "analyze_record", "fault_sources",
            "record_nlevel", "record_bands", "check_fixed_band", "check_record",
            "check_frequencies", "check_orders"]
 
@@ -78,90 +78,11 @@ def _namer(names: Mapping[str, str] | None) -> Callable[[str], str]:
 
 
 # ------------------------------------------------------------------------------ bearings
-def _key(name: str) -> str:
-    return re.sub(r"[\s_]+", "-", str(name).strip().upper())
-
-
-def _aliases(designation: str) -> set[str]:
-    """Names a catalogue entry answers to: ``"SKF 6205-2RS"`` -> itself, ``"6205-2RS"``,
-    ``"6205"``."""
-    out = {_key(designation)}
-    words = designation.split()
-    if len(words) > 1:
-        out.add(_key(" ".join(words[1:])))
-    m = re.search(r"\d{3,}", designation)
-    if m:
-        out.add(m.group(0))
-    return out
-
-
-def known_bearings() -> dict[str, str]:
-    """``alias -> catalogue designation`` of every entry of the bearing catalogue
-    (:mod:`bearing_envelope.physics.catalogue`, ``data/bearings.yaml``).
-
-    Returns
-    -------
-    dict
-        Alias (``"6205"``, ``"6205-2RS"``, ``"SKF-6205-2RS"``) -> designation.
-    """
-    out: dict[str, str] = {}
-    for d in designations():
-        for a in _aliases(d):
-            out.setdefault(a, d)
-    return out
-
-
-def bearing_geometry(designation: str, *, name: str = "bearing") -> dict:
-    """Geometry of a catalogue bearing named by designation (``"6205"``, ``"SKF 6205-2RS"``,
-    ``"6205-2RS JEM SKF"``): the catalogue's rolling elements, their diameter, the pitch
-    diameter (``(bore + OD) / 2`` where the catalogue gives none) and contact angle.
-
-    Parameters
-    ----------
-    designation : str
-        The bearing's designation or an alias of it.
-    name : str, default "bearing"
-        How the caller names the parameter, for the message (``--bearing``).
-
-    Returns
-    -------
-    dict
-        ``designation`` (the catalogue's), ``n_rollers``, ``roller_diameter_mm``,
-        ``pitch_diameter_mm``, ``contact_angle_deg``, ``source`` (of each value).
-
-    Raises
-    ------
-    ValueError
-        ``bearing: unknown bearing ...; allowed: ...`` for an unknown designation.
-    """
-    table = known_bearings()
-    key = _key(designation)
-    found = table.get(key)
-    if found is None:  # "6205-2RS JEM SKF": its first designation number
-        m = re.search(r"\d{3,}", key)
-        found = table.get(m.group(0)) if m else None
-    if found is None:
-        raise ValueError(f"{name}: unknown bearing {designation!r}; allowed: "
-                         f"{', '.join(designations())} (or 6205, 6203, ...; or give the "
-                         f"geometry: rollers, roller and pitch diameters)")
-    v, src = bearing_values(found), bearing_sources(found)
-    pitch = v["pitch_diameter_mm"]
-    if pitch is None:
-        pitch = 0.5 * (v["bore_mm"] + v["outside_diameter_mm"])
-    return {"designation": found, "n_rollers": int(v["rollers_per_row"]),
-            "roller_diameter_mm": float(v["roller_diameter_mm"]),
-            "pitch_diameter_mm": float(pitch),
-            "contact_angle_deg": float(v.get("contact_angle_deg") or 0.0),
-            "source": {k: src[k] for k in ("rollers_per_row", "roller_diameter_mm",
-                                           "pitch_diameter_mm", "contact_angle_deg")
-                       if k in src}}
-
-
 def _geometry(bearing, n) -> dict | None:
     """A designation -> its catalogue geometry; a mapping -> itself; None -> None."""
     if bearing is None or isinstance(bearing, Mapping):
         return None if bearing is None else dict(bearing)
-    return bearing_geometry(str(bearing), name=n("bearing"))
+    return bearing_geometry(bearing, names={"designation": n("bearing")})
 
 
 # ------------------------------------------------------------------------------- checks
@@ -369,7 +290,8 @@ def fault_sources(shaft_hz: float, *, bearing=None, bpfi: float | None = None,
     shaft_hz : float
         Shaft rate, Hz (the bearing's frequencies are proportional to it).
     bearing : str or mapping, optional
-        A catalogue designation (:func:`bearing_geometry`) or a geometry ``{"n_rollers",
+        A catalogue designation or alias (:func:`~bearing_envelope.physics.catalogue.
+        bearing_geometry`) or a geometry ``{"n_rollers",
         "roller_diameter_mm", "pitch_diameter_mm", "contact_angle_deg"}`` (optionally
         ``"designation"``): its BPFO, BPFI, BSF and FTF.
     bpfi : float, optional
@@ -395,14 +317,14 @@ def fault_sources(shaft_hz: float, *, bearing=None, bpfi: float | None = None,
         label = f"{n('bearing')} {geometry['designation']}" if geometry.get("designation") \
             else "bearing geometry"
         try:
-            ff = fault_frequencies(shaft_hz, geometry["n_rollers"],
-                                   geometry["roller_diameter_mm"],
-                                   geometry["pitch_diameter_mm"],
-                                   geometry.get("contact_angle_deg") or 0.0)
+            rates = bearing_rates(shaft_hz, geometry["n_rollers"],
+                                  geometry["roller_diameter_mm"],
+                                  geometry["pitch_diameter_mm"],
+                                  geometry.get("contact_angle_deg") or 0.0)
         except ValueError as exc:
             raise ValueError(f"{label}: {exc}") from None
-        for name in ("bpfo", "bpfi", "bsf", "ftf"):
-            out[name] = Source(getattr(ff, name), label, "bearing")
+        for name in ("bpfo", "bpfi", "bsf", "ftf"):   # bsf2 joins after the overrides
+            out[name] = Source(rates[name], label, "bearing")
     if bpfi is not None:
         out["bpfi"] = Source(float(bpfi), n("bpfi"), "bpfi")
     for name, hz in (faults or {}).items():
@@ -413,7 +335,7 @@ def fault_sources(shaft_hz: float, *, bearing=None, bpfi: float | None = None,
         raise ValueError(f"bpfi: pass {n('bpfi')}, {n('faults')} or {n('bearing')} (a "
                          f"designation or the geometry): no fault frequency is known")
     if "bsf" in out and "bsf2" not in out:
-        out["bsf2"] = Source(2.0 * out["bsf"].hz, out["bsf"].origin, out["bsf"].param)
+        out["bsf2"] = Source(spin_events(out["bsf"].hz), out["bsf"].origin, out["bsf"].param)
     return out
 
 

@@ -21,10 +21,9 @@ the option) and what is allowed, instead of guessing:
 
 Complex, boolean and object data are refused (an imaginary part is never dropped silently).
 
-Bearings named by designation (:func:`bearing_geometry`, defined in
-:mod:`bearing_envelope.diagnosis.records` and re-exported here) come from the bearing catalogue
-(:mod:`bearing_envelope.physics.catalogue`, ``data/bearings.yaml``): ``6205`` is ``SKF
-6205-2RS``, ``6203`` is ``SKF 6203``. Analysing what is read: :mod:`bearing_envelope.io.analysis`.
+Bearings named by designation or alias come from the bearing catalogue
+(:func:`bearing_envelope.physics.catalogue.bearing_geometry`, ``data/bearings.yaml``): ``6205``
+is ``SKF 6205-2RS``, ``6203`` is ``SKF 6203``. Analysing what is read: :mod:`bearing_envelope.io.analysis`.
 """
 
 # pandas (CSV) and scipy.io (.mat, .wav) are imported by the reader that needs them: reading an
@@ -44,11 +43,10 @@ import numpy as np
 from numpy.lib import format as npf
 
 from .. import io as _io  # read_case looked up at call time (callers may substitute it)
-# bearings by designation: one home, diagnosis.records (re-exported here for older callers)
-from ..diagnosis.records import bearing_geometry, known_bearings
+from ..physics.catalogue import bearing_geometry  # the one resolver of bearing names
 
 __all__ = ["SUFFIXES", "MEMORY_FACTOR", "read_record", "sniff_csv", "read_manifest",
-           "collect_records", "bearing_geometry", "known_bearings", "check_memory"]
+           "collect_records", "check_memory"]
 
 #: File types :func:`read_record` reads.
 SUFFIXES = (".csv", ".npy", ".npz", ".mat", ".wav", ".h5", ".hdf5")

@@ -59,9 +59,9 @@ import os
 from dataclasses import dataclass
 from typing import Any, Mapping
 
-from .catalogue import bearing_values, designations, operation_values
+from .catalogue import bearing_values, designations, operation_values, resolve_designation
 from .geometry import defect_depth, read_defect_profile, read_profile
-from .kinematics import FaultFrequencies, fault_frequencies
+from .kinematics import FaultFrequencies, bearing_rates, fault_frequencies
 from .locations import FaultLocation, get_location, location_names
 
 __all__ = [
@@ -685,7 +685,9 @@ class Scene:
     @property
     def cage_rate_hz(self) -> float:
         """Cage rate used by the time history: ``f_r - BPFI/Z`` (= FTF without override), Hz."""
-        return self.operation.shaft_rate_hz - self.bpfi_hz / self.bearing.rollers_per_row
+        b = self.bearing   # the rates' one function (a stated BPFI sets the cage rate)
+        return bearing_rates(self.operation.shaft_rate_hz, b.rollers_per_row, b.roller_diameter_mm,
+                             b.pitch_diameter_mm, b.contact_angle_deg, bpfi=self.bpfi_hz)["ftf"]
 
     @property
     def defect_speed_m_s(self) -> float:
@@ -934,6 +936,8 @@ def _build_kind_fields(m: Mapping[str, Any], d: float, cr: float, length: float)
     des = m["designation"]
     if des is not None and not isinstance(des, str):
         raise _bad(p + "designation", des, "null or a catalogue designation")
+    if des is not None:   # an alias (6205, SKF 6205) names the entry as the catalogue writes it
+        des = resolve_designation(des)
     kind = _choice(p + "kind", m["kind"], BEARING_KINDS)
     out: dict[str, Any] = {"designation": des, "kind": kind}
     co = m["outer_raceway_profile_radius_mm"]

@@ -830,7 +830,8 @@ def make_figures(*, harmonics, cases, bands, case_files, kurtogram_files, spectr
             written.append(fig_envelope_spectrum(
                 spectra_files[example["defect"]], example["defect"], b.name, f_sb, f_line,
                 tmp / f"fig11_envelope_spectrum_{b.name}.png",
-                n_harmonics=analysis.harmonics, n_sidebands=analysis.sidebands,
+                n_harmonics=analysis.options.n_harmonics,
+                n_sidebands=analysis.options.n_sidebands,
                 spacing_name=display_name(sb_name), **line))
         for i, b in enumerate(analysis.bands):
             written.append(fig_harmonics_vs_depth(tidy, b.name, tmp / f"fig{12 + i:02d}_harmonics_{b.name}.png"))

@@ -31,9 +31,10 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from ..diagnosis import AnalysisOptions, analyze_signal
+from ..diagnosis import analyze_signal
 from ..diagnosis.detection import detection_statistic
 from ..io import BandLimits, Case, CaseBands, CaseSpectra
+from ..physics.kinematics import spin_events
 from ..physics.locations import get_location
 from ..physics.scene import DEFAULT_SCENE
 from ..physics.transfer import (TransferModel, excitation_from_history, select_excitation,
@@ -63,7 +64,8 @@ AMPLITUDE_ESTIMATORS = {
 
 
 def amplitude_estimator(analysis: AnalysisSettings) -> str:
-    """``analysis.amplitude`` (default: AnalysisOptions'; the default sweep chooses ``interpolated``), checked.
+    """``analysis.amplitude``: the estimator of every line amplitude (AnalysisOptions'
+    ``interpolate``, checked there; the default sweep chooses ``interpolated``).
 
     Parameters
     ----------
@@ -74,17 +76,8 @@ def amplitude_estimator(analysis: AnalysisSettings) -> str:
     -------
     str
         A key of :data:`AMPLITUDE_ESTIMATORS` (``interpolated`` or ``peak_bin``).
-
-    Raises
-    ------
-    ValueError
-        Any other name.
     """
-    name = analysis.amplitude
-    if name not in AMPLITUDE_ESTIMATORS:
-        raise ValueError(f"analysis.amplitude: got {name!r}; allowed: "
-                         f"{' | '.join(AMPLITUDE_ESTIMATORS)}")
-    return name
+    return "interpolated" if analysis.options.interpolate else "peak_bin"
 
 
 def _case_id(case) -> str:
@@ -200,7 +193,7 @@ def case_fault_lines(case) -> tuple[dict[str, float], dict[str, tuple[str, float
         ``family -> (spacing name, Hz)``; None for the inner race (the default spacing).
     """
     ev = case_frequencies(case)
-    ev["bsf2"] = 2.0 * ev["bsf"]
+    ev["bsf2"] = spin_events(ev["bsf"])
     return get_location(case_location(case)).fault_lines(ev)
 
 
@@ -211,12 +204,10 @@ def _fundamental(case) -> float:
 
 def _kurtogram(x, fs, analysis: AnalysisSettings):
 
-    nlevel = min(analysis.nlevel, max_kurtogram_level(x.size))
-    return fast_kurtogram(
-        x - x.mean(), fs, nlevel,
-        max_level=analysis.max_level,
-        min_bandwidth=analysis.min_bandwidth_hz,
-    )
+    opt = analysis.options
+    nlevel = min(opt.nlevel, max_kurtogram_level(x.size))
+    return fast_kurtogram(x - x.mean(), fs, nlevel, max_level=opt.max_level,
+                          min_bandwidth=opt.min_bandwidth)
 
 
 def case_bands(case, analysis: AnalysisSettings) -> tuple[CaseBands, Any]:
@@ -317,11 +308,9 @@ def case_harmonics(case, analysis: AnalysisSettings, bands, *, full_output: bool
     strategies = {b.name: b.strategy for b in bands.bands}
     clamped = {b.name: b.clamped for b in bands.bands}
     faults, spacing = case_fault_lines(case)
-    options = AnalysisOptions(
-        bands=specs, n_harmonics=analysis.harmonics, n_sidebands=analysis.sidebands,
-        n_raw_harmonics=analysis.raw_orders_fr, nlevel=None,
-        filter_order=analysis.filter_order, squared=analysis.squared_envelope,
-        sideband_spacing=spacing, interpolate=estimator == "interpolated")
+    # the section's options, with the case's bands as fixed limits (no kurtogram run here)
+    options = dataclasses.replace(analysis.options, bands=specs, nlevel=None, max_level=None,
+                                  min_bandwidth=None, sideband_spacing=spacing)
     res = analyze_signal(x, fs, fr=float(case.fr), fault_frequencies=faults, options=options,
                          full_output=full_output)
     df, extra = (res if full_output else (res, None))
@@ -401,7 +390,7 @@ def case_envelope(case, analysis: AnalysisSettings, bands) -> tuple[pd.DataFrame
         ``(harmonics + 1.5) x BPFI`` (:data:`SPECTRA_MARGIN_ORDERS`).
     """
     df, extra = case_harmonics(case, analysis, bands, full_output=True)
-    fmax = (analysis.harmonics + SPECTRA_MARGIN_ORDERS) * _fundamental(case)
+    fmax = (analysis.options.n_harmonics + SPECTRA_MARGIN_ORDERS) * _fundamental(case)
     env = {}
     for name, b in extra["bands"].items():
         keep = b["f"] <= fmax
@@ -679,8 +668,8 @@ def _record_tests(case, sensor: TransferModel, analysis: AnalysisSettings, setup
         bands = diagnosability_bands(case, sensor, analysis, record=acc)
     out = []
     for spec, lo, hi in bands:
-        f, a = envelope_spectrum(acc, fs, (lo, hi), order=analysis.filter_order,
-                                 squared=analysis.squared_envelope,
+        f, a = envelope_spectrum(acc, fs, (lo, hi), order=analysis.options.filter_order,
+                                 squared=analysis.options.squared,
                                  fmax_hz=MAP_FMAX * _fundamental(case))
         d = detection_statistic(f, a, _fundamental(case), fr=float(case.fr),
                                 background=MAP_BACKGROUND, level="two_sided")

@@ -36,7 +36,7 @@ __all__ = ["event_shape", "event_shapes", "event_outputs", "plot_element_folds",
            "MIN_CONTRAST_DB"]
 
 #: Rolling elements of the rig's bearing.
-N_ELEMENTS = RIG_BEARING["n_balls"]
+N_ELEMENTS = RIG_BEARING["n_rollers"]
 #: Phase bins of the averages at the fault's rate and, per element, at the cage's rate.
 FAULT_BINS = 100
 ELEMENT_BINS = 40

@@ -8,14 +8,15 @@ from pathlib import Path
 
 import numpy as np
 
-from ..physics.kinematics import fault_frequencies
+from ..physics.catalogue import bearing_geometry
+from ..physics.kinematics import bearing_rates
 
 __all__ = ["read_record", "rig_rates", "record_pairs", "pair_figure", "save_figure", "RIG_BEARING"]
 
 #: The drive-end bearing of the CWRU rig (SKF 6205-2RS JEM, as in every record's meta
-#: ``geometry``): rolling elements, ball and pitch diameters (mm), contact angle (deg).
-RIG_BEARING = {"n_balls": 9, "ball_diameter_mm": 7.94, "pitch_diameter_mm": 39.04,
-               "contact_angle_deg": 0.0}
+#: ``geometry``): its catalogue geometry (``data/bearings.yaml``; ``n_rollers``, diameters in
+#: mm, contact angle in degrees).
+RIG_BEARING = bearing_geometry("6205")
 
 
 def read_record(path: str) -> tuple[np.ndarray, dict]:
@@ -49,9 +50,9 @@ def rig_rates(fr: float) -> dict:
         ``bpfo``, ``bpfi``, ``bsf``, ``bsf2`` (2 x BSF), Hz.
     """
     b = RIG_BEARING
-    ff = fault_frequencies(fr, b["n_balls"], b["ball_diameter_mm"], b["pitch_diameter_mm"],
-                           b["contact_angle_deg"])
-    return {"bpfo": ff.bpfo, "bpfi": ff.bpfi, "bsf": ff.bsf, "bsf2": 2 * ff.bsf}
+    r = bearing_rates(fr, b["n_rollers"], b["roller_diameter_mm"], b["pitch_diameter_mm"],
+                      b["contact_angle_deg"])
+    return {k: r[k] for k in ("bpfo", "bpfi", "bsf", "bsf2")}
 
 
 def record_pairs(conditions, sim_dir):

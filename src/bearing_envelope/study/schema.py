@@ -19,13 +19,11 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
-from ..diagnosis.analysis import AnalysisOptions
+from ..diagnosis.options import AnalysisOptions
 from ..physics.fidelity import DEFAULT_PRESET
-from ..signal.bands import DEFAULT_BANDS
 from .config_read import ConfigError
 
-__all__ = ["SCHEMA_PATH", "full_schema", "analysis_defaults", "section_defaults",
-           "validate_mapping", "ANALYSIS_OPTION_FIELDS"]
+__all__ = ["SCHEMA_PATH", "full_schema", "section_defaults", "validate_mapping"]
 
 #: The JSON schema of ``config.yaml``, shipped as package data (the workflow validates against it too).
 SCHEMA_PATH = Path(__file__).resolve().parent.parent / "data" / "config.schema.yaml"
@@ -53,39 +51,13 @@ def _check_finite(obj: Any, path: tuple = ()) -> None:
             _check_finite(v, path + (i,))
 
 
-#: ``analysis:`` keys whose default is a field of
-#: :class:`~bearing_envelope.diagnosis.analysis.AnalysisOptions`, the one home of the analysis
-#: defaults (the sweep and ``analyze`` share it): config key -> option field.
-ANALYSIS_OPTION_FIELDS = {
-    "nlevel": "nlevel", "max_level": "max_level", "min_bandwidth_hz": "min_bandwidth",
-    "filter_order": "filter_order", "squared_envelope": "squared", "harmonics": "n_harmonics",
-    "sidebands": "n_sidebands", "raw_orders_fr": "n_raw_harmonics",
-}
-
-
-def analysis_defaults() -> dict[str, Any]:
-    """The ``analysis:`` defaults the schema is filled with, read from
-    :class:`~bearing_envelope.diagnosis.analysis.AnalysisOptions` (``amplitude``:
-    ``interpolated`` when its ``interpolate`` is true, else ``peak_bin``; ``bands``: its bands,
-    :data:`~bearing_envelope.signal.bands.DEFAULT_BANDS` when None).
-
-    Returns
-    -------
-    dict
-        Config key -> default value.
-    """
-    opt = AnalysisOptions()
-    out = {key: getattr(opt, name) for key, name in ANALYSIS_OPTION_FIELDS.items()}
-    out["amplitude"] = "interpolated" if opt.interpolate else "peak_bin"
-    out["bands"] = [dict(b) for b in (opt.bands or DEFAULT_BANDS)]
-    return out
-
-
 @functools.lru_cache(maxsize=1)
 def full_schema() -> dict:
-    """The schema file with the defaults whose home is code filled in: ``fidelity`` from
-    :data:`~bearing_envelope.physics.fidelity.DEFAULT_PRESET`, the analysis keys from
-    :func:`analysis_defaults`. The file itself holds no scene, fidelity, analysis-option,
+    """The schema file with what has its home in code filled in: the ``fidelity`` default
+    from :data:`~bearing_envelope.physics.fidelity.DEFAULT_PRESET`; the type, range and
+    default of every ``analysis:`` key that sets an analysis option from
+    :meth:`~bearing_envelope.diagnosis.options.AnalysisOptions.config_schema` (the file writes
+    their descriptions only). The file itself holds no scene, fidelity, analysis-option,
     limits or tradeoff default (``tests/test_defaults.py``).
 
     Returns
@@ -99,8 +71,8 @@ def full_schema() -> dict:
         schema = yaml.load(fh, Loader=getattr(yaml, "CSafeLoader", yaml.SafeLoader))  # libyaml: 10x faster
     props = schema["properties"]
     props["fidelity"]["default"] = DEFAULT_PRESET
-    for key, value in analysis_defaults().items():
-        props["analysis"]["properties"][key]["default"] = value
+    for key, fragment in AnalysisOptions.config_schema().items():
+        props["analysis"]["properties"][key].update(fragment)
     return schema
 
 

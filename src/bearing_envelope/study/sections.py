@@ -15,6 +15,7 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
+from ..diagnosis.options import AnalysisOptions
 from ..physics.fidelity import Fidelity
 from ..physics.scene import DEFECT_LOCATIONS, Scene
 from ..signal.bands import resolve_band
@@ -176,31 +177,28 @@ class BandSpec:
 
 @dataclass(frozen=True)
 class AnalysisSettings:
-    """The ``analysis:`` section, typed; every field is required here because its default lives
-    in the schema alone (:func:`section_defaults` fills a partial mapping from it).
+    """The ``analysis:`` section, typed: which simulated signal is analysed, and the analysis
+    options (:class:`~bearing_envelope.diagnosis.options.AnalysisOptions`, the one home of
+    every option's range and default; the config loads straight into it, ``bands`` included).
 
     What every analysis job and :mod:`bearing_envelope.study.pipeline` function receives; it
     travels to a workflow job as itself, with :meth:`to_json` as its rerun trigger
     (:meth:`Settings.analysis_param`, :func:`job_settings`).
     """
 
-    bands: tuple[BandSpec, ...]
     signal: str
-    nlevel: int
-    max_level: float | None
-    min_bandwidth_hz: float | None
-    filter_order: int
-    squared_envelope: bool
-    harmonics: int
-    sidebands: int
-    raw_orders_fr: int
-    amplitude: str                   # spectral-line estimator: interpolated | peak_bin
+    options: AnalysisOptions
+
+    @property
+    def bands(self) -> tuple[BandSpec, ...]:
+        """The demodulation bands of the section (:attr:`options` ``.bands``), typed."""
+        return tuple(BandSpec(**dict(b)) for b in self.options.bands)
 
     @classmethod
     def from_mapping(cls, m: Mapping[str, Any], *, fs: float, freqs: Mapping[str, float],
                      has_sensor: bool) -> "AnalysisSettings":
         """Build and cross-check (needs the sampling rate and base frequencies of the scene).
-        Keys missing from ``m`` take the schema's defaults.
+        Keys missing from ``m`` take the schema's defaults (AnalysisOptions').
 
         Parameters
         ----------
@@ -228,9 +226,12 @@ class AnalysisSettings:
             below Nyquist, ``max_level > nlevel``, ...).
         """
         m = {**section_defaults("analysis"), **dict(m)}
-        kw = {f.name: m[f.name] for f in dataclasses.fields(cls) if f.name != "bands"}
-        bands = tuple(BandSpec(**dict(b)) for b in m["bands"])
-        a = cls(bands=bands, **kw)
+        try:
+            options = AnalysisOptions.from_config(m)
+        except ValueError as exc:
+            raise ConfigError(str(exc)) from None
+        a = cls(signal=m["signal"], options=options)
+        bands = a.bands
         names = [b.name for b in bands]
         for i, n in enumerate(names):
             if n in names[:i]:
@@ -240,21 +241,7 @@ class AnalysisSettings:
             raise ConfigError("analysis.signal: 'acceleration' needs a `sensor:` section (the "
                               "transfer path that makes the acceleration); allowed without it: "
                               "p_max, p_max_defect")
-        if a.max_level is not None and a.max_level > a.nlevel:
-            raise field_error("analysis.max_level", a.max_level,
-                       f"null or a level <= analysis.nlevel ({a.nlevel})")
-        if a.min_bandwidth_hz is not None and a.min_bandwidth_hz >= fs / 2:
-            raise field_error("analysis.min_bandwidth_hz", a.min_bandwidth_hz,
-                       f"null or a bandwidth below fs/2 = {fs / 2:g} Hz")
-        for b in bands:  # the static part of the one band resolver (no signal yet)
-            try:
-                resolve_band(b.to_mapping(), fs, frequencies=freqs, static=True)
-            except ValueError as exc:
-                raise ConfigError(f"analysis.bands[{b.name}]: {exc} (scene.operation.fs_hz = "
-                                  f"{fs:g}, Nyquist {fs / 2:g} Hz)") from None
-        if freqs["bpfi"] * a.harmonics >= fs / 2:
-            raise field_error("analysis.harmonics", a.harmonics,
-                       f"K with K x BPFI ({freqs['bpfi']:g} Hz) below Nyquist ({fs / 2:g} Hz)")
+        _check_below_nyquist(a, fs, freqs)
         return a
 
     def to_mapping(self) -> dict[str, Any]:
@@ -263,9 +250,10 @@ class AnalysisSettings:
         Returns
         -------
         dict
-            Every field; ``bands`` a list of :meth:`BandSpec.to_mapping`.
+            ``signal`` and every config key of :attr:`options`; ``bands`` a list of
+            :meth:`BandSpec.to_mapping`.
         """
-        d = dataclasses.asdict(self)
+        d = {"signal": self.signal, **self.options.config_values()}
         d["bands"] = [b.to_mapping() for b in self.bands]
         return d
 
@@ -283,6 +271,24 @@ class AnalysisSettings:
     def needs_kurtogram(self) -> bool:
         """Whether any band is chosen by the kurtogram."""
         return any(b.strategy == "kurtogram" for b in self.bands)
+
+
+def _check_below_nyquist(a: AnalysisSettings, fs: float, freqs: Mapping[str, float]) -> None:
+    """The checks of the section against the scene: the kurtogram's narrowest band, every band
+    and K x BPFI below Nyquist (each option's own range is AnalysisOptions')."""
+    opt = a.options
+    if opt.min_bandwidth is not None and opt.min_bandwidth >= fs / 2:
+        raise field_error("analysis.min_bandwidth_hz", opt.min_bandwidth,
+                          f"null or a bandwidth below fs/2 = {fs / 2:g} Hz")
+    for b in a.bands:  # the static part of the one band resolver (no signal yet)
+        try:
+            resolve_band(b.to_mapping(), fs, frequencies=freqs, static=True)
+        except ValueError as exc:
+            raise ConfigError(f"analysis.bands[{b.name}]: {exc} (scene.operation.fs_hz = "
+                              f"{fs:g}, Nyquist {fs / 2:g} Hz)") from None
+    if freqs["bpfi"] * opt.n_harmonics >= fs / 2:
+        raise field_error("analysis.harmonics", opt.n_harmonics,
+                          f"K with K x BPFI ({freqs['bpfi']:g} Hz) below Nyquist ({fs / 2:g} Hz)")
 
 
 @dataclass(frozen=True)

@@ -302,9 +302,10 @@ def _check_family_harmonics(analysis: AnalysisSettings, scenes, fs: float) -> No
     for case, sc in scenes.items():
         family, spacing = sc.defect.fault_location.family, sc.defect.fault_location.sideband
         ev = scene_event_frequencies(sc)
-        top = analysis.harmonics * ev[family] + analysis.sidebands * ev[spacing]
+        opt = analysis.options
+        top = opt.n_harmonics * ev[family] + opt.n_sidebands * ev[spacing]
         if top >= fs / 2:
-            raise field_error("analysis.harmonics", analysis.harmonics,
+            raise field_error("analysis.harmonics", opt.n_harmonics,
                        f"K with K x {family} + M x {spacing} ({top:g} Hz, case {case.name}) "
                        f"below Nyquist ({fs / 2:g} Hz)")
 

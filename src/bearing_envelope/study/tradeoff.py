@@ -306,10 +306,9 @@ def analysis_used(analysis: Mapping[str, Any] | None) -> dict[str, Any]:
         ``signal``, ``nlevel``, ``filter_order``, ``squared_envelope``, ``harmonics``,
         ``sidebands``, ``raw_orders_fr``, ``bands``.
     """
-    d = AnalysisOptions()
-    an = {"signal": "p_max", "nlevel": d.nlevel, "filter_order": d.filter_order,
-          "squared_envelope": d.squared, "harmonics": d.n_harmonics,
-          "sidebands": d.n_sidebands, "raw_orders_fr": d.n_raw_harmonics,
+    d = AnalysisOptions().config_values()   # the options as the config writes them
+    an = {"signal": "p_max", **{k: d[k] for k in ("nlevel", "filter_order", "squared_envelope",
+                                                  "harmonics", "sidebands", "raw_orders_fr")},
           "bands": DEFAULT_BANDS}
     if analysis:
         an.update({k: v for k, v in analysis.items()

@@ -32,6 +32,8 @@ from collections.abc import Mapping
 
 import numpy as np
 
+from ..kinematics import bearing_rates
+
 __all__ = ["FaultLocation", "LOCATIONS", "register_location", "get_location", "location_names",
            "TWO_PI", "wrap", "cage_angle", "event_frequencies", "scene_event_frequencies",
            "contact_signals"]
@@ -118,10 +120,7 @@ def event_frequencies(fr: float, bpfi: float, z: int, d_mm: float, pitch_mm: flo
     dict
         ``{"fr", "bpfi", "bpfo", "ftf", "bsf", "bsf2"}`` in Hz.
     """
-    f_c = float(fr) - float(bpfi) / int(z)
-    bsf = f_c * (pitch_mm + d_mm * math.cos(math.radians(alpha_deg))) / d_mm
-    return {"fr": float(fr), "bpfi": float(bpfi), "bpfo": int(z) * f_c, "ftf": f_c, "bsf": bsf,
-            "bsf2": 2.0 * bsf}
+    return bearing_rates(fr, z, d_mm, pitch_mm, alpha_deg, bpfi=bpfi)
 
 
 def scene_event_frequencies(scene) -> dict[str, float]:
