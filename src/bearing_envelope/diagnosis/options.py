@@ -242,6 +242,15 @@ class OptionError(ValueError):
     Its message names ``AnalysisOptions.<field>``; :func:`options_with` names the field as the
     caller does (``names``). ``allowed`` may name other fields as ``{field}`` (the rule
     ``max_level <= {nlevel}``), written as the caller names them.
+
+    Parameters
+    ----------
+    field : str
+        The field refused (its name in :class:`AnalysisOptions`); kept as :attr:`field`.
+    value : object
+        The value given; kept as :attr:`value`.
+    allowed : str
+        What is allowed, other fields named as ``{field}``; kept as :attr:`allowed`.
     """
 
     def __init__(self, field: str, value, allowed: str):
@@ -391,6 +400,7 @@ class AnalysisOptions:
         Returns
         -------
         AnalysisOptions
+            The defaults with the section's values, checked.
 
         Raises
         ------
@@ -469,6 +479,7 @@ def options_with(base: AnalysisOptions | None = None, *,
     Returns
     -------
     AnalysisOptions
+        A new, checked options object (``base`` is not changed).
 
     Raises
     ------
