@@ -44,7 +44,17 @@ _MIB = float(1 << 20)
 
 
 class DiskFullError(OSError):
-    """Not enough free space for a file: one line naming the path, the space needed and free."""
+    """Not enough free space for a file: one line naming the path, the space needed and free.
+
+    Parameters
+    ----------
+    path : str
+        The file that would not fit; kept as :attr:`path`.
+    needed : int
+        Bytes the file needs; kept as :attr:`needed`.
+    free : int
+        Bytes free on its file system; kept as :attr:`free`.
+    """
 
     def __init__(self, path: str, needed: int, free: int):
         super().__init__(errno.ENOSPC, f"{path}: not enough free disk space: needs about "

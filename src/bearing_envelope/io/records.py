@@ -90,7 +90,14 @@ def _check_dtype(dtype, path: str, what: str) -> None:
 
 
 def available_memory() -> int | None:
-    """Bytes of memory available now (``MemAvailable`` of ``/proc/meminfo``), or None."""
+    """Bytes of memory available now (``MemAvailable`` of ``/proc/meminfo``), or None.
+
+    Returns
+    -------
+    int or None
+        Available memory (bytes); None where ``/proc/meminfo`` is missing or unreadable (not
+        Linux).
+    """
     try:
         with open("/proc/meminfo", encoding="ascii") as fh:
             for line in fh:
