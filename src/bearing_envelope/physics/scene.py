@@ -312,6 +312,7 @@ class Bearing:
 
     @property
     def contact_angle_rad(self) -> float:
+        """Contact angle (rad): ``contact_angle_deg``."""
         return math.radians(self.contact_angle_deg)
 
     @property
@@ -573,6 +574,7 @@ class Load:
 
     @property
     def load_kN(self) -> float:
+        """The load value (kN): ``value_N / 1000``."""
         return self.value_N / 1e3
 
 
@@ -645,6 +647,7 @@ class Defect:
 
     @property
     def active(self) -> bool:
+        """Whether there is a defect (depth > 0)."""
         return self.depth_um > 0.0
 
     @property
@@ -698,6 +701,7 @@ class Scene:
 
     @property
     def n_samples(self) -> int:
+        """Samples of the record: ``revolutions / shaft_rate_hz x fs_hz``, rounded."""
         op = self.operation
         return int(round(op.revolutions / op.shaft_rate_hz * op.fs_hz))
 
