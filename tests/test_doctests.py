@@ -24,6 +24,8 @@ ENTRY_POINTS = [
     ("bearing_envelope.physics.history", "simulate"),
     ("bearing_envelope.physics.loads", "solve_row"),
     ("bearing_envelope.physics.kinematics", "fault_frequencies"),
+    ("bearing_envelope.physics.kinematics", "bearing_rates"),
+    ("bearing_envelope.physics.catalogue", "resolve_designation"),
     # signal
     ("bearing_envelope.signal.envelope", "envelope_spectrum"),
     ("bearing_envelope.signal.kurtogram", "fast_kurtogram"),
