@@ -16,7 +16,10 @@ What each one must carry:
   annotation other than ``None`` on a body that is only a docstring / ``...`` / ``raise``):
   ``Returns``; a generator: ``Yields``;
 - every entry of those sections a description under it (what it means, with its unit): a
-  bare ``x : float`` or ``DataFrame`` is a gap.
+  bare ``x : float`` or ``DataFrame`` is a gap;
+- one whose own body raises an exception (``raise ValueError(...)``; a re-raise, a raise of
+  a variable and an abstract method's ``NotImplementedError`` aside): a ``Raises`` section
+  naming every class it raises.
 
 ``python tests/test_numpydoc.py`` prints the counts (functions fully documented, methods with
 their ``Parameters``, functions with ``Examples``) and every gap.
@@ -113,6 +116,25 @@ def _returns_value(fn: ast.AST) -> tuple[bool, bool]:
     return value, gen
 
 
+def _raised(fn: ast.AST) -> set[str]:
+    """Exception classes the body raises itself (``raise Name(...)``; a re-raise, a raise of
+    a variable and ``NotImplementedError`` of an abstract method aside; nested functions and
+    classes not counted)."""
+    out = set()
+    todo = list(ast.iter_child_nodes(fn))
+    while todo:
+        node = todo.pop()
+        if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef, ast.Lambda)):
+            continue
+        if isinstance(node, ast.Raise) and node.exc is not None:
+            exc = node.exc.func if isinstance(node.exc, ast.Call) else node.exc
+            name = exc.attr if isinstance(exc, ast.Attribute) else getattr(exc, "id", "")
+            if name[:1].isupper() and name != "NotImplementedError":
+                out.add(name)
+        todo.extend(ast.iter_child_nodes(node))
+    return out
+
+
 def _declares_value(fn: ast.FunctionDef) -> bool:
     """A body with no code (docstring, ``...``, ``pass``, ``raise``) annotated to return."""
     ann = fn.returns
@@ -207,6 +229,13 @@ def gaps(row: Row) -> list[str]:
             named = _documented_names(body)
             out += [f"Parameters: {p}" for p in params if p not in named]
             out += [f"Parameters: no description of {e!r}" for e in _bare_entries(body)]
+    raised = _raised(fn)
+    if raised:
+        body = _section(doc, "Raises")
+        if body is None:
+            out.append("Raises")
+        else:
+            out += [f"Raises: {e}" for e in sorted(raised) if not re.search(rf"\b{e}\b", body)]
     if init:
         return out
     value, gen = _returns_value(fn)
@@ -349,6 +378,25 @@ def bare(a, b):
     return a + b
 
 
+def refuses(x):
+    """Check.
+
+    Parameters
+    ----------
+    x : float
+        A value, m.
+
+    Raises
+    ------
+    ValueError
+        ``x`` < 0.
+    """
+    if x < 0:
+        raise ValueError("x")
+    if x > 1:
+        raise errors.LimitError("x")
+
+
 def declared() -> float:
     """An abstract value."""
     raise NotImplementedError
@@ -369,6 +417,7 @@ def test_checker_flags_planted_gaps():
         "generator": ["Yields"],
         "bare": ["Parameters: no description of 'a : float'",
                  "Returns: no description of 'float'"],
+        "refuses": ["Raises: LimitError"],
         "declared": ["Returns"],
     }
 

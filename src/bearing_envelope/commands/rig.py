@@ -71,6 +71,11 @@ def run(args) -> int:
     -------
     int
         0; no fault record among the files raises ``ValueError``.
+
+    Raises
+    ------
+    ValueError
+        No fault record among the files given.
     """
     # lazy: keeps `bearing-envelope --help` ~0.4 s (numba, pandas: ~4 s)
     from pathlib import Path

@@ -118,6 +118,11 @@ def analyze_item(item, *, reader: Callable | None = None, index: int = 0, **kwar
     -------
     RecordAnalysis
         The full analysis of the item, its samples and spectra kept (for plots).
+
+    Raises
+    ------
+    ValueError
+        A path item without a ``reader``.
     """
     signal, per = _split(item, index)
     if isinstance(signal, Mapping) and "x" not in signal:  # a task: the reader reads it

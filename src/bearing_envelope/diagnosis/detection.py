@@ -138,6 +138,12 @@ def fault_band_metrics(
         band_power, total_band_power``. A band narrower than one bin is widened to the nearest
         bin; bands outside the spectrum give ``n_bins = 0`` and NaN metrics.
 
+    Raises
+    ------
+    ValueError
+        ``targets`` empty or not a mapping, ``bandwidth`` outside (0, 1), or sidebands without
+        ``fr``.
+
     Examples
     --------
     >>> f = np.arange(0, 1000.0, 0.5); a = np.zeros_like(f); a[f == 232.0] = 0.3
@@ -236,6 +242,11 @@ def threshold_db(pfa: float = DEFAULT_PFA, n_bins: int = 1,
     -------
     float
         The threshold (dB) on the line-to-background ratio.
+
+    Raises
+    ------
+    ValueError
+        ``pfa`` outside (0, 1), or ``n_background`` neither a count nor a pair of counts.
 
     Examples
     --------
@@ -397,6 +408,12 @@ def detection_statistic(
     Detection
         The statistic (dB), the peak (amplitude, Hz), the background level, the bin counts,
         the threshold (dB) and whether the line is detected.
+
+    Raises
+    ------
+    ValueError
+        ``background`` not ``(lo, hi)`` with ``0 <= lo < 1 < hi``, the line beyond the spectrum,
+        too few background bins for ``level``, or an unknown ``level``.
     """
     f, a, df_hz = _spectrum(f, amplitude)
     line = check_positive(line_hz, "line_hz")
@@ -562,6 +579,11 @@ def clopper_pearson(k: int, n: int, confidence: float = 0.95) -> tuple[float, fl
     -------
     tuple of (float, float)
         ``(low, high)``.
+
+    Raises
+    ------
+    ValueError
+        ``k`` outside ``[0, n]`` or ``confidence`` outside (0, 1).
 
     Examples
     --------

@@ -267,6 +267,11 @@ def search_lines(
         spectrum holds no background around the line). Lines beyond the spectrum are skipped;
         if the fundamental is, the list is empty.
 
+    Raises
+    ------
+    ValueError
+        ``n_harmonics`` < 1, ``n_sidebands`` < 0 or ``search_percent`` outside (0, 50).
+
     Notes
     -----
     With :math:`f_1` the largest bin within :math:`f_{nom}(1 \pm p/100)` and

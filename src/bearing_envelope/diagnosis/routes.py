@@ -246,6 +246,11 @@ def route_spectrum(route: str, x, fs: float, *, alpha_max_hz: float, min_bandwid
         The spectrum (Hz, its own unit).
     band : tuple of float
         The spectral band used (Hz).
+
+    Raises
+    ------
+    ValueError
+        ``route`` is not one of the routes besides ``envelope``.
     """
     if route == "cpw":
         f, a = prewhitened_ses(x, fs, window=window)
@@ -416,6 +421,11 @@ def run_routes(x, fs: float, details: Mapping, routes: Sequence[str] = DEFAULT_R
     dict
         ``route -> RouteResult``; a record shorter than :data:`MIN_ROUTE_SAMPLES` gets the
         envelope route only.
+
+    Raises
+    ------
+    ValueError
+        A name in ``routes`` that is not a route.
     """
     bad = [r for r in routes if r not in ROUTES]
     if bad:
@@ -558,6 +568,11 @@ def combine_routes(results: Mapping[str, RouteResult], *,
     -------
     RoutedVerdict
         The family diagnosed (or None), its confidence and the routes that decided it.
+
+    Raises
+    ------
+    ValueError
+        ``results`` holds no ``envelope`` route.
     """
     if "envelope" not in results:
         raise ValueError(f"results hold {sorted(results)}: the envelope route is needed")

@@ -454,6 +454,8 @@ def write_case(path: str | os.PathLike, case, *, extra_attrs: dict | None = None
     ------
     DiskFullError
         Not enough free space (before writing, or ENOSPC while writing); nothing is left behind.
+    TypeError
+        ``extra_attrs`` or ``error_model`` given with a :class:`Case` (they go with a History).
     """
     import h5py
 

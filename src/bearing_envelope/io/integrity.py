@@ -229,6 +229,11 @@ def require_free_space(path: str | os.PathLike, needed: int) -> None:
         The file about to be written.
     needed : int
         Bytes it needs.
+
+    Raises
+    ------
+    DiskFullError
+        Fewer bytes free than ``needed`` plus a safety margin.
     """
     path = os.fspath(path)
     free = free_bytes(path)
@@ -319,6 +324,11 @@ def write_image(tmp: str | os.PathLike, path: str | os.PathLike, data: bytes) ->
         The final file.
     data : bytes
         The file's whole content.
+
+    Raises
+    ------
+    DiskFullError
+        Not enough free space (ENOSPC while writing); nothing is left behind.
     """
     tmp, path = os.fspath(tmp), os.fspath(path)
     try:

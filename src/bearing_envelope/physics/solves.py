@@ -355,6 +355,12 @@ def solve_load(scene: Scene, fid: Fidelity, q_load: float, kappa: float, stats: 
     -------
     LoadNode
         The global and window no-defect solutions at this load.
+
+    Raises
+    ------
+    RuntimeError
+        The defect window reaches outside the global grid (a grid-sizing defect, not an input
+        error).
     """
     e_star = scene.material.e_star_pa
     a, s, dxw, dyw, xh, yd, hy_read, hy = window_spec(scene, fid, q_load, kappa)

@@ -190,6 +190,11 @@ class PressureTable:
         -------
         ndarray
             Approach, m, shape of ``Q``; a table without ``approach0`` raises ``ValueError``.
+
+        Raises
+        ------
+        ValueError
+            The table stores no no-defect approach per node (an older table).
         """
         if self.approach0 is None:
             raise ValueError("this table has no approach0 (no-defect approach per load node)")
@@ -207,6 +212,11 @@ class PressureTable:
         -------
         ndarray
             Area, m^2, shape of ``Q``; a table without ``area0`` raises ``ValueError``.
+
+        Raises
+        ------
+        ValueError
+            The table stores no no-defect contact area per node (an older table).
         """
         if self.area0 is None:
             raise ValueError("this table has no area0 (no-defect contact area per load node)")

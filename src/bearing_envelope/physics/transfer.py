@@ -142,6 +142,11 @@ class Mode:
             Sampling rate (Hz).
         where : str
             The mode's name in the error message.
+
+        Raises
+        ------
+        ValueError
+            The natural frequency at or above fs/2 (the message names ``where``).
         """
         if self.f_n_hz >= 0.5 * fs:
             raise ValueError(
@@ -163,6 +168,12 @@ class Mode:
         -------
         Mode
             The mode.
+
+        Raises
+        ------
+        ValueError
+            ``f_n_hz`` or ``zeta`` missing, or a value out of range (the message names the key
+            under ``where``).
         """
         m = _check_keys(where, m, ("f_n_hz", "zeta", "gain"))
         for key in ("f_n_hz", "zeta"):
@@ -226,6 +237,11 @@ class Tone:
         -------
         float
             The frequency (Hz).
+
+        Raises
+        ------
+        ValueError
+            A tone given by its order without the shaft rate ``fr``.
         """
         if self.frequency_hz is not None:
             return self.frequency_hz
@@ -248,6 +264,11 @@ class Tone:
         -------
         Tone
             The tone.
+
+        Raises
+        ------
+        ValueError
+            A key missing or a value out of range (the message names ``where``).
         """
         m = _check_keys(where, m, ("frequency_hz", "order", "amplitude", "level_db", "phase_rad"))
         try:
@@ -352,6 +373,13 @@ class TransferModel:
         -------
         TransferModel
             The model.
+
+        Raises
+        ------
+        ValueError
+            No ``modes`` or an empty list of them, ``snr_db`` given twice (top level and under
+            ``noise``), ``tones`` not a list, or a mode, tone, noise or other value out of range
+            (the message names the key).
         """
         m = _check_keys("sensor", mapping, cls._KEYS)
         raw_modes = m.get("modes")
@@ -393,6 +421,11 @@ class TransferModel:
         ----------
         fs : float
             Sampling rate (Hz).
+
+        Raises
+        ------
+        ValueError
+            ``fs`` not > 0 Hz, or a mode at or above fs/2.
         """
         fs = check_number(fs, "fs")
         if fs <= 0:
@@ -481,6 +514,13 @@ def select_excitation(signals: Mapping[str, np.ndarray], kind: str = "pressure")
     -------
     tuple of (str, numpy.ndarray)
         The signal's name and its samples.
+
+    Raises
+    ------
+    ValueError
+        ``kind`` is not an excitation kind.
+    KeyError
+        The case has none of the signals the kind needs.
     """
     if kind not in EXCITATION_KINDS:
         raise ValueError(f"excitation must be one of {tuple(EXCITATION_KINDS)}, got {kind!r}")
@@ -505,6 +545,11 @@ def excitation_from_history(x: np.ndarray, *, scale: float = 1.0) -> np.ndarray:
     -------
     numpy.ndarray
         The excitation, same length as ``x``.
+
+    Raises
+    ------
+    ValueError
+        The excitation is not a 1-D array of >= 2 samples, or holds non-finite values.
 
     Notes
     -----
@@ -550,6 +595,11 @@ def mode_sos(mode: Mode, fs: float, method: str = "impulse") -> np.ndarray:
     -------
     numpy.ndarray
         The section, shape (1, 6) (``scipy.signal.sosfilt`` layout).
+
+    Raises
+    ------
+    ValueError
+        An unknown discretization ``method``.
     """
     fs = check_number(fs, "fs")
     mode.check_fs(fs)
@@ -663,6 +713,11 @@ def direction_gain(angle_rad, sensor_rad: float, cross_axis: float) -> np.ndarra
     -------
     ndarray
         Gain in [cross_axis, 1], shape of ``angle_rad``.
+
+    Raises
+    ------
+    ValueError
+        A cross-axis sensitivity outside [0, 1].
     """
     k = check_number(cross_axis, "cross_axis")
     if not 0.0 <= k <= 1.0:
@@ -734,6 +789,13 @@ def synthesize_acceleration(
         Provenance: ``snr_db_target``, ``snr_db_achieved`` (10 log10(P_defect / var(noise))),
         ``p_defect``, ``p_noise``, ``p_tones``, ``defect_definition``, ``seed``, ``fs``,
         ``model`` (``TransferModel.to_dict()``), tone frequencies and phases.
+
+    Raises
+    ------
+    ValueError
+        ``fs`` not > 0 Hz, an excitation that is not a finite 1-D array of >= 2 samples, a
+        ``seed`` not an integer >= 0, a ``reference`` of another shape, a defect-related part of
+        zero power (no SNR can be set), or a tone outside (0, fs/2).
     """
     fs = check_number(fs, "fs")
     if fs <= 0:

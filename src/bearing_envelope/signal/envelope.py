@@ -197,6 +197,12 @@ def envelope_spectrum(
     filtered, env : ndarray
         Only with ``return_signal``.
 
+    Raises
+    ------
+    ValueError
+        ``band`` not a ``(low, high)`` pair in Hz, or out of range for ``fs``; a signal or rate
+        out of range (:mod:`~.validation`).
+
     Notes
     -----
     :math:`y = \mathrm{BP}(x)`, :math:`e = |y + i\mathcal{H}y|` (or :math:`e^2`),

@@ -162,6 +162,11 @@ class Infogram:
         list of ndarray
             One array per row of the tree (dimensionless negentropies), band ``i`` of row
             ``r`` spanning ``[i, i + 1] * bandwidths[r]`` Hz; NaN where a row's SES is too short.
+
+        Raises
+        ------
+        ValueError
+            ``kind`` is not a map of :data:`INFOGRAM_MAPS`.
         """
         if kind == "time":
             return self.time
@@ -210,6 +215,12 @@ class Infogram:
         -------
         InfogramCell
             Ties go to the lower level, then the lower frequency.
+
+        Raises
+        ------
+        ValueError
+            ``kind`` unknown, or no cell allowed by ``max_level`` / ``min_bandwidth`` holds enough
+            SES bins.
         """
         rows = [np.nan_to_num(v, nan=-np.inf) for v in self.rows(kind)]
         if above_dc:

@@ -92,6 +92,11 @@ def example_pairs(cases, study=STUDY_EXAMPLES) -> list[dict]:
         the order of ``study``: the load nearest the target load (ties: the higher), at that
         load the shallowest depth as the healthy reference (the healthy race when the sweep has
         depth 0) and, among the deeper ones, the depth nearest the target (ties: the deeper).
+
+    Raises
+    ------
+    ValueError
+        No cases given.
     """
     cases = list(cases)
     if not cases:

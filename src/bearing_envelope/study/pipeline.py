@@ -540,6 +540,11 @@ def case_acceleration(case, sensor: TransferModel, *, reference=None, snr_db="mo
         JSON-able provenance: the model, SNR target and achieved (``snr_db_achieved``), seed,
         ``excitation_signal``, ``n_samples``, ...; :func:`bearing_envelope.io.write_sensor_case`
         stores it with the signal.
+
+    Raises
+    ------
+    ValueError
+        A ``reference`` sampled at another rate or of another length than the case.
     """
     model = sensor if excitation is None else dataclasses.replace(sensor, excitation=excitation)
     fs = float(case.fs)
@@ -718,6 +723,11 @@ def case_diagnosability(case, sensor: TransferModel, analysis: AnalysisSettings,
         One row per (snr_db, band): ``case, load_kN, depth_um, snr_db, snr_definition, band,
         band_strategy, band_low_hz, band_high_hz, statistic_db, threshold_db, detected,
         peak_hz, peak_amplitude``.
+
+    Raises
+    ------
+    ValueError
+        ``kurtogram_from`` is neither ``clean`` nor ``record``.
     """
     if kurtogram_from not in ("clean", "record"):
         raise ValueError(f"kurtogram_from must be 'clean' or 'record', got {kurtogram_from!r}")
@@ -785,6 +795,11 @@ def case_false_alarms(case, sensor: TransferModel, analysis: AnalysisSettings, s
         One row per (snr_db, band, trial): ``case, load_kN, depth_um, snr_db, band, trial,
         statistic_db, threshold_db, detected, peak_hz``
         (:func:`bearing_envelope.diagnosis.detection.false_alarm_rates` pools them).
+
+    Raises
+    ------
+    ValueError
+        The case is not healthy (depth > 0).
     """
     if float(case.depth_um) > 0:
         raise ValueError(f"case_false_alarms needs a healthy case (depth 0), got {_case_id(case)}")

@@ -116,6 +116,11 @@ class SweepSettings:
         list of CaseId
             :attr:`n_cases` cases; the healthy race (depth 0) once per load and location,
             without a width.
+
+        Raises
+        ------
+        ConfigError
+            Two sweep values that give the same case name.
         """
         out = []
         for loc in (self.locations or (None,)):

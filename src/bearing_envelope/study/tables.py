@@ -62,6 +62,11 @@ def tidy_from_analysis(table: pd.DataFrame, strategies: Mapping[str, str] | None
     -------
     DataFrame
         A copy; the other columns are kept, in their order.
+
+    Raises
+    ------
+    ValueError
+        The table lacks ``analyze_signal``'s ``band`` and ``band_strategy`` columns.
     """
     if "band" not in table.columns or "band_strategy" not in table.columns:
         raise ValueError("tidy_from_analysis expects analyze_signal's columns band (name) and "
