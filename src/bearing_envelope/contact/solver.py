@@ -211,7 +211,7 @@ def solve_contact(
     e_star : float
         Composite modulus (Pa), > 0 (:func:`composite_modulus`).
     tol : float
-        Convergence tolerance (see Notes).
+        Convergence tolerance (dimensionless; see Notes).
     max_iter : int
         Maximum CG iterations; :class:`ContactConvergenceError` (with ``residual_history``) if
         ``tol`` is not reached.

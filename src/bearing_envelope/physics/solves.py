@@ -212,7 +212,7 @@ def global_solve(scene: Scene, fid: Fidelity, q_load: float, extent: float, stat
     stats : SolveStats
         Counters (and the no-defect store, ``stats.cache``).
     p_init : numpy.ndarray, optional
-        Warm start.
+        Warm start: a pressure field (Pa) of the grid's shape.
 
     Returns
     -------
@@ -347,7 +347,7 @@ def solve_load(scene: Scene, fid: Fidelity, q_load: float, kappa: float, stats: 
     stats : SolveStats
         Counters.
     p_init_global : numpy.ndarray, optional
-        Warm start of the global solve.
+        Warm start of the global solve (Pa, the global grid's shape).
     with_far : bool
         Compute the far field's response.
 
@@ -815,7 +815,7 @@ def defect_solve(scene: Scene, fid: Fidelity, node: LoadNode, x_d: float, stats:
     stats : SolveStats
         Counters.
     p_init : numpy.ndarray, optional
-        Warm start.
+        Warm start: a pressure field (Pa) of the grid's shape.
 
     Returns
     -------
@@ -920,7 +920,7 @@ def far_uptake(node: LoadNode, p: np.ndarray, p0: np.ndarray | None = None) -> f
     p : numpy.ndarray
         The window's pressure (Pa), window shape.
     p0 : numpy.ndarray, optional
-        The no-defect pressure it is compared with (default ``node.p_window0``).
+        The no-defect pressure (Pa) it is compared with (default ``node.p_window0``).
 
     Returns
     -------

@@ -622,7 +622,7 @@ def relative_error(diff: np.ndarray, scale: np.ndarray) -> np.ndarray:
     diff : numpy.ndarray
         Differences (reading minus solved value), in the unit of ``scale``.
     scale : numpy.ndarray
-        The reference magnitudes (>= 0).
+        The reference magnitudes (>= 0; the unit of the values compared).
 
     Returns
     -------

@@ -663,7 +663,7 @@ def apply_structure(excitation: np.ndarray, fs: float,
     Parameters
     ----------
     excitation : numpy.ndarray
-        The excitation (:func:`excitation_from_history`).
+        The excitation (:func:`excitation_from_history`; Pa for a pressure, N for a force).
     fs : float
         Sampling rate (Hz).
     model : TransferModel or sequence of Mode
@@ -732,9 +732,9 @@ def measure_snr_db(defect_part: np.ndarray, noise: np.ndarray) -> float:
     Parameters
     ----------
     defect_part : numpy.ndarray
-        The signal's part due to the defect.
+        The signal's part due to the defect (any unit).
     noise : numpy.ndarray
-        The noise added.
+        The noise added (the same unit).
 
     Returns
     -------
