@@ -9,7 +9,7 @@ CWRU 12 kHz drive-end development record (truth and Smith & Randall's grade in
 2 x BSF, its defect striking both races once per spin turn), the record's squared envelope in
 every band of a scan (:data:`WIDTHS` Hz wide, half overlapping, from :data:`LOW_HZ` to
 :data:`HIGH_HZ`) is folded at the rate refined on it within :data:`SEARCH`
-(``study.rig_events.event_shape``): the **contrast** is the fold's peak over its floor (its
+(``study.rig.events.event_shape``): the **contrast** is the fold's peak over its floor (its
 lower quartile), dB. A train of events the record holds stands out in some band (the clearly
 diagnosed outer-race records: 10-20 dB); a record without one reads what a fold of its
 squared envelope at an unrelated rate reads, the **control**: the same scan at the rate within
@@ -26,7 +26,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from bearing_envelope.study.rig_events import event_shape
+from bearing_envelope.study.rig.events import event_shape
 
 from .real_records import load_records
 

@@ -81,10 +81,11 @@ def test_every_alias_names_the_entry_everywhere(alias):
 
 
 def test_the_rig_reads_its_bearing_from_the_catalogue():
-    from bearing_envelope.study.rig_records import RIG_BEARING, rig_rates
+    from bearing_envelope.study.rig.records import bearing_rates, resolve_bearing
 
-    assert RIG_BEARING["designation"] == "SKF 6205-2RS"
-    r = rig_rates(29.95)
+    b = resolve_bearing("6205")
+    assert b.designation == "SKF 6205-2RS"
+    r = bearing_rates(b, 29.95)
     assert r["bpfi"] / 29.95 == pytest.approx(CWRU_6205["bpfi"], abs=5e-5)
     assert set(r) == {"bpfo", "bpfi", "bsf", "bsf2"}
 

@@ -1,5 +1,6 @@
-"""The virtual rig on tiny inputs: record conditions and scenes, a simulated record made of a
-known excitation through an identified path, the scorecard's rules."""
+"""The virtual rig on tiny inputs: manifests and their one-line refusals, record conditions and
+scenes, a simulated record made of a known excitation through an identified path, the
+scorecard's rules."""
 
 from __future__ import annotations
 
@@ -15,48 +16,111 @@ from bearing_envelope.study import rig
 
 FS = 12_000.0
 
+#: The manifest's columns as these tests write them.
+HEAD = ("file,location,length_um,width_um,depth_um,position_deg,load,fs_hz,shaft_hz,bearing,"
+        "n_rollers,roller_diameter_mm,pitch_diameter_mm")
 
-def _settings():
-    return rig.RigSettings(scene={}, load_kN=1.0, fidelity="draft",
-                           depth_um={"7": 279.4, "28": 1270.0})
+
+def _settings(scene=None):
+    return rig.RigSettings(scene={"bearing": {"designation": "SKF 6205-2RS"}}
+                           if scene is None else scene, load_kN=1.0, fidelity="draft")
 
 
-def _write_record(path, x, fault="outer_race", diameter=0.007, position="3:00", hp=2,
-                  shaft_hz=29.17):
-    meta = {"fault": fault, "fault_diameter_in": diameter, "outer_race_position": position,
-            "load_hp": hp, "shaft_hz": shaft_hz}
-    np.savez(path, x=x, fs=np.float64(FS), meta_json=json.dumps(meta))
+def _write_record(path, x, fs=FS):
+    np.savez(path, x=x, fs=np.float64(fs))
     return str(path)
 
 
-def test_conditions_read_the_record_meta(tmp_path):
-    a = _write_record(tmp_path / "a.npz", np.zeros(1000))
-    b = _write_record(tmp_path / "b.npz", np.zeros(500), fault="inner_race", diameter=0.028,
-                      position=None, hp=0, shaft_hz=29.95)
-    _write_record(tmp_path / "n.npz", np.zeros(10), fault="normal")
-    conds = rig.record_conditions([a, b, str(tmp_path / "n.npz")], _settings())
+def _manifest(tmp_path, rows, name="manifest.csv"):
+    path = tmp_path / name
+    path.write_text(HEAD + "\n" + "\n".join(rows) + "\n")
+    return str(path)
+
+
+def test_conditions_read_the_manifest(tmp_path):
+    _write_record(tmp_path / "a.npz", np.zeros(1000))
+    _write_record(tmp_path / "b.npz", np.zeros(500))
+    _write_record(tmp_path / "n.npz", np.zeros(10))
+    m = _manifest(tmp_path, [
+        "a.npz,outer_race,177.8,,279.4,90,2,,29.17,6205,,,",
+        "b.npz,inner_race,711.2,500,1270,,0,12000,29.95,,9,7.94,39.04",
+        "n.npz,normal,,,,,0,,,,,,"])
+    conds = rig.record_conditions([m])
     assert [c.name for c in conds] == ["a", "b"]
-    assert conds[0].location == "outer_race" and conds[0].position_deg == 90.0
-    assert conds[0].n_samples == 1000 and conds[0].load_hp == 2
-    assert conds[1].location == "inner_race" and conds[1].depth_um == 1270.0
-    assert conds[1].defect_key == "inner_race_28mil_0deg"
+    a, b = conds
+    assert a.location == "outer_race" and a.position_deg == 90.0 and a.width_um == 177.8
+    assert a.n_samples == 1000 and a.load == 2.0 and a.fs_hz == FS  # fs from the file
+    assert a.bearing.designation == "SKF 6205-2RS" and b.bearing.designation is None
+    assert a.bearing.same_geometry(b.bearing)
+    assert b.location == "inner_race" and b.depth_um == 1270.0 and b.width_um == 500.0
+    assert b.defect_key == "inner_race_711.2x500x1270um_0deg"
+    # the rates are the kinematics' (Harris): BPFO = Z/2 fr (1 - d/D cos alpha)
+    assert a.rates["bpfo"] == pytest.approx(4.5 * 29.17 * (1 - 7.94 / 39.04), rel=1e-12)
+    # a folder holding manifest.csv is read through it
+    assert [c.name for c in rig.record_conditions([str(tmp_path)])] == ["a", "b"]
 
 
-def test_unknown_diameter_is_refused_in_one_line(tmp_path):
-    a = _write_record(tmp_path / "a.npz", np.zeros(10), diameter=0.021)
-    with pytest.raises(ValueError, match=r"fault_diameter_in 0.021: no rig.depth_um entry"):
-        rig.record_conditions([a], _settings())
+@pytest.mark.parametrize("row, message", [
+    ("a.npz,inner_race,177.8,,279.4,90,0,,30,6205,,,", r"row 2: position_deg: got 90; allowed: "
+                                                      r"empty or 0 unless location is outer_race"),
+    ("a.npz,outer_race,177.8,,279.4,,0,,30,6205,,,", r"row 2: position_deg: empty"),
+    ("a.npz,outer_race,177.8,,279.4,360,0,,30,6205,,,", r"position_deg: got '360'; allowed: a "
+                                                        r"number 0 to 360 \(excluded\) deg"),
+    ("a.npz,inner_race,,,279.4,,0,,30,6205,,,", r"row 2: length_um: empty"),
+    ("a.npz,inner_race,-5,,279.4,,0,,30,6205,,,", r"length_um: got '-5'; allowed: a number > 0 um"),
+    ("a.npz,cage,177.8,,279.4,,0,,30,6205,,,", r"row 2: location: got 'cage'; allowed: inner_race"),
+    ("a.npz,inner_race,177.8,,279.4,,0,,30,6205,9,7.94,39.04", r"bearing: got '6205' and "
+                                                             r"n_rollers"),
+    ("a.npz,inner_race,177.8,,279.4,,0,,30,,9,,39.04", r"row 2: roller_diameter_mm: empty"),
+    ("a.npz,inner_race,177.8,,279.4,,0,,30,9999,,,", r"row 2: bearing: got '9999'; allowed"),
+    ("a.npz,inner_race,177.8,,279.4,,0,,x,6205,,,", r"row 2: shaft_hz: got 'x'"),
+    ("a.npz,inner_race,177.8,,279.4,,,,30,6205,,,", r"row 2: load: empty"),
+    ("a.npz,inner_race,177.8,,279.4,,0,48000,30,6205,,,", r"row 2: fs_hz: got 48000; the file "
+                                                          r"says 12000 Hz"),
+    ("a.npz,inner_race,177.8,,279.4,,0,,,6205,,,", r"row 2: shaft_hz: empty and not in the file"),
+    ("b.npz,inner_race,177.8,,279.4,,0,,30,6205,,,", r"row 2: file: no such file"),
+])
+def test_bad_manifest_rows_are_refused_in_one_line(tmp_path, row, message):
+    _write_record(tmp_path / "a.npz", np.zeros(100))
+    m = _manifest(tmp_path, [row])
+    with pytest.raises(ValueError, match=message) as err:
+        rig.record_conditions([m])
+    assert "\n" not in str(err.value)
+
+
+def test_manifest_without_a_location_column_is_refused(tmp_path):
+    (tmp_path / "m.csv").write_text("file,load\na.npz,0\n")
+    with pytest.raises(ValueError, match=r"m.csv: no 'location' column; allowed columns: file"):
+        rig.record_conditions([str(tmp_path / "m.csv")])
 
 
 def test_condition_scene_takes_the_record_operation_and_defect(tmp_path):
-    a = _write_record(tmp_path / "a.npz", np.zeros(12_000))
-    cond = rig.record_conditions([a], _settings())[0]
+    _write_record(tmp_path / "a.npz", np.zeros(12_000))
+    m = _manifest(tmp_path, ["a.npz,outer_race,177.8,,279.4,90,2,,29.17,6205,,,"])
+    cond = rig.record_conditions([m])[0]
     scene = rig.condition_scene(cond, _settings())
     assert scene.defect.location == "outer_race"
     assert scene.defect.position_deg == 90.0
     assert scene.defect.width_um == pytest.approx(177.8)
+    assert scene.defect.depth_um == pytest.approx(279.4)
     assert scene.operation.shaft_rate_hz == pytest.approx(29.17)
     assert scene.n_samples >= cond.n_samples
+
+
+def test_a_record_of_another_bearing_than_the_scene_is_refused(tmp_path):
+    _write_record(tmp_path / "a.npz", np.zeros(1200))
+    m = _manifest(tmp_path, ["a.npz,inner_race,177.8,,279.4,,0,,29.95,SKF 6203,,,"])
+    cond = rig.record_conditions([m])[0]
+    with pytest.raises(ValueError, match=r"a: bearing: SKF 6203 \(8 x 6.75 mm on 28.55 mm, 0 "
+                                         r"deg\) is not the rig scene's SKF 6205-2RS"):
+        rig.condition_scene(cond, _settings())
+    rig.condition_scene(cond, _settings({"bearing": {"designation": "SKF 6203"}}))
+
+
+def _record_cond(tmp_path, x):
+    _write_record(tmp_path / "m.npz", x)
+    m = _manifest(tmp_path, [f"m.npz,outer_race,177.8,,279.4,90,2,,{107.0 / 3.5848!r},6205,,,"])
+    return rig.record_conditions([m])[0]
 
 
 def test_simulated_record_rings_the_identified_mode(tmp_path):
@@ -71,9 +135,8 @@ def test_simulated_record_rings_the_identified_mode(tmp_path):
     for t0 in np.arange(0.01, 2.99, 1 / 107.0):
         tau = t[t >= t0] - t0
         meas[t >= t0] += 5 * np.exp(-z * wn * tau) * np.cos(wn * math.sqrt(1 - z * z) * tau)
-    src = _write_record(tmp_path / "m.npz", meas, shaft_hz=107.0 / 3.5848)
     path = identify_path(meas, FS, {"bpfo": 107.0})
-    cond = rig.record_conditions([src], _settings())[0]
+    cond = _record_cond(tmp_path, meas)
     # the simulated excitation: 3 N removed for one sample at 111 Hz (a different rate)
     rf = np.zeros(n)
     rf[(np.arange(0.005, 2.99, 1 / 111.0) * FS).astype(int)] = 3.0
@@ -106,7 +169,6 @@ def test_simulated_record_rings_every_identified_mode_at_its_gain(tmp_path):
         for t0 in np.arange(0.01, 2.99, 1 / 107.0):
             tau = t[t >= t0] - t0
             meas[t >= t0] += a * np.exp(-z * wn * tau) * np.cos(wn * math.sqrt(1 - z * z) * tau)
-    src = _write_record(tmp_path / "m.npz", meas, shaft_hz=107.0 / 3.5848)
     path = identify_path(meas, FS, {"bpfo": 107.0})
     assert len(path.modes) == 2
     modes = rig.path_modes(path)
@@ -118,7 +180,7 @@ def test_simulated_record_rings_every_identified_mode_at_its_gain(tmp_path):
     assert by_f[1].gain == 1.0
     assert by_f[0].gain == pytest.approx(1.362, rel=0.3)
     assert rig.path_modes(path, reference_hz=5000.0) == modes  # no such mode: the first
-    cond = rig.record_conditions([src], _settings())[0]
+    cond = _record_cond(tmp_path, meas)
     rf = np.zeros(n)
     rf[(np.arange(0.005, 2.99, 1 / 111.0) * FS).astype(int)] = 3.0
     contact = tmp_path / "c.npz"
@@ -144,7 +206,8 @@ def _table(name, diag, conf, fam, h1, h2, h3, db, detected=True):
 
 
 def test_scorecard_rules_follow_the_written_tolerances():
-    cond = rig.RigCondition("r", "r.npz", "outer_race", 0.007, 279.4, 0.0, 0, 30.0, FS, 100)
+    cond = rig.RigCondition("r", "r.npz", "outer_race", 177.8, 177.8, 279.4, 0.0, 0, 30.0, FS,
+                            100, rig.resolve_bearing("6205"))
     mt = pd.DataFrame([_table("r", "bpfo", "high", "bpfo", 1.0, 0.5, 0.25, 30.0)])
     # simulated: 2x/1x -6.0 dB vs measured -6.0 (pass), 3x/1x -20 vs -12 (fail), height +5 dB
     st = pd.DataFrame([_table("r_sim", "bpfo", "medium", "bpfo", 1.0, 0.5, 0.1, 35.0)])
@@ -161,7 +224,7 @@ def test_outer_race_ratio_in_db():
     rows = []
     for pos, m, s in ((0.0, 1.0, 1.0), (90.0, 0.1, 0.5)):
         rows.append({"record": f"p{pos:g}", "family": "bpfo", "position_deg": pos,
-                     "load_hp": 1, "diameter_in": 0.007, "fs_hz": FS, "meas_h1": m,
+                     "load": 1, "length_um": 177.8, "fs_hz": FS, "meas_h1": m,
                      "sim_h1": s})
     out = rig.outer_race_ratios(pd.DataFrame(rows))
     assert out[0]["meas_db"] == pytest.approx(-20.0)
@@ -174,8 +237,8 @@ def test_outer_race_ratio_in_db():
 def test_outer_race_ratio_read_in_one_band_for_both_records():
     # the rule's best bands differ; read in the same band: 0.1 / 1.0 measured (-20 dB) and
     # 0.5 / 1.0 simulated (-6.02 dB) in fs4_3fs8; raw: 0.2 / 0.4 (-6.02 dB) vs 0.3 / 0.6
-    rows = [{"record": f"p{pos:g}", "family": "bpfo", "position_deg": pos, "load_hp": 1,
-             "diameter_in": 0.007, "fs_hz": FS, "meas_h1": 1.0, "sim_h1": 1.0}
+    rows = [{"record": f"p{pos:g}", "family": "bpfo", "position_deg": pos, "load": 1,
+             "length_um": 177.8, "fs_hz": FS, "meas_h1": 1.0, "sim_h1": 1.0}
             for pos in (0.0, 90.0)]
     amp = {("p0", "fs4_3fs8"): (1.0, 1.0), ("p90", "fs4_3fs8"): (0.1, 0.5),
            ("p0", "raw"): (0.4, 0.6), ("p90", "raw"): (0.2, 0.3)}
@@ -208,13 +271,13 @@ def test_removed_force_exponent_of_a_power_law(tmp_path):
 def test_load_trend_rule():
     rows = []
     for hp in range(4):
-        rows.append({"family": "bpfo", "position_deg": 0.0, "diameter_in": 0.007, "fs_hz": FS,
-                     "load_hp": hp, "meas_height_db": 50.0 - 2.0 * hp,
+        rows.append({"family": "bpfo", "position_deg": 0.0, "length_um": 177.8, "fs_hz": FS,
+                     "load": hp, "meas_height_db": 50.0 - 2.0 * hp,
                      "sim_height_db": 40.0 + 0.5 * hp})
     out = rig.load_trends(pd.DataFrame(rows))
-    assert out[0]["meas_db_per_hp"] == pytest.approx(-2.0)
-    assert out[0]["sim_db_per_hp"] == pytest.approx(0.5)
+    assert out[0]["meas_db_per_load"] == pytest.approx(-2.0)
+    assert out[0]["sim_db_per_load"] == pytest.approx(0.5)
     assert out[0]["rule"] == "FAIL"  # opposite signs, not both flat
     for r in rows:
-        r["meas_height_db"] = 50.0 - 0.8 * r["load_hp"]
+        r["meas_height_db"] = 50.0 - 0.8 * r["load"]
     assert rig.load_trends(pd.DataFrame(rows))[0]["rule"] == "PASS"  # both within 1 dB/hp

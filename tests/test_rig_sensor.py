@@ -5,7 +5,6 @@ a uniformly loaded inner race seen along one axis against the Fourier series of 
 from __future__ import annotations
 
 import dataclasses
-import json
 import math
 
 import numpy as np
@@ -29,12 +28,9 @@ def test_direction_gain_closed_form():
         direction_gain(th, 0.0, 1.5)
 
 
-def _write_record(path, fault, position=None, shaft_hz=29.95, n=1200):
-    meta = {"fault": fault, "fault_diameter_in": 0.007, "outer_race_position": position,
-            "load_hp": 0, "shaft_hz": shaft_hz}
-    np.savez(path, x=np.zeros(n), fs=np.float64(FS), meta_json=json.dumps(meta))
+def _write_record(path, n=1200):
+    np.savez(path, x=np.zeros(n), fs=np.float64(FS))
     return str(path)
-
 
 
 def _settings(load_kN=1.0, clearance_um=None, cross=1.0):
@@ -42,14 +38,18 @@ def _settings(load_kN=1.0, clearance_um=None, cross=1.0):
     if clearance_um is not None:
         scene["bearing"]["radial_clearance_um"] = clearance_um
     return rig.RigSettings(scene=scene, load_kN=load_kN, fidelity="draft",
-                           depth_um={"7": 279.4}, sensor_cross_axis=cross)
+                           sensor_cross_axis=cross)
 
 
 def _conds(tmp_path, settings):
-    a = _write_record(tmp_path / "ir.npz", "inner_race")
-    b = _write_record(tmp_path / "or3.npz", "outer_race", position="3:00")
-    c = _write_record(tmp_path / "ball.npz", "ball")
-    by = {c.location: c for c in rig.record_conditions([a, b, c], settings)}
+    for name in ("ir", "or3", "ball"):
+        _write_record(tmp_path / f"{name}.npz")
+    (tmp_path / "manifest.csv").write_text(
+        "file,location,length_um,depth_um,position_deg,load,shaft_hz,bearing\n"
+        "ir.npz,inner_race,177.8,279.4,,0,29.95,6205\n"
+        "or3.npz,outer_race,177.8,279.4,90,0,29.95,6205\n"
+        "ball.npz,ball,177.8,279.4,,0,29.95,6205\n")
+    by = {c.location: c for c in rig.record_conditions([str(tmp_path)])}
     return by["inner_race"], by["outer_race"], by["rolling_element"]
 
 
@@ -108,16 +108,21 @@ def test_sensor_gain_scales_a_3_oclock_record_by_the_cross_axis_gain(tmp_path):
 
 def test_rig_config_refuses_a_bad_sensor(tmp_path):
     p = tmp_path / "rig.yaml"
-    p.write_text("scene: {}\nrig: {load_kN: 1, depth_um: {'7': 279.4}, sensor_cross_axis: 2}\n")
+    p.write_text("scene: {}\nrig: {load_kN: 1, sensor_cross_axis: 2}\n")
     with pytest.raises(ValueError, match=r"rig.sensor_cross_axis: got 2; allowed: a number "
                                          r"from 0 to 1"):
         rig.read_rig_config(p)
-    p.write_text("scene: {}\nrig: {load_kN: 1, depth_um: {'7': 279.4}, sensor_deg: x}\n")
+    p.write_text("scene: {}\nrig: {load_kN: 1, sensor_deg: x}\n")
     with pytest.raises(ValueError, match=r"rig.sensor_deg: got 'x'"):
         rig.read_rig_config(p)
-    p.write_text("scene: {}\nrig: {load_kN: 1, depth_um: {'7': 279.4}}\n")
+    p.write_text("scene: {}\nrig: {load_kN: 1}\n")
     got = rig.read_rig_config(p)
     assert got.sensor_deg == 180.0 and got.sensor_cross_axis == 1.0
+    # the depth per diameter in mils is gone: each record's depth is in its manifest
+    p.write_text("scene: {}\nrig: {load_kN: 1, depth_um: {'7': 279.4}}\n")
+    with pytest.raises(ValueError, match=r"rig.depth_um: no longer read; allowed: each "
+                                         r"record's pit depth in its manifest's depth_um"):
+        rig.read_rig_config(p)
 
 
 def test_event_exponent_of_a_power_law_event_train(tmp_path):

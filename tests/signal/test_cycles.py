@@ -9,8 +9,8 @@ import pytest
 
 from bearing_envelope.signal.cycles import (
     burst_width, cycle_rate, element_levels, synchronous_average)
-from bearing_envelope.study.rig_events import (MIN_CONTRAST_DB, SECONDARY_MIN_CONTRAST_DB,
-                                                event_shape)
+from bearing_envelope.study.rig.events import (MIN_CONTRAST_DB, SECONDARY_MIN_CONTRAST_DB,
+                                               event_shape)
 
 FS = 12000.0
 RATE = 107.3          # Hz: 111.84 samples per cycle, not an integer

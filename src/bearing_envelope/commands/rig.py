@@ -1,16 +1,18 @@
-"""``bearing-envelope rig``: the virtual CWRU rig and its scorecard, record by record.
+"""``bearing-envelope rig``: the virtual rig and its scorecard, record by record.
 
-For each measured fault record (.npz with x, fs and meta_json: fault, fault_diameter_in,
-outer_race_position, shaft_hz, load_hp, as in /work/shared/data/real) simulates the contact
-history of its scene (config_rig.yaml with the record's defect, shaft rate, fs and length),
-identifies the record's transfer path (identify-path), makes the simulated record (the contact
-force through that path at the rig's one gain, plus the record's background), then runs
-`analyze` on the measured and the simulated records alike and writes the scorecard
-(docs/virtual_rig.md: the pass rules).
+For each measured fault record of a record set (a manifest CSV; a folder holding
+manifest.csv; the CWRU data center's .mat files as downloaded; the converted CWRU development
+records, .npz, by the package's manifest) simulates the contact history of its scene
+(config_rig.yaml with the record's defect, shaft rate, fs and length), identifies the record's
+transfer path (identify-path), makes the simulated record (the force the defect removes through
+that path at the rig's one gain, plus the record's background), then runs `analyze` on the
+measured and the simulated records alike and writes the scorecard (docs/virtual_rig.md: the
+manifest's columns and the pass rules).
 
 Example::
 
-    bearing-envelope rig /work/shared/data/real/cwru_de12 --config config_rig.yaml -o runs/rig
+    bearing-envelope rig DATA/cwru_de12 DATA/cwru_de48 --config config_rig.yaml -o runs/rig
+    bearing-envelope rig my_records/manifest.csv --config my_rig.yaml -o runs/my_rig
 """
 
 from __future__ import annotations
@@ -28,11 +30,13 @@ def register(subparsers) -> None:
     """
     p = subparsers.add_parser(
         "rig",
-        help="virtual CWRU rig: simulated records beside the measured ones, and the scorecard",
+        help="virtual rig: simulated records beside the measured ones, and the scorecard",
         description=__doc__.split("\n\n")[1],
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    p.add_argument("records", nargs="+", help="measured records (.npz) or folders of them")
+    p.add_argument("records", nargs="+",
+                   help="manifests (.csv), folders (with a manifest.csv, or of CWRU .mat or "
+                        ".npz records) or record files")
     p.add_argument("--config", default="config_rig.yaml", help="rig config (default "
                                                                "config_rig.yaml)")
     p.add_argument("-o", "--output", default="runs/rig", help="output folder")
@@ -48,16 +52,6 @@ def register(subparsers) -> None:
     p.set_defaults(func=run)
 
 
-def _collect(paths) -> list[str]:
-    import glob
-    import os
-
-    out = []
-    for p in paths:
-        out += sorted(glob.glob(os.path.join(p, "*.npz"))) if os.path.isdir(p) else [p]
-    return out
-
-
 def run(args) -> int:
     """Simulate the contact histories of the records' scenes and write the rig scorecard.
 
@@ -70,12 +64,12 @@ def run(args) -> int:
     Returns
     -------
     int
-        0; no fault record among the files raises ``ValueError``.
+        0 (success); a failure raises.
 
     Raises
     ------
     ValueError
-        No fault record among the files given.
+        No fault record among the records given.
     """
     # lazy: keeps `bearing-envelope --help` ~0.4 s (numba, pandas: ~4 s)
     from pathlib import Path
@@ -84,10 +78,10 @@ def run(args) -> int:
 
     out = Path(args.output)
     settings = rig.read_rig_config(args.config)
-    conds = rig.record_conditions(_collect(args.records), settings)
+    conds = rig.record_conditions(args.records)
     if not conds:
-        raise ValueError("records: no fault record (meta_json fault inner_race / outer_race / "
-                         "ball) among the files given")
+        raise ValueError("records: no fault record (location inner_race / outer_race / "
+                         "rolling_element) among the records given")
     if args.score_only:
         contact = {c.name: str(out / "contact" / f"{c.name}_contact.npz") for c in conds
                    if (out / "contact" / f"{c.name}_contact.npz").exists()}

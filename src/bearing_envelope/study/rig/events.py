@@ -25,18 +25,16 @@ import numpy as np
 from scipy import fft as sp_fft
 from scipy import signal as sps
 
-from ..signal.cycles import (FLOOR_PERCENTILE, burst_width, cycle_rate, element_windows,
+from ...physics.locations import get_location
+from ...signal.cycles import (FLOOR_PERCENTILE, burst_width, cycle_rate, element_windows,
                              synchronous_average)
-from ..signal.envelope import bandpass, envelope, settling_samples
-from ..signal.validation import check_band, check_fs
-from .rig_records import (RIG_BEARING, pair_figure, read_record, record_pairs, rig_rates,
-                          save_figure)
+from ...signal.envelope import bandpass, envelope, settling_samples
+from ...signal.validation import check_band, check_fs
+from .records import read_samples
 
-__all__ = ["event_shape", "event_shapes", "event_outputs", "plot_element_folds", "N_ELEMENTS",
-           "MIN_CONTRAST_DB"]
+__all__ = ["event_shape", "event_shapes", "squared_envelope", "record_pairs", "MIN_CONTRAST_DB",
+           "ELEMENT_BINS"]
 
-#: Rolling elements of the rig's bearing.
-N_ELEMENTS = RIG_BEARING["n_rollers"]
 #: Phase bins of the averages at the fault's rate and, per element, at the cage's rate.
 FAULT_BINS = 100
 ELEMENT_BINS = 40
@@ -54,9 +52,28 @@ SECONDARY_SEPARATION_S = 0.4e-3
 SECONDARY_MIN_CONTRAST_DB = 6.0
 
 
-def _squared_envelope(x, fs: float, rate_hz: float, band=None, search: float = 0.01):
+def squared_envelope(x, fs: float, rate_hz: float, band=None, search: float = 0.01):
     """Squared envelope in ``band`` (default fs/4-3fs/8), the filter's edge transients cut at
-    both ends, and the event rate refined on it within ``search`` (relative)."""
+    both ends, and the event rate refined on it within ``search`` (relative).
+
+    Parameters
+    ----------
+    x : array_like, 1-D
+        The record.
+    fs : float
+        Sampling rate, Hz.
+    rate_hz : float
+        Nominal event rate, Hz.
+    band : (float, float), optional
+        Demodulation band, Hz.
+    search : float
+        Relative half-width of the rate's refinement.
+
+    Returns
+    -------
+    (numpy.ndarray, float)
+        The squared envelope and the refined rate, Hz.
+    """
     fs = check_fs(fs)
     band = check_band((fs / 4, 3 * fs / 8) if band is None else band, fs)
     edge = settling_samples(fs, band)
@@ -98,7 +115,7 @@ def event_shape(x, fs: float, rate_hz: float, *, n_elements: int | None = None,
         :data:`SECONDARY_MIN_CONTRAST_DB`); all but the rate and the contrast NaN when the
         contrast is below :data:`MIN_CONTRAST_DB`.
     """
-    e, rate = _squared_envelope(x, fs, rate_hz, band, search)
+    e, rate = squared_envelope(x, fs, rate_hz, band, search)
     out = {"rate_hz": rate, **_fault_fold(e, fs, rate)}
     if n_elements:
         if np.isfinite(out["width_ms"]):
@@ -151,75 +168,35 @@ def event_shapes(conditions, sim_dir) -> list:
         Per record: name, location, position, load, fs and each feature measured (``meas_``)
         and simulated (``sim_``).
     """
-    races = [c for c in conditions if c.location in ("inner_race", "outer_race")]
+    races = [c for c in conditions if not get_location(c.location).spins]
     rows = [{"record": c.name, "location": c.location, "position_deg": c.position_deg,
-             "diameter_in": c.diameter_in, "load_hp": c.load_hp, "fs_hz": c.fs_hz}
+             "length_um": c.length_um, "load": c.load, "fs_hz": c.fs_hz}
             for c in races]
     for i, _, c, side, path in record_pairs(races, sim_dir):
-        outer = c.location == "outer_race"
-        rate = rig_rates(c.shaft_hz)["bpfo" if outer else "bpfi"]
-        shape = event_shape(read_record(path)[0], c.fs_hz, rate,
-                            n_elements=N_ELEMENTS if outer else None)
+        loc = get_location(c.location)  # a fixed defect: each element once per cage turn
+        shape = event_shape(read_samples(path), c.fs_hz, c.rates[loc.family],
+                            n_elements=c.bearing.n_rollers if loc.positioned else None)
         rows[i].update({f"{side}_{k}": v for k, v in shape.items()})
     return rows
 
 
-def plot_element_folds(conditions, sim_dir, out_png) -> str:
-    """Squared-envelope averages at the cage's rate (one turn: each rolling element's event) of
-    outer-race records, measured beside simulated, in fs/4-3fs/8: one row per record.
+def record_pairs(conditions, sim_dir):
+    """Each record and its simulated twin, in the order of a two-column figure.
 
     Parameters
     ----------
     conditions : sequence of RigCondition
-        Outer-race records (one row each).
+        The records.
     sim_dir : path
         The simulated records (``<name>_sim.npz``).
-    out_png : path
-        The figure.
 
-    Returns
-    -------
-    str
-        The figure's path.
+    Yields
+    ------
+    (int, int, RigCondition, str, str)
+        Row (the condition's index), column (0 measured, 1 simulated), the condition, side
+        (``"meas"`` | ``"sim"``) and the record's path.
     """
-    fig, axes = pair_figure(len(conditions), 1.6)
-    for i, j, c, side, path in record_pairs(conditions, sim_dir):
-        x, _ = read_record(path)
-        e, rate = _squared_envelope(x, c.fs_hz, rig_rates(c.shaft_hz)["bpfo"])
-        avg = synchronous_average(e, c.fs_hz, rate / N_ELEMENTS, bins=ELEMENT_BINS * N_ELEMENTS)
-        floor = np.percentile(avg, FLOOR_PERCENTILE)
-        avg = 1.0 + np.concatenate(element_windows(avg, N_ELEMENTS)) / floor
-        ax = axes[i, j]
-        ax.plot(np.arange(avg.size) / ELEMENT_BINS, avg, lw=0.7,
-                color="k" if side == "meas" else "C1")
-        for k in range(1, N_ELEMENTS):
-            ax.axvline(k, color="0.8", lw=0.4)
-        ax.set_title(f"{c.name} {'measured' if side == 'meas' else 'simulated'}", fontsize=7)
-        ax.tick_params(labelsize=6)
-    for ax in axes[:, 0]:
-        ax.set_ylabel("over floor", fontsize=7)
-    return save_figure(fig, axes, out_png,
-                       "cage turn, in rolling-element spacings (each element's event)")
-
-
-def event_outputs(conditions, out_dir) -> None:
-    """Write ``event_shape.csv`` (:func:`event_shapes` of every race record) and
-    ``element_folds.png`` (:func:`plot_element_folds` of the 12 kHz outer-race records at 0 hp)
-    into a rig run's folder (its simulated records in ``sim/``).
-
-    Parameters
-    ----------
-    conditions : sequence of RigCondition
-        The run's records.
-    out_dir : path
-        The run's folder.
-    """
-    import pandas as pd  # lazy: pandas ~1.8 s
-
-    out_dir = Path(out_dir)
-    pd.DataFrame(event_shapes(conditions, out_dir / "sim")).to_csv(
-        out_dir / "event_shape.csv", index=False)
-    outer = [c for c in conditions if c.location == "outer_race" and c.load_hp == 0
-             and c.fs_hz == 12000.0]
-    if outer:
-        plot_element_folds(outer, out_dir / "sim", out_dir / "element_folds.png")
+    for i, c in enumerate(conditions):
+        for j, (side, path) in enumerate((("meas", c.path),
+                                          ("sim", Path(sim_dir) / f"{c.name}_sim.npz"))):
+            yield i, j, c, side, str(path)

@@ -1,0 +1,359 @@
+"""The rig's simulation: each record's scene, its contact history, and the simulated record made
+of it through the record's identified transfer path.
+
+1. :func:`condition_scene`: the rig's scene (``config_rig.yaml``: bearing, material, radial
+   load, clearance, cage slip) with the record's defect (location, size, outer-race position)
+   and operation (its shaft rate, its sampling rate, its length);
+2. :func:`simulate_excitations`: one contact table per defect (location, size, position), shared
+   by the records of every load and sampling rate, then the acquisition of each record (the
+   table is the cost, the synthesis is cheap);
+3. :func:`write_rig_record`: the force the defect removes, through the record's own transfer
+   path identified from it (:func:`record_paths`: every mode it holds, each with its resonance,
+   damping and gain relative to the first) at the rig's one gain (:func:`rig_gain`), seen by
+   the rig's single-axis sensor (:func:`sensor_gain`), plus the record's background.
+"""
+
+from __future__ import annotations
+
+import copy
+import dataclasses
+import json
+import math
+import os
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from scipy import signal as sps
+
+from ...diagnosis.transfer_path import WELCH_SEGMENT, background_noise, identify_path
+from ...io.atomic import atomic_path
+from ...physics.history import defect_angle, simulate, synthesize_case
+from ...physics.locations import get_location
+from ...physics.scene import Scene
+from ...physics.transfer import Mode, apply_structure, direction_gain, excitation_from_history
+from .config import RigSettings
+from .records import RigBearing, RigCondition, read_samples
+
+__all__ = ["condition_scene", "simulate_excitations", "path_modes", "sensor_gain",
+           "record_paths", "rig_gain", "write_rig_record", "REFERENCE_MODE_TOL"]
+
+
+def _scene_bearing(scene: Scene) -> RigBearing:
+    b = scene.bearing
+    return RigBearing(b.designation, int(b.rollers_per_row), float(b.roller_diameter_mm),
+                      float(b.pitch_diameter_mm), float(b.contact_angle_deg))
+
+
+def condition_scene(cond: RigCondition, settings: RigSettings) -> Scene:
+    """The scene of one condition: the rig's scene with the record's defect and operation.
+
+    Parameters
+    ----------
+    cond : RigCondition
+        The record: its defect location, position, size (um), shaft rate and sampling rate
+        (Hz), length, bearing.
+    settings : RigSettings
+        The rig's base scene mapping (not modified), load (kN) and the ball records'
+        ``spin_axis``.
+
+    Returns
+    -------
+    Scene
+        The validated scene, its duration (``operation.revolutions``) covering the record's
+        ``n_samples`` (plus half a sample).
+
+    Raises
+    ------
+    ValueError
+        The record's bearing is not the scene's (one line naming both geometries).
+    """
+    m = copy.deepcopy(settings.scene)
+    d = m.setdefault("defect", {})
+    d.update(location=cond.location, position_deg=cond.position_deg,
+             length_um=cond.length_um, width_um=cond.width_um)
+    if get_location(cond.location).spins:  # a defect on a spinning body: the ball's axis
+        d["spin_axis"] = settings.ball_spin_axis
+    op = m.setdefault("operation", {})
+    op.update(shaft_rate_hz=cond.shaft_hz, fs_hz=cond.fs_hz,
+              revolutions=(cond.n_samples + 0.5) / cond.fs_hz * cond.shaft_hz)
+    scene = Scene.from_mapping(m, load_kN=settings.load_kN, depth_um=cond.depth_um)
+    have = _scene_bearing(scene)
+    if not cond.bearing.same_geometry(have):
+        raise ValueError(f"{cond.name}: bearing: {_geometry(cond.bearing)} is not the rig "
+                         f"scene's {_geometry(have)}; allowed: records of the scene's bearing "
+                         "(config scene.bearing)")
+    return scene
+
+
+def _geometry(b: RigBearing) -> str:
+    return (f"{b.designation or 'geometry'} ({b.n_rollers} x {b.roller_diameter_mm:g} mm on "
+            f"{b.pitch_diameter_mm:g} mm, {b.contact_angle_deg:g} deg)")
+
+
+def _excitation_path(out_dir: Path, cond: RigCondition) -> Path:
+    return out_dir / f"{cond.name}_contact.npz"
+
+
+def simulate_excitations(conditions, settings: RigSettings, out_dir, *, log=print) -> dict:
+    """Contact history of every condition, one contact table per defect key.
+
+    Parameters
+    ----------
+    conditions : sequence of RigCondition
+    settings : RigSettings
+    out_dir : path
+        Where ``<record>_contact.npz`` (time, contact_force, removed_force, p_max) is written;
+        an existing file is kept (delete it to re-simulate).
+    log : callable
+        Progress lines.
+
+    Returns
+    -------
+    dict
+        ``{record name: path}``, and ``cpu_s`` per defect key under ``"_cpu_s"``.
+    """
+    out_dir = Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    for c in conditions:  # every scene (and its bearing) checked before the first table
+        condition_scene(c, settings)
+    groups: dict[str, list[RigCondition]] = {}
+    for c in conditions:
+        groups.setdefault(c.defect_key, []).append(c)
+    paths: dict[str, Any] = {"_cpu_s": {}}
+    for key, conds in groups.items():
+        todo = [c for c in conds if not _excitation_path(out_dir, c).exists()]
+        t0 = _cpu()
+        if todo:
+            first = condition_scene(todo[0], settings)
+            hist = simulate(first, settings.fidelity)
+            for c in todo:
+                scene = condition_scene(c, settings)
+                t, sig, _ = synthesize_case(scene, hist.tables, hist.load_distribution,
+                                            hist.fidelity)
+                _write_excitation(_excitation_path(out_dir, c), t, sig, c)
+        paths["_cpu_s"][key] = _cpu() - t0
+        log(f"rig: {key}: {len(todo)} of {len(conds)} simulated, {paths['_cpu_s'][key]:.1f} CPU s")
+        for c in conds:
+            paths[c.name] = str(_excitation_path(out_dir, c))
+    return paths
+
+
+def _cpu() -> float:
+    t = os.times()
+    return t.user + t.system + t.children_user + t.children_system
+
+
+def _write_excitation(path: Path, t, sig: dict, cond: RigCondition) -> None:
+    arrays = {"time": t, "fs": np.float64(cond.fs_hz),
+              **{k: np.asarray(sig[k]) for k in ("contact_force", "removed_force", "p_max",
+                                                 "roller_load") if k in sig}}
+
+    with atomic_path(path, ".npz") as tmp:
+        with open(tmp, "wb") as fh:
+            np.savez(fh, **arrays)
+
+
+# ------------------------------------------------------------------ simulated records
+#: A record's mode is the rig's reference mode (whose gain the reference records identify)
+#: when its f_n is within this fraction of the reference mode's (3 %: the identification's
+#: f_n tolerance).
+REFERENCE_MODE_TOL = 0.03
+
+
+def path_modes(path, reference_hz: float | None = None) -> list:
+    """The record's identified modes, each gain relative to the anchor mode's (gain 1 per N
+    at resonance) as identified (:meth:`TransferPath.structure`: the same impulses ring every
+    mode, so the ratio of the gains is the record's). The anchor is the record's mode at the
+    rig's reference mode ``reference_hz`` (the structural mode whose gain the rig identifies
+    on its reference records) where the record holds one, else its first mode.
+
+    Parameters
+    ----------
+    path : TransferPath
+    reference_hz : float, optional
+        f_n of the rig's reference mode, Hz; None: the first mode is the anchor.
+
+    Returns
+    -------
+    list of Mode
+    """
+    modes = path.structure()
+    anchor = modes[0]
+    if reference_hz is not None:
+        near = [m for m in modes
+                if abs(m.f_n_hz - reference_hz) <= REFERENCE_MODE_TOL * reference_hz]
+        anchor = min(near, key=lambda m: abs(m.f_n_hz - reference_hz)) if near else anchor
+    return [Mode(m.f_n_hz, m.zeta, m.gain / anchor.gain) for m in modes]
+
+
+def _unit_response(cond: RigCondition, contact: dict, path, reference_hz: float | None = None,
+                   settings: RigSettings | None = None) -> np.ndarray:
+    """The modes' response (the anchor mode's gain 1 per N at resonance: :func:`path_modes`)
+    to the force the defect removes from the contact (the blocked-force deficit; the roller
+    load's own sweep through the load zone is a rotating load, not a force on the housing),
+    seen by the rig's single-axis sensor (``settings``: :func:`sensor_gain`)."""
+    e = excitation_from_history(-contact["removed_force"][:cond.n_samples])
+    if settings is not None:
+        e = e * sensor_gain(cond, settings, np.asarray(contact["time"][:cond.n_samples]))
+    return apply_structure(e, cond.fs_hz, path_modes(path, reference_hz))
+
+
+def sensor_gain(cond: RigCondition, settings: RigSettings, t: np.ndarray) -> np.ndarray:
+    """The rig sensor's gain for the force the defect removes, at times ``t``: the force acts
+    along the contact's radius where the defect is met (:func:`defect_angle`), the sensor reads
+    it through :func:`direction_gain` (``settings.sensor_deg``, ``sensor_cross_axis``).
+
+    Parameters
+    ----------
+    cond : RigCondition
+    settings : RigSettings
+    t : ndarray
+        Times of the record, s.
+
+    Returns
+    -------
+    ndarray
+        Gain in [sensor_cross_axis, 1], shape of ``t``.
+    """
+    if settings.sensor_cross_axis >= 1.0:
+        return np.ones(np.shape(t))
+    theta = defect_angle(condition_scene(cond, settings), t)
+    return direction_gain(theta, math.radians(settings.sensor_deg), settings.sensor_cross_axis)
+
+
+def record_paths(conditions, *, log=print) -> dict:
+    """The transfer path of every record: its own where identified, else the rig's common one
+    (median f_n and zeta of the identified records without flags at its fs, else at any fs)
+    with its own background (the whole record's spectrum).
+
+    Parameters
+    ----------
+    conditions : sequence of RigCondition
+    log : callable
+        Progress lines.
+
+    Returns
+    -------
+    dict
+        ``{name: (TransferPath, "identified" | reason it was not)}``
+    """
+    out = {}
+    for c in conditions:
+        try:
+            p = identify_path(read_samples(c.path), c.fs_hz, c.rates)
+        except ValueError as exc:
+            out[c.name] = (None, str(exc))
+            continue
+        unresolved = [f for f in p.flags if "not resolved" in f]
+        out[c.name] = (None, unresolved[0]) if unresolved else (p, "identified")
+    for c in conditions:
+        if out[c.name][0] is not None:
+            continue
+        ident = [p for p, st in out.values() if st == "identified"]
+        if not ident:
+            raise ValueError("records: no record's transfer path could be identified")
+        same = ([p for p in ident if p.fs_hz == c.fs_hz and not p.flags]
+                or [p for p in ident if not p.flags] or ident)
+        x = read_samples(c.path)
+        f, psd = sps.welch(x - x.mean(), c.fs_hz, nperseg=WELCH_SEGMENT)
+        common = dataclasses.replace(
+            same[0], fs_hz=c.fs_hz, f_n_hz=float(np.median([p.f_n_hz for p in same])),
+            zeta=float(np.median([p.zeta for p in same])), background_freq_hz=list(map(float, f)),
+            background_psd=list(map(float, psd)), background_source="record (no events found)",
+            flags=[f"rig's common path: {out[c.name][1]}"], modes=[], modes_rejected=[])
+        out[c.name] = (common, out[c.name][1])
+    log(f"rig: {sum(1 for _, s in out.values() if s == 'identified')} of {len(out)} paths "
+        "identified")
+    return out
+
+
+def rig_gain(conditions, paths: dict, contact_paths: dict, reference: str,
+             settings: RigSettings | None = None) -> tuple:
+    """The rig's one gain (acceleration per N at resonance): measured event amplitude over the
+    simulated one at unit gain, on the reference records (names containing ``reference``).
+
+    Parameters
+    ----------
+    conditions : sequence of RigCondition
+    paths : dict
+        :func:`record_paths`.
+    contact_paths : dict
+        :func:`simulate_excitations`.
+    reference : str
+        Records (name contains) the gain is identified on.
+    settings : RigSettings, optional
+        The rig's sensor (:func:`sensor_gain`).
+
+    Returns
+    -------
+    (float, float, float, float)
+        Median, min and max over the reference records, and the median f_n of their first
+        modes (Hz: the mode the gain belongs to, :func:`path_modes`'s ``reference_hz``).
+    """
+    ratios, f_ref = [], []
+    for c in conditions:
+        p, status = paths[c.name]
+        if reference not in c.name or status != "identified":
+            continue
+        with np.load(contact_paths[c.name]) as z:
+            y = _unit_response(c, dict(z), p, settings=settings)
+        tiny = 1e-3 * np.std(y) * np.random.default_rng(1).standard_normal(y.size)
+        rates = c.rates
+        own = {p.event_name: rates.get(p.event_name, p.event_hz)}
+        a = identify_path(y + tiny, c.fs_hz, own).amplitude
+        ratios.append(p.amplitude / a)
+        f_ref.append(p.f_n_hz)
+    if not ratios:
+        raise ValueError(f"rig.gain_reference: {reference!r} names no identified record")
+    return (float(np.median(ratios)), float(min(ratios)), float(max(ratios)),
+            float(np.median(f_ref)))
+
+
+def write_rig_record(cond: RigCondition, contact_path: str, path, gain: float, out_dir,
+                     *, seed: int = 0, reference_hz: float | None = None,
+                     settings: RigSettings | None = None) -> str:
+    """Simulated record of one condition: the contact force through the record's modes, the
+    anchor mode (:func:`path_modes`) at the rig's gain, plus its background; written like a
+    measured record (``x``, ``fs``, ``meta_json``: the condition, ``shaft_hz`` among it, and the
+    transfer path).
+
+    Parameters
+    ----------
+    cond : RigCondition
+    contact_path : str
+        Its ``<name>_contact.npz`` (:func:`simulate_excitations`).
+    path : TransferPath
+        Its transfer path (:func:`record_paths`).
+    gain : float
+        The rig's gain (:func:`rig_gain`).
+    out_dir : path
+        Where ``<name>_sim.npz`` is written.
+    seed : int
+        Seed of the background noise.
+    reference_hz : float, optional
+        The rig's reference mode (:func:`path_modes`).
+    settings : RigSettings, optional
+        The rig's sensor (:func:`sensor_gain`); None: blind to direction.
+
+    Returns
+    -------
+    str
+        The simulated record's path.
+    """
+    with np.load(contact_path) as z:
+        y = gain * _unit_response(cond, dict(z), path, reference_hz, settings)
+    x = y + background_noise(path, y.size, seed=seed)
+    meta = cond.meta()
+    meta.update(simulated=True, source_record=cond.name, transfer_path={
+        "f_n_hz": path.f_n_hz, "zeta": path.zeta, "gain_per_N": gain,
+        "modes": [dataclasses.asdict(m) for m in path_modes(path, reference_hz)],
+        "reference_mode_hz": reference_hz,
+        "sensor_deg": None if settings is None else settings.sensor_deg,
+        "sensor_cross_axis": None if settings is None else settings.sensor_cross_axis,
+        "background": path.background_source, "flags": path.flags})
+    out = Path(out_dir) / f"{cond.name}_sim.npz"
+    with atomic_path(out, ".npz") as tmp:
+        with open(tmp, "wb") as fh:
+            np.savez(fh, x=x, fs=np.float64(cond.fs_hz), meta_json=json.dumps(meta))
+    return str(out)
