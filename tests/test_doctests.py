@@ -29,9 +29,12 @@ ENTRY_POINTS = [
     # signal
     ("bearing_envelope.signal.envelope", "envelope_spectrum"),
     ("bearing_envelope.signal.kurtogram", "fast_kurtogram"),
+    ("bearing_envelope.signal.envelope", "envelope"),
+    ("bearing_envelope.signal.sk", "spectral_kurtosis"),
     # diagnosis
     ("bearing_envelope.diagnosis.analysis", "analyze_signal"),
     ("bearing_envelope.diagnosis.faults", "fault_verdict"),
+    ("bearing_envelope.diagnosis.speed", "estimate_shaft_rate"),
     ("bearing_envelope.diagnosis.records", "analyze_record"),
     # io
     ("bearing_envelope.io.case", "read_case"),
