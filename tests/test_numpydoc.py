@@ -4,14 +4,16 @@ value in numpydoc sections (``Parameters``, ``Returns`` / ``Yields``), read with
 Public: a module whose path has no part named ``_*``; a function or class of it (at module
 level, also inside a module-level ``if``/``try``) whose name does not start with ``_``; a
 method of a public class (nested classes too) whose name does not start with ``_``, and the
-class's ``__init__`` and ``__call__`` (other dunder methods are trivial and not checked).
+class's ``__init__``, ``__post_init__`` (a dataclass's checks) and ``__call__`` (other
+dunder methods are trivial and not checked).
 
 What each one must carry:
 
 - every one a docstring with a summary line; a property needs only that;
 - a function or method that takes parameters (besides ``self``/``cls``): a ``Parameters``
   section naming **every** parameter (``*args``/``**kwargs`` by their names); for ``__init__``
-  the section may be in the class docstring (the numpydoc convention);
+  (and the ``Raises`` of ``__post_init__``) the section may be in the class docstring (the
+  numpydoc convention);
 - one that returns a value (a ``return`` carrying anything but ``None``, or a return
   annotation other than ``None`` on a body that is only a docstring / ``...`` / ``raise``):
   ``Returns``; a generator: ``Yields``;
@@ -49,7 +51,7 @@ ALLOWLIST: set[str] = {
 }
 
 #: dunder methods that are part of a class's public behaviour (the others are trivial)
-_PUBLIC_DUNDERS = ("__init__", "__call__")
+_PUBLIC_DUNDERS = ("__init__", "__post_init__", "__call__")
 
 _HEADER = r"^[ \t]*{name}[ \t]*\n[ \t]*-{{3,}}[ \t]*$"
 _ANY_HEADER = re.compile(r"^[ \t]*[A-Z][A-Za-z ]*[ \t]*\n[ \t]*-{3,}[ \t]*$", re.M)
@@ -222,7 +224,7 @@ def gaps(row: Row) -> list[str]:
     """What ``row`` lacks: ``summary``, ``Parameters``, ``Parameters: name``, ``Returns``..."""
     fn = row.node
     doc = ast.get_docstring(fn) or ""
-    init = fn.name == "__init__"
+    init = fn.name in ("__init__", "__post_init__")
     if init:
         doc = f"{doc}\n\n{row.class_doc}" if doc else row.class_doc
     if not doc.strip():

@@ -350,6 +350,12 @@ class AnalysisOptions:
         (``cpw``, ``drs_sk``, ``ees``; ``envelope`` is always one): the verdict is then
         :func:`~bearing_envelope.diagnosis.routes.combine_routes` of them (the ``analyze``
         command runs every route by default; the simulation sweep none).
+
+    Raises
+    ------
+    OptionError
+        A field out of its range (:data:`OPTION_SPECS`), or ``max_level`` deeper than
+        ``nlevel``; the message names the field, the value and what is allowed.
     """
 
     bands: tuple[Mapping, ...] | None = None

@@ -127,6 +127,12 @@ class Fidelity:
         and the approach do not depend on ``window_margin_um``; ``frozen`` keeps it at its
         no-defect pressure (before issue 25: the removed force 2.2x too large at a 400 um
         margin). Pressures do not depend on it (< 0.03 %).
+
+    Raises
+    ------
+    ValueError
+        A spacing, tolerance, count or choice out of range (the message names the
+        ``fidelity.<field>``, the value and what is allowed).
     """
 
     name: str = "standard"

@@ -115,6 +115,12 @@ class PressureTable:
         solved pressure is <= it, but a product of linear readings (``P0 x ratio``) between
         nodes can exceed it (0.37 % measured at 750 kN / 50 um, draft), so ``P`` and ``P_d``
         are clipped to it.
+
+    Raises
+    ------
+    ValueError
+        ``q_out`` too short, not increasing, or of another size than ``p_out`` or the other
+        dense arrays.
     """
 
     q_nodes: np.ndarray

@@ -108,6 +108,11 @@ class Mode:
     gain : float
         Gain at resonance ``|H(j omega_n)|`` (acceleration per unit excitation, e.g.
         (m/s^2)/N for a force excitation, (m/s^2)/Pa for a pressure excitation), ``> 0``.
+
+    Raises
+    ------
+    ValueError
+        ``f_n_hz`` not > 0 Hz, ``zeta`` outside (0, 1), or ``gain`` not > 0.
     """
 
     f_n_hz: float
@@ -193,6 +198,12 @@ class Tone:
     (needs ``fr`` at synthesis), and the size either as a peak ``amplitude`` (output units, e.g.
     m/s^2) or as ``level_db`` = 10 log10(tone power / P_defect). ``phase_rad`` ``None`` draws a
     uniform random phase from the seeded generator.
+
+    Raises
+    ------
+    ValueError
+        Not exactly one of ``frequency_hz`` / ``order``, not exactly one of ``amplitude`` /
+        ``level_db``, or a value out of range.
     """
 
     frequency_hz: float | None = None
@@ -289,6 +300,11 @@ class NoiseSpec:
         If True (default) the drawn noise is rescaled so that its sample variance gives the
         target SNR exactly; if False the noise has the nominal variance and the achieved SNR
         scatters by about ``4.34 sqrt(2/N)`` dB.
+
+    Raises
+    ------
+    ValueError
+        ``exact`` not a bool, or ``snr_db`` outside [-80, 200] dB.
     """
 
     snr_db: float | None = None
@@ -317,6 +333,12 @@ class TransferModel:
     ``discretization`` (``impulse`` | ``bilinear``, default ``impulse``); ``noise``
     (``{snr_db: dB or null, exact: bool}``) or the shortcut ``snr_db``; ``tones`` (list of
     ``{frequency_hz | order, amplitude | level_db, phase_rad}``); ``seed`` (int, default 0).
+
+    Raises
+    ------
+    ValueError
+        No mode or a mode that is not a :class:`Mode`, an unknown ``discretization`` or
+        ``excitation``, ``excitation_scale`` not > 0, or ``seed`` not an integer >= 0.
     """
 
     modes: tuple[Mode, ...]
