@@ -345,6 +345,14 @@ class _Hidden:
         return x
 
 
+class Checked:
+    """A dataclass that checks its field."""
+
+    def __post_init__(self):
+        if self.depth_um < 0:
+            raise ValueError("depth_um")
+
+
 def documented(x, *args, **kwargs):
     """Add.
 
@@ -425,6 +433,7 @@ def test_checker_flags_planted_gaps():
         "Rig.quiet": ["summary"],
         "Rig.level": ["summary"],
         "Rig.Inner.step": ["Parameters"],
+        "Checked.__post_init__": ["Raises"],
         "documented": [],
         "generator": ["Yields"],
         "bare": ["Parameters: no description of 'a : float'",
