@@ -46,6 +46,8 @@ REGISTRY: dict[str, str] = {
                      "envelope line)",
     "hostile_configs": "bad and hostile configs: each refused before any job (or run to the "
                        "end with --run), and the check's cost",
+    "defect_contact": "the defect contact law F(x, delta) of the dynamic model: cost and errors per "
+                      "fidelity (CWRU 6205 pits), the defects' scales (CWRU pits, default sweep)",
 }
 
 #: Benchmarks of work in flight, registered as soon as their module is in this folder (each
