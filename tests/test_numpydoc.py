@@ -1,5 +1,6 @@
-"""Every public function and method of the library documents its parameters and its return
-value in numpydoc sections (``Parameters``, ``Returns`` / ``Yields``), read with ``ast``.
+"""Every public function and method of the library documents its parameters, its return value
+and what it raises in numpydoc sections (``Parameters``, ``Returns`` / ``Yields``, ``Raises``),
+read with ``ast``.
 
 Public: a module whose path has no part named ``_*``; a function or class of it (at module
 level, also inside a module-level ``if``/``try``) whose name does not start with ``_``; a
