@@ -68,9 +68,9 @@ def test_every_alias_names_the_entry_everywhere(alias):
     sc = Scene.from_mapping({"bearing": {"designation": alias}}, load_kN=1.0, depth_um=0.0)
     assert sc.bearing.designation == "SKF 6205-2RS" and sc.bearing.rollers_per_row == 9
     # identify-path
-    from bearing_envelope.commands.identify_path import _rates
+    from bearing_envelope.commands.identify_path import event_rates
 
-    rates = _rates(SimpleNamespace(event_hz=None, bearing=alias), 10.0)
+    rates = event_rates(SimpleNamespace(event_hz=None, bearing=alias), 10.0)
     assert rates["bpfi"] / 10.0 == pytest.approx(CWRU_6205["bpfi"], abs=5e-5)
     # analyze's library call
     from bearing_envelope.diagnosis.records import fault_sources

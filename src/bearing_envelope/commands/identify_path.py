@@ -50,7 +50,29 @@ def register(subparsers) -> None:
     p.set_defaults(func=run)
 
 
-def _rates(args, fr):
+def event_rates(args, fr):
+    """The event rates identify-path searches: ``--event-hz`` and, with ``--bearing``, the
+    bearing's BPFO, BPFI, BSF and 2 x BSF from the project's one resolver and rates function.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        Parsed arguments; reads ``event_hz`` (Hz, list or None) and ``bearing`` (a designation
+        or alias, or None).
+    fr : float or None
+        Shaft rate, Hz (None: the file gives none).
+
+    Returns
+    -------
+    dict of str to float
+        Name -> rate, Hz.
+
+    Raises
+    ------
+    ValueError
+        A bearing without a shaft rate, or neither a bearing nor event rates (one line naming
+        the option).
+    """
     from bearing_envelope.physics.catalogue import bearing_geometry
     from bearing_envelope.physics.kinematics import bearing_rates
 
@@ -97,7 +119,7 @@ def run(args) -> int:
     if not fs:
         raise ValueError("--fs: the file gives no sampling rate; pass --fs (Hz)")
     fr = args.shaft_hz or rec.get("fr")
-    rates = _rates(args, fr)
+    rates = event_rates(args, fr)
     bg = None
     if args.background is not None:
         bg_rec = read_record(args.background, column=args.column)
