@@ -49,10 +49,6 @@ ALLOWLIST: set[str] = {
     "diagnosis/transfer_path.py: TransferPath.from_dict",
     "diagnosis/transfer_path.py: identify_path",
     "diagnosis/transfer_path.py: background_noise",
-    # physics/defect_contact.py: H8's new module (issue 42), still changing when this check
-    # was extended; these two methods raise ValueError without a Raises section.
-    "physics/defect_contact.py: DefectContactTable.force",
-    "physics/defect_contact.py: DefectContactTable.approach",
 }
 
 #: dunder methods that are part of a class's public behaviour (the others are trivial)
