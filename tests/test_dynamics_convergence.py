@@ -86,7 +86,7 @@ def test_bad_input_is_refused_before_the_run():
     p = params_from_scene(cwru_scene())
     with pytest.raises(ValueError, match="duration_s got -1"):
         simulate_dynamics(p, -1, 12000.0)
-    with pytest.raises(ValueError, match="acquisition got 'linear'"):
+    with pytest.raises(ValueError, match="acquisition_mode got 'linear'"):
         simulate_dynamics(p, 0.1, 12000.0, acquisition_mode="linear")
     with pytest.raises(ValueError, match="steps_per_period: got 2"):
         step_size(p, 2)

@@ -42,6 +42,11 @@ def check_number(value, name: str) -> float:
     -------
     float
         ``value`` as a finite float.
+
+    Raises
+    ------
+    ValueError
+        ``value`` is not a finite number (the message names ``name``).
     """
     v = _float(value, name)
     if not math.isfinite(v):
@@ -71,6 +76,12 @@ def check_positive(value, name: str, *, allow_zero: bool = False, allow_none: bo
     -------
     float or None
         ``value`` as a finite float in range (``None`` when given and allowed).
+
+    Raises
+    ------
+    ValueError
+        ``value`` is not finite, or not > 0 (>= 0 with ``allow_zero``); the message names
+        ``name``.
     """
     if value is None and allow_none:
         return None

@@ -253,6 +253,11 @@ def check_args(args) -> None:
     ----------
     args : argparse.Namespace
         Parsed ``analyze`` arguments; modified in place (also ``args.routes``).
+
+    Raises
+    ------
+    ValueError
+        No file, manifest or folder given, or an empty folder.
     """
     for opt in ("--fs", "--fr", "--bpfi", "--fmax"):
         _positive(opt, getattr(args, opt[2:].replace("-", "_")))
@@ -288,6 +293,11 @@ def parse_routes(text: str | None) -> tuple[str, ...] | None:
     -------
     tuple of str or None
         The route names, ``envelope`` left out (it always runs); ``None`` when not given.
+
+    Raises
+    ------
+    ValueError
+        A name that is not a route (the message lists the routes).
     """
     if text is None:
         return None
@@ -390,6 +400,11 @@ def parse_faults(items) -> dict[str, float]:
     -------
     dict of str to float
         Lower-cased name -> frequency, Hz; a malformed item raises ``ValueError``.
+
+    Raises
+    ------
+    ValueError
+        An item that is not ``NAME=HZ``, a value that is not a number, or a frequency <= 0 Hz.
     """
     from bearing_envelope.diagnosis.analysis import check_fault_name  # start-up time
 
@@ -423,6 +438,12 @@ def load_bands(text: str | None):
     -------
     list of dict or None
         The band mappings (a mapping's ``bands`` entry); ``None`` when not given.
+
+    Raises
+    ------
+    ValueError
+        Not valid YAML, not UTF-8 text, neither a file nor a JSON list, or not a list of band
+        mappings.
     """
     if text is None:
         return None
@@ -599,6 +620,11 @@ def run(args) -> int:
     -------
     int
         0 for one record; for a batch, 0, or 1 if any record failed.
+
+    Raises
+    ------
+    ValueError
+        A single path that is a directory where a signal file is expected.
     """
     if (args.files or args.manifest) and is_batch(args) and args.jobs != 1:
         single_threaded()  # before numpy is imported: every worker one thread

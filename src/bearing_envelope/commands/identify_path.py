@@ -104,6 +104,12 @@ def run(args) -> int:
     int
         0; a missing sampling rate, shaft rate or event rate, or a background at another fs,
         raises ``ValueError``.
+
+    Raises
+    ------
+    ValueError
+        No sampling rate (the file gives none and no ``--fs``), or a background record sampled
+        at another rate.
     """
     # lazy: keeps `bearing-envelope --help` ~0.4 s (numba, pandas: ~4 s)
     from bearing_envelope.diagnosis.transfer_path import identify_path

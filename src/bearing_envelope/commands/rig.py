@@ -64,7 +64,12 @@ def run(args) -> int:
     Returns
     -------
     int
-        0; no fault record among the records raises ``ValueError``.
+        0 (success); a failure raises.
+
+    Raises
+    ------
+    ValueError
+        No fault record among the records given.
     """
     # lazy: keeps `bearing-envelope --help` ~0.4 s (numba, pandas: ~4 s)
     from pathlib import Path

@@ -72,6 +72,11 @@ def load_sensor_config(path: str) -> TransferModel:
     -------
     TransferModel
         The validated ``sensor:`` section.
+
+    Raises
+    ------
+    ValueError
+        The config has no ``sensor:`` section.
     """
     from bearing_envelope.study.settings import load_settings  # lazy: CLI start-up time
 

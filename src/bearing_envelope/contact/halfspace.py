@@ -106,6 +106,11 @@ def composite_modulus(E1: float, nu1: float, E2: float, nu2: float) -> float:
     float
         ``E*`` (Pa) with :math:`1/E^* = (1-\\nu_1^2)/E_1 + (1-\\nu_2^2)/E_2`.
 
+    Raises
+    ------
+    ValueError
+        A modulus <= 0 Pa, a Poisson ratio outside (-1, 0.5], or both bodies rigid.
+
     Examples
     --------
     >>> round(composite_modulus(210e9, 0.3, 210e9, 0.3) / 1e9, 2)
@@ -336,6 +341,11 @@ def kernel_spectrum(shape: tuple[int, int], dx: float, dy: float, e_star: float,
     -------
     numpy.ndarray
         Read-only float64 array of shape ``(2 nx, ny + 1)``.
+
+    Raises
+    ------
+    ValueError
+        ``element`` is not one of :data:`ELEMENTS`.
     """
     if element not in ELEMENTS:
         raise ValueError(f"element must be one of {ELEMENTS}, got {element!r}")
@@ -516,6 +526,12 @@ class ElasticHalfSpace:
         or piecewise bilinear between nodes (pyramidal elements,
         :func:`influence_coefficients_linear`).
 
+    Raises
+    ------
+    ValueError
+        A shape that is not ``(nx, ny)`` with both >= 1, a spacing or modulus that is not a
+        finite number > 0, an unknown ``backend``, or ``backend='pyfftw'`` without pyfftw.
+
     Notes
     -----
     ``u = K * p`` (discrete linear convolution of the influence coefficients
@@ -589,6 +605,11 @@ class ElasticHalfSpace:
         -------
         numpy.ndarray
             Surface displacement (m), shape ``(nx, ny)`` (``out`` when given).
+
+        Raises
+        ------
+        ValueError
+            ``pressure`` is not of the grid's shape.
         """
         p = np.asarray(pressure, dtype=float)
         if p.shape != self.shape:

@@ -159,6 +159,11 @@ def elliptic_ratio(curvature_ratio: float) -> float:
     -------
     float
         ``k = minor / major`` in (0, 1].
+
+    Raises
+    ------
+    ValueError
+        ``curvature_ratio`` is not finite or < 1.
     """
     r = float(curvature_ratio)
     if not math.isfinite(r) or r < 1.0:

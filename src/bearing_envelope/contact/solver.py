@@ -25,7 +25,16 @@ __all__ = [
 
 
 class ContactGridError(ValueError):
-    """Pressure reaches the edge of the grid: the domain is too small for this load."""
+    """Pressure reaches the edge of the grid: the domain is too small for this load.
+
+    Parameters
+    ----------
+    message : str
+        The one-line explanation (edge cells loaded, their share of the force, the remedy).
+    fraction : float
+        Share of the total force carried by the loaded edge cells (dimensionless, 0..1);
+        kept as :attr:`fraction`.
+    """
 
     def __init__(self, message: str, fraction: float):
         super().__init__(message)
@@ -37,7 +46,19 @@ class ContactGridWarning(UserWarning):
 
 
 class ContactConvergenceError(RuntimeError):
-    """The solver did not reach ``tol`` within ``max_iter`` iterations."""
+    """The solver did not reach ``tol`` within ``max_iter`` iterations.
+
+    Parameters
+    ----------
+    message : str
+        The diagnostic: last residual against ``tol``, iterations done, last residuals.
+    residual_history : list of float
+        The convergence measure at every iteration (dimensionless); kept as
+        :attr:`residual_history`.
+    solution : ContactSolution or None, optional
+        The last (unconverged) iterate when one exists, for inspection; kept as
+        :attr:`solution`.
+    """
 
     def __init__(self, message: str, residual_history: list[float], solution: "ContactSolution | None" = None):
         super().__init__(message)
@@ -191,7 +212,7 @@ def solve_contact(
     e_star : float
         Composite modulus (Pa), > 0 (:func:`composite_modulus`).
     tol : float
-        Convergence tolerance (see Notes).
+        Convergence tolerance (dimensionless; see Notes).
     max_iter : int
         Maximum CG iterations; :class:`ContactConvergenceError` (with ``residual_history``) if
         ``tol`` is not reached.
@@ -234,6 +255,8 @@ def solve_contact(
     Returns
     -------
     ContactSolution
+        Pressure (Pa) on the grid, approach (m), contact area (m^2), force (N), iterations and
+        the final residual of the stated convergence measure.
 
     Notes
     -----

@@ -94,6 +94,11 @@ def fault_frequency_map(bpfi=None, fault_frequencies=None) -> dict[str, float]:
     -------
     dict of str to float
         Name -> frequency, Hz; neither argument given raises ``ValueError``.
+
+    Raises
+    ------
+    ValueError
+        Neither ``bpfi`` nor ``fault_frequencies`` given.
     """
     out: dict[str, float] = {}
     if fault_frequencies is not None:
@@ -178,6 +183,12 @@ def analyze_signal(x, fs: float, *, fr: float, bpfi: float | None = None,
 
     (DataFrame, dict)
         With ``full_output``.
+
+    Raises
+    ------
+    ValueError
+        ``options`` is neither an :class:`AnalysisOptions` nor None; a signal, rate or fault
+        frequency out of range (the message names it).
 
     Examples
     --------

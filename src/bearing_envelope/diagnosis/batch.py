@@ -37,10 +37,13 @@ def one_line(exc: BaseException) -> str:
     Parameters
     ----------
     exc : BaseException
+        The exception a record raised.
 
     Returns
     -------
     str
+        ``strerror: filename`` for an ``OSError``, the key for a ``KeyError``, the first
+        line of a ``ValueError``'s message, else ``TypeName: first line``.
     """
     if isinstance(exc, OSError) and exc.strerror:
         return f"{exc.strerror}: {exc.filename}" if exc.filename else exc.strerror
@@ -114,6 +117,12 @@ def analyze_item(item, *, reader: Callable | None = None, index: int = 0, **kwar
     Returns
     -------
     RecordAnalysis
+        The full analysis of the item, its samples and spectra kept (for plots).
+
+    Raises
+    ------
+    ValueError
+        A path item without a ``reader``.
     """
     signal, per = _split(item, index)
     if isinstance(signal, Mapping) and "x" not in signal:  # a task: the reader reads it
@@ -228,9 +237,13 @@ def verdict_table(results: Iterable) -> pd.DataFrame:
     Parameters
     ----------
     results : iterable of RecordAnalysis or RecordFailure
+        The records analysed, in the order of the table.
 
     Returns
     -------
     pandas.DataFrame
+        One row per record and fault family (the columns of
+        :func:`~bearing_envelope.diagnosis.records.record_rows`), one row per failure
+        (``status`` ``error`` and its reason).
     """
     return pd.DataFrame.from_records([row for r in results for row in r.rows])

@@ -146,6 +146,12 @@ def fault_band_metrics(
         band_power, total_band_power``. A band narrower than one bin is widened to the nearest
         bin; bands outside the spectrum give ``n_bins = 0`` and NaN metrics.
 
+    Raises
+    ------
+    ValueError
+        ``targets`` empty or not a mapping, ``bandwidth`` outside (0, 1), or sidebands without
+        ``fr``.
+
     Examples
     --------
     >>> f = np.arange(0, 1000.0, 0.5); a = np.zeros_like(f); a[f == 232.0] = 0.3
@@ -244,6 +250,11 @@ def threshold_db(pfa: float = DEFAULT_PFA, n_bins: int = 1,
     -------
     float
         The threshold (dB) on the line-to-background ratio.
+
+    Raises
+    ------
+    ValueError
+        ``pfa`` outside (0, 1), or ``n_background`` neither a count nor a pair of counts.
 
     Examples
     --------
@@ -384,6 +395,9 @@ def detection_statistic(
         Half-width in Hz; overrides ``tolerance``. At least half a bin is always used.
     background : (lo, hi)
         Background band ``[lo, hi] x line_hz`` (default 0.5-1.5).
+    sidebands : int
+        Highest sideband order ``m`` of the shaft-rate sidebands ``k line +- m fr`` taken out
+        of the background (default 3; only with ``fr``).
     exclude_hz : iterable of float
         Further lines (Hz) to exclude from the background (e.g. a gear-mesh tone).
     threshold : float, optional
@@ -400,6 +414,14 @@ def detection_statistic(
     Returns
     -------
     Detection
+        The statistic (dB), the peak (amplitude, Hz), the background level, the bin counts,
+        the threshold (dB) and whether the line is detected.
+
+    Raises
+    ------
+    ValueError
+        ``background`` not ``(lo, hi)`` with ``0 <= lo < 1 < hi``, the line beyond the spectrum,
+        too few background bins for ``level``, or an unknown ``level``.
     """
     f, a, df_hz = _spectrum(f, amplitude)
     line = check_positive(line_hz, "line_hz")
@@ -464,11 +486,12 @@ def background_mask(f, line: float, half: float, background: tuple[float, float]
     sidebands : int
         Sidebands ``k line +- m fr`` excluded (m <= ``sidebands``).
     exclude_hz : iterable of float
-        Further lines excluded.
+        Further lines excluded (Hz).
 
     Returns
     -------
     numpy.ndarray of bool
+        True on the background bins, the shape of ``f``.
     """
     lo, hi = background
     bg = (f >= lo * line) & (f <= hi * line) & (f > 0)
@@ -505,10 +528,14 @@ def background_problem(f, bg, line: float, level: str) -> str | None:
     line : float
         The line (Hz).
     level : {"median", "two_sided"}
+        The background level of :func:`detection_statistic` (``two_sided`` needs bins on
+        both sides of the line).
 
     Returns
     -------
     str or None
+        The reason, one line naming the line (Hz) and the bins found; None when the
+        background suffices.
     """
     if bg.sum() < 5:
         return f"too few background bins ({int(bg.sum())}) around {line:g} Hz"
@@ -560,6 +587,11 @@ def clopper_pearson(k: int, n: int, confidence: float = DEFAULT_CONFIDENCE) -> t
     -------
     tuple of (float, float)
         ``(low, high)``.
+
+    Raises
+    ------
+    ValueError
+        ``k`` outside ``[0, n]`` or ``confidence`` outside (0, 1).
 
     Examples
     --------

@@ -106,7 +106,19 @@ _DISPLAY = {"bpfo": "BPFO", "bpfi": "BPFI", "bsf": "BSF", "bsf2": "2xBSF", "ftf"
 
 
 def display_name(name: str) -> str:
-    """``"bpfi" -> "BPFI"``, ``"bsf2" -> "2xBSF"``; other names unchanged."""
+    """The display form of a fault-family name: ``"bpfi" -> "BPFI"``, ``"bsf2" -> "2xBSF"``.
+
+    Parameters
+    ----------
+    name : str
+        A family name as the tables store it (``bpfi``, ``bpfo``, ``bsf``, ``bsf2``, ``ftf``,
+        ``fr``) or any other string.
+
+    Returns
+    -------
+    str
+        The name for figures and reports; a name that is not a family comes back unchanged.
+    """
     return _DISPLAY.get(name, name)
 
 
@@ -254,6 +266,11 @@ def search_lines(
         median), ``floor_ratio_db``, ``threshold_db``, ``detected`` (NaN / None where the
         spectrum holds no background around the line). Lines beyond the spectrum are skipped;
         if the fundamental is, the list is empty.
+
+    Raises
+    ------
+    ValueError
+        ``n_harmonics`` < 1, ``n_sidebands`` < 0 or ``search_percent`` outside (0, 50).
 
     Notes
     -----
@@ -1019,6 +1036,8 @@ def fault_verdict(table, families: Sequence[FaultFamily], *, pfa: float, n_tests
         ``analyze_signal``'s table (its ``detected`` column was computed at
         ``pfa / n_tests``).
     families : sequence of FaultFamily
+        The families the table was searched for (:func:`fault_families` of the same
+        frequencies), in its order.
     pfa : float
         Record-wise false-alarm probability.
     n_tests : int
@@ -1034,6 +1053,28 @@ def fault_verdict(table, families: Sequence[FaultFamily], *, pfa: float, n_tests
     Verdict
         One :class:`FamilyVerdict` per family, the confidence and the candidates; ``pfa_test``
         = ``pfa / n_tests``.
+
+    Examples
+    --------
+    An outer-race fault of a 6205 at 29.95 Hz: impacts at BPFO (107.36 Hz) ringing at 3 kHz
+    in noise, searched for BPFO and BPFI over the default bands:
+
+    >>> import numpy as np
+    >>> from bearing_envelope.diagnosis import (AnalysisOptions, analyze_signal,
+    ...                                         fault_families, fault_verdict)
+    >>> fs, fr, freqs = 12000.0, 29.95, {"bpfo": 107.36, "bpfi": 162.19}
+    >>> t = np.arange(2**15) / fs
+    >>> tau = t % (1 / freqs["bpfo"])
+    >>> rng = np.random.default_rng(1)
+    >>> x = (np.exp(-tau / 2e-3) * np.sin(2 * np.pi * 3000 * tau)
+    ...      + 0.2 * rng.standard_normal(t.size))
+    >>> table = analyze_signal(x, fs, fr=fr, fault_frequencies=freqs)
+    >>> families = fault_families(freqs, fr=fr)
+    >>> bands = table[table.quantity == "envelope_spectrum"]["band"].nunique()
+    >>> v = fault_verdict(table, families, pfa=AnalysisOptions().pfa,
+    ...                   n_tests=len(families) * bands, fr=fr, df_hz=fs / x.size)
+    >>> [(f.family, f.detected, f.role) for f in v.families]
+    [('bpfo', True, 'diagnosis'), ('bpfi', False, None)]
     """
     env = table[table["quantity"] == "envelope_spectrum"]
     out = [_family_verdict(fam, env[env["base"] == fam.name], float(df_hz)) for fam in families]

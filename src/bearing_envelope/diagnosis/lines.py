@@ -64,6 +64,11 @@ def harmonic_amplitudes(
         ``floor``, ``floor_ratio_db``, ``threshold_db``, ``detected`` (see
         :func:`~bearing_envelope.diagnosis.faults.search_lines`). Lines beyond the spectrum are
         skipped.
+
+    Raises
+    ------
+    ValueError
+        ``n_harmonics`` < 1 or ``n_sidebands`` < 0.
     """
     base = check_positive(base, "base")
     n_harmonics = int(n_harmonics)

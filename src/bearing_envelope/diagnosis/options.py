@@ -244,6 +244,15 @@ class OptionError(ValueError):
     Its message names ``AnalysisOptions.<field>``; :func:`options_with` names the field as the
     caller does (``names``). ``allowed`` may name other fields as ``{field}`` (the rule
     ``max_level <= {nlevel}``), written as the caller names them.
+
+    Parameters
+    ----------
+    field : str
+        The field refused (its name in :class:`AnalysisOptions`); kept as :attr:`field`.
+    value : object
+        The value given; kept as :attr:`value`.
+    allowed : str
+        What is allowed, other fields named as ``{field}``; kept as :attr:`allowed`.
     """
 
     def __init__(self, field: str, value, allowed: str):
@@ -343,6 +352,12 @@ class AnalysisOptions:
         (``cpw``, ``drs_sk``, ``ees``; ``envelope`` is always one): the verdict is then
         :func:`~bearing_envelope.diagnosis.routes.combine_routes` of them (the ``analyze``
         command runs every route by default; the simulation sweep none).
+
+    Raises
+    ------
+    OptionError
+        A field out of its range (:data:`OPTION_SPECS`), or ``max_level`` deeper than
+        ``nlevel``; the message names the field, the value and what is allowed.
     """
 
     bands: tuple[Mapping, ...] | None = None
@@ -393,6 +408,7 @@ class AnalysisOptions:
         Returns
         -------
         AnalysisOptions
+            The defaults with the section's values, checked.
 
         Raises
         ------
@@ -471,6 +487,7 @@ def options_with(base: AnalysisOptions | None = None, *,
     Returns
     -------
     AnalysisOptions
+        A new, checked options object (``base`` is not changed).
 
     Raises
     ------

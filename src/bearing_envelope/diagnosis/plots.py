@@ -65,6 +65,7 @@ def plot_kurtogram(kurtogram, ax=None, *, title: str | None = None, cmap: str = 
     Returns
     -------
     matplotlib Axes
+        The axes drawn on (``ax``, or those of a new figure).
     """
     kg = kurtogram
     ax = _axes(ax, (7.0, 4.2))
@@ -120,6 +121,7 @@ def plot_envelope_spectrum(f, amplitude, *, base: float | None = None, fr: float
     Returns
     -------
     matplotlib Axes
+        The axes drawn on (``ax``, or those of a new figure).
     """
     ax = _axes(ax, (7.0, 3.6))
     f = np.asarray(f)
@@ -174,6 +176,7 @@ def plot_fault_lines(f, amplitude, lines: dict, *, fmax: float | None = None, ax
     Returns
     -------
     matplotlib Axes
+        The axes drawn on (``ax``, or those of a new figure).
     """
     ax = _axes(ax, (8.0, 4.0))
     f = np.asarray(f)
@@ -364,6 +367,7 @@ def plot_raw_spectrum(details: dict, ax=None, *, db: bool = False, orders: bool 
     details : dict
         ``analyze_signal(..., full_output=True)[1]``.
     ax : matplotlib Axes, optional
+        Where to draw; a new figure otherwise.
     db : bool
         Amplitude in dB re the largest bin.
     orders : bool
@@ -376,6 +380,7 @@ def plot_raw_spectrum(details: dict, ax=None, *, db: bool = False, orders: bool 
     Returns
     -------
     matplotlib Axes
+        The axes drawn on (``ax``, or those of a new figure).
     """
     ax = _axes(ax, (8.0, 3.0))
     f, a = details["raw"]
@@ -409,6 +414,7 @@ def plot_envelope_waveform(x, details: dict, band: str, ax=None, *,
     band : str
         The band (a key of ``details["bands"]``).
     ax : matplotlib Axes, optional
+        Where to draw; a new figure otherwise.
     periods : float
         Length shown, in periods of ``family``'s frequency found (else 0.1 s).
     family : str, optional
@@ -419,6 +425,7 @@ def plot_envelope_waveform(x, details: dict, band: str, ax=None, *,
     Returns
     -------
     matplotlib Axes
+        The axes drawn on (``ax``, or those of a new figure).
     """
 
     ax = _axes(ax, (8.0, 2.6))
@@ -476,6 +483,7 @@ def plot_record_lines(details: dict, band: str, family: str | None = None, ax=No
     family : str, optional
         The family labelled (the diagnosis, or the closest); None: all in grey.
     ax : matplotlib Axes, optional
+        Where to draw; a new figure otherwise.
     n_harmonics : int
         Harmonics the default ``fmax`` covers.
     db : bool
@@ -490,6 +498,7 @@ def plot_record_lines(details: dict, band: str, family: str | None = None, ax=No
     Returns
     -------
     matplotlib Axes
+        The axes drawn on (``ax``, or those of a new figure).
     """
     ax = _axes(ax, (8.0, 3.6))
     b = details["bands"][band]

@@ -95,6 +95,12 @@ def check_record(x: np.ndarray, where: str) -> None:
         The samples.
     where : str
         What the record is, for the message (``file: PATH``).
+
+    Raises
+    ------
+    ValueError
+        An empty signal, non-finite samples, fewer than 16 samples or a constant signal (the
+        message names the record).
     """
     if x.size == 0:
         raise ValueError(f"{where} holds an empty signal")
@@ -131,6 +137,11 @@ def check_frequencies(sources: Mapping[str, Source], fs: float, n_samples: int,
         Length of the record.
     names : mapping, optional
         Parameter -> the caller's name of it, for the messages.
+
+    Raises
+    ------
+    ValueError
+        A rate at or above Nyquist, or below the record's resolution (the message names it).
     """
     n = _namer(names)
     nyq, df = fs / 2.0, fs / n_samples
@@ -160,6 +171,12 @@ def check_orders(options: AnalysisOptions, sources: Mapping[str, Source], fr: fl
         Shaft rate and sampling frequency, Hz.
     names : mapping, optional
         Parameter -> the caller's name of it, for the messages.
+
+    Raises
+    ------
+    ValueError
+        Harmonics whose top order (with the search margin) passes fs/2, or sidebands whose
+        lowest line falls to 0 Hz; the message gives the range allowed for this record.
     """
     n = _namer(names)
     nyq = fs / 2.0
@@ -202,6 +219,11 @@ def record_nlevel(nlevel: int | None, n_samples: int, *, follow: bool = False,
     -------
     int
         ``nlevel``, or the deepest level the length allows when ``follow`` (at least 1).
+
+    Raises
+    ------
+    ValueError
+        ``nlevel`` deeper than the record allows (128 samples per band at the deepest level).
     """
     nmax = max_kurtogram_level(n_samples)
     if nlevel is None:
@@ -229,6 +251,11 @@ def check_fixed_band(fixed_band, names: Mapping[str, str] | None = None) -> tupl
     -------
     (float, float)
         ``0 <= low_hz < high_hz``.
+
+    Raises
+    ------
+    ValueError
+        Not ``0 <= low_hz < high_hz``.
     """
     lo, hi = (float(v) for v in fixed_band)
     if not (math.isfinite(lo) and math.isfinite(hi) and 0 <= lo < hi):
@@ -261,6 +288,12 @@ def record_bands(bands, fixed_band, fs: float, *, clamp: bool = False,
     -------
     tuple of mapping or None
         None when neither is given (the defaults of :func:`analyze_signal`).
+
+    Raises
+    ------
+    ValueError
+        The fixed band's low edge at or above Nyquist, or its high edge above it without
+        ``clamp``.
     """
     if fixed_band is None:
         return bands
@@ -309,6 +342,12 @@ def fault_sources(shaft_hz: float, *, bearing=None, bpfi: float | None = None,
     -------
     dict
         Name -> :class:`Source`; a ``bsf`` brings ``bsf2`` = 2 x BSF.
+
+    Raises
+    ------
+    ValueError
+        A bearing, fault or BPFI that does not resolve (the message names the option), or no
+        fault frequency known at all.
     """
     n = _namer(names)
     out: dict[str, Source] = {}
@@ -460,6 +499,7 @@ class RecordAnalysis:
         Returns
         -------
         pandas.DataFrame
+            The rows of :func:`record_rows` (the record, its verdict, the family and its lines).
         """
         return pd.DataFrame.from_records(list(self.rows))
 
@@ -475,6 +515,11 @@ class RecordAnalysis:
         Returns
         -------
         dict
+            JSON types only: ``file``, ``source``, ``n_samples``, ``fs_hz``, ``fr_hz``,
+            ``bearing``, ``families`` (name, ``frequency_hz``, sideband), ``search_percent``,
+            ``kurtogram`` (level, ``fc_hz``, ``bandwidth_hz``, kurtosis), ``bands`` (name,
+            ``low_hz``, ``high_hz``, strategy), ``lines`` (one dict per line; NaN as None) and
+            ``verdict`` (:meth:`Verdict.to_dict`).
         """
         table = self.lines if lines is None else lines
         kg = self.kurtogram
@@ -739,6 +784,7 @@ def record_rows(res: RecordAnalysis) -> list[dict]:
     Returns
     -------
     list of dict
+        One row per fault family, the columns above.
     """
     vd = res.verdict.to_dict()
     f = res.file if res.file is not None else (res.name or "")

@@ -221,6 +221,9 @@ def route_spectrum(route: str, x, fs: float, *, alpha_max_hz: float, min_bandwid
     Parameters
     ----------
     route : {"cpw", "drs_sk", "ees", "drs_info", "info"}
+        The route (module docstring): cepstrum pre-whitening, discrete/random separation with
+        the kurtogram's band, the enhanced envelope spectrum, separation with the infogram's
+        band, or the infogram's band alone.
     x : array_like, 1-D
         The record.
     fs : float
@@ -233,6 +236,7 @@ def route_spectrum(route: str, x, fs: float, *, alpha_max_hz: float, min_bandwid
     nlevel : int, default 8
         Kurtogram depth (reduced for short records).
     window : str or tuple, default "hann"
+        Window of the squared envelope spectra (:func:`scipy.signal.get_window` names).
     random : ndarray, optional
         :func:`random_part` of ``x``, when already computed (the DRS routes and the EES read
         it); computed here otherwise.
@@ -243,6 +247,11 @@ def route_spectrum(route: str, x, fs: float, *, alpha_max_hz: float, min_bandwid
         The spectrum (Hz, its own unit).
     band : tuple of float
         The spectral band used (Hz).
+
+    Raises
+    ------
+    ValueError
+        ``route`` is not one of the routes besides ``envelope``.
     """
     if route == "cpw":
         f, a = prewhitened_ses(x, fs, window=window)
@@ -288,11 +297,13 @@ def route_verdict(route: str, f, amplitude, band, families, *, fr: float, search
     Parameters
     ----------
     route : str
+        The route's name (:data:`ROUTES`), given to the verdict's one band.
     f, amplitude : ndarray
         The route's spectrum.
     band : (float, float)
         Its spectral band (Hz).
     families : sequence of FaultFamily
+        The fault families searched (their frequencies in Hz and sideband spacings).
     fr : float
         Shaft rate (Hz).
     search : mapping
@@ -300,6 +311,8 @@ def route_verdict(route: str, f, amplitude, band, families, *, fr: float, search
         envelope route's line search; a rolling element's fundamental is searched within at
         least :data:`BALL_SEARCH_PERCENT`.
     n_harmonics, n_sidebands : int
+        Harmonics ``k`` = 1..``n_harmonics`` and sidebands ``m`` = 1..``n_sidebands`` read
+        around each family's fundamental.
     pfa : float
         Record-wise false-alarm probability of the route.
 
@@ -321,12 +334,15 @@ def spectra_verdict(spectra: Mapping, families, *, fr, search, n_harmonics, n_si
     spectra : mapping
         ``{band name: ((low_hz, high_hz), f, amplitude)}``.
     families : sequence of FaultFamily
+        The fault families searched (their frequencies in Hz and sideband spacings).
     fr : float
         Shaft rate (Hz).
     search : mapping
         ``search_percent``, ``tolerance_hz``, ``min_search_bins`` of the line search; a
         rolling element's fundamental is searched within at least :data:`BALL_SEARCH_PERCENT`.
     n_harmonics, n_sidebands : int
+        Harmonics ``k`` = 1..``n_harmonics`` and sidebands ``m`` = 1..``n_sidebands`` read
+        around each family's fundamental.
     pfa : float
         Record-wise false-alarm probability: each line is tested at ``pfa / (families x
         bands)``.
@@ -337,6 +353,8 @@ def spectra_verdict(spectra: Mapping, families, *, fr, search, n_harmonics, n_si
     Returns
     -------
     Verdict
+        One family verdict per family over the spectra (each spectrum a band), with its
+        confidence and candidates.
     """
     n_tests = max(1, len(families) * len(spectra))
     rows = []
@@ -396,12 +414,19 @@ def run_routes(x, fs: float, details: Mapping, routes: Sequence[str] = DEFAULT_R
         ``analyze_signal(..., full_output=True)[1]``: its verdict is the envelope route; its
         families, shaft rate (measured when asked) and options set the other routes' search.
     routes : sequence of str, default :data:`DEFAULT_ROUTES`
+        The routes run, in this order (names of :data:`ROUTES`; ``envelope`` reads the
+        verdict of ``details``).
 
     Returns
     -------
     dict
         ``route -> RouteResult``; a record shorter than :data:`MIN_ROUTE_SAMPLES` gets the
         envelope route only.
+
+    Raises
+    ------
+    ValueError
+        A name in ``routes`` that is not a route.
     """
     bad = [r for r in routes if r not in ROUTES]
     if bad:
@@ -544,6 +569,12 @@ def combine_routes(results: Mapping[str, RouteResult], *,
     Returns
     -------
     RoutedVerdict
+        The family diagnosed (or None), its confidence and the routes that decided it.
+
+    Raises
+    ------
+    ValueError
+        ``results`` holds no ``envelope`` route.
     """
     if "envelope" not in results:
         raise ValueError(f"results hold {sorted(results)}: the envelope route is needed")
@@ -604,6 +635,8 @@ def apply_routes(verdict: Verdict, routed: RoutedVerdict,
     Returns
     -------
     Verdict
+        A new verdict (``verdict`` is not changed): the envelope's, with the routes'
+        decision, confidence and evidence.
     """
     fams = list(verdict.families)
     candidates = routed.candidates

@@ -117,6 +117,19 @@ def estimate_shaft_rate(x, fs: float, fr_nominal: float, *, orders=SPEED_ORDERS,
         (:data:`SPEED_LINE_MIN_DB`); unless :data:`SPEED_MIN_ORDERS` of them agree with that
         median within :data:`SPEED_AGREEMENT_PERCENT`, the nominal rate unchanged with
         ``measured`` False.
+
+    Examples
+    --------
+    Three shaft harmonics of 29.95 Hz, the nominal rate 30 Hz:
+
+    >>> import numpy as np
+    >>> from bearing_envelope.diagnosis import estimate_shaft_rate
+    >>> fs = 20000.0
+    >>> t = np.arange(2**14) / fs
+    >>> x = sum(np.sin(2 * np.pi * k * 29.95 * t) for k in (1, 2, 3))
+    >>> r = estimate_shaft_rate(x, fs, 30.0)
+    >>> r.measured, abs(r.hz - 29.95) < 0.05
+    (True, True)
     """
     f, a = (amplitude_spectrum(np.asarray(x, dtype=np.float64), fs, window=window)
             if spectrum is None else spectrum)

@@ -69,6 +69,28 @@ def analyze_record(path_or_array, fs: float | None = None, **kwargs):
     Returns
     -------
     RecordAnalysis
+        The record's rates (Hz), bands, line table, verdict per fault family and spectra.
+
+    Examples
+    --------
+    A CSV record with a time column (fs read from it): a synthetic inner-race fault of a
+    6205 at 29.95 Hz, impacts at BPFI (162.19 Hz) ringing at 3 kHz in noise:
+
+    >>> import os, tempfile
+    >>> import numpy as np
+    >>> from bearing_envelope.io.analysis import analyze_record
+    >>> fs, fr, bpfi = 12000.0, 29.95, 162.19
+    >>> t = np.arange(2**15) / fs
+    >>> tau = t % (1 / bpfi)
+    >>> x = ((1 + 0.5 * np.cos(2 * np.pi * fr * t)) * np.exp(-tau / 2e-3)
+    ...      * np.sin(2 * np.pi * 3000 * tau)
+    ...      + 0.3 * np.random.default_rng(0).standard_normal(t.size))
+    >>> path = os.path.join(tempfile.mkdtemp(), "record.csv")
+    >>> np.savetxt(path, np.column_stack([t, x]), delimiter=",", header="time_s,accel",
+    ...            comments="")
+    >>> res = analyze_record(path, shaft_hz=fr, bearing="6205")
+    >>> round(res.fs), res.n_samples, res.verdict.diagnosis.family
+    (12000, 32768, 'bpfi')
     """
     kwargs.setdefault("reader", read_task)
     return _records.analyze_record(path_or_array, fs, **kwargs)

@@ -146,6 +146,11 @@ class CaseBands:
         -------
         BandLimits
             That band's limits.
+
+        Raises
+        ------
+        KeyError
+            The case has no band ``name`` (the message lists its bands).
         """
         for b in self.bands:
             if b.name == name:
@@ -325,6 +330,11 @@ def read_kurtogram(path: str | os.PathLike) -> KurtogramMap | None:
     -------
     KurtogramMap or None
         The kurtogram's map and best cell, or None.
+
+    Raises
+    ------
+    ArtefactFormatError
+        The file lacks an array of the kurtogram.
     """
     path, a = _load_npz(path, "kurtogram")
     if "matrix" not in a:
@@ -398,6 +408,11 @@ def read_spectra(path: str | os.PathLike) -> CaseSpectra:
     -------
     CaseSpectra
         The raw spectrum and the envelope spectrum of every band.
+
+    Raises
+    ------
+    ArtefactFormatError
+        The file lacks an array of the spectra.
     """
     path, a = _load_npz(path, "spectra")
     try:
@@ -437,6 +452,7 @@ class SensorSignal:
 
     @property
     def time(self) -> np.ndarray:
+        """Sample times (s) from 0 at ``1 / fs``, one per sample of :attr:`acceleration`."""
         return np.arange(self.acceleration.size) / self.fs
 
 
@@ -452,6 +468,11 @@ def check_sensor_output(path: str | os.PathLike) -> str:
     -------
     str
         ``".h5"`` or ``".npz"``.
+
+    Raises
+    ------
+    ValueError
+        A path that ends neither in ``.npz`` nor in ``.h5``.
     """
     suffix = _Path(path).suffix.lower()
     if suffix not in SENSOR_SUFFIXES:
@@ -489,6 +510,11 @@ def write_sensor_case(path: str | os.PathLike, acceleration, *, case, source=Non
     -------
     str
         The path written.
+
+    Raises
+    ------
+    DiskFullError
+        Not enough free space (checked before writing, or ENOSPC while writing).
     """
     suffix = check_sensor_output(path)
     acc = np.asarray(acceleration)
@@ -633,6 +659,11 @@ def write_tidy(path: str | os.PathLike, table, *, sealed: bool = False) -> str:
     -------
     str
         The path.
+
+    Raises
+    ------
+    ValueError
+        The table lacks a column of :data:`~.vocabulary.TIDY_COLUMNS`.
     """
     if not sealed:
         return _write_table(path, table, TIDY_COLUMNS, "tidy table")
@@ -658,6 +689,9 @@ def read_tidy(path: str | os.PathLike, *, sealed: bool = False):
     Returns
     -------
     pandas.DataFrame
+        One row per line (case, band, quantity, order, sideband, frequency in Hz, amplitude
+        in the signal's unit, ...): the columns of :data:`~.vocabulary.TIDY_COLUMNS` and the
+        optional ones present.
 
     Raises
     ------

@@ -454,6 +454,8 @@ def write_case(path: str | os.PathLike, case, *, extra_attrs: dict | None = None
     ------
     DiskFullError
         Not enough free space (before writing, or ENOSPC while writing); nothing is left behind.
+    TypeError
+        ``extra_attrs`` or ``error_model`` given with a :class:`Case` (they go with a History).
     """
     import h5py
 
@@ -659,6 +661,24 @@ def read_case(path: str | os.PathLike) -> Case:
     CaseFormatError
         Not a case file, another format version, a required dataset is missing, or the file is
         unreadable (truncated, corrupt); the message says how to rebuild it.
+
+    Examples
+    --------
+    One shaft revolution of the default scene at 250 kN with a 50 um defect, written and read
+    back:
+
+    >>> import os, tempfile
+    >>> from bearing_envelope.physics.scene import Scene
+    >>> from bearing_envelope.physics.history import simulate
+    >>> from bearing_envelope.io.case import read_case, write_case
+    >>> scene = Scene.from_mapping({"operation": {"revolutions": 1}}, load_kN=250.0,
+    ...                            depth_um=50.0)
+    >>> path = write_case(os.path.join(tempfile.mkdtemp(), "case.h5"), simulate(scene, "draft"))
+    >>> case = read_case(path)
+    >>> case.load_kN, case.depth_um, case.fs
+    (250.0, 50.0, 65000.0)
+    >>> case.p_max.shape == case.time.shape
+    True
     """
     path = os.fspath(path)
     rebuild = (f"; rebuild it with `snakemake -j1 -f {path}` (or delete it: the next run of the "

@@ -45,7 +45,17 @@ _MIB = float(1 << 20)
 
 
 class DiskFullError(OSError):
-    """Not enough free space for a file: one line naming the path, the space needed and free."""
+    """Not enough free space for a file: one line naming the path, the space needed and free.
+
+    Parameters
+    ----------
+    path : str
+        The file that would not fit; kept as :attr:`path`.
+    needed : int
+        Bytes the file needs; kept as :attr:`needed`.
+    free : int
+        Bytes free on its file system; kept as :attr:`free`.
+    """
 
     def __init__(self, path: str, needed: int, free: int):
         super().__init__(errno.ENOSPC, f"{path}: not enough free disk space: needs about "
@@ -220,6 +230,11 @@ def require_free_space(path: str | os.PathLike, needed: int) -> None:
         The file about to be written.
     needed : int
         Bytes it needs.
+
+    Raises
+    ------
+    DiskFullError
+        Fewer bytes free than ``needed`` plus a safety margin.
     """
     path = os.fspath(path)
     free = free_bytes(path)
@@ -310,6 +325,11 @@ def write_image(tmp: str | os.PathLike, path: str | os.PathLike, data: bytes) ->
         The final file.
     data : bytes
         The file's whole content.
+
+    Raises
+    ------
+    DiskFullError
+        Not enough free space (ENOSPC while writing); nothing is left behind.
     """
     tmp, path = os.fspath(tmp), os.fspath(path)
     try:

@@ -95,7 +95,14 @@ def _check_dtype(dtype, path: str, what: str) -> None:
 
 
 def available_memory() -> int | None:
-    """Bytes of memory available now (``MemAvailable`` of ``/proc/meminfo``), or None."""
+    """Bytes of memory available now (``MemAvailable`` of ``/proc/meminfo``), or None.
+
+    Returns
+    -------
+    int or None
+        Available memory (bytes); None where ``/proc/meminfo`` is missing or unreadable (not
+        Linux).
+    """
     try:
         with open("/proc/meminfo", encoding="ascii") as fh:
             for line in fh:
@@ -117,6 +124,11 @@ def check_memory(n_samples: int, path: str, *, available: int | None = None) -> 
         The file, for the message.
     available : int, optional
         Bytes available (default :func:`available_memory`; unknown: no check).
+
+    Raises
+    ------
+    ValueError
+        The analysis would need more memory than is available (the message says how much).
     """
     need = MEMORY_FACTOR * 8.0 * n_samples
     avail = available_memory() if available is None else available
@@ -758,6 +770,11 @@ def collect_records(paths) -> list[str]:
     -------
     list of str
         The record files, in the order given (a folder's sorted).
+
+    Raises
+    ------
+    ValueError
+        A folder that holds no record file.
     """
     out: list[str] = []
     for p in paths:
@@ -794,6 +811,12 @@ def read_manifest(path: str) -> list[dict]:
     ----------
     path : str
         The manifest (CSV with a ``file`` column).
+
+    Raises
+    ------
+    ValueError
+        No such manifest, an empty one, one without a ``file`` column, or a row with an empty
+        ``file``.
     """
     if not os.path.isfile(path):
         raise ValueError(f"--manifest: no such file: {path}")

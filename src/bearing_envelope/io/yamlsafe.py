@@ -78,6 +78,11 @@ def check_document_size(path: str | os.PathLike) -> None:
     ----------
     path : str or os.PathLike
         The YAML file.
+
+    Raises
+    ------
+    YamlLimitError
+        A document larger than :data:`MAX_DOCUMENT_BYTES`.
     """
     n = os.path.getsize(path)
     if n > MAX_DOCUMENT_BYTES:

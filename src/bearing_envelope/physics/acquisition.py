@@ -149,6 +149,11 @@ def decimate_centred(h: np.ndarray, x: np.ndarray, n: int, count: int, *,
     -------
     numpy.ndarray
         ``(count,)`` outputs.
+
+    Raises
+    ------
+    ValueError
+        ``x`` does not hold ``(count - 1) n + 2c + 1`` samples.
     """
     c = (h.size - 1) // 2
     if x.size != (count - 1) * n + 2 * c + 1:
@@ -248,6 +253,12 @@ def acquire(evaluate: Callable[[np.ndarray], dict], n_samples: int, fs: float, *
     -------
     dict
         ``name -> array (n_samples,)``.
+
+    Raises
+    ------
+    ValueError
+        An acquisition mode other than ``antialiased`` or ``point``, or an oversampling factor
+        that is not an integer >= 1.
     """
     if mode not in ("antialiased", "point"):
         raise ValueError(f"acquisition mode: got {mode!r}; allowed: antialiased | point")

@@ -174,6 +174,11 @@ class DefectContactTable:
             Force (N): 0 for ``delta <= 0``; the ``outside`` law for ``|x| > x_m[-1]``;
             bilinear in the table, the last two approach nodes extrapolated linearly above
             ``delta_m[-1]``.
+
+        Raises
+        ------
+        ValueError
+            ``outside`` is neither ``hertz`` nor ``healthy``.
         """
         if outside is None:
             outside = "hertz" if self.element == "ball" else "healthy"
@@ -213,6 +218,11 @@ class DefectContactTable:
         float
             The approach (m); above the last node the last two nodes extrapolated linearly
             (as :meth:`force`); for ``force = 0`` the last approach without force.
+
+        Raises
+        ------
+        ValueError
+            ``force`` not a finite number >= 0.
         """
         x, force = float(x), float(force)
         if not (math.isfinite(force) and force >= 0.0):

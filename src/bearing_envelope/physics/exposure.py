@@ -54,6 +54,7 @@ def passage_loads(scene, ld: LoadDistribution, n: int = PASSAGE_SAMPLES) -> dict
     Parameters
     ----------
     scene : Scene
+        The case's scene: its defect's location and the bearing's kinematics.
     ld : LoadDistribution
         The case's load distribution (:func:`~.loads.scene_load_distribution`).
     n : int

@@ -129,6 +129,12 @@ class Fidelity:
         and the approach do not depend on ``window_margin_um``; ``frozen`` keeps it at its
         no-defect pressure (before issue 25: the removed force 2.2x too large at a 400 um
         margin). Pressures do not depend on it (< 0.03 %).
+
+    Raises
+    ------
+    ValueError
+        A spacing, tolerance, count or choice out of range (the message names the
+        ``fidelity.<field>``, the value and what is allowed).
     """
 
     name: str = "standard"
@@ -260,46 +266,59 @@ class Fidelity:
     # SI views of the um fields (m): the physics reads these, the config and files the um ones.
     @property
     def global_dx_m(self) -> float:
+        """Global grid spacing along rolling (m): ``global_dx_um``."""
         return 1e-6 * self.global_dx_um
 
     @property
     def global_dy_m(self) -> float:
+        """Global grid spacing along the axis (m): ``global_dy_um``."""
         return 1e-6 * self.global_dy_um
 
     @property
     def local_dx_m(self) -> float:
+        """Defect window spacing along rolling (m): ``local_dx_um``."""
         return 1e-6 * self.local_dx_um
 
     @property
     def local_dy_m(self) -> float:
+        """Defect window spacing along the axis (m): ``local_dy_um``."""
         return 1e-6 * self.local_dy_um
 
     @property
     def window_margin_m(self) -> float:
+        """Axial margin between the defect neighbourhood and the window boundary (m):
+        ``window_margin_um``."""
         return 1e-6 * self.window_margin_um
 
     @property
     def neighbourhood_m(self) -> float:
+        """Growth of the defect footprint into the neighbourhood read for ``p_max_defect``
+        (m): ``neighbourhood_um``."""
         return 1e-6 * self.neighbourhood_um
 
     @property
     def offset_step_m(self) -> float:
+        """Largest spacing of the table's offset nodes (m): ``offset_step_um``."""
         return 1e-6 * self.offset_step_um
 
     @property
     def rim_strip_m(self) -> float:
+        """Half-margin of the refined rim strips (m): ``rim_strip_um``."""
         return 1e-6 * self.rim_strip_um
 
     @property
     def rim_dx_m(self) -> float | None:
+        """Spacing of the refined rim strips along rolling (m), None: no refinement."""
         return None if self.rim_dx_um is None else 1e-6 * self.rim_dx_um
 
     @property
     def end_strip_m(self) -> float:
+        """Half-margin of the axial end strips (m): ``end_strip_um``."""
         return 1e-6 * self.end_strip_um
 
     @property
     def end_dy_m(self) -> float | None:
+        """Axial spacing of the refined end strips (m), None: no refinement."""
         return None if self.end_dy_um is None else 1e-6 * self.end_dy_um
 
 

@@ -57,6 +57,7 @@ class Grid:
 
     @property
     def shape(self) -> tuple[int, int]:
+        """``(nx, ny)``: cells along x (rolling, axis 0) and y (axial, axis 1)."""
         return (self.x.size, self.y.size)
 
     def mesh(self):
@@ -217,6 +218,7 @@ def axial_separation(bearing, y) -> np.ndarray:
     Parameters
     ----------
     bearing : bearing_envelope.physics.scene.Bearing
+        The roller's profile: its length ``L`` and end relief (crown radius or drop).
     y : array_like
         Axial positions from the roller centre (m).
 
@@ -316,7 +318,10 @@ def gap_field(scene, grid: Grid, x_d: float | None = None, *,
     Parameters
     ----------
     scene : bearing_envelope.physics.scene.Scene
+        The case's scene: the contact's curvatures, the roller's profile and the defect's
+        shape (depth, width, rims, axial position).
     grid : Grid
+        Contact grid (m), ``x`` along rolling and ``y`` axial, centred on the contact.
     x_d : float or None
         Defect offset from the contact centre along rolling (m); ``None`` = no defect (also when
         the scene's defect depth is 0).

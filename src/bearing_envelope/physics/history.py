@@ -365,7 +365,11 @@ def simulate(scene: Scene, fidelity: Fidelity | str | None = None, *, progress: 
     Parameters
     ----------
     scene : Scene
+        The case: bearing, material, operation (shaft rate in Hz, sampling rate in Hz,
+        revolutions), load (kN) and defect (depth in um, location).
     fidelity : Fidelity, preset name or None (``standard``)
+        Numerical settings (grids in m, table nodes, tolerances) or the name of a preset
+        (``draft``, ``fast``, ``standard``, ``accurate``, ``paper``).
     progress : bool
         Show a tqdm bar over the contact solves (only on a terminal).
     use_numba : bool

@@ -39,6 +39,48 @@ try:  # pragma: no cover - numba optional at import time
     @numba.njit(cache=True, fastmath=False)
     def synth_kernel(t, theta_c, fr, z, ri, K, dr, c, ca, n, discrete, qn, xn, p0, R, Rd, ka,
                       s0, qo, po, P, Pd, Qo, Xo):
+        """Per-sample inner-race synthesis into ``P, Pd, Qo, Xo``: the roller at the defect,
+        its load from the load-zone law, the table read at that load and offset.
+
+        The compiled loop of :func:`~.locations.inner_race.synthesize` (its numpy twin:
+        :func:`~.locations.inner_race.synthesize_numpy`); all arrays C-contiguous float64.
+
+        Parameters
+        ----------
+        t : ndarray (n,)
+            Sample times (s).
+        theta_c : ndarray (n,)
+            Cage angle at those times (rad).
+        fr : float
+            Shaft rate (Hz); the defect on the inner ring is at angle ``2 pi fr t``.
+        z : int
+            Rollers per row.
+        ri : float
+            Inner-race radius (m): arc length = ``ri`` x angle from the nearest roller.
+        K : float
+            Load-deflection stiffness of one roller (N m^-n).
+        dr : float
+            Radial displacement of the inner ring (m).
+        c : float
+            Radial internal clearance (m).
+        ca : float
+            Cosine of the contact angle.
+        n : float
+            Load-deflection exponent (10/9 for a line contact).
+        discrete : bool
+            Load of the roller at its own angle (True) or at the defect's angle (False: the
+            continuous load-zone law).
+        qn, xn, p0, R, Rd, ka, s0, qo, po
+            :meth:`~.table.PressureTable.args`: cube roots of the node loads (N^1/3), node
+            offsets (m), ``P0`` at the nodes (Pa), the ratio tables ``W/W0`` and ``P_d/W0``
+            (nq, nx), ``kappa a_coef`` (m N^-1/3), ``s_const`` (m), cube roots of the dense
+            outside loads (N^1/3) and the outside pressure there (Pa).
+        P, Pd : ndarray (n,)
+            Out: maximum contact pressure and the pressure at the defect (Pa).
+        Qo, Xo : ndarray (n,)
+            Out: load of the roller at the defect (N) and the defect's arc-length offset from
+            its contact centre (m).
+        """
         pitch = 2.0 * np.pi / z
         nq = qn.size
         for k in range(t.size):
@@ -77,6 +119,27 @@ try:  # pragma: no cover - numba optional at import time
 
     @numba.njit(cache=True, fastmath=False)
     def ratio_kernel(Qa, Xa, qn, xn, ka, s0, T, out):
+        """A ratio table read at loads ``Qa`` and offsets ``Xa`` into ``out``, the rule of
+        :class:`~.table.PressureTable` (rows at equal distance to the contact edge, linear in
+        ``Q^(1/3)``; 0 beyond the last offset); the compiled twin of ``table._ratio_eval``.
+
+        Parameters
+        ----------
+        Qa : ndarray (n,)
+            Roller loads (N).
+        Xa : ndarray (n,)
+            Defect offsets from the contact centre (m).
+        qn, xn : ndarray
+            Cube roots of the node loads (N^1/3) and node offsets (m, uniform).
+        ka : float
+            ``kappa a_coef``: solved half-width per ``Q^(1/3)`` (m N^-1/3).
+        s0 : float
+            ``s_const`` of the table (m).
+        T : ndarray (nq, nx)
+            The ratio table (dimensionless).
+        out : ndarray (n,)
+            Out: the ratios read (dimensionless).
+        """
         nq = qn.size
         for k in range(Qa.size):
             Q = Qa[k]
@@ -92,7 +155,19 @@ try:  # pragma: no cover - numba optional at import time
     @numba.njit(cache=True, fastmath=False)
     def decimate_kernel(h, x, n, out):
         """:func:`~.acquisition.decimate_centred` into ``out``: the same sums in the same order
-        (last tap first, one pass per tap over every output), without numpy's temporaries."""
+        (last tap first, one pass per tap over every output), without numpy's temporaries.
+
+        Parameters
+        ----------
+        h : ndarray (m,)
+            FIR taps (odd length, centred; dimensionless).
+        x : ndarray
+            The oversampled signal (any unit), long enough for every output's taps.
+        n : int
+            Decimation factor: output ``i`` is centred on input ``i n + (m - 1) / 2``.
+        out : ndarray
+            Out: the filtered, decimated samples (unit of ``x``).
+        """
         c = (h.size - 1) // 2
         for i in range(out.size):
             out[i] = 0.0

@@ -168,6 +168,12 @@ def bearing_rates(fr: float, n_rollers: int, roller_diameter: float, pitch_diame
     dict of str to float
         :data:`RATE_NAMES`: ``fr``, ``bpfi``, ``bpfo``, ``ftf``, ``bsf``, ``bsf2`` (Hz).
 
+    Raises
+    ------
+    ValueError
+        ``fr`` or a diameter not > 0, ``n_rollers`` not an integer >= 1, ``d >= D``, a contact
+        angle outside [0, 90) deg, or a stated ``bpfi`` not > 0.
+
     Examples
     --------
     The CWRU drive-end SKF 6205-2RS (9 balls, d = 7.94 mm, D = 39.04 mm), per unit shaft rate:

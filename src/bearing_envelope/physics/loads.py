@@ -326,6 +326,24 @@ def solve_row(force_row: float, n_rollers: int,
     Returns
     -------
     LoadDistribution
+        ``delta_r`` (m) and the roller loads ``q`` (N) at the angles ``psi`` (rad) of the
+        solved equilibrium, with the law's constants.
+
+    Raises
+    ------
+    ValueError
+        A load, roller count, clearance or centrifugal force out of range, or no equilibrium
+        below 1 m of ring displacement.
+
+    Examples
+    --------
+    Zero clearance, rollers (``n = 10/9``): the most loaded roller carries Stribeck's
+    ``4.08 F / Z`` and the load zone spans half the ring (``epsilon = 0.5``):
+
+    >>> from bearing_envelope.physics.loads import solve_row
+    >>> ld = solve_row(1000.0, 40)
+    >>> round(ld.q_max * 40 / 1000.0, 2), round(ld.epsilon, 2)
+    (4.08, 0.5)
     """
     if not (force_row > 0):
         raise ValueError(f"force_row must be > 0, got {force_row!r}")
@@ -443,10 +461,12 @@ def centrifugal_force(bearing, cage_rate_hz: float,
     Parameters
     ----------
     bearing : Bearing
+        Its element diameter, roller length (rollers) and pitch diameter (mm in the
+        catalogue, m inside).
     cage_rate_hz : float
         Orbit rate of the element (Hz): the cage rate.
     density_kg_m3 : float
-        Element density.
+        Element density (kg/m^3).
 
     Returns
     -------

@@ -124,7 +124,13 @@ def _payload_sha(grid_x, grid_y, sol: GlobalSolution) -> str:
 
 
 class NoDefectCache:
-    """The store in ``directory`` (created on first write); counts ``hits`` and ``misses``."""
+    """The store in ``directory`` (created on first write); counts ``hits`` and ``misses``.
+
+    Parameters
+    ----------
+    directory : str or os.PathLike
+        Folder of the entries, one ``{sha}.npz`` each; created on the first :meth:`save`.
+    """
 
     def __init__(self, directory: str | os.PathLike):
         self.directory = Path(directory)

@@ -318,6 +318,7 @@ class Bearing:
 
     @property
     def contact_angle_rad(self) -> float:
+        """Contact angle (rad): ``contact_angle_deg``."""
         return math.radians(self.contact_angle_deg)
 
     @property
@@ -579,6 +580,7 @@ class Load:
 
     @property
     def load_kN(self) -> float:
+        """The load value (kN): ``value_N / 1000``."""
         return self.value_N / 1e3
 
 
@@ -651,6 +653,7 @@ class Defect:
 
     @property
     def active(self) -> bool:
+        """Whether there is a defect (depth > 0)."""
         return self.depth_um > 0.0
 
     @property
@@ -704,6 +707,7 @@ class Scene:
 
     @property
     def n_samples(self) -> int:
+        """Samples of the record: ``revolutions / shaft_rate_hz x fs_hz``, rounded."""
         op = self.operation
         return int(round(op.revolutions / op.shaft_rate_hz * op.fs_hz))
 
@@ -761,6 +765,20 @@ class Scene:
         ------
         ValueError
             Naming the dotted field (``scene.defect.depth_um`` ...), the value and what is allowed.
+
+        Examples
+        --------
+        The source study's scene at 250 kN with a 50 um deep defect, then another bearing from
+        the catalogue:
+
+        >>> from bearing_envelope.physics.scene import Scene
+        >>> scene = Scene.from_mapping(None, load_kN=250.0, depth_um=50.0)
+        >>> scene.operation.shaft_rate_hz, scene.operation.fs_hz, scene.defect.active
+        (15.8, 65000.0, True)
+        >>> ball = Scene.from_mapping({"bearing": {"designation": "SKF 6205-2RS"}},
+        ...                           load_kN=2.0, depth_um=0.0)
+        >>> ball.bearing.rollers_per_row, ball.defect.active
+        (9, False)
         """
         m = _merge(_base_mapping(mapping), mapping or {}, "")
         bearing = _build_bearing(m["bearing"])

@@ -212,7 +212,7 @@ def global_solve(scene: Scene, fid: Fidelity, q_load: float, extent: float, stat
     stats : SolveStats
         Counters (and the no-defect store, ``stats.cache``).
     p_init : numpy.ndarray, optional
-        Warm start.
+        Warm start: a pressure field (Pa) of the grid's shape.
 
     Returns
     -------
@@ -277,7 +277,22 @@ def global_extent(fid: Fidelity, kappa: float, a_hertz: float) -> float:
     ``global_extent x kappa x a_H``, the contact and a margin. It does not depend on the defect
     (the zoom window may reach further: :func:`_far_field` extends the global pressure with
     unloaded cells), so every depth case of a load solves the same global contacts (issue 25:
-    shared through :mod:`~bearing_envelope.physics.nodefect_cache`)."""
+    shared through :mod:`~bearing_envelope.physics.nodefect_cache`).
+
+    Parameters
+    ----------
+    fid : Fidelity
+        Numerical settings; its ``global_extent`` is the multiple of the contact half-width.
+    kappa : float
+        Solved/Hertz half-width ratio (dimensionless, about 1).
+    a_hertz : float
+        Hertz semi-axis across rolling at this load (m).
+
+    Returns
+    -------
+    float
+        Half-extent of the global grid across rolling (m).
+    """
     return fid.global_extent * kappa * a_hertz
 
 
@@ -332,7 +347,7 @@ def solve_load(scene: Scene, fid: Fidelity, q_load: float, kappa: float, stats: 
     stats : SolveStats
         Counters.
     p_init_global : numpy.ndarray, optional
-        Warm start of the global solve.
+        Warm start of the global solve (Pa, the global grid's shape).
     with_far : bool
         Compute the far field's response.
 
@@ -340,6 +355,12 @@ def solve_load(scene: Scene, fid: Fidelity, q_load: float, kappa: float, stats: 
     -------
     LoadNode
         The global and window no-defect solutions at this load.
+
+    Raises
+    ------
+    RuntimeError
+        The defect window reaches outside the global grid (a grid-sizing defect, not an input
+        error).
     """
     e_star = scene.material.e_star_pa
     a, s, dxw, dyw, xh, yd, hy_read, hy = window_spec(scene, fid, q_load, kappa)
@@ -582,7 +603,21 @@ class FarResponse:
         changes by ``dp`` (Pa) at fixed approach: the far field's pressure change is taken as
         ``alpha psi_c`` (the take-up's shape); it unloads the window further by ``alpha R``;
         reciprocity fixes ``alpha``: ``alpha stiffness = -sum(z (dp + alpha R)) dA``; the gain
-        is ``alpha (stiffness + window_force)``."""
+        is ``alpha (stiffness + window_force)``.
+
+        Parameters
+        ----------
+        dp : ndarray
+            Change of the window's pressure (Pa), window shape.
+        cell : float
+            Area of one window cell ``dx dy`` (m^2).
+
+        Returns
+        -------
+        float
+            The force regained (N); positive when the window sheds load (``dp`` < 0 where
+            ``z`` > 0).
+        """
         alpha = -float(np.sum(self.z * dp)) * cell / (self.stiffness + self.window_z)
         return alpha * (self.stiffness + self.window_force)
 
@@ -607,7 +642,35 @@ def far_response(scene: Scene, fid: Fidelity, grid: Grid, pg: np.ndarray, win: G
        far field's take-up unloads the window further (:meth:`FarResponse.uptake` closes the
        loop).
 
-    Returns None for a healthy race or when the far field carries no load.
+    Parameters
+    ----------
+    scene : Scene
+        The case's scene (elastic modulus, hardness, the defect).
+    fid : Fidelity
+        Numerical settings (solver tolerance and iterations, element shape).
+    grid : Grid
+        The global grid (m).
+    pg : ndarray
+        The global no-defect pressure (Pa), ``grid`` shape.
+    win : Grid
+        The defect window (m).
+    j_lo, j_hi : int
+        The global grid's axial columns the window covers (inclusive): the far field is the
+        loaded cells outside them.
+    m : int
+        Window axial cells per global axial cell.
+    stats : SolveStats
+        Counts the solves done.
+    w0 : WindowState
+        The no-defect window: its gap with the far field's displacement (m), approach (m),
+        pressure (Pa) and half-space operator.
+
+    Returns
+    -------
+    FarResponse or None
+        The far field's response ``z`` (dimensionless), the take-up's force per unit
+        amplitude and the window's response sums (N); None for a healthy race or when the far
+        field carries no load.
     """
     far = pg > 0
     far[:, j_lo:j_hi + 1] = False
@@ -752,7 +815,7 @@ def defect_solve(scene: Scene, fid: Fidelity, node: LoadNode, x_d: float, stats:
     stats : SolveStats
         Counters.
     p_init : numpy.ndarray, optional
-        Warm start.
+        Warm start: a pressure field (Pa) of the grid's shape.
 
     Returns
     -------
@@ -857,7 +920,7 @@ def far_uptake(node: LoadNode, p: np.ndarray, p0: np.ndarray | None = None) -> f
     p : numpy.ndarray
         The window's pressure (Pa), window shape.
     p0 : numpy.ndarray, optional
-        The no-defect pressure it is compared with (default ``node.p_window0``).
+        The no-defect pressure (Pa) it is compared with (default ``node.p_window0``).
 
     Returns
     -------
@@ -898,6 +961,7 @@ class RimStrip:
 
     @property
     def counted(self) -> np.ndarray:
+        """The parent cells (bool, window shape) whose force and area this strip counts."""
         return self.own if self.count is None else self.count
 
     @property

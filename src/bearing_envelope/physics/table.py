@@ -115,6 +115,12 @@ class PressureTable:
         solved pressure is <= it, but a product of linear readings (``P0 x ratio``) between
         nodes can exceed it (0.37 % measured at 750 kN / 50 um, draft), so ``P`` and ``P_d``
         are clipped to it.
+
+    Raises
+    ------
+    ValueError
+        ``q_out`` too short, not increasing, or of another size than ``p_out`` or the other
+        dense arrays.
     """
 
     q_nodes: np.ndarray
@@ -190,6 +196,11 @@ class PressureTable:
         -------
         ndarray
             Approach, m, shape of ``Q``; a table without ``approach0`` raises ``ValueError``.
+
+        Raises
+        ------
+        ValueError
+            The table stores no no-defect approach per node (an older table).
         """
         if self.approach0 is None:
             raise ValueError("this table has no approach0 (no-defect approach per load node)")
@@ -207,6 +218,11 @@ class PressureTable:
         -------
         ndarray
             Area, m^2, shape of ``Q``; a table without ``area0`` raises ``ValueError``.
+
+        Raises
+        ------
+        ValueError
+            The table stores no no-defect contact area per node (an older table).
         """
         if self.area0 is None:
             raise ValueError("this table has no area0 (no-defect contact area per load node)")
@@ -235,6 +251,8 @@ class PressureTable:
             ``dF / Q``); ``approach_change`` ``delta - delta0(Q)`` (m, >= 0); ``contact_area``
             (m^2): ``A0(Q + dF) + dA`` with ``dA`` the window's area change at fixed approach.
 
+        Notes
+        -----
         ``dF`` and ``dA`` themselves (``Q_i ratio_force``, ``A0(Q_i) ratio_area`` per node) are
         blended linearly in ``q`` between the rows, each row read like ``P_d/W0``: both hardly
         change with the load at a given distance from the contact edge, while their ratios to
@@ -610,7 +628,7 @@ def relative_error(diff: np.ndarray, scale: np.ndarray) -> np.ndarray:
     diff : numpy.ndarray
         Differences (reading minus solved value), in the unit of ``scale``.
     scale : numpy.ndarray
-        The reference magnitudes (>= 0).
+        The reference magnitudes (>= 0; the unit of the values compared).
 
     Returns
     -------
@@ -757,6 +775,7 @@ def build_table(scene: Scene, fidelity: Fidelity, *, q_max: float,
     Returns
     -------
     table : PressureTable
+        The ``P(Q, x)`` / ``P_d(Q, x)`` table (Pa over N and m) with its integral signals.
     nodes : list of LoadNode
         Per-load solutions (for snapshots).
     snapshots : dict

@@ -109,6 +109,11 @@ class Mode:
     gain : float
         Gain at resonance ``|H(j omega_n)|`` (acceleration per unit excitation, e.g.
         (m/s^2)/N for a force excitation, (m/s^2)/Pa for a pressure excitation), ``> 0``.
+
+    Raises
+    ------
+    ValueError
+        ``f_n_hz`` not > 0 Hz, ``zeta`` outside (0, 1), or ``gain`` not > 0.
     """
 
     f_n_hz: float
@@ -143,6 +148,11 @@ class Mode:
             Sampling rate (Hz).
         where : str
             The mode's name in the error message.
+
+        Raises
+        ------
+        ValueError
+            The natural frequency at or above fs/2 (the message names ``where``).
         """
         if self.f_n_hz >= 0.5 * fs:
             raise ValueError(
@@ -164,6 +174,12 @@ class Mode:
         -------
         Mode
             The mode.
+
+        Raises
+        ------
+        ValueError
+            ``f_n_hz`` or ``zeta`` missing, or a value out of range (the message names the key
+            under ``where``).
         """
         m = _check_keys(where, m, ("f_n_hz", "zeta", "gain"))
         for key in ("f_n_hz", "zeta"):
@@ -183,6 +199,12 @@ class Tone:
     (needs ``fr`` at synthesis), and the size either as a peak ``amplitude`` (output units, e.g.
     m/s^2) or as ``level_db`` = 10 log10(tone power / P_defect). ``phase_rad`` ``None`` draws a
     uniform random phase from the seeded generator.
+
+    Raises
+    ------
+    ValueError
+        Not exactly one of ``frequency_hz`` / ``order``, not exactly one of ``amplitude`` /
+        ``level_db``, or a value out of range.
     """
 
     frequency_hz: float | None = None
@@ -227,6 +249,11 @@ class Tone:
         -------
         float
             The frequency (Hz).
+
+        Raises
+        ------
+        ValueError
+            A tone given by its order without the shaft rate ``fr``.
         """
         if self.frequency_hz is not None:
             return self.frequency_hz
@@ -249,6 +276,11 @@ class Tone:
         -------
         Tone
             The tone.
+
+        Raises
+        ------
+        ValueError
+            A key missing or a value out of range (the message names ``where``).
         """
         m = _check_keys(where, m, ("frequency_hz", "order", "amplitude", "level_db", "phase_rad"))
         try:
@@ -269,6 +301,11 @@ class NoiseSpec:
         If True (default) the drawn noise is rescaled so that its sample variance gives the
         target SNR exactly; if False the noise has the nominal variance and the achieved SNR
         scatters by about ``4.34 sqrt(2/N)`` dB.
+
+    Raises
+    ------
+    ValueError
+        ``exact`` not a bool, or ``snr_db`` outside [-80, 200] dB.
     """
 
     snr_db: float | None = None
@@ -297,6 +334,12 @@ class TransferModel:
     ``discretization`` (``impulse`` | ``bilinear``, default ``impulse``); ``noise``
     (``{snr_db: dB or null, exact: bool}``) or the shortcut ``snr_db``; ``tones`` (list of
     ``{frequency_hz | order, amplitude | level_db, phase_rad}``); ``seed`` (int, default 0).
+
+    Raises
+    ------
+    ValueError
+        No mode or a mode that is not a :class:`Mode`, an unknown ``discretization`` or
+        ``excitation``, ``excitation_scale`` not > 0, or ``seed`` not an integer >= 0.
     """
 
     modes: tuple[Mode, ...]
@@ -353,6 +396,13 @@ class TransferModel:
         -------
         TransferModel
             The model.
+
+        Raises
+        ------
+        ValueError
+            No ``modes`` or an empty list of them, ``snr_db`` given twice (top level and under
+            ``noise``), ``tones`` not a list, or a mode, tone, noise or other value out of range
+            (the message names the key).
         """
         m = _check_keys("sensor", mapping, cls._KEYS)
         raw_modes = m.get("modes")
@@ -394,6 +444,11 @@ class TransferModel:
         ----------
         fs : float
             Sampling rate (Hz).
+
+        Raises
+        ------
+        ValueError
+            ``fs`` not > 0 Hz, or a mode at or above fs/2.
         """
         fs = check_number(fs, "fs")
         if fs <= 0:
@@ -498,6 +553,13 @@ def select_excitation(signals: Mapping[str, np.ndarray], kind: str = "pressure")
     -------
     tuple of (str, numpy.ndarray)
         The signal's name and its samples.
+
+    Raises
+    ------
+    ValueError
+        ``kind`` is not an excitation kind.
+    KeyError
+        The case has none of the signals the kind needs.
     """
     if kind not in EXCITATION_KINDS:
         raise ValueError(f"excitation must be one of {tuple(EXCITATION_KINDS)}, got {kind!r}")
@@ -522,6 +584,11 @@ def excitation_from_history(x: np.ndarray, *, scale: float = 1.0) -> np.ndarray:
     -------
     numpy.ndarray
         The excitation, same length as ``x``.
+
+    Raises
+    ------
+    ValueError
+        The excitation is not a 1-D array of >= 2 samples, or holds non-finite values.
 
     Notes
     -----
@@ -567,6 +634,11 @@ def mode_sos(mode: Mode, fs: float, method: str = "impulse") -> np.ndarray:
     -------
     numpy.ndarray
         The section, shape (1, 6) (``scipy.signal.sosfilt`` layout).
+
+    Raises
+    ------
+    ValueError
+        An unknown discretization ``method``.
     """
     fs = check_number(fs, "fs")
     mode.check_fs(fs)
@@ -630,7 +702,7 @@ def apply_structure(excitation: np.ndarray, fs: float,
     Parameters
     ----------
     excitation : numpy.ndarray
-        The excitation (:func:`excitation_from_history`).
+        The excitation (:func:`excitation_from_history`; Pa for a pressure, N for a force).
     fs : float
         Sampling rate (Hz).
     model : TransferModel or sequence of Mode
@@ -680,6 +752,11 @@ def direction_gain(angle_rad, sensor_rad: float, cross_axis: float) -> np.ndarra
     -------
     ndarray
         Gain in [cross_axis, 1], shape of ``angle_rad``.
+
+    Raises
+    ------
+    ValueError
+        A cross-axis sensitivity outside [0, 1].
     """
     k = check_number(cross_axis, "cross_axis")
     if not 0.0 <= k <= 1.0:
@@ -694,9 +771,9 @@ def measure_snr_db(defect_part: np.ndarray, noise: np.ndarray) -> float:
     Parameters
     ----------
     defect_part : numpy.ndarray
-        The signal's part due to the defect.
+        The signal's part due to the defect (any unit).
     noise : numpy.ndarray
-        The noise added.
+        The noise added (the same unit).
 
     Returns
     -------
@@ -751,6 +828,13 @@ def synthesize_acceleration(
         Provenance: ``snr_db_target``, ``snr_db_achieved`` (10 log10(P_defect / var(noise))),
         ``p_defect``, ``p_noise``, ``p_tones``, ``defect_definition``, ``seed``, ``fs``,
         ``model`` (``TransferModel.to_dict()``), tone frequencies and phases.
+
+    Raises
+    ------
+    ValueError
+        ``fs`` not > 0 Hz, an excitation that is not a finite 1-D array of >= 2 samples, a
+        ``seed`` not an integer >= 0, a ``reference`` of another shape, a defect-related part of
+        zero power (no SNR can be set), or a tone outside (0, fs/2).
     """
     fs = check_number(fs, "fs")
     if fs <= 0:

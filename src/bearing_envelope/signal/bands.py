@@ -85,6 +85,13 @@ def clamp_band(low: float, high: float, fs: float, *, margin: float = NYQUIST_MA
     -------
     tuple of (float, float, dict)
         ``(low, high, info)``; ``info = {"clamped": bool, "requested_high_hz": high}``.
+
+    Raises
+    ------
+    ValueError
+        Edges not finite, a negative low edge, a high edge not above the low one, a low edge at
+        or above Nyquist, or a high edge above it without ``clamp`` (the message names
+        ``field``).
     """
     fs = check_fs(fs)
     nyq = fs / 2.0
@@ -177,6 +184,11 @@ def band_fraction(fs: float, low: float = FRACTION_BAND_LOW, high: float = FRACT
     -------
     tuple of (float, float, dict)
         ``(low_hz, high_hz, info)`` as :func:`clamp_band`.
+
+    Raises
+    ------
+    ValueError
+        A fraction of fs that is negative or not a number.
     """
     fs = check_fs(fs)
     lo_f, hi_f = float(low), float(high)
@@ -284,6 +296,13 @@ def resolve_band(spec: Mapping, fs: float, *, kurtogram=None, frequencies: Mappi
         Band edges (Hz).
     provenance : dict
         ``name``, ``strategy`` and the strategy's own fields (see the ``band_*`` functions).
+
+    Raises
+    ------
+    ValueError
+        A specification that is not a mapping, an unknown strategy or key, a ``kurtogram`` band
+        without a kurtogram, an ``orders`` base that is not a known frequency, or edges out of
+        range.
     """
     if not isinstance(spec, Mapping):
         raise ValueError(f"a band specification must be a mapping, got {spec!r}")

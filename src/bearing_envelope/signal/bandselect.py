@@ -97,6 +97,11 @@ def infogram_band(x, fs: float, *, max_level: float = DEFAULT_NLEVEL,
     info : dict
         ``level``, ``negentropy_time``, ``negentropy_freq``, ``negentropy`` (the average) of
         the chosen cell, and ``n_cells`` searched.
+
+    Raises
+    ------
+    ValueError
+        ``min_bandwidth`` wider than every cell of the tree.
     """
     fs = check_fs(fs)
     x = check_signal(x, "x", min_length=64)
@@ -140,6 +145,11 @@ def protrugram_band(x, fs: float, *, bandwidth: float, step: float | None = None
         The band (Hz).
     info : dict
         ``kurtosis`` of the chosen band's envelope spectrum and ``n_bands`` searched.
+
+    Raises
+    ------
+    ValueError
+        ``bandwidth`` at or above 0.98 fs/2.
     """
     fs = check_fs(fs)
     x = check_signal(x, "x", min_length=64)

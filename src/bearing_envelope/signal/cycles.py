@@ -184,6 +184,11 @@ def burst_width(avg, *, level: float = BURST_LEVEL) -> float:
     float
         The width, fraction of the cycle (divide by the rate for seconds); ``inf`` for an
         average with nothing above its floor or with no preferred phase (R = 0).
+
+    Raises
+    ------
+    ValueError
+        ``level`` outside (0, 1).
     """
     a = check_signal(avg, "avg", min_length=4)
     if not 0.0 < float(level) < 1.0:
@@ -218,6 +223,11 @@ def element_windows(avg, n_elements: int) -> list[np.ndarray]:
     list of numpy.ndarray
         The ``n_elements`` windows in the order the elements pass, first the element holding
         the average's strongest bin.
+
+    Raises
+    ------
+    ValueError
+        ``n_elements`` not an integer from 2 to half the average's bins.
     """
     a = check_signal(avg, "avg", min_length=4)
     z = int(n_elements)

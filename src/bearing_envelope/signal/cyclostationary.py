@@ -75,6 +75,11 @@ def spectral_coherence(x, fs: float, *, alpha_max_hz: float, nwin: int = CMS_NWI
         Spectral frequencies (Hz) of the STFT bins, ``0 .. fs/2`` in steps of ``fs / nwin``.
     coherence : ndarray, shape (len(alpha), len(f))
         ``|gamma(alpha, f)|`` (dimensionless; a power modulation of depth m reads m).
+
+    Raises
+    ------
+    ValueError
+        ``nwin`` outside 8 .. ``len(x) / 8``.
     """
     fs = check_fs(fs)
     x = check_signal(x, "x", min_length=16)
@@ -123,6 +128,11 @@ def enhanced_envelope_spectrum(x, fs: float, *, alpha_max_hz: float, band=None,
     -------
     alpha, ees : ndarray
         Cyclic frequencies (Hz) and the averaged coherence (dimensionless).
+
+    Raises
+    ------
+    ValueError
+        A band that holds no STFT bin.
     """
     alpha, f, coh = spectral_coherence(x, fs, alpha_max_hz=alpha_max_hz, nwin=nwin)
     if band is None:

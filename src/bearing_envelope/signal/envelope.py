@@ -50,6 +50,20 @@ def bandpass(x, fs: float, band, *, order: int = DEFAULT_FILTER_ORDER):
     -------
     ndarray
         The filtered signal, same length and unit as ``x``.
+
+    Examples
+    --------
+    A 1 kHz and a 5 kHz sine of unit amplitude; the 4-6 kHz band keeps the second, whose
+    RMS is 1/sqrt(2) (away from the ends' transients):
+
+    >>> import numpy as np
+    >>> from bearing_envelope.signal import bandpass
+    >>> fs = 20000.0
+    >>> t = np.arange(2**14) / fs
+    >>> x = np.sin(2 * np.pi * 1000 * t) + np.sin(2 * np.pi * 5000 * t)
+    >>> y = bandpass(x, fs, (4000, 6000))
+    >>> round(float(np.sqrt(np.mean(y[2000:-2000] ** 2))), 3)
+    0.707
     """
     x = check_signal(x, "x", min_length=2)
     return sp_signal.sosfiltfilt(_bandpass_sos(fs, band, order), x, padtype="even")
@@ -88,8 +102,9 @@ def settling_samples(fs: float, band, *, order: int = DEFAULT_FILTER_ORDER, tol:
     band : (float, float)
         As in :func:`bandpass`.
     order : int, default 4
+        Butterworth order of the band-pass (as in :func:`bandpass`).
     tol : float
-        Relative settling level.
+        Relative settling level (dimensionless, of the response's maximum).
 
     Returns
     -------
@@ -136,6 +151,18 @@ def envelope(x, *, squared: bool = False):
     numpy.ndarray
         The envelope (or its square with ``squared``), same length and unit as ``x`` (squared:
         unit squared).
+
+    Examples
+    --------
+    A 3 kHz carrier modulated 50 % at 50 Hz: the envelope swings from 0.5 to 1.5.
+
+    >>> import numpy as np
+    >>> from bearing_envelope.signal import envelope
+    >>> t = np.arange(2**14) / 20000.0
+    >>> x = (1 + 0.5 * np.cos(2 * np.pi * 50 * t)) * np.cos(2 * np.pi * 3000 * t)
+    >>> e = envelope(x)[2000:-2000]
+    >>> round(float(e.min()), 3), round(float(e.max()), 3)
+    (0.5, 1.5)
     """
     x = check_signal(x, "x", min_length=2)
     mean = x.mean()
@@ -195,6 +222,12 @@ def envelope_spectrum(
         ``squared``). The mean is removed first, so the 0 Hz bin holds only leakage.
     filtered, env : ndarray
         Only with ``return_signal``.
+
+    Raises
+    ------
+    ValueError
+        ``band`` not a ``(low, high)`` pair in Hz, or out of range for ``fs``; a signal or rate
+        out of range (:mod:`~.validation`).
 
     Notes
     -----

@@ -155,10 +155,18 @@ class Infogram:
         Parameters
         ----------
         kind : {"time", "spectral", "average"}
+            The map: time (impulsiveness) or spectral (repetition) negentropy, or their mean.
 
         Returns
         -------
         list of ndarray
+            One array per row of the tree (dimensionless negentropies), band ``i`` of row
+            ``r`` spanning ``[i, i + 1] * bandwidths[r]`` Hz; NaN where a row's SES is too short.
+
+        Raises
+        ------
+        ValueError
+            ``kind`` is not a map of :data:`INFOGRAM_MAPS`.
         """
         if kind == "time":
             return self.time
@@ -174,10 +182,13 @@ class Infogram:
         Parameters
         ----------
         kind : {"time", "spectral", "average"}
+            The map, as in :meth:`rows`.
 
         Returns
         -------
         ndarray, shape (2 * nlevel, 3 * 2**nlevel)
+            The negentropies (dimensionless), row ``r`` of the tree on row ``r``, frequency
+            from 0 to fs/2 along the columns.
         """
         ncol = 3 * 2 ** self.nlevel
         return np.vstack([np.repeat(v, ncol // v.size) for v in self.rows(kind)])
@@ -190,6 +201,7 @@ class Infogram:
         Parameters
         ----------
         kind : {"time", "spectral", "average"}, default "spectral"
+            The map searched, as in :meth:`rows`.
         max_level : float, optional
             Deepest level searched.
         min_bandwidth : float, optional
@@ -203,6 +215,12 @@ class Infogram:
         -------
         InfogramCell
             Ties go to the lower level, then the lower frequency.
+
+        Raises
+        ------
+        ValueError
+            ``kind`` unknown, or no cell allowed by ``max_level`` / ``min_bandwidth`` holds enough
+            SES bins.
         """
         rows = [np.nan_to_num(v, nan=-np.inf) for v in self.rows(kind)]
         if above_dc:

@@ -68,6 +68,11 @@ def drs_gain(x, fs: float, *, delay_s: float | None = None, nperseg: int = DRS_N
         Frequencies (Hz), ``0 .. fs/2`` in steps of ``fs / nperseg``.
     gain : ndarray
         ``G(f)`` clipped to ``[0, 1]``.
+
+    Raises
+    ------
+    ValueError
+        ``x`` shorter than two segments plus the delay.
     """
     fs = check_fs(fs)
     x = check_signal(x, "x", min_length=16)

@@ -29,6 +29,11 @@ def check_fs(fs, name: str = "fs") -> float:
     -------
     float
         ``fs`` as a finite float > 0.
+
+    Raises
+    ------
+    ValueError
+        ``fs`` not a finite number > 0 (the message names ``name``).
     """
     try:
         v = float(fs)
@@ -60,6 +65,12 @@ def check_signal(x, name: str = "x", *, min_length: int = 2, allow_complex: bool
     -------
     numpy.ndarray
         ``x`` as a 1-D float64 (or complex128) array.
+
+    Raises
+    ------
+    ValueError
+        Not a numeric 1-D array, complex without ``allow_complex``, empty, shorter than
+        ``min_length``, or holding NaN or inf (the message names ``name``).
     """
     a = np.asarray(x)
     if a.dtype == object:
@@ -97,6 +108,12 @@ def check_band(band, fs: float, name: str = "band") -> tuple[float, float]:
     -------
     tuple of (float, float)
         ``(low, high)`` as floats.
+
+    Raises
+    ------
+    ValueError
+        Not a ``(low, high)`` pair, edges not finite, a negative low edge, a high edge not above
+        the low one or at or above Nyquist (the message names ``name``).
     """
     try:
         low, high = (float(band[0]), float(band[1]))

@@ -109,6 +109,11 @@ def stored_error_model() -> tuple[dict[str, Any], pd.DataFrame]:
         The file's JSON provenance line (source, date, reference, far_field, ...).
     table : pandas.DataFrame
         One row per measured point (``load_kN`` NaN for a model pooled over loads).
+
+    Raises
+    ------
+    ValueError
+        The packaged table's first line is not its JSON header.
     """
     text = resources.files("bearing_envelope").joinpath("data/discretisation_error.csv").read_text()
     first, _, rest = text.partition("\n")
@@ -309,6 +314,7 @@ def error_model(fidelity: Fidelity, depth_um: float,
     Parameters
     ----------
     fidelity : Fidelity
+        The case's numerical settings; its preset name selects the measured errors.
     depth_um : float
         The case's defect depth (0 = healthy race: the healthy case's errors apply).
     scene : mapping, optional

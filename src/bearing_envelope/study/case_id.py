@@ -80,6 +80,11 @@ class CaseId:
     inner race by default). :attr:`name` is the one formatter of case names and :meth:`parse`
     the one parser; ``CaseId.parse(c.name) == c`` exactly.
 
+    Raises
+    ------
+    ValueError
+        A load, depth or width that is not a finite number >= 0, or an unknown location.
+
     Examples
     --------
     >>> CaseId(500, 50).name

@@ -246,6 +246,7 @@ def config_files(given: Sequence[str | os.PathLike] = ()) -> list[str]:
     Returns
     -------
     list of str
+        The paths in merge order, ``config.yaml`` first when it exists (each file once).
     """
     files = [DEFAULT_CONFIG_NAME] if default_config_path() is not None else []
     base = Path(DEFAULT_CONFIG_NAME).resolve()
@@ -260,7 +261,9 @@ def read_configs(files: Sequence[str | os.PathLike],
     Parameters
     ----------
     files : sequence of path
+        YAML config files, merged in order (later ones win).
     overrides : mapping, optional
+        A config mapping of the same layout, merged last over every file.
 
     Returns
     -------

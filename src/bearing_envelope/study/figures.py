@@ -102,6 +102,11 @@ def example_pairs(cases, study=STUDY_EXAMPLES) -> list[dict]:
         the order of ``study``: the load nearest the target load (ties: the higher), at that
         load the shallowest depth as the healthy reference (the healthy race when the sweep has
         depth 0) and, among the deeper ones, the depth nearest the target (ties: the deeper).
+
+    Raises
+    ------
+    ValueError
+        No cases given.
     """
     cases = list(cases)
     if not cases:
@@ -185,6 +190,16 @@ def depth_label(df: pd.DataFrame) -> str:
     Depth alone matters only while the pit bottom carries load (below 1.7-2.5 um at
     w = 2 h: docs/benchmarks.md, "Depth below which the pit bottom carries load"), so over
     15-100 um a w = 2 h sweep is a sweep of the defect's width.
+
+    Parameters
+    ----------
+    df : pandas.DataFrame
+        The sweep table plotted; a ``width_um`` column means the width is set on its own.
+
+    Returns
+    -------
+    str
+        The axis label (depth in um), naming ``w = 2h`` when the table has no width column.
     """
     if "width_um" in df.columns:
         return "defect depth h (µm)"
@@ -344,6 +359,7 @@ def draw_band_limits(bands: pd.DataFrame, *, fs: float | None = None):
     Returns
     -------
     matplotlib.figure.Figure
+        The figure, not saved (:func:`save_figure` writes it).
     """
     names = list(dict.fromkeys(bands["band"]))
     varying = [n for n in names
@@ -432,6 +448,7 @@ def draw_pressure_maps(pairs):
     Returns
     -------
     matplotlib.figure.Figure
+        The figure, not saved (:func:`save_figure` writes it).
     """
     pairs = list(pairs)
     fig, axes = plt.subplots(len(pairs), 2, figsize=(11, 3.3 * len(pairs)), squeeze=False)
@@ -498,6 +515,7 @@ def draw_time_histories(pairs, *, periods: float = TIME_HISTORY_PERIODS):
     Returns
     -------
     matplotlib.figure.Figure
+        The figure, not saved (:func:`save_figure` writes it).
     """
     fig, axes = plt.subplots(2, 1, figsize=(10, 7))
     for i, (healthy, defect) in enumerate(pairs):
@@ -650,6 +668,7 @@ def draw_kurtogram(kurtogram, case: str, *, signal=None, fs=None, nperseg=None):
     Returns
     -------
     matplotlib.figure.Figure
+        The figure, not saved (:func:`save_figure` writes it).
     """
     k = kurtogram
     ncols = 2 if signal is not None else 1

@@ -90,6 +90,8 @@ def job_settings(snakemake) -> JobSettings:
     Returns
     -------
     JobSettings
+        The job's case setup (case, scene, fidelity), analysis, sensor and trade-off values;
+        None for what its rule does not hand.
 
     Raises
     ------

@@ -216,6 +216,7 @@ def case_bands(case, analysis: AnalysisSettings) -> tuple[CaseBands, Any]:
     Parameters
     ----------
     case : bearing_envelope.io.Case
+        The simulated case (its signal, sampling rate and fault frequencies are read).
     analysis : mapping
         The config's ``analysis`` section (``signal``, ``nlevel``, ``max_level``,
         ``min_bandwidth_hz``, ``bands``).
@@ -280,6 +281,7 @@ def case_harmonics(case, analysis: AnalysisSettings, bands, *, full_output: bool
     Parameters
     ----------
     case : bearing_envelope.io.Case
+        The simulated case (its signal, sampling rate and fault frequencies are read).
     analysis : AnalysisSettings
         The config's ``analysis`` section (``signal``, ``harmonics``, ``sidebands``,
         ``raw_orders_fr``, ``filter_order``, ``squared_envelope``, ``amplitude``: the line
@@ -348,10 +350,13 @@ def case_error_model(case) -> ErrorModel:
     Parameters
     ----------
     case : bearing_envelope.io.Case
+        A case read from its file or made by :func:`history_case`.
 
     Returns
     -------
     ErrorModel
+        The measured relative errors per signal and quantity class that apply to the case,
+        and their basis (one sentence); an empty table, with the reason, when it has none.
     """
     stored = getattr(case, "error_model", None)
     if stored is not None:
@@ -370,6 +375,7 @@ def case_envelope(case, analysis: AnalysisSettings, bands) -> tuple[pd.DataFrame
     Parameters
     ----------
     case : bearing_envelope.io.Case
+        The simulated case (its signal, sampling rate and fault frequencies are read).
     analysis : AnalysisSettings
         The config's ``analysis`` section, typed (as in :func:`case_harmonics`).
     bands : bearing_envelope.io.CaseBands
@@ -413,6 +419,28 @@ def case_summary(case) -> dict[str, Any]:
         ``interp_max_rel_error_p_max``; ``snapshot_roller_load_N``, ``p_centre_Pa``,
         ``p_end_Pa`` and ``edge_ratio`` of the healthy contact's axial profile; ``git_commit``.
         NaN where the file stores no value.
+
+    Examples
+    --------
+    One case of a sweep run the way the workflow's jobs run it (one shaft revolution at the
+    ``draft`` fidelity, so that it is quick):
+
+    >>> import os, tempfile
+    >>> from bearing_envelope.physics.history import simulate
+    >>> from bearing_envelope.study.pipeline import case_summary, history_case
+    >>> from bearing_envelope.study.settings import load_settings
+    >>> path = os.path.join(tempfile.mkdtemp(), "config.yaml")
+    >>> with open(path, "w") as f:
+    ...     _ = f.write("{sweep: {loads_kN: [250], depths_um: [50]}, fidelity: draft, "
+    ...                 "scene: {operation: {revolutions: 1}}}")
+    >>> settings = load_settings(path)
+    >>> case_id = settings.cases[0]
+    >>> case = history_case(simulate(settings.scene(case_id), settings.fidelity))
+    >>> row = case_summary(case)
+    >>> row["case"], row["bpfi_used_hz"], row["n_samples"]
+    ('F250kN_h50um', 231.9, 4114)
+    >>> bool(row["p_max_defect_peak_Pa"] > row["p_centre_Pa"])  # the defect's rims
+    True
     """
 
     stats = case.attrs.get("stats") or {}
@@ -492,6 +520,7 @@ def case_acceleration(case, sensor: TransferModel, *, reference=None, snr_db="mo
     Parameters
     ----------
     case : bearing_envelope.io.Case
+        The simulated case: its excitation signal (Pa) drives the transfer path.
     sensor : bearing_envelope.physics.transfer.TransferModel
         The config's ``sensor:`` section, typed (``Settings.sensor``).
     reference : Case, optional
@@ -511,6 +540,11 @@ def case_acceleration(case, sensor: TransferModel, *, reference=None, snr_db="mo
         JSON-able provenance: the model, SNR target and achieved (``snr_db_achieved``), seed,
         ``excitation_signal``, ``n_samples``, ...; :func:`bearing_envelope.io.write_sensor_case`
         stores it with the signal.
+
+    Raises
+    ------
+    ValueError
+        A ``reference`` sampled at another rate or of another length than the case.
     """
     model = sensor if excitation is None else dataclasses.replace(sensor, excitation=excitation)
     fs = float(case.fs)
@@ -587,6 +621,7 @@ def diagnosability_bands(case, sensor: TransferModel, analysis: AnalysisSettings
     Parameters
     ----------
     case : bearing_envelope.io.Case
+        The simulated case: its excitation signal (Pa) drives the transfer path.
     sensor : bearing_envelope.physics.transfer.TransferModel
         The config's ``sensor`` section, typed.
     analysis : AnalysisSettings
@@ -661,6 +696,7 @@ def case_diagnosability(case, sensor: TransferModel, analysis: AnalysisSettings,
     Parameters
     ----------
     case : bearing_envelope.io.Case
+        The simulated case: its excitation signal (Pa) drives the transfer path.
     sensor : bearing_envelope.physics.transfer.TransferModel
         The config's ``sensor`` section, typed.
     analysis : bearing_envelope.study.sections.AnalysisSettings
@@ -688,6 +724,11 @@ def case_diagnosability(case, sensor: TransferModel, analysis: AnalysisSettings,
         One row per (snr_db, band): ``case, load_kN, depth_um, snr_db, snr_definition, band,
         band_strategy, band_low_hz, band_high_hz, statistic_db, threshold_db, detected,
         peak_hz, peak_amplitude``.
+
+    Raises
+    ------
+    ValueError
+        ``kurtogram_from`` is neither ``clean`` nor ``record``.
     """
     if kurtogram_from not in ("clean", "record"):
         raise ValueError(f"kurtogram_from must be 'clean' or 'record', got {kurtogram_from!r}")
@@ -755,6 +796,11 @@ def case_false_alarms(case, sensor: TransferModel, analysis: AnalysisSettings, s
         One row per (snr_db, band, trial): ``case, load_kN, depth_um, snr_db, band, trial,
         statistic_db, threshold_db, detected, peak_hz``
         (:func:`bearing_envelope.diagnosis.detection.false_alarm_rates` pools them).
+
+    Raises
+    ------
+    ValueError
+        The case is not healthy (depth > 0).
     """
     if float(case.depth_um) > 0:
         raise ValueError(f"case_false_alarms needs a healthy case (depth 0), got {_case_id(case)}")
@@ -778,6 +824,19 @@ def case_false_alarms(case, sensor: TransferModel, analysis: AnalysisSettings, s
 
 
 def jsonable(obj):
+    """``obj`` in JSON types, recursively (for a job's provenance attributes).
+
+    Parameters
+    ----------
+    obj : object
+        Nested mappings, lists and tuples of numpy scalars and arrays and JSON values.
+
+    Returns
+    -------
+    object
+        The same structure in JSON types: mappings as dicts with str keys, tuples and arrays
+        as lists, numpy scalars as Python ones; anything else unchanged.
+    """
     if isinstance(obj, Mapping):
         return {str(k): jsonable(v) for k, v in obj.items()}
     if isinstance(obj, (list, tuple)):

@@ -115,7 +115,7 @@ def code_dependencies(*paths: str | os.PathLike) -> list[str]:
 
     Examples
     --------
-    >>> deps = code_dependencies(PACKAGE_DIR / "history.py")
+    >>> deps = code_dependencies(PACKAGE_DIR / "physics" / "history.py")
     >>> any(p.endswith("contact/solver.py") for p in deps)
     True
     """
@@ -140,6 +140,11 @@ class log_to:
     :class:`bearing_envelope.io.integrity.DiskFullError`) ends the job with one line on stderr
     instead (``SystemExit``), wherever it was raised (an HDF5 case, a figure's PNG), and so does
     a damaged input (an edited per-case table; the pre-run recovery normally rebuilds it first).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The log file, created (or truncated) on entering the block; its parent must exist.
     """
 
     def __init__(self, path):

@@ -116,6 +116,11 @@ class SweepSettings:
         list of CaseId
             :attr:`n_cases` cases; the healthy race (depth 0) once per load and location,
             without a width.
+
+        Raises
+        ------
+        ConfigError
+            Two sweep values that give the same case name.
         """
         out = []
         for loc in (self.locations or (None,)):
@@ -216,6 +221,8 @@ class AnalysisSettings:
         Returns
         -------
         AnalysisSettings
+            Signal, bands, harmonics, sidebands, kurtogram and detection settings, typed and
+            checked against the scene's sampling rate and frequencies.
 
         Raises
         ------
@@ -311,6 +318,8 @@ class DiagnosabilitySettings:
         Returns
         -------
         DiagnosabilitySettings
+            Whether the map is built, its SNRs (dB), false-alarm trials per SNR and where
+            its kurtogram band comes from.
         """
         m = {**section_defaults("diagnosability"), **dict(m or {})}
         return cls(bool(m["enabled"]), tuple(float(x) for x in m["snr_db"]),

@@ -91,6 +91,7 @@ class Settings:
 
     @property
     def cases(self) -> list[CaseId]:
+        """Every case of the sweep (load x depth x location ...), empty without a sweep."""
         return [] if self.sweep is None else self.sweep.cases()
 
     @property
@@ -129,6 +130,8 @@ class Settings:
         Returns
         -------
         JobValue
+            The text Snakemake compares (scene section and fidelity as JSON), carrying the
+            case, its built scene and the fidelity.
         """
         return JobValue(self.simulation.to_json(), CaseSetup(case, self.scene(case), self.fidelity))
 
@@ -139,6 +142,7 @@ class Settings:
         Returns
         -------
         JobValue
+            The analysis section's canonical JSON, carrying the typed :class:`AnalysisSettings`.
         """
         return JobValue(self.analysis.to_json(), self.analysis)
 
@@ -149,6 +153,7 @@ class Settings:
         Returns
         -------
         JobValue
+            The transfer model's canonical JSON, carrying the typed model (or None).
         """
         if self.sensor is None:
             return JobValue("{}", None)
@@ -161,6 +166,7 @@ class Settings:
         Returns
         -------
         JobValue
+            That JSON text, carrying the typed section, the scene mapping and the analysis.
         """
         text = json.dumps({"tradeoff": self.tradeoff.section, "scene": self.scene_mapping,
                            "analysis": self.analysis.to_mapping()}, sort_keys=True)
@@ -360,11 +366,28 @@ def load_settings(path: str | os.PathLike | Sequence[str | os.PathLike] | None =
     Returns
     -------
     Settings
+        The validated, typed configuration: the sweep's cases, each case's scene, the
+        fidelity, the analysis, sensor and trade-off sections.
 
     Raises
     ------
     ConfigError
         One line naming the file(s), the field, the value and what is allowed.
+
+    Examples
+    --------
+    A sweep of one load and two depths (every other key at its default):
+
+    >>> import os, tempfile
+    >>> from bearing_envelope.study.settings import load_settings
+    >>> path = os.path.join(tempfile.mkdtemp(), "config.yaml")
+    >>> with open(path, "w") as f:
+    ...     _ = f.write("{sweep: {loads_kN: [250], depths_um: [0, 50]}, fidelity: draft}")
+    >>> settings = load_settings(path)
+    >>> [case.name for case in settings.cases]
+    ['F250kN_h0um', 'F250kN_h50um']
+    >>> settings.scene(settings.cases[1]).operation.shaft_rate_hz
+    15.8
     """
     if path is None:
         path = default_config_path()
@@ -394,5 +417,6 @@ def workflow_settings(files: Sequence[str | os.PathLike] = (),
     Returns
     -------
     Settings
+        The run's validated, typed configuration (:func:`load_settings` of those files).
     """
     return load_settings(config_files(files), overrides=overrides)

@@ -62,6 +62,11 @@ def tidy_from_analysis(table: pd.DataFrame, strategies: Mapping[str, str] | None
     -------
     DataFrame
         A copy; the other columns are kept, in their order.
+
+    Raises
+    ------
+    ValueError
+        The table lacks ``analyze_signal``'s ``band`` and ``band_strategy`` columns.
     """
     if "band" not in table.columns or "band_strategy" not in table.columns:
         raise ValueError("tidy_from_analysis expects analyze_signal's columns band (name) and "
@@ -75,7 +80,13 @@ def tidy_from_analysis(table: pd.DataFrame, strategies: Mapping[str, str] | None
 
 
 def public_mode(path) -> None:
-    """Alias of :func:`bearing_envelope.io.public_mode` (kept for existing callers)."""
+    """Alias of :func:`bearing_envelope.io.public_mode` (kept for existing callers).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        A file made by ``mkstemp`` (mode 0600); it gets 0666 minus the umask.
+    """
     _io_public_mode(path)
 
 
@@ -110,6 +121,8 @@ def concat_tidy(frames: Iterable[pd.DataFrame], cases: Iterable[CaseId] | None =
     Returns
     -------
     pandas.DataFrame
+        Every frame's rows in one table (:data:`TIDY_COLUMNS` first), sorted by
+        :data:`TIDY_SORT`, with the cases' ``location`` / ``width_um`` columns where they vary.
 
     Raises
     ------
@@ -175,6 +188,7 @@ def add_location(df: pd.DataFrame, cases: Iterable[CaseId]) -> pd.DataFrame:
     Returns
     -------
     pandas.DataFrame
+        A new table with the ``location`` column, or ``df`` itself when no case has one.
     """
     locations = [c.location for c in _case_ids(df, cases)]
     if all(loc is None for loc in locations):
@@ -199,6 +213,8 @@ def add_width(df: pd.DataFrame, cases: Iterable[CaseId]) -> pd.DataFrame:
     Returns
     -------
     pandas.DataFrame
+        A new table with the ``width_um`` column (um), or ``df`` itself when no case has a
+        width.
     """
     widths = [c.width_um for c in _case_ids(df, cases)]
     if all(w is None for w in widths):

@@ -558,7 +558,7 @@ def pareto_front(time_s, error) -> np.ndarray:
     time_s : array_like
         Cost of each point (seconds).
     error : array_like
-        Error of each point (same length).
+        Error of each point (dimensionless relative error; same length).
 
     Returns
     -------

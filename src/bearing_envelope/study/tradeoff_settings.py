@@ -71,6 +71,11 @@ def apply_knob(base: Fidelity, knob: str, value) -> tuple[Fidelity, dict]:
     tuple of (Fidelity, dict)
         The fidelity with the knob set, and the scene overrides (``{"defect": {...}}`` for a
         scene knob, else empty).
+
+    Raises
+    ------
+    ValueError
+        An unknown knob, or an ``offset_density`` factor not > 0.
     """
     if knob in _SCENE_KNOBS:
         return base, {"defect": {knob: float(value)}}
@@ -152,6 +157,8 @@ class TradeoffSettings:
         Returns
         -------
         TradeoffSettings
+            The cases ``(load_kN, depth_um)``, revolutions, base and reference fidelities, the
+            presets and the knobs (each a list of values, coarse to fine), checked.
 
         Raises
         ------

@@ -58,6 +58,11 @@ class StateLayout:
         -------
         int
             Index into the state vector.
+
+        Raises
+        ------
+        ValueError
+            ``j`` outside ``0 .. z - 1``.
         """
         if not 0 <= j < self.z:
             raise ValueError(f"element: got {j!r}; allowed: 0 <= j < {self.z}")

@@ -55,12 +55,16 @@ def arrays(params: DynamicParams, t_lo: float = 0.0, t_hi: float = 1.0) -> Array
     Parameters
     ----------
     params : DynamicParams
+        The model (:func:`~.params.params_from_scene`): masses (kg), stiffnesses (N/m), radii (m),
+        rates (Hz), load (N), the defect law.
     t_lo, t_hi : float
         Time span, s.
 
     Returns
     -------
     Arrays
+        The race profiles, cage angle nodes and defect-law tables the kernels read over the
+        span.
     """
     if params.cage_angle is None:
         t0, dt = 0.0, 1.0
@@ -88,6 +92,8 @@ def rhs(t: float, y: np.ndarray, params: DynamicParams, a: Arrays | None = None)
     y : ndarray
         State (:class:`~.layout.StateLayout`).
     params : DynamicParams
+        The model (:func:`~.params.params_from_scene`): masses (kg), stiffnesses (N/m), radii (m),
+        rates (Hz), load (N), the defect law.
     a : Arrays, optional
         Precomputed :func:`arrays` (for speed; must cover ``t`` when the cage slips).
 
@@ -115,6 +121,8 @@ def element_loads(t: float, y: np.ndarray, params: DynamicParams,
     y : ndarray
         State.
     params : DynamicParams
+        The model (:func:`~.params.params_from_scene`): masses (kg), stiffnesses (N/m), radii (m),
+        rates (Hz), load (N), the defect law.
     a : Arrays, optional
         Precomputed :func:`arrays`.
 
@@ -141,6 +149,8 @@ def initial_state(params: DynamicParams, t: float = START_S) -> np.ndarray:
     Parameters
     ----------
     params : DynamicParams
+        The model (:func:`~.params.params_from_scene`): masses (kg), stiffnesses (N/m), radii (m),
+        rates (Hz), load (N), the defect law.
     t : float
         Time, s (the cage angle).
 
@@ -179,6 +189,8 @@ def jacobian(params: DynamicParams, y: np.ndarray, t: float = START_S, rel: floa
     Parameters
     ----------
     params : DynamicParams
+        The model (:func:`~.params.params_from_scene`): masses (kg), stiffnesses (N/m), radii (m),
+        rates (Hz), load (N), the defect law.
     y : ndarray
         State.
     t : float
@@ -208,6 +220,8 @@ def linearised_frequencies_hz(params: DynamicParams, y: np.ndarray, t: float = S
     Parameters
     ----------
     params : DynamicParams
+        The model (:func:`~.params.params_from_scene`): masses (kg), stiffnesses (N/m), radii (m),
+        rates (Hz), load (N), the defect law.
     y : ndarray
         State (an equilibrium).
     t : float
@@ -230,6 +244,8 @@ def auto_oversample(params: DynamicParams, fs_hz: float, peak_factor: float = PE
     Parameters
     ----------
     params : DynamicParams
+        The model (:func:`~.params.params_from_scene`): masses (kg), stiffnesses (N/m), radii (m),
+        rates (Hz), load (N), the defect law.
     fs_hz : float
         Output rate, Hz.
     peak_factor : float
@@ -319,6 +335,8 @@ def record_names(z: int) -> tuple[str, ...]:
     Returns
     -------
     tuple of str
+        The fixed columns, then ``element_0 .. element_{z-1}`` and ``velocity_0 ..
+        velocity_{z-1}``.
     """
     return REC_FIXED + tuple(f"element_{k}" for k in range(z)) + tuple(f"velocity_{k}" for k in range(z))
 
@@ -394,6 +412,8 @@ def simulate_dynamics(params: DynamicParams, duration_s: float, fs_hz: float, *,
     Parameters
     ----------
     params : DynamicParams
+        The model (:func:`~.params.params_from_scene`): masses (kg), stiffnesses (N/m), radii (m),
+        rates (Hz), load (N), the defect law.
     duration_s : float
         Record length, s (> 0).
     fs_hz : float
@@ -405,6 +425,8 @@ def simulate_dynamics(params: DynamicParams, duration_s: float, fs_hz: float, *,
     oversample : int, optional
         ``N`` (default :func:`auto_oversample`).
     acquisition_mode : {"antialiased", "point"}
+        ``antialiased``: the internal record (rate ``N fs``) through the anti-alias FIR and
+        decimated to ``fs``; ``point``: ``N = 1``, samples at ``k / fs``.
     settle_s : float, optional
         Settling before ``t = 0``, s (default: :data:`SETTLE_PERIODS` housing periods).
     y0 : ndarray, optional
@@ -413,6 +435,14 @@ def simulate_dynamics(params: DynamicParams, duration_s: float, fs_hz: float, *,
     Returns
     -------
     DynamicResult
+        Every signal at ``fs_hz`` from ``t = 0``: housing force (N), displacements (m) and
+        accelerations (m/s^2), element loads (N), defect force (N), the final state.
+
+    Raises
+    ------
+    ValueError
+        ``duration_s`` or ``fs_hz`` not finite and > 0, an ``acquisition`` other than
+        ``antialiased`` or ``point``, or a ``y0`` of another shape than the state.
     """
     for name, v in (("duration_s", duration_s), ("fs_hz", fs_hz)):
         if not (isinstance(v, numbers.Real) and math.isfinite(v) and v > 0):

@@ -54,6 +54,12 @@ class DefectLaw:
     contact's approach relative to the undamaged surfaces (the ``delta`` of ``Q = K delta^n``),
     ascending, m. ``force_n`` (N, >= 0): read bilinearly; 0 for ``delta <= 0``, linear beyond
     the ``delta`` nodes (clipped at 0); Hertz outside ``[x_m[0], x_m[-1]]``.
+
+    Raises
+    ------
+    ValueError
+        Nodes not finite, not 1-D ascending with >= 2 of them, a force table of another shape
+        than ``(len(x_m), len(delta_m))``, or a negative force.
     """
 
     x_m: np.ndarray
@@ -114,6 +120,11 @@ def slot_drop(x_m, radius_m: float, width_m: float, depth_m: float) -> np.ndarra
     -------
     numpy.ndarray
         Drop, m, 0 outside the slot.
+
+    Raises
+    ------
+    ValueError
+        ``width_m`` outside ``(0, 2 radius_m)`` or ``depth_m`` not > 0.
     """
     if not (0 < width_m < 2 * radius_m) or not depth_m > 0:
         raise ValueError(f"slot_drop: width_m {width_m!r} must be in (0, 2 R = {2 * radius_m}) "
@@ -186,6 +197,14 @@ class DynamicParams:
         Pit centre from ``x`` (outer race), or at ``t = 0`` (inner race, turning with the shaft).
     cage_angle : callable or None
         ``t -> angle`` (rad) of element 0 (slip); None: ``2 pi f_c t``.
+
+    Raises
+    ------
+    ValueError
+        ``z`` not an integer >= 1; a mass, radius, contact stiffness, exponent or the
+        resonator's frequency not finite and > 0; a damping, structure stiffness, force or rate
+        not finite and >= 0; a non-finite clearance; a ``defect_race`` other than ``outer`` or
+        ``inner`` (the message names the field).
     """
 
     z: int
@@ -301,6 +320,7 @@ def quasi_static(params: DynamicParams, phase: float = CAGE_PHASE_RAD) -> LoadDi
     Parameters
     ----------
     params : DynamicParams
+        The model (its elements, load, stiffnesses, clearance and contact angle).
     phase : float
         Angle of element 0 from the load direction, rad.
 
@@ -341,6 +361,7 @@ def highest_frequency_hz(params: DynamicParams, peak_factor: float = PEAK_LOAD_F
     Parameters
     ----------
     params : DynamicParams
+        The model (its masses and contact stiffnesses).
     peak_factor : float
         Contact load as a multiple of the quasi-static largest (``PEAK_LOAD_FACTOR``).
 
@@ -364,6 +385,7 @@ def step_size(params: DynamicParams, steps_per_period: float = STEPS_PER_PERIOD,
     Parameters
     ----------
     params : DynamicParams
+        The model (its masses and contact stiffnesses).
     steps_per_period : float
         RK4 steps per period of ``f_max`` (:data:`STEPS_PER_PERIOD`).
     peak_factor : float
@@ -373,6 +395,11 @@ def step_size(params: DynamicParams, steps_per_period: float = STEPS_PER_PERIOD,
     -------
     float
         Step, s.
+
+    Raises
+    ------
+    ValueError
+        ``steps_per_period`` < 4 (RK4 is unstable near 2.2 steps per period).
     """
     if not steps_per_period >= 4:
         raise ValueError(f"steps_per_period: got {steps_per_period!r}; allowed: >= 4 (RK4 is "
@@ -400,6 +427,8 @@ def params_from_scene(scene, *, defect: DefectLaw | None = None, centrifugal: bo
     Parameters
     ----------
     scene : Scene
+        The case's scene: bearing geometry, material, load, shaft rate, cage slip and the
+        defect's race and position.
     defect : DefectLaw, optional
         The defect law (None: healthy).
     centrifugal : bool
@@ -412,6 +441,8 @@ def params_from_scene(scene, *, defect: DefectLaw | None = None, centrifugal: bo
     Returns
     -------
     DynamicParams
+        The model in SI units, the structure at :data:`STRUCTURE_DEFAULTS` unless
+        ``overrides`` set it.
     """
     from ..history import cage_angle   # history imports much; read it only here
 
@@ -446,6 +477,7 @@ def contact_damping(params: DynamicParams, zeta: float) -> float:
     Parameters
     ----------
     params : DynamicParams
+        The model (its element mass and contact stiffnesses).
     zeta : float
         Damping ratio, >= 0.
 

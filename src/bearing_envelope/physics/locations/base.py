@@ -412,6 +412,12 @@ def register_location(location: FaultLocation) -> FaultLocation:
     -------
     FaultLocation
         ``location``.
+
+    Raises
+    ------
+    ValueError
+        Not a :class:`FaultLocation` with a name and a code, or its name or code already
+        registered.
     """
     if not isinstance(location, FaultLocation) or not location.name or not location.code:
         raise ValueError(f"register_location: got {location!r}; allowed: a FaultLocation "

@@ -288,7 +288,10 @@ class InnerRace(FaultLocation):
         Returns
         -------
         dict of str to ndarray
-            Every signal.
+            ``p_max``, ``p_max_defect`` (Pa), ``roller_load`` (N), ``defect_offset`` (m) and
+            the integral signals of :meth:`~..table.PressureTable.evaluate_integrals`
+            (``removed_force``, ``contact_force`` in N, ``approach``, ``approach_change`` in
+            m, ``contact_area`` in m^2), each of shape ``(n,)``.
         """
         table = tables["inner"]
         # the numba kernel has the closed-form load law; the centrifugal law is read by numpy

@@ -226,7 +226,9 @@ class OuterRace(FaultLocation):
         Returns
         -------
         dict of str to ndarray
-            Every signal.
+            Signal name -> values (SI units: pressures in Pa, loads in N, offsets in m), each
+            of shape ``(n,)``: the contact signals of the outer-race table
+            (:func:`~.base.contact_signals`).
         """
         kin = outer_race_kinematics(scene, cage_angle(scene, t, t_end=t_end))
         Q = ld.load_at(kin["psi"], "outer")

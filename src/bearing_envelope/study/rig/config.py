@@ -55,6 +55,8 @@ def read_rig_config(path: str | os.PathLike) -> RigSettings:
     Returns
     -------
     RigSettings
+        The base scene mapping and the ``rig:`` values, typed (load in kN, sensor
+        direction in deg, cross-axis gain).
 
     Raises
     ------

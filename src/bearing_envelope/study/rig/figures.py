@@ -43,6 +43,7 @@ def save_figure(fig, axes, out_png, xlabel: str) -> str:
     Parameters
     ----------
     fig : matplotlib.figure.Figure
+        The figure (:func:`pair_figure`).
     axes : numpy.ndarray
         Its axes (:func:`pair_figure`).
     out_png : path
@@ -78,7 +79,9 @@ def plot_side_by_side(card, conditions, sim_dir, out_png, *, max_order: float = 
     sim_dir : path
         Folder of the simulated records (``<name>_sim.npz``).
     out_png : path
+        The PNG written.
     max_order : float
+        Highest order of the shaft rate on the frequency axis.
 
     Returns
     -------

@@ -42,6 +42,12 @@ def removed_force_exponent(contact_3: str, contact_6: str) -> float:
     -------
     float
         ``b``; two points that do not define it raise ``ValueError``.
+
+    Raises
+    ------
+    ValueError
+        The two points do not define an exponent (a load or removed force <= 0, or equal
+        loads).
     """
     pts = []
     for path in (contact_3, contact_6):
@@ -69,6 +75,11 @@ def event_exponent(contact_path: str, event_hz: float) -> float:
     -------
     float
         ``b``; a history whose events do not span two loads raises ``ValueError``.
+
+    Raises
+    ------
+    ValueError
+        The history's events do not span two roller loads.
     """
     with np.load(contact_path) as z:
         f, q, fs = np.asarray(z["removed_force"]), np.asarray(z["roller_load"]), float(z["fs"])
@@ -94,6 +105,8 @@ def directional_modulation(settings: RigSettings, inner: RigCondition, outer_3: 
     Parameters
     ----------
     settings : RigSettings
+        The rig's settings (:func:`~.config.read_rig_config`): base scene, load (kN), fidelity,
+        sensor direction and cross-axis gain.
     inner, outer_3 : RigCondition
         An inner-race record and a 3:00 outer-race record (their shaft rates).
     b_inner, b_outer : float
@@ -105,6 +118,11 @@ def directional_modulation(settings: RigSettings, inner: RigCondition, outer_3: 
     -------
     dict
         ``sb1_db``, ``sb2_db`` (inner race), ``ratio_3_6_db`` (outer race).
+
+    Raises
+    ------
+    ValueError
+        The inner race carries no load at any angle.
     """
     from ...physics.loads import scene_load_distribution
 
@@ -137,9 +155,11 @@ def identify_load_zone(settings: RigSettings, inner: RigCondition, outer_3: RigC
     settings : RigSettings
         The rig (its load; clearance and cross-axis gain are replaced).
     inner, outer_3 : RigCondition
+        An inner-race record and a 3:00 outer-race record (their shaft rates).
     sb1_db, ratio_db : float
         Measured, dB.
     b_inner, b_outer : float
+        Removed-force exponents (:func:`event_exponent`, :func:`removed_force_exponent`).
     bounds_um : (float, float)
         Clearances searched, um.
 
@@ -147,6 +167,12 @@ def identify_load_zone(settings: RigSettings, inner: RigCondition, outer_3: RigC
     -------
     (float, float)
         Clearance (um, negative: preload) and cross-axis gain.
+
+    Raises
+    ------
+    ValueError
+        ``sb1_db`` outside what the clearances searched give, or ``ratio_db`` above what a
+        cross-axis gain <= 1 reaches.
     """
     from scipy import optimize  # lazy: only this function needs it
 
@@ -217,13 +243,22 @@ def identify_from_run(run_dir, conditions, settings: RigSettings) -> dict:
     run_dir : path
         A scored rig run (``measured_lines.csv``, ``outer_race.csv``, ``contact/``).
     conditions : sequence of RigCondition
+        The run's records (:func:`~.manifest.record_conditions`).
     settings : RigSettings
+        The rig's settings (:func:`~.config.read_rig_config`): base scene, load (kN), fidelity,
+        sensor direction and cross-axis gain.
 
     Returns
     -------
     dict
         The measured targets, exponents, ``clearance_um`` and ``sensor_cross_axis``, and what
         the identified rig predicts (:func:`directional_modulation`).
+
+    Raises
+    ------
+    ValueError
+        The run lacks scored inner-race records or 3:00/6:00 outer-race pairs at one sampling
+        rate.
     """
     import pandas as pd  # lazy: pandas ~1.8 s
 
@@ -263,6 +298,7 @@ def identification_records(conditions) -> list:
     Parameters
     ----------
     conditions : sequence of RigCondition
+        The rig's records (:func:`~.manifest.record_conditions`).
 
     Returns
     -------

@@ -260,6 +260,12 @@ def conditions_of_rows(rows) -> list:
     Returns
     -------
     list of RigCondition
+        One per row, in the rows' order.
+
+    Raises
+    ------
+    ValueError
+        Two rows with the same record name.
     """
     out, seen = [], {}
     for r in rows:
@@ -340,6 +346,8 @@ def record_conditions(items, *, log=print) -> list[RigCondition]:
     Returns
     -------
     list of RigCondition
+        One per fault record (file, fault location, pit size in um, position in deg,
+        load, fs and shaft rate in Hz).
 
     Examples
     --------

@@ -65,10 +65,12 @@ class RigBearing:
         Parameters
         ----------
         other : RigBearing
+            The bearing compared with.
 
         Returns
         -------
         bool
+            Same number of elements; diameters and contact angle within the tolerance.
         """
         return (self.n_rollers == other.n_rollers
                 and all(math.isclose(getattr(self, k), getattr(other, k), rel_tol=GEOMETRY_RTOL,
@@ -91,6 +93,7 @@ def resolve_bearing(designation: str | None = None, geometry: dict | None = None
     Returns
     -------
     RigBearing
+        The designation (None for a geometry) and the geometry (mm, deg).
 
     Raises
     ------
@@ -115,6 +118,7 @@ def bearing_rates(bearing: RigBearing, fr: float) -> dict:
     Parameters
     ----------
     bearing : RigBearing
+        The record's bearing (its geometry in mm and deg).
     fr : float
         Shaft rate, Hz.
 
@@ -241,6 +245,8 @@ def condition_from_row(row: dict) -> RigCondition:
     Returns
     -------
     RigCondition
+        The record, its fault and pit (um), its position (deg), load, fs and shaft rate
+        (Hz), its bearing.
 
     Raises
     ------

@@ -28,10 +28,12 @@ def figure_records(conditions) -> list:
     Parameters
     ----------
     conditions : sequence of RigCondition
+        The rig's records (:func:`~.manifest.record_conditions`).
 
     Returns
     -------
     list of RigCondition
+        Those records, in the order given.
     """
     if not conditions:
         return []
@@ -104,6 +106,7 @@ def run_scorecard(conditions, contact: dict, out_dir, gain_reference: str, *, lo
     Parameters
     ----------
     conditions : sequence of RigCondition
+        The rig's records (:func:`~.manifest.record_conditions`).
     contact : dict
         :func:`~.simulation.simulate_excitations`'s result.
     out_dir : path
@@ -112,6 +115,7 @@ def run_scorecard(conditions, contact: dict, out_dir, gain_reference: str, *, lo
     gain_reference : str
         Records (name contains) the rig's gain is identified on.
     log : callable
+        Progress lines.
     settings : RigSettings, optional
         The rig's sensor (:func:`~.simulation.sensor_gain`); None: a sensor blind to direction.
 

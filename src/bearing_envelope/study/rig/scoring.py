@@ -105,6 +105,7 @@ def scorecard(conditions, measured_table, measured_lines, sim_table, sim_lines):
     Parameters
     ----------
     conditions : sequence of RigCondition
+        The records scored (:func:`~.manifest.record_conditions`).
     measured_table, sim_table : pandas.DataFrame
         ``analyze --table`` of the measured and of the simulated records.
     measured_lines, sim_lines : pandas.DataFrame
@@ -113,6 +114,8 @@ def scorecard(conditions, measured_table, measured_lines, sim_table, sim_lines):
     Returns
     -------
     pandas.DataFrame
+        One row per record: its fault, the measured and simulated features (line heights
+        in dB, frequencies in Hz) and the pass/fail of each rule.
     """
     import pandas as pd  # lazy: pandas ~1.8 s, only the scorecard needs it
 

@@ -101,7 +101,10 @@ def simulate_excitations(conditions, settings: RigSettings, out_dir, *, log=prin
     Parameters
     ----------
     conditions : sequence of RigCondition
+        The records to re-make (:func:`~.manifest.record_conditions`).
     settings : RigSettings
+        The rig's settings (:func:`~.config.read_rig_config`): base scene, load (kN), fidelity,
+        sensor direction and cross-axis gain.
     out_dir : path
         Where ``<record>_contact.npz`` (time, contact_force, removed_force, p_max) is written;
         an existing file is kept (delete it to re-simulate).
@@ -171,12 +174,15 @@ def path_modes(path, reference_hz: float | None = None) -> list:
     Parameters
     ----------
     path : TransferPath
+        The record's identified transfer path (f_n in Hz, damping, gains).
     reference_hz : float, optional
         f_n of the rig's reference mode, Hz; None: the first mode is the anchor.
 
     Returns
     -------
     list of Mode
+        The record's modes, gains relative to the anchor's (dimensionless; the anchor's
+        is 1).
     """
     modes = path.structure()
     anchor = modes[0]
@@ -207,7 +213,10 @@ def sensor_gain(cond: RigCondition, settings: RigSettings, t: np.ndarray) -> np.
     Parameters
     ----------
     cond : RigCondition
+        The record (its fault location, position in deg and shaft rate in Hz).
     settings : RigSettings
+        The rig's settings (:func:`~.config.read_rig_config`): base scene, load (kN), fidelity,
+        sensor direction and cross-axis gain.
     t : ndarray
         Times of the record, s.
 
@@ -230,6 +239,7 @@ def record_paths(conditions, *, log=print) -> dict:
     Parameters
     ----------
     conditions : sequence of RigCondition
+        The rig's records (:func:`~.manifest.record_conditions`).
     log : callable
         Progress lines.
 
@@ -237,6 +247,11 @@ def record_paths(conditions, *, log=print) -> dict:
     -------
     dict
         ``{name: (TransferPath, "identified" | reason it was not)}``
+
+    Raises
+    ------
+    ValueError
+        No record's transfer path could be identified.
     """
     out = {}
     for c in conditions:
@@ -276,6 +291,7 @@ def rig_gain(conditions, paths: dict, contact_paths: dict, reference: str,
     Parameters
     ----------
     conditions : sequence of RigCondition
+        The rig's records (:func:`~.manifest.record_conditions`).
     paths : dict
         :func:`record_paths`.
     contact_paths : dict
@@ -290,6 +306,11 @@ def rig_gain(conditions, paths: dict, contact_paths: dict, reference: str,
     (float, float, float, float)
         Median, min and max over the reference records, and the median f_n of their first
         modes (Hz: the mode the gain belongs to, :func:`path_modes`'s ``reference_hz``).
+
+    Raises
+    ------
+    ValueError
+        ``reference`` names no identified record.
     """
     ratios, f_ref = [], []
     for c in conditions:
@@ -321,6 +342,7 @@ def write_rig_record(cond: RigCondition, contact_path: str, path, gain: float, o
     Parameters
     ----------
     cond : RigCondition
+        The record re-made (its name, fs and shaft rate in Hz, its fault).
     contact_path : str
         Its ``<name>_contact.npz`` (:func:`simulate_excitations`).
     path : TransferPath

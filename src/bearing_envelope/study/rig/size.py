@@ -16,6 +16,7 @@ def size_pairs(conditions) -> list:
     Parameters
     ----------
     conditions : sequence of RigCondition
+        The rig's records (:func:`~.manifest.record_conditions`).
 
     Returns
     -------
@@ -75,6 +76,7 @@ def size_ranking(card, conditions, contact: dict, paths_json: dict) -> list:
     card : pandas.DataFrame
         The scorecard (:func:`~.scoring.scorecard`).
     conditions : sequence of RigCondition
+        The rig's records (:func:`~.manifest.record_conditions`).
     contact : dict
         The contact histories (:func:`~.simulation.simulate_excitations`).
     paths_json : dict
