@@ -48,6 +48,8 @@ REGISTRY: dict[str, str] = {
                        "end with --run), and the check's cost",
     "defect_contact": "the defect contact law F(x, delta) of the dynamic model: cost and errors per "
                       "fidelity (CWRU 6205 pits), the defects' scales (CWRU pits, default sweep)",
+    "dynamics_cost": "dynamic bearing model: RK4 numba against solve_ivp (accuracy, CPU), the "
+                     "step rule's envelope-line convergence, CPU of a 12 kHz record",
 }
 
 #: Benchmarks of work in flight, registered as soon as their module is in this folder (each

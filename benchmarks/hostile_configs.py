@@ -296,7 +296,8 @@ def run_jobs(settings, work: Path) -> tuple[str, str]:
                 rule = "diagnose"
                 case_diagnosability(c, settings.sensor, settings.analysis,
                                     settings.diagnosability.snr_db[:2],
-                                    reference=refs.get(case.load_kN))
+                                    reference=refs.get(case.load_kN),
+                                    kurtogram_from=settings.diagnosability.kurtogram_from)
             refs.setdefault(case.load_kN, c)
         except Exception as exc:  # noqa: BLE001 -- the finding
             last = traceback.format_exception_only(type(exc), exc)[-1].strip()

@@ -138,7 +138,8 @@ def test_detection_statistic_does_not_fall_as_snr_rises(draft_run):
         defect, healthy = read_case(cases / f"F{load:g}kN_h50um.h5"), read_case(cases / f"F{load:g}kN_h0um.h5")
         for seed in range(24):
             sensor = dataclasses.replace(settings.sensor, seed=1000 + seed)
-            rows.append(case_diagnosability(defect, sensor, settings.analysis, snrs, reference=healthy))
+            rows.append(case_diagnosability(defect, sensor, settings.analysis, snrs, reference=healthy,
+                                            kurtogram_from=settings.diagnosability.kurtogram_from))
     d = pd.concat(rows, ignore_index=True)
     g = d.groupby(["band", "snr_db"])["statistic_db"]
     mean = g.mean().unstack("band").sort_index()

@@ -94,7 +94,7 @@ def test_harmonic_amplitudes_records():
     got = {(r["order"], r["sideband"]): r["amplitude"] for r in recs}
     assert got == {(1, -1): 0.3, (1, 0): 1.0, (1, 1): 0.2, (2, -1): 0.0, (2, 0): 0.5, (2, 1): 0.0}
     with pytest.raises(ValueError, match="fr"):
-        harmonic_amplitudes(f, amp, 100.0, fr=None, n_sidebands=1)
+        harmonic_amplitudes(f, amp, 100.0, fr=None, n_harmonics=2, n_sidebands=1)
 
 
 @pytest.mark.parametrize(

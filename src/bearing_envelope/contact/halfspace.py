@@ -17,7 +17,18 @@ from threading import Lock, get_ident
 import numpy as np
 import scipy.fft as sfft
 
+#: Pressure element of the influence coefficients when none is named: ``uniform`` (piecewise
+#: constant over a cell, Love 1929).
+DEFAULT_ELEMENT = "uniform"
+#: FFT backend when none is named: ``auto`` (pyFFTW where installed and checked, else scipy).
+DEFAULT_FFT_BACKEND = "auto"
+#: Threads of one FFT when none is named (the sweep runs one case per core).
+FFT_WORKERS = 1
+
 __all__ = [
+    "DEFAULT_ELEMENT",
+    "DEFAULT_FFT_BACKEND",
+    "FFT_WORKERS",
     "composite_modulus",
     "influence_coefficients",
     "influence_coefficients_linear",
@@ -249,7 +260,8 @@ def influence_coefficients_linear(x, y, dx: float, dy: float, e_star: float) -> 
     return out / (math.pi * e_star)
 
 
-def _padded_kernel(shape: tuple[int, int], dx: float, dy: float, e_star: float, element: str = "uniform") -> np.ndarray:
+def _padded_kernel(shape: tuple[int, int], dx: float, dy: float, e_star: float,
+                   element: str = DEFAULT_ELEMENT) -> np.ndarray:
     """Influence coefficients on the ``(2nx, 2ny)`` wrap-around grid used by DC-FFT."""
     nx, ny = shape
     if element == "uniform":
@@ -301,7 +313,8 @@ KERNEL_CACHE_ENTRIES = 32
 KERNEL_CACHE_BYTES = 64 * 2 ** 20
 
 
-def kernel_spectrum(shape: tuple[int, int], dx: float, dy: float, e_star: float, element: str = "uniform") -> np.ndarray:
+def kernel_spectrum(shape: tuple[int, int], dx: float, dy: float, e_star: float,
+                    element: str = DEFAULT_ELEMENT) -> np.ndarray:
     """Real spectrum (``rfft2`` of the ``(2nx, 2ny)`` padded kernel, divided by ``4 nx ny``), cached.
 
     The kernel is even in both offsets, so its spectrum is real; it is stored as float64 of shape
@@ -418,7 +431,7 @@ def subcell_displacement(pressure: np.ndarray, dx: float, dy: float, e_star: flo
     return out
 
 
-def rfft2(x: np.ndarray, workers: int = 1) -> np.ndarray:
+def rfft2(x: np.ndarray, workers: int = FFT_WORKERS) -> np.ndarray:
     """``scipy.fft.rfft2(x, workers=workers)`` (unnormalised), by pocketfft directly when it is
     importable (the same numbers, without scipy.fft's per-call dispatch).
 
@@ -439,7 +452,7 @@ def rfft2(x: np.ndarray, workers: int = 1) -> np.ndarray:
     return POCKETFFT.r2c(x, (0, 1), True, 0, None, workers)
 
 
-def irfft2(a: np.ndarray, shape: tuple[int, int], workers: int = 1) -> np.ndarray:
+def irfft2(a: np.ndarray, shape: tuple[int, int], workers: int = FFT_WORKERS) -> np.ndarray:
     """``scipy.fft.irfft2(a, s=shape, norm="forward", workers=workers)`` (no ``1/n`` on the
     inverse), by pocketfft directly when it is importable.
 
@@ -515,8 +528,8 @@ class ElasticHalfSpace:
     """
 
     def __init__(
-        self, shape, dx: float, dy: float, e_star: float, *, workers: int | None = None, backend: str = "auto",
-        element: str = "uniform",
+        self, shape, dx: float, dy: float, e_star: float, *, workers: int | None = None,
+        backend: str = DEFAULT_FFT_BACKEND, element: str = DEFAULT_ELEMENT,
     ):
         if len(shape) != 2 or min(shape) < 1:
             raise ValueError(f"shape must be (nx, ny) with nx, ny >= 1, got {shape!r}")
@@ -644,8 +657,8 @@ _OPS: "OrderedDict[tuple, ElasticHalfSpace]" = OrderedDict()
 
 
 def get_halfspace(
-    shape, dx: float, dy: float, e_star: float, *, workers: int | None = None, backend: str = "auto",
-    element: str = "uniform",
+    shape, dx: float, dy: float, e_star: float, *, workers: int | None = None,
+    backend: str = DEFAULT_FFT_BACKEND, element: str = DEFAULT_ELEMENT,
 ) -> ElasticHalfSpace:
     """Return a cached :class:`ElasticHalfSpace` (with its FFT plans and buffers) for this grid.
 

@@ -12,7 +12,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from . import _kernels
-from .halfspace import ElasticHalfSpace, get_halfspace, irfft2, rfft2
+from .halfspace import (DEFAULT_ELEMENT, DEFAULT_FFT_BACKEND, ElasticHalfSpace, get_halfspace,
+                        irfft2, rfft2)
 
 __all__ = [
     "ContactSolution",
@@ -168,9 +169,9 @@ def solve_contact(
     workers: int | None = None,
     halfspace: ElasticHalfSpace | None = None,
     precondition: bool = True,
-    fft_backend: str = "auto",
+    fft_backend: str = DEFAULT_FFT_BACKEND,
     kernels: dict | None = None,
-    element: str = "uniform",
+    element: str = DEFAULT_ELEMENT,
     stall_window: int = 40,
     hardness: float | None = None,
 ) -> ContactSolution:

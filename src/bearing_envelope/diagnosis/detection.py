@@ -47,7 +47,15 @@ from ..lazy import lazy_module
 pd = lazy_module("pandas")  # imported on first use (docs/architecture.md, lazy.py)
 _stats = lazy_module("scipy.stats")  # imported on first use (docs/architecture.md, lazy.py)
 
+#: Confidence of an interval on a measured rate (two-sided).
+DEFAULT_CONFIDENCE = 0.95
+#: Shaft-rate sidebands on each side of a line kept out of its background
+#: (:func:`detection_statistic`).
+EXCLUDED_SIDEBANDS = 3
+
 __all__ = [
+    "DEFAULT_CONFIDENCE",
+    "EXCLUDED_SIDEBANDS",
     "BACKGROUND_BAND",
     "DEFAULT_PFA",
     "Detection",
@@ -353,7 +361,7 @@ def detection_statistic(
     tolerance: float = 0.01,
     tolerance_hz: float | None = None,
     background: tuple[float, float] = BACKGROUND_BAND,
-    sidebands: int = 3,
+    sidebands: int = EXCLUDED_SIDEBANDS,
     exclude_hz: Iterable[float] = (),
     threshold: float | None = None,
     pfa: float = DEFAULT_PFA,
@@ -532,7 +540,7 @@ def detect(f, amplitude, line_hz: float, **kwargs) -> tuple[float, bool]:
     return d.statistic_db, d.detected
 
 
-def clopper_pearson(k: int, n: int, confidence: float = 0.95) -> tuple[float, float]:
+def clopper_pearson(k: int, n: int, confidence: float = DEFAULT_CONFIDENCE) -> tuple[float, float]:
     """Exact (Clopper-Pearson) confidence interval of a binomial rate ``k / n``.
 
     ``low = B^-1(a/2; k, n - k + 1)`` and ``high = B^-1(1 - a/2; k + 1, n - k)`` with
@@ -571,7 +579,7 @@ def clopper_pearson(k: int, n: int, confidence: float = 0.95) -> tuple[float, fl
 
 
 def false_alarm_rates(trials: pd.DataFrame, by=("band", "snr_db"),
-                      confidence: float = 0.95) -> pd.DataFrame:
+                      confidence: float = DEFAULT_CONFIDENCE) -> pd.DataFrame:
     """Pool false-alarm trials (one row per healthy record tested, column ``detected``).
 
     Returns

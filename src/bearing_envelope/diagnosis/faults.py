@@ -67,8 +67,8 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from ..physics.kinematics import spin_events
-from ..signal.spectrum import amplitude_at, default_tolerance
-from .detection import BACKGROUND_BAND, detection_statistic
+from ..signal.spectrum import DEFAULT_WINDOW, amplitude_at, default_tolerance
+from .detection import BACKGROUND_BAND, DEFAULT_PFA, detection_statistic
 
 __all__ = [
     "CANNOT_TELL",
@@ -204,13 +204,13 @@ def search_lines(
     family: FaultFamily,
     *,
     fr: float | None = None,
-    n_harmonics: int = 2,
-    n_sidebands: int = 1,
+    n_harmonics: int,
+    n_sidebands: int,
     search_percent: float = DEFAULT_SEARCH_PERCENT,
     tolerance_hz: float | None = None,
-    pfa: float = 0.01,
+    pfa: float = DEFAULT_PFA,
     interpolate: bool = False,
-    window="hann",
+    window=DEFAULT_WINDOW,
     n: int | None = None,
     min_search_bins: float = 0.0,
 ) -> list[dict]:
@@ -225,9 +225,9 @@ def search_lines(
         The family (see :func:`fault_families`).
     fr : float, optional
         Shaft rate (Hz): its harmonics are kept out of the floor.
-    n_harmonics : int, default 2
-        Harmonics k = 1..K.
-    n_sidebands : int, default 1
+    n_harmonics : int
+        Harmonics k = 1..K (the analysis's: ``AnalysisOptions.n_harmonics``).
+    n_sidebands : int
         Sidebands m = 1..M per side (only for a family with a sideband spacing).
     search_percent : float, default 1.0
         Half-width of the fundamental's search, percent of its nominal frequency.

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..signal.spectrum import amplitude_spectrum
+from ..signal.spectrum import DEFAULT_WINDOW, amplitude_spectrum
 from ..signal.validation import check_fs, check_positive, check_signal
 from .faults import DEFAULT_SEARCH_PERCENT, FaultFamily, search_lines
 
@@ -19,12 +19,12 @@ def harmonic_amplitudes(
     base: float,
     *,
     fr: float | None = None,
-    n_harmonics: int = 2,
-    n_sidebands: int = 1,
+    n_harmonics: int,
+    n_sidebands: int,
     search_percent: float | None = None,
     tolerance: float | None = None,
     interpolate: bool = False,
-    window="hann",
+    window=DEFAULT_WINDOW,
     n: int | None = None,
 ) -> list[dict]:
     r"""Amplitudes at the fundamental near :math:`f_b`, its harmonics and sidebands.
@@ -43,9 +43,9 @@ def harmonic_amplitudes(
         Nominal base frequency :math:`f_b` (Hz), e.g. BPFI.
     fr : float, optional
         Sideband spacing (Hz), the shaft rate. Needed when ``n_sidebands > 0``.
-    n_harmonics : int, default 2
+    n_harmonics : int
         Orders k = 1..K.
-    n_sidebands : int, default 1
+    n_sidebands : int
         Sidebands m = 1..M on each side.
     search_percent : float, optional
         Half-width ``p`` of the fundamental's search (percent); default
@@ -89,9 +89,9 @@ def raw_terms(
     *,
     fr: float,
     bpfi: float,
-    n_harmonics: int = 1,
+    n_harmonics: int,
     tolerance: float | None = None,
-    window="hann",
+    window=DEFAULT_WINDOW,
     interpolate: bool = False,
     search_percent: float | None = None,
 ) -> list[dict]:
@@ -103,8 +103,8 @@ def raw_terms(
         Real signal (unit ``U``), not de-meaned: the 0 Hz term is its mean.
     fs, fr, bpfi : float
         Sampling frequency, nominal shaft rate and inner-race fault frequency (Hz).
-    n_harmonics : int, default 1
-        Orders k of fr and BPFI.
+    n_harmonics : int
+        Orders k of fr and BPFI (the analysis's: ``AnalysisOptions.n_raw_harmonics``).
     tolerance : float, optional
         A fixed search half-width (Hz) around every target instead of the default search.
     window, interpolate

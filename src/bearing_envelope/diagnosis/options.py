@@ -26,6 +26,8 @@ import numpy as np
 
 from ..signal.bands import DEFAULT_BANDS, NYQUIST_MARGIN
 from ..signal.envelope import DEFAULT_FILTER_ORDER
+from ..signal.kurtogram import DEFAULT_LEVEL0, DEFAULT_NLEVEL
+from ..signal.spectrum import DEFAULT_WINDOW
 from .detection import DEFAULT_PFA
 from .faults import DEFAULT_SEARCH_PERCENT
 from .routes import ROUTES
@@ -347,18 +349,18 @@ class AnalysisOptions:
     n_harmonics: int = 3
     n_sidebands: int = 2
     n_raw_harmonics: int = 3
-    nlevel: int | None = 8
+    nlevel: int | None = DEFAULT_NLEVEL
     max_level: float | None = None
     min_bandwidth: float | None = None
     kurtogram_min_orders: float | None = KURTOGRAM_MIN_ORDERS
     filter_order: int = DEFAULT_FILTER_ORDER
     squared: bool = False
-    window: str | tuple = "hann"
+    window: str | tuple = DEFAULT_WINDOW
     tolerance_hz: float | None = None
     interpolate: bool = False
     nyquist_margin: float = NYQUIST_MARGIN
     demean: bool = True
-    level0: str = "analytic"
+    level0: str = DEFAULT_LEVEL0
     search_percent: float = DEFAULT_SEARCH_PERCENT
     sideband_spacing: Mapping[str, str | None] | None = None
     pfa: float = DEFAULT_PFA

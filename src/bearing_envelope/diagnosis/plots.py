@@ -15,7 +15,21 @@ from matplotlib.figure import Figure  # this module only draws: it is imported o
 from matplotlib.patches import Rectangle
 
 from ..signal.envelope import DEFAULT_FILTER_ORDER, bandpass, envelope
+from .options import AnalysisOptions
 from .faults import display_name
+
+#: Resolution of a written figure (dots per inch); the one-page record figure an analyst reads:
+#: :data:`RECORD_FIGURE_DPI`.
+FIGURE_DPI = 120
+RECORD_FIGURE_DPI = 90
+#: Colour of a plotted spectrum.
+LINE_COLOR = "C0"
+#: Nominal lines marked on an envelope spectrum drawn for a family (``k x base``, k = 1..5, and
+#: ``+- m fr``, m = 1): more than the analysis searches, to show where the next ones would lie.
+NOMINAL_HARMONICS_SHOWN = 5
+NOMINAL_SIDEBANDS_SHOWN = 1
+#: Fault periods of band-passed signal shown under an envelope waveform.
+WAVEFORM_PERIODS_SHOWN = 8.0
 
 __all__ = ["FAMILY_COLORS", "plot_envelope_spectrum", "plot_envelope_waveform",
            "plot_fault_lines", "plot_kurtogram", "plot_raw_spectrum", "plot_record_lines",
@@ -76,9 +90,10 @@ def plot_kurtogram(kurtogram, ax=None, *, title: str | None = None, cmap: str = 
 
 
 def plot_envelope_spectrum(f, amplitude, *, base: float | None = None, fr: float | None = None,
-                           n_harmonics: int = 5, n_sidebands: int = 1, fmax: float | None = None,
+                           n_harmonics: int = NOMINAL_HARMONICS_SHOWN,
+                           n_sidebands: int = NOMINAL_SIDEBANDS_SHOWN, fmax: float | None = None,
                            ax=None, title: str | None = None, base_label: str = "BPFI",
-                           unit: str = "", color: str = "C0"):
+                           unit: str = "", color: str = LINE_COLOR):
     """Envelope spectrum with the harmonics ``k x base`` and sidebands ``k x base +- m x fr``.
 
     Parameters
@@ -139,7 +154,7 @@ FAMILY_COLORS = {"bpfo": "tab:red", "bpfi": "tab:green", "bsf": "tab:purple",
 
 
 def plot_fault_lines(f, amplitude, lines: dict, *, fmax: float | None = None, ax=None,
-                     title: str | None = None, unit: str = "", color: str = "C0"):
+                     title: str | None = None, unit: str = "", color: str = LINE_COLOR):
     """Envelope spectrum with every fault family's lines as found.
 
     Parameters
@@ -203,8 +218,9 @@ def plot_fault_lines(f, amplitude, lines: dict, *, fmax: float | None = None, ax
 
 
 def save_analysis_figures(details: dict, outdir, *, prefix: str = "", base: str | None = None,
-                          n_harmonics: int = 5, n_sidebands: int = 1, unit: str = "",
-                          dpi: int = 120, fmt: str = "png") -> list[str]:
+                          n_harmonics: int = NOMINAL_HARMONICS_SHOWN,
+                          n_sidebands: int = NOMINAL_SIDEBANDS_SHOWN, unit: str = "",
+                          dpi: int = FIGURE_DPI, fmt: str = "png") -> list[str]:
     """Write the kurtogram and one envelope spectrum per band from
     ``analyze_signal(..., full_output=True)[1]``; returns the paths written.
 
@@ -378,7 +394,8 @@ def plot_raw_spectrum(details: dict, ax=None, *, db: bool = False, orders: bool 
     return ax
 
 
-def plot_envelope_waveform(x, details: dict, band: str, ax=None, *, periods: float = 8.0,
+def plot_envelope_waveform(x, details: dict, band: str, ax=None, *,
+                           periods: float = WAVEFORM_PERIODS_SHOWN,
                            family: str | None = None,
                            order: int = DEFAULT_FILTER_ORDER):
     """A stretch of the band-passed signal (grey) and its envelope, with the fault period.
@@ -443,7 +460,8 @@ def _found(details, band, family):
 
 
 def plot_record_lines(details: dict, band: str, family: str | None = None, ax=None, *,
-                      n_harmonics: int = 3, db: bool = False, fmax: float | None = None,
+                      n_harmonics: int = AnalysisOptions.n_harmonics, db: bool = False,
+                      fmax: float | None = None,
                       orders: bool = False, unit: str = ""):
     """Envelope spectrum of one band: the lines of ``family`` labelled (k x name at each
     harmonic found, sidebands dotted, a dot where detected), every other family's searched
@@ -524,9 +542,9 @@ def plot_record_lines(details: dict, band: str, family: str | None = None, ax=No
     return ax
 
 
-def save_record_figure(x, details: dict, path, *, n_harmonics: int = 3, db: bool = False,
-                       fmax: float | None = None, orders: bool = False,
-                       title: str | None = None, dpi: int = 90) -> str:
+def save_record_figure(x, details: dict, path, *, n_harmonics: int = AnalysisOptions.n_harmonics,
+                       db: bool = False, fmax: float | None = None, orders: bool = False,
+                       title: str | None = None, dpi: int = RECORD_FIGURE_DPI) -> str:
     """One figure an analyst reads: raw spectrum, envelope waveform and envelope spectrum of
     the band of the verdict (:func:`shown_family`), the verdict as its title.
 

@@ -60,7 +60,8 @@ from dataclasses import dataclass, replace
 from ..signal.bands import band_from_kurtogram, clamp_band
 from ..signal.cyclostationary import enhanced_envelope_spectrum
 from ..signal.envelope import envelope_spectrum
-from ..signal.kurtogram import fast_kurtogram, max_kurtogram_level
+from ..signal.kurtogram import DEFAULT_NLEVEL, fast_kurtogram, max_kurtogram_level
+from ..signal.spectrum import DEFAULT_WINDOW
 from ..signal.infogram import infogram, infogram_depth
 from ..signal.separation import (DRS_NPERSEG, discrete_random_separation,
                                  prewhitened_ses)
@@ -214,7 +215,7 @@ def random_part(x, fs: float):
 
 
 def route_spectrum(route: str, x, fs: float, *, alpha_max_hz: float, min_bandwidth: float,
-                   nlevel: int = 8, window="hann", random=None):
+                   nlevel: int = DEFAULT_NLEVEL, window=DEFAULT_WINDOW, random=None):
     """The spectrum of one route other than ``envelope``.
 
     Parameters
@@ -427,7 +428,8 @@ def run_routes(x, fs: float, details: Mapping, routes: Sequence[str] = DEFAULT_R
             rnd = random_part(x, fs)
         f, a, band = route_spectrum(r, x, fs, alpha_max_hz=span,
                                     min_bandwidth=2.0 * opt.n_harmonics * top,
-                                    nlevel=opt.nlevel or 8, window=opt.window, random=rnd)
+                                    nlevel=opt.nlevel or DEFAULT_NLEVEL, window=opt.window,
+                                    random=rnd)
         v = route_verdict(r, f, a, band, fams, fr=fr, search=search,
                           n_harmonics=opt.n_harmonics, n_sidebands=opt.n_sidebands,
                           pfa=opt.pfa)

@@ -22,7 +22,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..signal.spectrum import amplitude_spectrum
+from ..signal.spectrum import DEFAULT_WINDOW, amplitude_spectrum
 
 __all__ = ["MEASURED_SPEED_SEARCH_PERCENT", "SPEED_ORDERS", "SPEED_SEARCH_PERCENT", "ShaftRate",
            "SPEED_LINE_MIN_DB", "SPEED_MIN_ORDERS", "SPEED_AGREEMENT_PERCENT",
@@ -89,7 +89,7 @@ class ShaftRate:
 
 def estimate_shaft_rate(x, fs: float, fr_nominal: float, *, orders=SPEED_ORDERS,
                         search_percent: float = SPEED_SEARCH_PERCENT,
-                        window="hann", spectrum=None) -> ShaftRate:
+                        window=DEFAULT_WINDOW, spectrum=None) -> ShaftRate:
     """The shaft rate from the peaks of its first harmonics in the raw spectrum.
 
     Parameters

@@ -47,6 +47,9 @@ from ..signal.kurtogram import fast_kurtogram, max_kurtogram_level
 from ..signal.validation import check_fs, check_signal
 from .detection import threshold_db
 
+#: Area of the excitation impulse a mode's gain refers to when none is given: a unit impulse.
+UNIT_IMPULSE_AREA = 1.0
+
 __all__ = ["TransferPath", "NoImpulsesError", "identify_path", "background_noise",
            "MIN_EVENTS", "DEFAULT_PFA", "EVENT_PFA", "MAX_LEVEL", "MODE_PFA", "MODE_FLOOR",
            "MAX_MODES"]
@@ -164,7 +167,7 @@ class TransferPath:
     modes: list = field(default_factory=list)
     modes_rejected: list = field(default_factory=list)
 
-    def mode(self, impulse_area: float = 1.0) -> Mode:
+    def mode(self, impulse_area: float = UNIT_IMPULSE_AREA) -> Mode:
         """The mode whose response to an impulse of area ``impulse_area`` starts at
         ``amplitude`` (:class:`bearing_envelope.physics.transfer.Mode`, impulse-invariant
         convention ``h(0+) = 2 zeta omega_n gain``).
@@ -183,7 +186,7 @@ class TransferPath:
         wn = 2.0 * math.pi * self.f_n_hz
         return Mode(self.f_n_hz, self.zeta, self.amplitude / (impulse_area * 2 * self.zeta * wn))
 
-    def structure(self, impulse_area: float = 1.0) -> list:
+    def structure(self, impulse_area: float = UNIT_IMPULSE_AREA) -> list:
         """Every identified mode, each with its gain for an impulse of area ``impulse_area``
         (as :meth:`mode`; the first is :meth:`mode`'s).
 

@@ -14,12 +14,12 @@ from collections.abc import Mapping
 
 from ..diagnosis import batch as _batch
 from ..diagnosis import records as _records
-from .records import read_record
+from .records import DEFAULT_CHANNEL, DEFAULT_SIGNAL, read_record
 
 __all__ = ["read_task", "analyze_record", "analyze_records"]
 
 
-def read_task(item, *, column=None, channel: str = "DE", signal: str = "p_max",
+def read_task(item, *, column=None, channel: str = DEFAULT_CHANNEL, signal: str = DEFAULT_SIGNAL,
               delimiter: str | None = None, decimal: str | None = None) -> dict:
     """Read one record: a path, or a task mapping ``{"file", "column", "channel"}`` whose
     non-None values override the keyword arguments.

@@ -45,8 +45,13 @@ from numpy.lib import format as npf
 from .. import io as _io  # read_case looked up at call time (callers may substitute it)
 from ..physics.catalogue import bearing_geometry  # the one resolver of bearing names
 
-__all__ = ["SUFFIXES", "MEMORY_FACTOR", "read_record", "sniff_csv", "read_manifest",
-           "collect_records", "check_memory"]
+#: The channel read from a record holding several when none is named: the drive end (CWRU's
+#: ``X###_DE_time``), and the signal read from a simulated case file: the peak pressure.
+DEFAULT_CHANNEL = "DE"
+DEFAULT_SIGNAL = "p_max"
+
+__all__ = ["DEFAULT_CHANNEL", "DEFAULT_SIGNAL", "SUFFIXES", "MEMORY_FACTOR", "read_record",
+           "sniff_csv", "read_manifest", "collect_records", "check_memory"]
 
 #: File types :func:`read_record` reads.
 SUFFIXES = (".csv", ".npy", ".npz", ".mat", ".wav", ".h5", ".hdf5")
@@ -611,7 +616,8 @@ def _read_case(path, signal) -> dict:
 
 
 # --------------------------------------------------------------------------------- entry
-def read_record(path: str, *, column=None, channel: str = "DE", signal: str = "p_max",
+def read_record(path: str, *, column=None, channel: str = DEFAULT_CHANNEL,
+                signal: str = DEFAULT_SIGNAL,
                 delimiter: str | None = None, decimal: str | None = None) -> dict:
     """Read one record and what the file says about it.
 

@@ -15,7 +15,8 @@
 - :mod:`.exposure`: the loads a defect meets, before any solve;
 - :mod:`.history`: the case's tables and signals from its location, :func:`~.history.simulate`;
 - :mod:`.pit`: when the bottom of a pit carries load;
-- :mod:`.transfer`: the structural path to a synthetic accelerometer.
+- :mod:`.transfer`: the structural path to a synthetic accelerometer;
+- :mod:`.dynamics`: the dynamic lumped-parameter bearing (docs/dynamics.md).
 
 Nothing here imports from the layers above (signal, diagnosis, io, study, cli).
 """

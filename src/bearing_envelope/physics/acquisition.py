@@ -10,11 +10,12 @@ import numpy as np
 
 from .fidelity import Fidelity
 from .kernels import HAVE_NUMBA, decimate_kernel
-from .scene import Scene
+from .scene import DEFAULT_SCENE, Scene
 from .solves import window_spec
 
 __all__ = ["antialias_filter", "antialias_undershoot", "kaiser_beta", "kaiser_lowpass", "decimate_centred", "auto_oversample", "acquire", "add_noise",
-           "acquisition_settings", "ANTIALIAS_PASS", "ANTIALIAS_STOP", "ANTIALIAS_ATTEN_DB",
+           "acquisition_settings", "signal_bounds", "clip_to_bounds",
+           "ANTIALIAS_PASS", "ANTIALIAS_STOP", "ANTIALIAS_ATTEN_DB",
            "ACQUISITION_BLOCK"]
 
 
@@ -201,9 +202,12 @@ def auto_oversample(scene: Scene, fidelity: Fidelity) -> int:
 
 
 def acquire(evaluate: Callable[[np.ndarray], dict], n_samples: int, fs: float, *,
-            mode: str = "antialiased", oversample: int = 1, filtered: tuple[str, ...] | None = None,
+            mode: str = DEFAULT_SCENE["operation"]["acquisition"]["mode"], oversample: int = 1,
+            filtered: tuple[str, ...] | None = None,
             block: int = ACQUISITION_BLOCK,
-            ranges: dict[str, list[float]] | None = None) -> dict[str, np.ndarray]:
+            ranges: dict[str, list[float]] | None = None,
+            bounds: dict[str, tuple[float, float]] | None = None,
+            clipped: dict[str, dict] | None = None) -> dict[str, np.ndarray]:
     """Sample signals given as functions of time at ``fs``: point samples or anti-aliased.
 
     Parameters
@@ -231,6 +235,14 @@ def acquire(evaluate: Callable[[np.ndarray], dict], n_samples: int, fs: float, *
         signal that is ``>= 0`` internally can undershoot 0 near sharp features, by at most
         ``max x sum(-h[h < 0])`` (:func:`antialias_undershoot`); these ranges let a caller check
         the physics (``p >= 0``) on the internal samples and the filter bound on the output.
+    bounds : dict, optional
+        ``name -> (lo, hi)``: the physical range of a filtered signal (:func:`signal_bounds`).
+        The filter's ringing on a feature the physics clips (a pressure capped at the hardness,
+        a contact that unloads to 0) overshoots that range; each output is clipped back into
+        it after the filter (:func:`clip_to_bounds`).
+    clipped : dict, optional
+        Filled with ``name -> {"samples": count, "max_excess": largest distance clipped}`` for
+        every bounded signal (counts 0 included), so the clipping is reported, never silent.
 
     Returns
     -------
@@ -260,11 +272,78 @@ def acquire(evaluate: Callable[[np.ndarray], dict], n_samples: int, fs: float, *
             if filtered is not None and name not in filtered:
                 out[name][m0:m1] = x[c::n][: m1 - m0]
             else:
-                out[name][m0:m1] = decimate_centred(h, x, n, m1 - m0)
+                y = decimate_centred(h, x, n, m1 - m0)
+                if bounds is not None and name in bounds:
+                    y = clip_to_bounds(y, bounds[name], clipped, name)
+                out[name][m0:m1] = y
                 if ranges is not None and x.size:
                     lo, hi = ranges.get(name, [math.inf, -math.inf])
                     ranges[name] = [min(lo, float(x.min())), max(hi, float(x.max()))]
     return out
+
+
+def signal_bounds(scene: Scene) -> dict[str, tuple[float, float]]:
+    """The physical range of each filtered contact signal a case records.
+
+    A contact pressure lies in ``[0, H]`` (``H`` the hardness bound of every solve,
+    ``material.hardness_GPa``; no upper bound for an elastic surface); the contact force and
+    area are ``>= 0``. ``removed_force``, ``approach`` and ``approach_change`` have no bound
+    the physics fixes, and are not clipped.
+
+    Parameters
+    ----------
+    scene : Scene
+        The case's scene (its hardness).
+
+    Returns
+    -------
+    dict
+        ``name -> (lo, hi)`` in the signal's SI unit (Pa, N, m^2).
+    """
+    cap = scene.material.hardness_pa
+    p = (0.0, math.inf if cap is None else float(cap))
+    return {"p_max": p, "p_max_defect": p, "contact_force": (0.0, math.inf),
+            "contact_area": (0.0, math.inf)}
+
+
+def clip_to_bounds(y: np.ndarray, bound: tuple[float, float], clipped: dict | None = None,
+                   name: str = "") -> np.ndarray:
+    """``y`` clipped into ``bound``, the count and the largest excess added to ``clipped``.
+
+    The anti-alias filter is linear with negative taps: on a peak the physics flattens at ``H``
+    or a load that falls to 0 its output rings past the bound by up to
+    :func:`antialias_undershoot` times the peak (0.6 % over ``H``, 1.6 % of ``H`` below 0 on
+    the CWRU pits at ``standard``). A recorded pressure must stay a pressure, so the filtered
+    samples are clipped (filter, then clip: no filter without negative taps keeps an 80 dB
+    stop band from 0.5 fs with a pass band to 0.4 fs). The change at a clipped sample is at
+    most that ringing; the count says how many samples carry it.
+
+    Parameters
+    ----------
+    y : numpy.ndarray
+        Filtered samples.
+    bound : tuple of float
+        ``(lo, hi)``, ``lo <= hi`` (either may be infinite).
+    clipped : dict, optional
+        ``name -> {"samples": int, "max_excess": float}``, accumulated over calls.
+    name : str
+        The signal's key in ``clipped``.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``numpy.clip(y, lo, hi)`` (``y`` itself when nothing lies outside).
+    """
+    lo, hi = float(bound[0]), float(bound[1])
+    excess = np.maximum(lo - y, y - hi)
+    outside = excess > 0
+    k = int(np.count_nonzero(outside))
+    if clipped is not None:
+        rec = clipped.setdefault(name, {"samples": 0, "max_excess": 0.0})
+        rec["samples"] += k
+        if k:
+            rec["max_excess"] = max(rec["max_excess"], float(excess[outside].max()))
+    return np.clip(y, lo, hi) if k else y
 
 
 def antialias_undershoot(oversample: int) -> float:

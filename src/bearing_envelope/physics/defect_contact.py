@@ -44,7 +44,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..contact import ContactConvergenceError, ElasticHalfSpace, hertz, solve_contact
-from .fidelity import Fidelity, fidelity_from
+from .fidelity import DEFAULT_PRESET, Fidelity, fidelity_from
 from .geometry import Grid, axial_separation, defect_depth, gap_field, good_size, make_grid
 from .loads import ELEMENT_DENSITY_KG_M3, centrifugal_force, scene_load_distribution
 from .scene import Scene
@@ -598,7 +598,7 @@ def _sweep(stats: SolveStats, scene: Scene, fid: Fidelity, grid: Grid, g0: np.nd
     return force
 
 
-def build_defect_table(scene: Scene, fidelity: "str | Fidelity | dict" = "standard", *,
+def build_defect_table(scene: Scene, fidelity: "str | Fidelity | dict" = DEFAULT_PRESET, *,
                        race: str | None = None, delta_max_m: float | None = None,
                        delta_m=None, x_m=None, load_factor: float = LOAD_FACTOR,
                        n_checks: int | None = None, seed: int = 0) -> DefectContactTable:
@@ -894,7 +894,7 @@ TABLE_CACHE_SIZE = 16
 _TABLES: "dict[tuple, DefectContactTable]" = {}
 
 
-def defect_table(scene: Scene, fidelity: "str | Fidelity | dict" = "standard", *,
+def defect_table(scene: Scene, fidelity: "str | Fidelity | dict" = DEFAULT_PRESET, *,
                  race: str | None = None) -> DefectContactTable:
     """:func:`build_defect_table` with its defaults, kept per process: the key is everything
     the table reads (the bearing, the materials, the pit, the fidelity, the race and the

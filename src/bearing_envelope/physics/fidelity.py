@@ -39,6 +39,8 @@ import math
 from dataclasses import dataclass
 from typing import Any, Mapping
 
+from ..contact.halfspace import DEFAULT_ELEMENT
+
 __all__ = ["Fidelity", "PRESETS", "DEFAULT_PRESET", "fidelity_from"]
 
 
@@ -148,7 +150,7 @@ class Fidelity:
     n_checks: int = 2
     n_snapshot_offsets: int = 3
     use_symmetry: bool = True
-    element: str = "uniform"
+    element: str = DEFAULT_ELEMENT
     rim_dx_um: float | None = 0.5
     rim_strip_um: float = 20.0
     end_dy_um: float | None = None
@@ -374,7 +376,7 @@ def fidelity_from(spec: str | Mapping[str, Any] | Fidelity | None = None) -> Fid
     if not isinstance(spec, Mapping):
         raise ValueError(f"fidelity must be a preset name or a mapping, got {spec!r}")
     spec = dict(spec)
-    preset = spec.pop("preset", "standard")
+    preset = spec.pop("preset", DEFAULT_PRESET)
     if preset not in PRESETS:
         raise ValueError(f"fidelity.preset: unknown preset {preset!r}; allowed: {sorted(PRESETS)}")
     known = {f.name for f in dataclasses.fields(Fidelity)}

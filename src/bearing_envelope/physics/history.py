@@ -67,7 +67,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .acquisition import acquire, acquisition_settings, add_noise, antialias_undershoot
+from .acquisition import (acquire, acquisition_settings, add_noise, antialias_undershoot,
+                          signal_bounds)
 from .exposure import exposure, exposure_line
 from .fidelity import Fidelity, fidelity_from
 from .geometry import hertz_estimate
@@ -204,8 +205,9 @@ def synthesize_case(scene: Scene, table: PressureTable, ld: LoadDistribution,
     signals : dict of str to ndarray
         Every signal at ``fs``, each of shape ``(n,)``.
     acquisition : dict
-        The settings used; for ``antialiased`` also ``internal_range`` and
-        ``undershoot_bound``.
+        The settings used; for ``antialiased`` also ``internal_range``, ``undershoot_bound``
+        and ``clipped`` (the samples the filter rang past a physical bound, clipped back:
+        :func:`~bearing_envelope.physics.acquisition.clip_to_bounds`).
     """
     op = scene.operation
     acq = acquisition or acquisition_settings(scene, fidelity)
@@ -216,10 +218,12 @@ def synthesize_case(scene: Scene, table: PressureTable, ld: LoadDistribution,
         return evaluate_signals(scene, table, ld, t, t_end=t_end, use_numba=use_numba)
 
     ranges: dict[str, list[float]] = {}
+    clipped: dict[str, dict] = {}
     sig = acquire(ev, n, op.fs_hz, mode=acq["mode"], oversample=acq["oversample"],
-                  filtered=CONTACT_SIGNALS, ranges=ranges)
+                  filtered=CONTACT_SIGNALS, ranges=ranges, bounds=signal_bounds(scene),
+                  clipped=clipped)
     if acq["mode"] == "antialiased":
-        acq = {**acq, "internal_range": ranges,
+        acq = {**acq, "internal_range": ranges, "clipped": clipped,
                "undershoot_bound": antialias_undershoot(acq["oversample"])}
     return np.arange(n) / op.fs_hz, sig, acq
 

@@ -32,10 +32,14 @@ from dataclasses import dataclass
 
 from ..checks import check_positive
 
-__all__ = ["FaultFrequencies", "fault_frequencies", "bearing_rates", "spin_events", "RATE_NAMES"]
+__all__ = ["FaultFrequencies", "fault_frequencies", "bearing_rates", "spin_events", "RATE_NAMES",
+           "RADIAL_CONTACT_ANGLE_DEG"]
 
 #: The rates :func:`bearing_rates` returns, in order.
 RATE_NAMES = ("fr", "bpfi", "bpfo", "ftf", "bsf", "bsf2")
+
+#: Contact angle (deg) when none is given: a radial (deep-groove) bearing, 0 deg.
+RADIAL_CONTACT_ANGLE_DEG = 0.0
 
 
 @dataclass(frozen=True)
@@ -89,7 +93,7 @@ def fault_frequencies(
     n_rollers: int,
     roller_diameter: float,
     pitch_diameter: float,
-    contact_angle_deg: float = 0.0,
+    contact_angle_deg: float = RADIAL_CONTACT_ANGLE_DEG,
 ) -> FaultFrequencies:
     """Fault frequencies of a bearing with rotating inner ring.
 
@@ -141,7 +145,7 @@ def spin_events(bsf: float) -> float:
 
 
 def bearing_rates(fr: float, n_rollers: int, roller_diameter: float, pitch_diameter: float,
-                  contact_angle_deg: float = 0.0, *, bpfi: float | None = None
+                  contact_angle_deg: float = RADIAL_CONTACT_ANGLE_DEG, *, bpfi: float | None = None
                   ) -> dict[str, float]:
     """Every rate of a bearing with a rotating inner ring: the one builder of fault frequencies.
 

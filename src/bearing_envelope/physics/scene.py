@@ -68,7 +68,8 @@ __all__ = [
     "EndRelief", "Bearing", "MaterialProps", "Material", "Acquisition", "Operation", "Load",
     "Defect", "Scene", "ACQUISITION_MODES", "ROLLER_LOAD_MODELS", "BEARING_STEEL_HARDNESS_GPA",
     "DEFAULT_SCENE", "default_scene_mapping", "MAX_BAND_ORDER", "DEFECT_LOCATIONS", "DEFECT_SHAPES",
-    "BEARING_KINDS", "DEFAULT_GROOVE_CONFORMITY", "STUDY_DESIGNATION",
+    "BEARING_KINDS", "DEFAULT_GROOVE_CONFORMITY", "STUDY_DESIGNATION", "STEEL_E_GPA", "STEEL_NU",
+    "MAX_CONTACT_ANGLE_DEG", "WIDTH_PER_DEPTH", "default_width_um",
 ]
 
 #: The analysis needs bands up to 13 x BPFI (the study's 10-13 x BPFI band); fs must exceed
@@ -91,14 +92,19 @@ _BEARING_EXTRA = {
     "outer_groove_conformity": None,
 }
 
+#: Young's modulus (GPa) and Poisson ratio of through-hardened bearing steel (AISI 52100 /
+#: 100Cr6): both bodies' material when a config names none.
+STEEL_E_GPA = 210.0
+STEEL_NU = 0.3
+
 #: The default scene: the study's bearing from its catalogue entry (``designation`` null means
 #: this bearing) and the defaults of every other section, written here only (the config schema
 #: holds no scene default; ``tests/test_defaults.py``).
 DEFAULT_SCENE: dict[str, Any] = {
     "bearing": {**_BEARING_EXTRA, **bearing_values(STUDY_DESIGNATION), "designation": None},
     "material": {
-        "roller": {"E_GPa": 210.0, "nu": 0.3},
-        "race": {"E_GPa": 210.0, "nu": 0.3},
+        "roller": {"E_GPa": STEEL_E_GPA, "nu": STEEL_NU},
+        "race": {"E_GPa": STEEL_E_GPA, "nu": STEEL_NU},
         "hardness_GPa": None,
     },
     "operation": {
@@ -222,8 +228,8 @@ class EndRelief:
         Length of the logarithmic relief zone at each end (``kind = log``), mm, 0 < l < L/2.
     """
 
-    kind: str = "radius"
-    radius_mm: float | None = 1.0
+    kind: str
+    radius_mm: float | None
     drop_um: float | None = None
     length_mm: float | None = None
 
@@ -245,7 +251,7 @@ class Bearing:
     pitch_diameter_mm : float
         Pitch diameter ``D``, mm; ``None`` in the mapping means ``(bore + OD)/2``.
     contact_angle_deg : float
-        Contact angle ``alpha``, degrees, in [0, 90).
+        Contact angle ``alpha``, degrees, in [0, 45] (:data:`MAX_CONTACT_ANGLE_DEG`).
     roller_crown_radius_mm : float
         Roller profile (crown) radius ``c_r`` (convex), mm.
     raceway_profile_radius_mm : float
@@ -290,7 +296,7 @@ class Bearing:
     radial_clearance_um: float
     profile_file: str | None
     designation: str | None = None
-    kind: str = "roller"
+    kind: str = _BEARING_EXTRA["kind"]
     outer_raceway_profile_radius_mm: float | None = None
     inner_groove_conformity: float | None = None
     outer_groove_conformity: float | None = None
@@ -438,11 +444,11 @@ class Bearing:
 class MaterialProps:
     """Young's modulus ``E_GPa`` (GPa) and Poisson ratio ``nu`` of one body."""
 
-    E_GPa: float = 210.0
-    nu: float = 0.3
+    E_GPa: float = STEEL_E_GPA
+    nu: float = STEEL_NU
 
 
-#: Indentation hardness of through-hardened bearing steel (AISI 52100 / 100Cr6, 60-62 HRC): the
+#: Indentation hardness of through-hardened bearing steel (AISI 52100 / 100Cr6, ~62 HRC): the
 #: Vickers hardness HV 10 = 750 kgf/mm^2 (ASTM E140: 61 HRC ~ 720 HV, 62 HRC ~ 746 HV) is
 #: HV * g = 7.36 GPa, the mean pressure under a Vickers indenter. An elastic-perfectly-plastic
 #: surface caps the contact pressure at it (``material.hardness_GPa``). ISO 76's 4.0 GPa (the
@@ -503,8 +509,8 @@ class Acquisition:
         Ignored for ``point``.
     """
 
-    mode: str = "antialiased"
-    oversample: int | str = "auto"
+    mode: str = DEFAULT_SCENE["operation"]["acquisition"]["mode"]
+    oversample: int | str = DEFAULT_SCENE["operation"]["acquisition"]["oversample"]
 
 
 @dataclass(frozen=True)
@@ -567,9 +573,9 @@ class Load:
     """
 
     value_N: float
-    mode: str = "bearing"
-    roller_load: str = "smooth"
-    centrifugal: bool = False
+    mode: str = DEFAULT_SCENE["load"]["mode"]
+    roller_load: str = DEFAULT_SCENE["load"]["roller_load"]
+    centrifugal: bool = DEFAULT_SCENE["load"]["centrifugal"]
 
     @property
     def load_kN(self) -> float:
@@ -627,11 +633,11 @@ class Defect:
     edge_radius_um: float
     axial_position_mm: float
     orientation: str
-    location: str = "inner_race"
-    position_deg: float = 0.0
+    location: str = DEFAULT_SCENE["defect"]["location"]
+    position_deg: float = DEFAULT_SCENE["defect"]["position_deg"]
     profile_file: str | None = None
-    spin_axis: str = "fixed"
-    spin_seed: int = 0
+    spin_axis: str = DEFAULT_SCENE["defect"]["spin_axis"]
+    spin_seed: int = DEFAULT_SCENE["defect"]["spin_seed"]
 
     @property
     def extent_x_m(self) -> float:
@@ -867,7 +873,9 @@ def _build_bearing(m: Mapping[str, Any]) -> Bearing:
     pd = 0.5 * (bore + od) if pd is None else _num(
         p + "pitch_diameter_mm", pd, lo=bore + d, hi=od - d,
         allowed=f"null or a number in [bore + d, OD - d] = [{bore + d:g}, {od - d:g}]")
-    alpha = _num(p + "contact_angle_deg", m["contact_angle_deg"], lo=0, hi=90, hi_open=True)
+    alpha = _num(p + "contact_angle_deg", m["contact_angle_deg"], lo=0, hi=MAX_CONTACT_ANGLE_DEG,
+                 allowed=f"a finite angle in [0, {MAX_CONTACT_ANGLE_DEG:g}] deg (a radial bearing: "
+                         f"the load distribution balances a radial load only)")
     if z * d >= math.pi * pd:
         raise _bad(p + "rollers_per_row", z,
                    f"rollers that fit on the pitch circle: Z * d < pi * D ({math.pi * pd / d:.1f})")
@@ -898,6 +906,16 @@ def _build_bearing(m: Mapping[str, Any]) -> Bearing:
             raise _bad(p + "profile_file", pf, f"deviations smaller than the roller radius "
                        f"({500 * d:g} um; this file has {1e6 * worst:.4g} um)")
     return Bearing(bore, od, d, z, rows, pd, alpha, cr, ci, length, relief, clearance, pf, **extra)
+
+
+#: Largest contact angle (deg) of the bearings the load distribution describes. It balances a
+#: radial load alone (:func:`bearing_envelope.physics.loads.solve_row`), each element carrying
+#: ``Q cos(alpha)`` of it: the ring's displacement grows as ``cos(alpha)^(-(n+1)/n)`` and has no
+#: solution at 90 deg (at 89.99 deg the 6205 at 1 kN would need a displacement over 1 m). ISO 76 /
+#: ISO 281 call a bearing radial up to 45 deg and a thrust bearing above, where the induced axial
+#: load exceeds the radial one and a radial-only equilibrium no longer describes the bearing; up
+#: to 45 deg the displacement is at most 2^((n+1)/(2n)) (1.8-1.9) times that at 0 deg.
+MAX_CONTACT_ANGLE_DEG = 45.0
 
 
 #: Largest radial clearance, as a fraction of the rolling-element diameter: ISO 5753 groups
@@ -1001,6 +1019,27 @@ SPIN_AXES = ("fixed", "wandering")
 DEFECT_SHAPES = ("flat", "dent", "cylinder", "profile")
 
 
+#: A defect's width when ``defect.width_um`` is null, per unit of its depth (the source study's
+#: defects are twice as wide as they are deep).
+WIDTH_PER_DEPTH = 2.0
+
+
+def default_width_um(depth_um: float) -> float:
+    """The width of a defect whose ``width_um`` is null: :data:`WIDTH_PER_DEPTH` x depth.
+
+    Parameters
+    ----------
+    depth_um : float
+        Defect depth, um.
+
+    Returns
+    -------
+    float
+        Width, um.
+    """
+    return WIDTH_PER_DEPTH * depth_um
+
+
 def _names_where(attribute: str) -> str:
     """The registered locations whose ``attribute`` is true, quoted, joined by ``or``."""
     return " or ".join(repr(n) for n in location_names() if getattr(get_location(n), attribute))
@@ -1011,7 +1050,8 @@ def _build_defect(m: Mapping[str, Any], depth_um: float, bearing: Bearing) -> De
     depth = _num(p + "depth_um", depth_um, lo=0)
     shape = _choice(p + "shape", m["shape"], DEFECT_SHAPES)
     width = m["width_um"]
-    width = 2.0 * depth if width is None else _num(p + "width_um", width, lo=0, lo_open=True)
+    width = default_width_um(depth) if width is None else _num(p + "width_um", width, lo=0,
+                                                                  lo_open=True)
     # a cylindrical pit is round: its length is its diameter
     length = width if shape == "cylinder" else _num(p + "length_um", m["length_um"], lo=0,
                                                         lo_open=True)

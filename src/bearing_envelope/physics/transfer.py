@@ -41,7 +41,7 @@ from __future__ import annotations
 import json
 import math
 from collections.abc import Mapping, Sequence
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass, field, fields
 from typing import Any
 
 import numpy as np
@@ -57,6 +57,7 @@ __all__ = [
     "NoiseSpec",
     "Tone",
     "TransferModel",
+    "sensor_defaults",
     "excitation_from_history",
     "select_excitation",
     "mode_sos",
@@ -169,7 +170,7 @@ class Mode:
             if key not in m:
                 raise ValueError(f"{where}.{key} is required")
         try:
-            return cls(m["f_n_hz"], m["zeta"], m.get("gain", 1.0))
+            return cls(m["f_n_hz"], m["zeta"], m.get("gain", cls.gain))
         except ValueError as exc:
             raise ValueError(f"{where}.{exc}") from None
 
@@ -454,6 +455,22 @@ class TransferModel:
             The model.
         """
         return cls.from_mapping(json.loads(text))
+
+
+def sensor_defaults() -> dict[str, Any]:
+    """The ``sensor:`` keys' defaults, read from :class:`TransferModel` and :class:`NoiseSpec`
+    (their one home; the config loader fills the schema's sensor defaults from here).
+
+    Returns
+    -------
+    dict
+        ``excitation``, ``excitation_scale``, ``discretization``, ``seed`` and
+        ``noise: {exact}``.
+    """
+    model = {f.name: f.default for f in fields(TransferModel)}
+    noise = {f.name: f.default for f in fields(NoiseSpec)}
+    return {**{k: model[k] for k in ("excitation", "excitation_scale", "discretization", "seed")},
+            "noise": {"exact": noise["exact"]}}
 
 
 # --------------------------------------------------------------------------------------------

@@ -23,7 +23,13 @@ from collections.abc import Mapping
 
 from .validation import check_fs, check_positive
 
+#: The ``fraction`` strategy's band when its edges are not given: fs/4 - 3 fs/8 (fractions of fs).
+FRACTION_BAND_LOW = 0.25
+FRACTION_BAND_HIGH = 0.375
+
 __all__ = [
+    "FRACTION_BAND_LOW",
+    "FRACTION_BAND_HIGH",
     "DEFAULT_BANDS",
     "NYQUIST_MARGIN",
     "band_fixed",
@@ -40,7 +46,8 @@ NYQUIST_MARGIN = 0.98
 #: The bands of the source study (a fixed band needs user values, so it is not a default).
 DEFAULT_BANDS = (
     {"name": "kurtogram", "strategy": "kurtogram"},
-    {"name": "fs4_3fs8", "strategy": "fraction", "low": 0.25, "high": 0.375},
+    {"name": "fs4_3fs8", "strategy": "fraction", "low": FRACTION_BAND_LOW,
+     "high": FRACTION_BAND_HIGH},
     {"name": "bpfi_3_6", "strategy": "orders", "low": 3, "high": 6, "base": "bpfi"},
     {"name": "bpfi_10_13", "strategy": "orders", "low": 10, "high": 13, "base": "bpfi"},
 )
@@ -150,7 +157,8 @@ def band_from_kurtogram(kurtogram, *, margin: float = NYQUIST_MARGIN):
     return (low, high), prov
 
 
-def band_fraction(fs: float, low: float = 0.25, high: float = 0.375, *, clamp: bool = False,
+def band_fraction(fs: float, low: float = FRACTION_BAND_LOW, high: float = FRACTION_BAND_HIGH, *,
+                  clamp: bool = False,
                   margin: float = NYQUIST_MARGIN):
     """Band ``[low fs, high fs]`` (default fs/4 - 3 fs/8); fractions in ``[0, 0.5]``.
 
@@ -299,7 +307,8 @@ def resolve_band(spec: Mapping, fs: float, *, kurtogram=None, frequencies: Mappi
             kg = kurtogram(spec.get("max_level"), spec.get("min_bandwidth"))
         band, prov = band_from_kurtogram(kg, margin=margin)
     elif strategy == "fraction":
-        band, prov = band_fraction(fs, spec.get("low", 0.25), spec.get("high", 0.375),
+        band, prov = band_fraction(fs, spec.get("low", FRACTION_BAND_LOW),
+                                   spec.get("high", FRACTION_BAND_HIGH),
                                    clamp=clamp, margin=margin)
     elif strategy == "orders":
         base = _need(spec, "base", name)

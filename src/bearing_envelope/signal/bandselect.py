@@ -26,13 +26,16 @@ import numpy as np
 from .bands import NYQUIST_MARGIN
 from .envelope import bandpass, envelope
 from .infogram import infogram
-from .kurtogram import max_kurtogram_level
+from .kurtogram import DEFAULT_NLEVEL, max_kurtogram_level
 from .validation import check_fs, check_positive, check_signal
 
-__all__ = ["infogram_band", "protrugram_band", "tree_cells"]
+__all__ = ["infogram_band", "protrugram_band", "tree_cells", "NO_MIN_BANDWIDTH"]
+
+#: Narrowest band a selection may return (Hz) when none is named: no limit.
+NO_MIN_BANDWIDTH = 0.0
 
 
-def tree_cells(fs: float, max_level: float, min_bandwidth: float = 0.0):
+def tree_cells(fs: float, max_level: float, min_bandwidth: float = NO_MIN_BANDWIDTH):
     """Cells ``(level, low, high)`` (Hz) of the 1/3-binary tree of the fast kurtogram up to
     ``max_level``: level ``k`` splits ``[0, fs/2]`` into ``2^k`` bands, level ``k + log2(3) - 1``
     into ``3 x 2^(k-1)``; only bands at least ``min_bandwidth`` Hz wide.
@@ -71,7 +74,8 @@ def _clip(low: float, high: float, fs: float) -> tuple[float, float]:
     return max(low, 0.0), min(high, NYQUIST_MARGIN * fs / 2.0)
 
 
-def infogram_band(x, fs: float, *, max_level: float = 8.0, min_bandwidth: float = 0.0):
+def infogram_band(x, fs: float, *, max_level: float = DEFAULT_NLEVEL,
+                  min_bandwidth: float = NO_MIN_BANDWIDTH):
     """The cell of the highest average spectral negentropy (Antoni 2016), the maps of
     :func:`~bearing_envelope.signal.infogram.infogram` (the kurtogram's filter bank).
 

@@ -30,7 +30,10 @@ from .validation import check_fs, check_signal
 sp_signal = lazy_module("scipy.signal")  # imported on first use (docs/architecture.md, lazy.py)
 sp_optimize = lazy_module("scipy.optimize")
 
-__all__ = ["cycle_rate", "synchronous_average", "burst_width", "element_windows",
+#: Half-width of the search around a nominal rate, as a fraction of it (+- 1 %).
+RATE_SEARCH = 0.01
+
+__all__ = ["RATE_SEARCH", "cycle_rate", "synchronous_average", "burst_width", "element_windows",
            "element_levels"]
 
 #: Fraction of the burst's peak (above the floor) below which a synchronous average counts as
@@ -63,7 +66,7 @@ def _magnitude(x: np.ndarray, fs: float, f: float) -> float:
     return float(abs(np.dot(x, ph)))
 
 
-def cycle_rate(x, fs: float, rate_hz: float, *, search: float = 0.01) -> float:
+def cycle_rate(x, fs: float, rate_hz: float, *, search: float = RATE_SEARCH) -> float:
     r"""The rate, near a nominal one, at which a signal repeats most strongly.
 
     Maximises :math:`|\sum_n (x_n - \bar x) e^{-2\pi i f n / f_s}|` over

@@ -6,7 +6,7 @@ import numpy as np
 from scipy import fft as sp_fft
 
 from .bands import NYQUIST_MARGIN, clamp_band
-from .spectrum import amplitude_spectrum
+from .spectrum import DEFAULT_WINDOW, amplitude_spectrum
 from .validation import check_fs, check_signal
 from ..lazy import lazy_module
 
@@ -150,7 +150,7 @@ def envelope_spectrum(
     band,
     *,
     squared: bool = False,
-    window="hann",
+    window=DEFAULT_WINDOW,
     order: int = DEFAULT_FILTER_ORDER,
     return_signal: bool = False,
     clamp: bool = False,

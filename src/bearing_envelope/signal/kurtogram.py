@@ -36,6 +36,8 @@ MIN_DEEPEST_SAMPLES = 2**_DEEPEST_LOG2
 #: Binary levels computed when ``nlevel`` is not given (the published default), if the signal
 #: is long enough.
 DEFAULT_NLEVEL = 8
+#: The kurtogram's level 0 when not named: the analytic signal (``"real"``: the real input).
+DEFAULT_LEVEL0 = "analytic"
 #: Centre of the band of the real input, ``[0, 1/2]`` cycles/sample.
 _REAL_INPUT_CENTRE = 0.25
 #: Shift (cycles/sample, at the parent's rate) from a node's centre to the centres of its
@@ -356,7 +358,7 @@ def fast_kurtogram(
     max_level: float | None = None,
     min_bandwidth: float | None = None,
     demean: bool = True,
-    level0: str = "analytic",
+    level0: str = DEFAULT_LEVEL0,
 ) -> Kurtogram:
     r"""Fast kurtogram of a signal (Antoni 2007, 1/3-binary filter-bank tree).
 

@@ -31,7 +31,7 @@ import numpy as np
 from scipy import fft as sp_fft
 
 from .envelope import envelope_spectrum
-from .spectrum import prewhiten
+from .spectrum import DEFAULT_WINDOW, prewhiten
 from .validation import check_fs, check_positive, check_signal
 from ..lazy import lazy_module
 
@@ -113,7 +113,7 @@ def discrete_random_separation(x, fs: float, *, delay_s: float | None = None,
     return discrete, x - discrete
 
 
-def prewhitened_ses(x, fs: float, *, window="hann"):
+def prewhitened_ses(x, fs: float, *, window=DEFAULT_WINDOW):
     """Squared envelope spectrum of the cepstrum-pre-whitened signal, full band (Smith &
     Randall 2015, method 2).
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from .kurtogram import fast_kurtogram
+from .spectrum import DEFAULT_WINDOW
 from .validation import check_fs, check_signal
 from ..lazy import lazy_module
 
@@ -19,7 +20,7 @@ def spectral_kurtosis(
     nperseg: int | None = None,
     *,
     overlap: float = 0.8,
-    window="hann",
+    window=DEFAULT_WINDOW,
     nlevel: int | None = None,
     return_frames: bool = False,
 ):

@@ -15,8 +15,12 @@ from ..lazy import lazy_module
 
 sp_signal = lazy_module("scipy.signal")  # imported on first use (docs/architecture.md, lazy.py)
 
-__all__ = ["TOLERANCE_FRACTION", "TOLERANCE_MAX_SPACING", "TOLERANCE_MIN_BINS",
+__all__ = ["DEFAULT_WINDOW", "TOLERANCE_FRACTION", "TOLERANCE_MAX_SPACING", "TOLERANCE_MIN_BINS",
            "amplitude_spectrum", "amplitude_at", "default_tolerance", "prewhiten"]
+
+#: The analysis window of every spectrum (Hann: an amplitude-correct peak with an equivalent
+#: noise bandwidth of 1.5 bins), unless a caller names another.
+DEFAULT_WINDOW = "hann"
 
 
 def _window(window, n: int) -> np.ndarray:
@@ -43,7 +47,7 @@ def _named_window(window, n: int) -> np.ndarray:
     return w
 
 
-def amplitude_spectrum(x, fs: float, *, window="hann", detrend: bool = False, workers=None,
+def amplitude_spectrum(x, fs: float, *, window=DEFAULT_WINDOW, detrend: bool = False, workers=None,
                        fmax_hz: float | None = None):
     r"""One-sided amplitude spectrum with amplitude-correct scaling.
 
@@ -183,7 +187,7 @@ def amplitude_at(
     tolerance: float,
     *,
     interpolate: bool = False,
-    window="hann",
+    window=DEFAULT_WINDOW,
     n: int | None = None,
 ) -> tuple[float, float]:
     r"""Largest spectral line within ``target +- tolerance``.

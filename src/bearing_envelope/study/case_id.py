@@ -23,7 +23,7 @@ from typing import Any
 import numpy as np
 
 from ..physics.locations import LOCATIONS, get_location
-from ..physics.scene import DEFAULT_SCENE, Scene
+from ..physics.scene import DEFAULT_SCENE, Scene, default_width_um
 
 __all__ = ["CaseId", "format_number", "CASE_NAME_REGEX", "LOCATION_CODES"]
 
@@ -200,7 +200,7 @@ class CaseId:
         defect = (getattr(case, "scene", None) or {}).get("defect") or {}
         width = defect.get("width_um")
         depth = float(case.depth_um)
-        if width is None or depth == 0 or float(width) == 2.0 * depth:
+        if width is None or depth == 0 or float(width) == default_width_um(depth):
             width = None
         location = defect.get("location")
         if location == DEFAULT_SCENE["defect"]["location"]:

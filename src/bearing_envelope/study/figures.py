@@ -29,11 +29,21 @@ import pandas as pd  # noqa: E402
 from matplotlib.colors import to_rgb  # noqa: E402
 
 from ..diagnosis.faults import display_name  # noqa: E402
+from ..diagnosis.plots import FIGURE_DPI  # noqa: E402
 from ..io import atomic_dir, read_case  # noqa: E402
 from ..physics.locations import get_location  # noqa: E402
 from ..signal import spectral_kurtosis  # noqa: E402
 from .pipeline import case_fault_lines  # noqa: E402
 from .tables import public_mode  # noqa: E402
+
+#: What the peak-pressure figure's note says of the grid when the caller does not name it.
+GRID_NOTE = "stored in each case file"
+#: Harmonic orders of the amplitude-against-depth figure.
+ORDERS_VS_DEPTH = (1, 2)
+#: Fault periods shown by the time-history figure.
+TIME_HISTORY_PERIODS = 6.0
+#: The fault line a figure names when the caller does not (the inner race's, the study's).
+LINE_NAME = "BPFI"
 
 __all__ = [
     "STUDY_EXAMPLES",
@@ -136,7 +146,7 @@ def _note(fig, case, y=-0.02):
              fontsize=8, wrap=True, style="italic")
 
 
-def save_figure(fig, path: str | os.PathLike, dpi: int = 120) -> Path:
+def save_figure(fig, path: str | os.PathLike, dpi: int = FIGURE_DPI) -> Path:
     """Save ``fig`` as PNG through a temporary file and close it.
 
     Parameters
@@ -219,7 +229,7 @@ def _family_title(quantities, prefix: str) -> str:
     return " / ".join(FAMILY_TITLES.get(f, f) for f in fams) or "BPFI"
 
 
-def draw_peak_pressure(cases: pd.DataFrame, *, grid: str = "stored in each case file"):
+def draw_peak_pressure(cases: pd.DataFrame, *, grid: str = GRID_NOTE):
     """Fig. 6: peak contact pressure against depth, one line per load (whole contact and defect).
 
     ``grid`` is printed in the elastic/grid-dependence note under the panels.
@@ -255,7 +265,7 @@ def draw_peak_pressure(cases: pd.DataFrame, *, grid: str = "stored in each case 
     return fig
 
 
-def fig_peak_pressure(cases: pd.DataFrame, path, *, grid: str = "stored in each case file") -> Path:
+def fig_peak_pressure(cases: pd.DataFrame, path, *, grid: str = GRID_NOTE) -> Path:
     """Fig. 6 (:func:`draw_peak_pressure`) saved as PNG.
 
     Parameters
@@ -275,7 +285,7 @@ def fig_peak_pressure(cases: pd.DataFrame, path, *, grid: str = "stored in each 
     return save_figure(draw_peak_pressure(cases, grid=grid), path)
 
 
-def fig_harmonics_vs_depth(tidy: pd.DataFrame, band: str, path, *, orders=(1, 2)) -> Path:
+def fig_harmonics_vs_depth(tidy: pd.DataFrame, band: str, path, *, orders=ORDERS_VS_DEPTH) -> Path:
     """Figs 12-20: envelope harmonic amplitudes k x BPFI against depth, one line per load
     (k x each location's fault frequency, one line per location and load, in a location sweep).
 
@@ -472,7 +482,7 @@ def fig_pressure_maps(pairs, path) -> Path:
     return save_figure(draw_pressure_maps(pairs), path)
 
 
-def draw_time_histories(pairs, *, periods: float = 6.0):
+def draw_time_histories(pairs, *, periods: float = TIME_HISTORY_PERIODS):
     """Fig. 5: p_max(t), one shaft revolution and a zoom on the largest defect event.
 
     Parameters
@@ -525,7 +535,7 @@ def _darker(colour: str) -> tuple:
     return tuple(0.55 * c for c in to_rgb(colour))
 
 
-def fig_time_histories(pairs, path, *, periods: float = 6.0) -> Path:
+def fig_time_histories(pairs, path, *, periods: float = TIME_HISTORY_PERIODS) -> Path:
     """Fig. 5 (:func:`draw_time_histories`) saved as PNG.
 
     Parameters
@@ -551,7 +561,7 @@ def _spectra(spectra_file):
 
 
 def fig_raw_spectrum(spectra_file, case: str, fr: float, bpfi: float, path, *, fmax=None,
-                     line_name: str = "BPFI") -> Path:
+                     line_name: str = LINE_NAME) -> Path:
     """Fig. 7: raw amplitude spectrum of one case with k x fr and k x BPFI marked (``bpfi``:
     the case's fault frequency, named ``line_name``: BPFO, 2xBSF for other locations).
 
@@ -703,7 +713,7 @@ def fig_kurtogram(kurtogram_file, case: str, path, *, signal=None, fs=None, nper
 
 
 def fig_envelope_spectrum(spectra_file, case: str, band: str, fr: float, bpfi: float, path, *,
-                          n_harmonics: int = 3, n_sidebands: int = 2, line_name: str = "BPFI",
+                          n_harmonics: int, n_sidebands: int, line_name: str = LINE_NAME,
                           spacing_name: str = "fr") -> Path:
     """Fig. 11: envelope spectrum of one case and band, BPFI harmonics and fr sidebands marked
     (another location: its fault frequency ``bpfi`` named ``line_name`` and its sideband
@@ -841,7 +851,7 @@ def _fig_raw_terms(raw: pd.DataFrame, path) -> Path:
 
 
 def draw_diagnosability_map(g: pd.DataFrame, band: str, *, vmax: float | None = None,
-                            line_name: str = "BPFI"):
+                            line_name: str = LINE_NAME):
     """Heat map of the BPFI detection statistic of one band: one panel per load, depth x SNR
     cells coloured by the statistic (dB) and marked where detected. Panels share the SNR axis,
     labelled once, so no label runs into the next panel. ``line_name``: the fault line tested

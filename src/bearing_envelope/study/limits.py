@@ -23,6 +23,7 @@ import numpy as np
 from collections.abc import Mapping
 from dataclasses import dataclass
 
+from ..diagnosis.detection import EXCLUDED_SIDEBANDS
 from ..physics.acquisition import auto_oversample
 from ..physics.loads import scene_load_distribution
 from ..physics.solves import window_spec
@@ -331,7 +332,7 @@ MIN_BAND_BINS = 2
 
 #: Sidebands of the fault line excluded from the detection map's background (the default of
 #: :func:`bearing_envelope.diagnosis.detection.detection_statistic`, which the map uses).
-_MAP_SIDEBANDS = 3
+_MAP_SIDEBANDS = EXCLUDED_SIDEBANDS
 
 
 def _location_scenes(settings) -> dict:

@@ -28,6 +28,9 @@ import pandas as pd
 from ..io import atomic_path
 from ..physics.scene import DEFAULT_SCENE
 
+#: Label of a table set read without one.
+DEFAULT_LABEL = "default"
+
 __all__ = ["Finding", "Tables", "read_tables", "flat_band", "findings", "compare", "render_markdown",
            "render_html", "write_page"]
 
@@ -67,7 +70,7 @@ class Tables:
     cases: pd.DataFrame
     harmonics: pd.DataFrame
     bands: pd.DataFrame
-    label: str = "default"
+    label: str = DEFAULT_LABEL
 
 
 @dataclass(frozen=True)
@@ -103,7 +106,7 @@ class Finding:
 STUDY_LOCATION = DEFAULT_SCENE["defect"]["location"]
 
 
-def read_tables(cases, harmonics, bands, label: str = "default") -> Tables:
+def read_tables(cases, harmonics, bands, label: str = DEFAULT_LABEL) -> Tables:
     """Read the three CSV tables of a sweep; of a location sweep (tables with a ``location``
     column) only the study's location, the inner race, whose BPFI lines the findings read.
 

@@ -648,7 +648,7 @@ def _record_tests(case, sensor: TransferModel, analysis: AnalysisSettings, setup
 
 
 def case_diagnosability(case, sensor: TransferModel, analysis: AnalysisSettings,
-                        snr_db, *, reference=None, kurtogram_from: str = "clean") -> pd.DataFrame:
+                        snr_db, *, kurtogram_from: str, reference=None) -> pd.DataFrame:
     """Is BPFI detected in the synthetic acceleration of a case, per SNR and band strategy?
 
     The case's contact history goes through the transfer path of ``sensor`` (modes, noise at
@@ -679,7 +679,8 @@ def case_diagnosability(case, sensor: TransferModel, analysis: AnalysisSettings,
         is that of the whole response.
     kurtogram_from : {"clean", "record"}
         Where the bands come from (:func:`diagnosability_bands`): once per case from the
-        noise-free acceleration (default), or the kurtogram of each noisy record.
+        noise-free acceleration (the config's default, ``diagnosability.kurtogram_from``), or
+        the kurtogram of each noisy record.
 
     Returns
     -------
@@ -722,7 +723,7 @@ def _trial_seed(base: int, case, trial: int, snr: float) -> int:
 
 
 def case_false_alarms(case, sensor: TransferModel, analysis: AnalysisSettings, snr_db,
-                      n_trials: int, *, reference=None, kurtogram_from: str = "clean") -> pd.DataFrame:
+                      n_trials: int, *, kurtogram_from: str, reference=None) -> pd.DataFrame:
     """Measured false alarms of the detection map on a healthy case: ``n_trials`` noise
     realisations per SNR, each tested in every band exactly as :func:`case_diagnosability`
     tests the map's cells (same bands, same noise definition), each trial with its own noise:

@@ -21,9 +21,13 @@ from typing import Any
 
 from ..diagnosis.options import AnalysisOptions
 from ..physics.fidelity import DEFAULT_PRESET
+from ..physics.transfer import sensor_defaults
 from .config_read import ConfigError
 
-__all__ = ["SCHEMA_PATH", "full_schema", "section_defaults", "validate_mapping"]
+__all__ = ["SCHEMA_PATH", "full_schema", "section_defaults", "validate_mapping", "MAPPING_SOURCE"]
+
+#: What a message names as the origin of a config given as a mapping (not read from a file).
+MAPPING_SOURCE = "<mapping>"
 
 #: The JSON schema of ``config.yaml``, shipped as package data (the workflow validates against it too).
 SCHEMA_PATH = Path(__file__).resolve().parent.parent / "data" / "config.schema.yaml"
@@ -57,8 +61,9 @@ def full_schema() -> dict:
     from :data:`~bearing_envelope.physics.fidelity.DEFAULT_PRESET`; the type, range and
     default of every ``analysis:`` key that sets an analysis option from
     :meth:`~bearing_envelope.diagnosis.options.AnalysisOptions.config_schema` (the file writes
-    their descriptions only). The file itself holds no scene, fidelity, analysis-option,
-    limits or tradeoff default (``tests/test_defaults.py``).
+    their descriptions only); the ``sensor:`` defaults from
+    :func:`~bearing_envelope.physics.transfer.sensor_defaults`. The file itself holds no scene,
+    fidelity, analysis-option, sensor, limits or tradeoff default (``tests/test_defaults.py``).
 
     Returns
     -------
@@ -73,6 +78,13 @@ def full_schema() -> dict:
     props["fidelity"]["default"] = DEFAULT_PRESET
     for key, fragment in AnalysisOptions.config_schema().items():
         props["analysis"]["properties"][key].update(fragment)
+    sensor = props["sensor"]["properties"]
+    for key, value in sensor_defaults().items():
+        if key == "noise":
+            for sub, v in value.items():
+                sensor["noise"]["properties"][sub]["default"] = v
+        else:
+            sensor[key]["default"] = value
     return schema
 
 
@@ -172,7 +184,7 @@ def section_defaults(section: str) -> dict[str, Any]:
     return out
 
 
-def validate_mapping(config: Mapping[str, Any], *, source: str = "<mapping>",
+def validate_mapping(config: Mapping[str, Any], *, source: str = MAPPING_SOURCE,
                      partial: bool = False) -> dict[str, Any]:
     """Finite-number check, schema validation and default filling of a config mapping.
 

@@ -39,7 +39,7 @@ from .case_id import CaseId
 from .config_read import (DEFAULT_CONFIG_NAME, ConfigError, config_files, default_config_path,
                           field_error, read_configs)
 from .job_transport import CaseSetup, JobValue, TradeoffSetup
-from .schema import validate_mapping
+from .schema import MAPPING_SOURCE, validate_mapping
 from .sections import AnalysisSettings, DiagnosabilitySettings, SimulationSetup, SweepSettings
 from .tradeoff_settings import TradeoffSettings
 
@@ -168,7 +168,7 @@ class Settings:
 
 
 
-def settings_from_mapping(config: Mapping[str, Any], *, source: str = "<mapping>",
+def settings_from_mapping(config: Mapping[str, Any], *, source: str = MAPPING_SOURCE,
                           partial: bool = False) -> Settings:
     """Validate a config mapping and build the typed :class:`Settings` (no contact solve).
 

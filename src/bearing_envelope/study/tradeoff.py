@@ -68,11 +68,17 @@ from ..physics.fidelity import Fidelity
 from ..physics.history import simulate
 from ..physics.locations import scene_event_frequencies
 from ..physics.scene import DEFAULT_SCENE, Scene
+from ..signal.bands import DEFAULT_BANDS as SIGNAL_DEFAULT_BANDS
 from .pipeline import case_bands, case_harmonics, history_case
 from .case_id import CaseId
 from .sections import AnalysisSettings
 from .tradeoff_settings import (_SCENE_KNOBS, DEFAULT_CASES, DEFAULT_KNOBS, TRADEOFF_DEFAULTS,
                                 TradeoffSettings, _replace, apply_knob)
+
+#: The columns :func:`pareto_table` and :func:`plot_tradeoff` read when not named: the error and
+#: the CPU time of each point.
+ERROR_COLUMN = "error"
+TIME_COLUMN = "cpu_s"
 
 __all__ = ["DEFAULT_CASES", "DEFAULT_KNOBS", "DEFAULT_BANDS", "COLUMNS", "tradeoff_study",
            "study_from_config", "TRADEOFF_DEFAULTS", "pareto_front", "pareto_table",
@@ -84,12 +90,10 @@ __all__ = ["DEFAULT_CASES", "DEFAULT_KNOBS", "DEFAULT_BANDS", "COLUMNS", "tradeo
 ANALYSIS_KEYS_USED = ("signal", "nlevel", "max_level", "min_bandwidth_hz", "bands", "filter_order",
                       "squared_envelope")
 
-#: The band strategies of the workflow's default ``analysis.bands``.
+#: The band strategies of the workflow's default ``analysis.bands``: the library's
+#: (:data:`bearing_envelope.signal.bands.DEFAULT_BANDS`) and a fixed fs/8 - fs/4 band.
 DEFAULT_BANDS: list[dict[str, Any]] = [
-    {"name": "kurtogram", "strategy": "kurtogram"},
-    {"name": "fs4_3fs8", "strategy": "fraction", "low": 0.25, "high": 0.375},
-    {"name": "bpfi_3_6", "strategy": "orders", "low": 3, "high": 6, "base": "bpfi"},
-    {"name": "bpfi_10_13", "strategy": "orders", "low": 10, "high": 13, "base": "bpfi"},
+    *(dict(b) for b in SIGNAL_DEFAULT_BANDS),
     {"name": "fixed", "strategy": "fixed", "low_hz": 8125.0, "high_hz": 16250.0},
 ]
 
@@ -490,8 +494,8 @@ def metric_labels(df: pd.DataFrame) -> list[tuple[str, str]]:
     return sorted(((m, b) for m, b in pairs), key=lambda p: (order.get(p[0], 9), p[1]))
 
 
-def pareto_table(df: pd.DataFrame, metric: str, band: str = "", *, error: str = "error",
-                 time: str = "cpu_s") -> pd.DataFrame:
+def pareto_table(df: pd.DataFrame, metric: str, band: str = "", *, error: str = ERROR_COLUMN,
+                 time: str = TIME_COLUMN) -> pd.DataFrame:
     """One point per (knob, value) for one metric: mean time per case, worst error over cases.
 
     Cases where the error is undefined (NaN: BPFI metrics of a healthy case) are left out of
@@ -576,7 +580,7 @@ def pareto_front(time_s, error) -> np.ndarray:
 
 
 def plot_tradeoff(df: pd.DataFrame, path=None, *, metrics: Sequence[tuple[str, str]] | None = None,
-                  error: str = "error", time: str = "cpu_s", ncols: int = 4):
+                  error: str = ERROR_COLUMN, time: str = TIME_COLUMN, ncols: int = 4):
     """Error against CPU time per case, one panel per metric, Pareto front marked.
 
     Each knob is a line through its values (coarse to fine), the base point a black square, the
@@ -668,7 +672,8 @@ def plot_tradeoff(df: pd.DataFrame, path=None, *, metrics: Sequence[tuple[str, s
     return fig
 
 
-def pareto_points(df: pd.DataFrame, *, error: str = "error", time: str = "cpu_s") -> pd.DataFrame:
+def pareto_points(df: pd.DataFrame, *, error: str = ERROR_COLUMN,
+                  time: str = TIME_COLUMN) -> pd.DataFrame:
     """:func:`pareto_table` of every metric of a tradeoff table, stacked (columns ``metric``,
     ``band`` first).
 

@@ -9,6 +9,7 @@ from dataclasses import dataclass
 
 from ...checks import check_number
 from ...physics.fidelity import DEFAULT_PRESET
+from ...physics.scene import DEFAULT_SCENE
 from ..config_read import read_yaml
 
 __all__ = ["RigSettings", "read_rig_config"]
@@ -38,7 +39,7 @@ class RigSettings:
     scene: dict
     load_kN: float
     fidelity: str
-    ball_spin_axis: str = "fixed"
+    ball_spin_axis: str = DEFAULT_SCENE["defect"]["spin_axis"]
     sensor_deg: float = 180.0
     sensor_cross_axis: float = 1.0
 
@@ -71,10 +72,10 @@ def read_rig_config(path: str | os.PathLike) -> RigSettings:
     load = float(rig.get("load_kN", "nan"))
     if not (math.isfinite(load) and load > 0):
         raise ValueError(f"{path}: rig.load_kN: got {rig.get('load_kN')!r}; allowed: > 0 kN")
-    sensor = _number_in(path, rig, "sensor_deg", 180.0, 0.0, 360.0)
-    cross = _number_in(path, rig, "sensor_cross_axis", 1.0, 0.0, 1.0)
+    sensor = _number_in(path, rig, "sensor_deg", RigSettings.sensor_deg, 0.0, 360.0)
+    cross = _number_in(path, rig, "sensor_cross_axis", RigSettings.sensor_cross_axis, 0.0, 1.0)
     return RigSettings(raw["scene"], load, str(rig.get("fidelity", DEFAULT_PRESET)),
-                       str(rig.get("ball_spin_axis", "fixed")), sensor, cross)
+                       str(rig.get("ball_spin_axis", RigSettings.ball_spin_axis)), sensor, cross)
 
 
 def _number_in(path, rig: dict, key: str, default: float, lo: float, hi: float) -> float:

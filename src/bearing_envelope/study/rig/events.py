@@ -26,8 +26,8 @@ from scipy import fft as sp_fft
 from scipy import signal as sps
 
 from ...physics.locations import get_location
-from ...signal.cycles import (FLOOR_PERCENTILE, burst_width, cycle_rate, element_windows,
-                             synchronous_average)
+from ...signal.cycles import (FLOOR_PERCENTILE, RATE_SEARCH, burst_width, cycle_rate,
+                              element_windows, synchronous_average)
 from ...signal.envelope import bandpass, envelope, settling_samples
 from ...signal.validation import check_band, check_fs
 from .records import read_samples
@@ -52,7 +52,7 @@ SECONDARY_SEPARATION_S = 0.4e-3
 SECONDARY_MIN_CONTRAST_DB = 6.0
 
 
-def squared_envelope(x, fs: float, rate_hz: float, band=None, search: float = 0.01):
+def squared_envelope(x, fs: float, rate_hz: float, band=None, search: float = RATE_SEARCH):
     """Squared envelope in ``band`` (default fs/4-3fs/8), the filter's edge transients cut at
     both ends, and the event rate refined on it within ``search`` (relative).
 
@@ -82,7 +82,7 @@ def squared_envelope(x, fs: float, rate_hz: float, band=None, search: float = 0.
 
 
 def event_shape(x, fs: float, rate_hz: float, *, n_elements: int | None = None,
-                band=None, search: float = 0.01) -> dict:
+                band=None, search: float = RATE_SEARCH) -> dict:
     """Width of a fault's events and the spread of the elements' events, from a record.
 
     Parameters

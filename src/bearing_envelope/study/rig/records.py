@@ -24,6 +24,7 @@ import numpy as np
 
 from ...io.records import read_record as read_file
 from ...physics.catalogue import bearing_geometry
+from ...physics.kinematics import RADIAL_CONTACT_ANGLE_DEG
 from ...physics.kinematics import bearing_rates as _rates
 
 __all__ = ["RigBearing", "RigCondition", "resolve_bearing", "bearing_rates", "read_samples",
@@ -56,7 +57,7 @@ class RigBearing:
     n_rollers: int
     roller_diameter_mm: float
     pitch_diameter_mm: float
-    contact_angle_deg: float = 0.0
+    contact_angle_deg: float = RADIAL_CONTACT_ANGLE_DEG
 
     def same_geometry(self, other: "RigBearing") -> bool:
         """Whether two bearings have one geometry (within :data:`GEOMETRY_RTOL`).

@@ -1,0 +1,197 @@
+"""The dynamic bearing model's integrator, step rule and cost (docs/dynamics.md, "Integrator").
+
+    nice -n 5 python -m benchmarks dynamics_cost              # all three parts, ~3 CPU min
+    nice -n 5 python -m benchmarks dynamics_cost --full       # plus a measured 10 s record
+
+Scene: the CWRU 6205 (config_cwru.yaml: 1 kN assumed, 10 um clearance, 1797 rpm, centrifugal
+force, the assumed structure of ``STRUCTURE_DEFAULTS``), an outer-race slot of the geometric law
+(``slot_law``, 0.011 in deep).
+
+1. Integrators on one short scene (10 ms from the quasi-static state, the 0.007 in slot 2 deg
+   from the load: one element crosses it): the numba RK4 kernel at 10-80 steps per period of the
+   highest frequency (``S``; the step is rounded down to divide the 1 us record interval)
+   against scipy's ``solve_ivp`` (Radau, BDF, LSODA, DOP853) on the same
+   right-hand side; error of the end state (of the largest displacement) and of the resonator's
+   displacement (RMS, of its RMS) against DOP853 at rtol 1e-12; CPU s and CPU ratio to RK4 at
+   the step rule.
+2. Step rule: envelope lines 1-3 x BPFO of the resonator acceleration and of the housing force
+   (band fs/4-3fs/8, 12 kHz, 1 s) for 10-80 steps per period; the largest change of a line from
+   that step count to twice as many. Two scenes: the 0.007 in slot at 6:00 (loaded) and the
+   0.021 in slot at 3:00 (an element bouncing at the load zone's edge).
+3. Cost: CPU s of 0.5 s and 1 s records at 12 kHz at the step rule; 10 s extrapolated linearly
+   (and measured with ``--full``).
+"""
+
+from __future__ import annotations
+
+import argparse
+import datetime
+import math
+import platform
+import time
+from pathlib import Path
+
+import numpy as np
+import yaml
+from scipy.integrate import solve_ivp
+
+from bearing_envelope.physics.dynamics import (StateLayout, initial_state, params_from_scene, rhs,
+                                               simulate_dynamics, slot_law)
+from bearing_envelope.physics.dynamics.model import arrays
+from bearing_envelope.physics.dynamics.params import STEPS_PER_PERIOD
+from bearing_envelope.physics.scene import Scene
+from bearing_envelope.signal.envelope import envelope_spectrum
+from bearing_envelope.signal.spectrum import amplitude_at
+
+ROOT = Path(__file__).resolve().parents[1]
+DEPTH_M = 279.4e-6
+INCH = 25.4e-3
+
+
+def machine() -> str:
+    name = platform.processor() or platform.machine()
+    try:
+        for line in Path("/proc/cpuinfo").read_text().splitlines():
+            if line.startswith("model name"):
+                name = line.split(":", 1)[1].strip()
+                break
+    except OSError:
+        pass
+    return f"{name}, {platform.python_implementation()} {platform.python_version()}"
+
+
+def scene_params(width_in: float | None, position_deg: float = 0.0):
+    m = yaml.safe_load((ROOT / "config_cwru.yaml").read_text(encoding="utf-8"))["scene"]
+    p = params_from_scene(Scene.from_mapping(m, load_kN=1.0, depth_um=0.0))
+    if width_in is None:
+        return p
+    law = slot_law(p.element_radius_m, width_in * INCH, DEPTH_M, p.k_outer, p.exponent, 30e-6)
+    return p.with_(defect=law, defect_angle_rad=math.radians(position_deg), defect_race="outer")
+
+
+def reference_run(p, y0, t_end, t_eval):
+    lay = StateLayout(p.z)
+    atol = np.r_[np.full(lay.n_dof, 1e-15), np.full(lay.n_dof, 1e-11)]
+    a = arrays(p, -1e-3, t_end + 1e-3)
+    return solve_ivp(rhs, (0.0, t_end), y0, method="DOP853", args=(p, a), rtol=1e-12, atol=atol,
+                     t_eval=t_eval)
+
+
+def integrators(duration: float = 1e-2, steps=(10, 20, 40, 80),
+                methods=(("Radau", 1e-6), ("BDF", 1e-6), ("LSODA", 1e-6), ("LSODA", 1e-9),
+                         ("DOP853", 1e-9))) -> list[dict]:
+    p = scene_params(0.007, 2.0)
+    lay = StateLayout(p.z)
+    y0 = initial_state(p)
+    fs = 1e6
+    r0 = simulate_dynamics(p, duration, fs, acquisition="point", settle_s=0.0, y0=y0)
+    t_eval = r0.t_s
+    ref = reference_run(p, y0, r0.t_end_s, np.r_[t_eval, r0.t_end_s])
+    scale = np.abs(y0[:lay.n_dof]).max()
+    res_ref = ref.y[lay.RES, :-1]
+
+    def errors(y_end, res):
+        e_end = np.abs(y_end[:lay.n_dof] - ref.y[:lay.n_dof, -1]).max() / scale
+        e_res = math.sqrt(np.mean((res - res_ref) ** 2)) / math.sqrt(np.mean((res_ref - res_ref.mean()) ** 2))
+        return e_end, e_res
+
+    rows = []
+    for s in steps:
+        c0 = time.process_time()
+        r = simulate_dynamics(p, duration, fs, acquisition="point", settle_s=0.0, y0=y0,
+                              steps_per_period=float(s))
+        cpu = time.process_time() - c0
+        rows.append(dict(method=f"RK4 numba, S = {s} (dt {1e6 * r.step_s:.2f} us)", cpu=cpu, steps=r.steps,
+                         **dict(zip(("e_end", "e_res"), errors(r.state_end, r.resonator_displacement_m)))))
+    a = arrays(p, -1e-3, r0.t_end_s + 1e-3)
+    for method, rtol in methods:
+        atol = np.r_[np.full(lay.n_dof, rtol * 1e-6 * scale), np.full(lay.n_dof, rtol * 1e-2)]
+        c0 = time.process_time()
+        sol = solve_ivp(rhs, (0.0, r0.t_end_s), y0, method=method, args=(p, a), rtol=rtol,
+                        atol=atol, t_eval=np.r_[t_eval, r0.t_end_s])
+        cpu = time.process_time() - c0
+        e = errors(sol.y[:, -1], sol.y[lay.RES, :-1]) if sol.success else (math.nan, math.nan)
+        rows.append(dict(method=f"solve_ivp {method}, rtol {rtol:g}", cpu=cpu, steps=sol.nfev,
+                         e_end=e[0], e_res=e[1]))
+    rule = next(r["cpu"] for r in rows if f"S = {int(STEPS_PER_PERIOD)} " in r["method"])
+    for r in rows:
+        r["ratio"] = r["cpu"] / rule
+    return rows
+
+
+def lines(p, steps: float, duration: float, fs: float = 12000.0):
+    r = simulate_dynamics(p, duration, fs, steps_per_period=steps)
+    bpfo = p.z * p.cage_rate_hz
+    out = []
+    for x in (r.resonator_acceleration_m_s2, r.housing_force_n[:, 0]):
+        f, a = envelope_spectrum(x - x.mean(), fs, (0.25 * fs, 0.375 * fs))
+        out += [amplitude_at(f, a, k * bpfo, 0.01 * bpfo)[1] for k in (1, 2, 3)]
+    return np.array(out)
+
+
+def step_rule(duration: float = 1.0, steps=(10, 20, 40, 80)) -> list[dict]:
+    rows = []
+    for label, w, pos in (("0.007 in at 6:00", 0.007, 0.0), ("0.021 in at 3:00", 0.021, 90.0)):
+        p = scene_params(w, pos)
+        got = {s: lines(p, float(s), duration) for s in steps}
+        for s, nxt in zip(steps[:-1], steps[1:]):
+            rows.append(dict(scene=label, steps=s, lines=got[s],
+                             change=float(np.max(np.abs(got[s] - got[nxt]) / np.abs(got[nxt])))))
+    return rows
+
+
+def cost(durations=(0.5, 1.0), full: bool = False) -> list[dict]:
+    rows = []
+    for label, p in (("healthy", scene_params(None)), ("0.007 in at 6:00", scene_params(0.007, 0.0))):
+        got = []
+        for d in durations + ((10.0,) if full else ()):
+            c0 = time.process_time()
+            r = simulate_dynamics(p, d, 12000.0)
+            got.append((d, time.process_time() - c0, r.steps, r.oversample))
+        (d0, c0_, *_), (d1, c1, *_) = got[0], got[1]
+        per_s = (c1 - c0_) / (d1 - d0)
+        rows.append(dict(scene=label, runs=got, per_s=per_s, ten_s=c1 + per_s * (10.0 - d1),
+                         measured_10=got[2][1] if full else math.nan))
+    return rows
+
+
+def print_tables(ints, rule, costs) -> None:
+    print(f"# dynamics_cost, {datetime.date.today().isoformat()}, {machine()}\n")
+    print("| integrator | CPU s | CPU / RK4 at the rule | RK4 steps or solve_ivp nfev | end state error | resonator error |")
+    print("|---|---|---|---|---|---|")
+    for r in ints:
+        print(f"| {r['method']} | {r['cpu']:.3f} | {r['ratio']:.1f} | {r['steps']} | {r['e_end']:.1e} | {r['e_res']:.1e} |")
+    print("\n| scene | steps/period | lines (res 1-3x, force 1-3x) | largest change when the step halves |")
+    print("|---|---|---|---|")
+    for r in rule:
+        print(f"| {r['scene']} | {r['steps']} | {' '.join(f'{v:.4g}' for v in r['lines'])} | {100 * r['change']:.3f} % |")
+    print("\n| scene | record s: CPU s (steps, oversample) | CPU s per record s | 10 s extrapolated | 10 s measured |")
+    print("|---|---|---|---|---|")
+    for r in costs:
+        runs = "; ".join(f"{d:g} s: {c:.2f} ({n}, {o})" for d, c, n, o in r["runs"])
+        print(f"| {r['scene']} | {runs} | {r['per_s']:.2f} | {r['ten_s']:.1f} | {r['measured_10']:.1f} |")
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(prog="python -m benchmarks dynamics_cost", description=__doc__,
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--full", action="store_true", help="also measure a 10 s record")
+    ap.add_argument("--rule-duration", type=float, default=1.0, help="record length of part 2, s")
+    ap.add_argument("--parts", nargs="+", default=["integrators", "rule", "cost"],
+                    choices=["integrators", "rule", "cost"], help="the parts to run")
+    args = ap.parse_args(argv)
+    simulate_dynamics(scene_params(None), 0.01, 12000.0)          # compile outside the clocks
+    print_tables(integrators() if "integrators" in args.parts else [],
+                 step_rule(args.rule_duration) if "rule" in args.parts else [],
+                 cost(full=args.full) if "cost" in args.parts else [])
+    return 0
+
+
+def smoke() -> None:
+    ints = integrators(duration=2e-4, steps=(20, 40), methods=(("LSODA", 1e-6),))
+    rule = step_rule(duration=0.02, steps=(20, 40))
+    print_tables(ints, rule, cost(durations=(0.01, 0.02)))
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -1,0 +1,460 @@
+"""Parameters of the lumped-parameter bearing model, the defect law's arrays, the geometric slot
+law, and the step-size rule (``docs/dynamics.md``).
+
+Every default of the model lives in :data:`STRUCTURE_DEFAULTS` (assumed values, to be identified
+for a rig) or comes from the scene through :func:`params_from_scene`.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, replace
+from functools import partial
+from typing import Callable
+
+import numpy as np
+
+from ..loads import (ELEMENT_DENSITY_KG_M3, LoadDistribution, centrifugal_force, race_compliances,
+                     scene_load_distribution, solve_row)
+from .layout import P_NAMES
+
+__all__ = ["DefectLaw", "DynamicParams", "STRUCTURE_DEFAULTS", "slot_drop", "slot_law",
+           "params_from_scene", "contact_stiffness", "highest_frequency_hz", "step_size",
+           "quasi_static", "contact_damping", "STEPS_PER_PERIOD", "LOAD_FACTOR", "MODEL_NAME"]
+
+#: Name of the model a result says made it.
+MODEL_NAME = "lumped_dynamic"
+
+#: Assumed structural values (not published for any rig; identify them per rig): shaft with
+#: inner ring 2 kg carried by this bearing alone (no support stiffness), outer ring with housing
+#: 5 kg on 1e8 N/m with 5 % damping, a 4 kHz resonator of 50 g with 5 % damping on the load axis,
+#: contact damping 2 % of critical for an element between its two contacts at the static load.
+STRUCTURE_DEFAULTS = {
+    "shaft_mass_kg": 2.0, "shaft_stiffness_n_m": 0.0, "shaft_damping_ns_m": 0.0,
+    "housing_mass_kg": 5.0, "housing_stiffness_n_m": 1e8, "housing_zeta": 0.05,
+    "resonator_hz": 4000.0, "resonator_zeta": 0.05, "resonator_mass_kg": 0.05,
+    "sensor_angle_deg": 0.0, "contact_zeta": 0.02,
+}
+
+#: Step rule: RK4 steps per period of the highest linearised frequency (measured by
+#: ``python -m benchmarks dynamics_cost``: the envelope lines change < 1 % when it doubles,
+#: also for an element bouncing at the load zone's edge: 1.1 % from 20 to 40, 0.7 % from 40 to 80).
+STEPS_PER_PERIOD = 40.0
+#: The contact load of the step rule, as a multiple of the quasi-static largest element load
+#: (impacts load a contact above its static value).
+LOAD_FACTOR = 2.0
+
+
+@dataclass(frozen=True)
+class DefectLaw:
+    """Force of the defective contact ``force_n[i, j] = F(x_m[i], delta_m[j])``.
+
+    ``x_m``: position of the element's contact relative to the pit centre, along the element's
+    motion relative to the race (entry edge at negative ``x``), ascending, m. ``delta_m``: the
+    contact's approach relative to the undamaged surfaces (the ``delta`` of ``Q = K delta^n``),
+    ascending, m. ``force_n`` (N, >= 0): read bilinearly; 0 for ``delta <= 0``, linear beyond
+    the ``delta`` nodes (clipped at 0); Hertz outside ``[x_m[0], x_m[-1]]``.
+    """
+
+    x_m: np.ndarray
+    delta_m: np.ndarray
+    force_n: np.ndarray
+
+    def __post_init__(self):
+        for name in ("x_m", "delta_m", "force_n"):
+            a = np.ascontiguousarray(getattr(self, name), dtype=float)
+            if not np.all(np.isfinite(a)):
+                raise ValueError(f"DefectLaw.{name}: got non-finite values; allowed: finite")
+            object.__setattr__(self, name, a)
+        for name in ("x_m", "delta_m"):
+            a = getattr(self, name)
+            if a.ndim != 1 or a.size < 2 or np.any(np.diff(a) <= 0):
+                raise ValueError(f"DefectLaw.{name}: got shape {a.shape}; allowed: 1-D, >= 2 "
+                                 "nodes, strictly ascending")
+        if self.force_n.shape != (self.x_m.size, self.delta_m.size):
+            raise ValueError(f"DefectLaw.force_n: got shape {self.force_n.shape}; allowed: "
+                             f"(len(x_m), len(delta_m)) = {(self.x_m.size, self.delta_m.size)}")
+        if np.any(self.force_n < 0):
+            raise ValueError("DefectLaw.force_n: got negative forces; allowed: >= 0")
+
+    @classmethod
+    def from_table(cls, table) -> "DefectLaw":
+        """The law of any object with ``x_m``, ``delta_m`` and ``force_n`` arrays (the
+        non-Hertzian table of ``physics/defect_contact.py``).
+
+        Parameters
+        ----------
+        table : object
+            With attributes ``x_m``, ``delta_m``, ``force_n`` (SI).
+
+        Returns
+        -------
+        DefectLaw
+            A validated copy of the arrays.
+        """
+        return cls(np.array(table.x_m, dtype=float), np.array(table.delta_m, dtype=float),
+                   np.array(table.force_n, dtype=float))
+
+
+def slot_drop(x_m, radius_m: float, width_m: float, depth_m: float) -> np.ndarray:
+    """Depth (m) the element's contact can sink at ``x`` over a long slot of width ``w``.
+
+    The element, a circle of radius ``R`` in the rolling plane, rests on the nearer edge
+    (``R - sqrt(R^2 - (x - e)^2)`` for the edges ``e = -w/2, +w/2``, the smaller) or on the
+    bottom (``depth``): ``R - sqrt(R^2 - w^2/4)`` at the centre (Moazen-Ahmadi & Howard 2016).
+
+    Parameters
+    ----------
+    x_m : array_like
+        Position relative to the slot's centre, m.
+    radius_m, width_m, depth_m : float
+        Element radius, slot width, slot depth, m (> 0; ``w < 2 R``).
+
+    Returns
+    -------
+    numpy.ndarray
+        Drop, m, 0 outside the slot.
+    """
+    if not (0 < width_m < 2 * radius_m) or not depth_m > 0:
+        raise ValueError(f"slot_drop: width_m {width_m!r} must be in (0, 2 R = {2 * radius_m}) "
+                         f"and depth_m {depth_m!r} > 0")
+    x = np.asarray(x_m, dtype=float)
+    e = 0.5 * width_m
+    d = np.minimum(radius_m - np.sqrt(np.clip(radius_m ** 2 - (x + e) ** 2, 0, None)),
+                   radius_m - np.sqrt(np.clip(radius_m ** 2 - (x - e) ** 2, 0, None)))
+    return np.where(np.abs(x) < e, np.minimum(d, depth_m), 0.0)
+
+
+def slot_law(radius_m: float, width_m: float, depth_m: float, k: float, n: float,
+             delta_max_m: float, *, nx: int = 401, nd: int = 2001) -> DefectLaw:
+    """The geometric defect law of a long slot: ``F = K <delta - h(x)>^n`` with ``h`` the drop of
+    :func:`slot_drop`, on ``nx`` x ``nd`` uniform nodes over ``|x| <= w/2``, ``0 <= delta <=
+    delta_max_m``.
+
+    Parameters
+    ----------
+    radius_m, width_m, depth_m : float
+        Element radius, slot width and depth, m.
+    k, n : float
+        Hertz law of the defective contact, ``Q = K delta^n``.
+    delta_max_m : float
+        Largest approach of the nodes, m.
+    nx, nd : int
+        Nodes along ``x`` and ``delta``.
+
+    Returns
+    -------
+    DefectLaw
+        The arrays.
+    """
+    x = np.linspace(-0.5 * width_m, 0.5 * width_m, nx)
+    d = np.linspace(0.0, delta_max_m, nd)
+    h = slot_drop(x, radius_m, width_m, depth_m)
+    f = k * np.clip(d[None, :] - h[:, None], 0.0, None) ** n
+    return DefectLaw(x, d, f)
+
+
+@dataclass(frozen=True)
+class DynamicParams:
+    """Everything the model needs, SI (``docs/dynamics.md`` names each symbol).
+
+    Attributes
+    ----------
+    z : int
+        Elements ``Z``.
+    element_mass_kg, element_radius_m : float
+        Element mass and radius.
+    k_inner, k_outer, exponent : float
+        ``Q = K delta^n`` of the inner and outer contact.
+    contact_damping_ns_m : float
+        Viscous damping of each contact while closed.
+    clearance_m : float
+        Diametral clearance ``P_d`` (negative: preload).
+    contact_angle_rad : float
+    force_n : float
+        Radial load on the shaft, along ``load_angle_rad`` from ``x``.
+    centrifugal_n : float
+        Centrifugal force of an element (radial), ``m omega_c^2 D/2``.
+    inner_race_radius_m, outer_race_radius_m : float
+        Raceway contact radii.
+    cage_rate_hz, shaft_rate_hz : float
+    shaft_*, housing_*, resonator_*, sensor_angle_rad
+        Structure (:data:`STRUCTURE_DEFAULTS`).
+    defect : DefectLaw or None
+    defect_race : {"outer", "inner"}
+    defect_angle_rad : float
+        Pit centre from ``x`` (outer race), or at ``t = 0`` (inner race, turning with the shaft).
+    cage_angle : callable or None
+        ``t -> angle`` (rad) of element 0 (slip); None: ``2 pi f_c t``.
+    """
+
+    z: int
+    element_mass_kg: float
+    element_radius_m: float
+    k_inner: float
+    k_outer: float
+    exponent: float
+    contact_damping_ns_m: float
+    clearance_m: float
+    contact_angle_rad: float
+    force_n: float
+    centrifugal_n: float
+    inner_race_radius_m: float
+    outer_race_radius_m: float
+    cage_rate_hz: float
+    shaft_rate_hz: float
+    shaft_mass_kg: float = STRUCTURE_DEFAULTS["shaft_mass_kg"]
+    shaft_stiffness_n_m: float = STRUCTURE_DEFAULTS["shaft_stiffness_n_m"]
+    shaft_damping_ns_m: float = STRUCTURE_DEFAULTS["shaft_damping_ns_m"]
+    housing_mass_kg: float = STRUCTURE_DEFAULTS["housing_mass_kg"]
+    housing_stiffness_n_m: float = STRUCTURE_DEFAULTS["housing_stiffness_n_m"]
+    housing_damping_ns_m: float = 2 * STRUCTURE_DEFAULTS["housing_zeta"] * math.sqrt(
+        STRUCTURE_DEFAULTS["housing_stiffness_n_m"] * STRUCTURE_DEFAULTS["housing_mass_kg"])
+    resonator_hz: float = STRUCTURE_DEFAULTS["resonator_hz"]
+    resonator_zeta: float = STRUCTURE_DEFAULTS["resonator_zeta"]
+    resonator_mass_kg: float = STRUCTURE_DEFAULTS["resonator_mass_kg"]
+    sensor_angle_rad: float = math.radians(STRUCTURE_DEFAULTS["sensor_angle_deg"])
+    load_angle_rad: float = 0.0
+    defect: DefectLaw | None = None
+    defect_race: str = "outer"
+    defect_angle_rad: float = 0.0
+    cage_angle: Callable[[np.ndarray], np.ndarray] | None = field(default=None, compare=False)
+
+    def __post_init__(self):
+        if int(self.z) != self.z or self.z < 1:
+            raise ValueError(f"DynamicParams.z: got {self.z!r}; allowed: an integer >= 1")
+        for name in ("element_mass_kg", "element_radius_m", "k_inner", "k_outer", "exponent",
+                     "shaft_mass_kg", "housing_mass_kg", "resonator_mass_kg", "resonator_hz",
+                     "inner_race_radius_m", "outer_race_radius_m"):
+            v = getattr(self, name)
+            if not (math.isfinite(v) and v > 0):
+                raise ValueError(f"DynamicParams.{name}: got {v!r}; allowed: finite > 0")
+        for name in ("contact_damping_ns_m", "shaft_stiffness_n_m", "shaft_damping_ns_m",
+                     "housing_stiffness_n_m", "housing_damping_ns_m", "resonator_zeta",
+                     "force_n", "centrifugal_n", "cage_rate_hz", "shaft_rate_hz"):
+            v = getattr(self, name)
+            if not (math.isfinite(v) and v >= 0):
+                raise ValueError(f"DynamicParams.{name}: got {v!r}; allowed: finite >= 0")
+        if not math.isfinite(self.clearance_m):
+            raise ValueError(f"DynamicParams.clearance_m: got {self.clearance_m!r}; allowed: finite")
+        if self.defect_race not in ("outer", "inner"):
+            raise ValueError(f"DynamicParams.defect_race: got {self.defect_race!r}; allowed: "
+                             "outer | inner")
+
+    def with_(self, **changes) -> "DynamicParams":
+        """A copy with ``changes`` (validated again).
+
+        Parameters
+        ----------
+        **changes
+            Field -> new value.
+
+        Returns
+        -------
+        DynamicParams
+            The copy.
+        """
+        return replace(self, **changes)
+
+    def vector(self, cage_t0: float, cage_dt: float) -> np.ndarray:
+        """The scalar vector ``P`` of the kernels (:data:`~.layout.P_NAMES`).
+
+        Parameters
+        ----------
+        cage_t0, cage_dt : float
+            First time and spacing of the cage-angle nodes, s.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``P``, float64.
+        """
+        ca = math.cos(self.contact_angle_rad)
+        wr = 2 * math.pi * self.resonator_hz
+        v = {"ms": self.shaft_mass_kg, "ks": self.shaft_stiffness_n_m, "cs": self.shaft_damping_ns_m,
+             "mh": self.housing_mass_kg, "kh": self.housing_stiffness_n_m,
+             "ch": self.housing_damping_ns_m, "mr": self.resonator_mass_kg,
+             "kr": self.resonator_mass_kg * wr ** 2,
+             "cr": 2 * self.resonator_zeta * self.resonator_mass_kg * wr,
+             "sens_c": math.cos(self.sensor_angle_rad), "sens_s": math.sin(self.sensor_angle_rad),
+             "me": self.element_mass_kg, "ki": self.k_inner, "ko": self.k_outer,
+             "n": self.exponent, "cc": self.contact_damping_ns_m, "gap": 0.25 * self.clearance_m,
+             "ca": ca, "fx": self.force_n * math.cos(self.load_angle_rad),
+             "fy": self.force_n * math.sin(self.load_angle_rad), "fc": self.centrifugal_n * ca,
+             "ri": self.inner_race_radius_m, "ro": self.outer_race_radius_m,
+             "drace": 0.0 if self.defect is None else (1.0 if self.defect_race == "outer" else 2.0),
+             "dang": self.defect_angle_rad, "ws": 2 * math.pi * self.shaft_rate_hz,
+             "ct0": cage_t0, "cdt": cage_dt, "n15": 1.0 if self.exponent == 1.5 else 0.0}
+        return np.array([v[k] for k in P_NAMES], dtype=float)
+
+    @property
+    def series_constant(self) -> float:
+        """``K`` of the element's two contacts in series, ``(K_i^(-1/n) + K_o^(-1/n))^(-n)``."""
+        m = 1.0 / self.exponent
+        return (self.k_inner ** -m + self.k_outer ** -m) ** -self.exponent
+
+
+def quasi_static(params: DynamicParams, phase: float = 0.0) -> LoadDistribution:
+    """The quasi-static (Harris/Stribeck) load distribution of the same bearing
+    (:func:`bearing_envelope.physics.loads.solve_row`, centrifugal force included).
+
+    Parameters
+    ----------
+    params : DynamicParams
+    phase : float
+        Angle of element 0 from the load direction, rad.
+
+    Returns
+    -------
+    LoadDistribution
+        Its ``q`` are the inner contacts' loads.
+    """
+    m = 1.0 / params.exponent
+    fc = params.centrifugal_n * math.cos(params.contact_angle_rad)
+    kw = {"centrifugal": fc, "compliances": (params.k_inner ** -m, params.k_outer ** -m)} if fc > 0 else {}
+    return solve_row(params.force_n, params.z, math.degrees(params.contact_angle_rad),
+                     params.clearance_m, params.series_constant, params.exponent, phase, **kw)
+
+
+def contact_stiffness(k: float, q: float, n: float) -> float:
+    """Linearised stiffness ``dQ/d delta = n K^(1/n) Q^((n-1)/n)`` of ``Q = K delta^n`` at load
+    ``q`` (``1.5 K^(2/3) Q^(1/3)`` for a point contact).
+
+    Parameters
+    ----------
+    k, q, n : float
+        ``K`` (N m^-n), load (N, >= 0), ``n``.
+
+    Returns
+    -------
+    float
+        Stiffness, N/m.
+    """
+    return n * k ** (1.0 / n) * max(q, 0.0) ** ((n - 1.0) / n)
+
+
+def highest_frequency_hz(params: DynamicParams, load_factor: float = LOAD_FACTOR) -> float:
+    """Highest linearised natural frequency (Hz) bounding the model's: an element between its
+    two contacts at ``load_factor`` x the quasi-static largest load (with the centrifugal force
+    on the outer contact), ``sqrt((k_i + k_o)/m)/(2 pi)``, or the resonator, the larger.
+
+    Parameters
+    ----------
+    params : DynamicParams
+    load_factor : float
+        Contact load as a multiple of the quasi-static largest (``LOAD_FACTOR``).
+
+    Returns
+    -------
+    float
+        Frequency, Hz.
+    """
+    q = load_factor * max(float(np.max(quasi_static(params).q)) if params.force_n > 0 else 0.0,
+                          params.centrifugal_n, 1.0)
+    k = (contact_stiffness(params.k_inner, q, params.exponent)
+         + contact_stiffness(params.k_outer, q + params.centrifugal_n, params.exponent))
+    return max(math.sqrt(k / params.element_mass_kg) / (2 * math.pi), params.resonator_hz)
+
+
+def step_size(params: DynamicParams, steps_per_period: float = STEPS_PER_PERIOD,
+              load_factor: float = LOAD_FACTOR) -> float:
+    """The step rule: ``dt = 1 / (steps_per_period x f_max)`` with ``f_max`` from
+    :func:`highest_frequency_hz`.
+
+    Parameters
+    ----------
+    params : DynamicParams
+    steps_per_period : float
+        RK4 steps per period of ``f_max`` (:data:`STEPS_PER_PERIOD`).
+    load_factor : float
+        As :func:`highest_frequency_hz`.
+
+    Returns
+    -------
+    float
+        Step, s.
+    """
+    if not steps_per_period >= 4:
+        raise ValueError(f"steps_per_period: got {steps_per_period!r}; allowed: >= 4 (RK4 is "
+                         "unstable near 2.2)")
+    return 1.0 / (steps_per_period * highest_frequency_hz(params, load_factor))
+
+
+def _element_mass(bearing) -> float:
+    d = 1e-3 * bearing.roller_diameter_mm
+    vol = math.pi * d ** 3 / 6.0 if bearing.kind == "ball" else \
+        0.25 * math.pi * d ** 2 * 1e-3 * bearing.roller_length_mm
+    return ELEMENT_DENSITY_KG_M3 * vol
+
+
+def params_from_scene(scene, *, defect: DefectLaw | None = None, centrifugal: bool = True,
+                      slip: bool = True, **overrides) -> DynamicParams:
+    """Model parameters of ``scene``'s bearing (one row, its share of the load).
+
+    Contacts from :func:`~bearing_envelope.physics.loads.race_compliances` (Hertz point contact
+    for balls, Palmgren line contact for rollers), ``K_j = c_j^(-n)``; element mass from
+    :data:`~bearing_envelope.physics.loads.ELEMENT_DENSITY_KG_M3`; the cage angle from
+    :func:`bearing_envelope.physics.history.cage_angle` (the scene's slip); the structure from
+    :data:`STRUCTURE_DEFAULTS`; the pit at ``defect.position_deg`` of the scene's race.
+
+    Parameters
+    ----------
+    scene : Scene
+    defect : DefectLaw, optional
+        The defect law (None: healthy).
+    centrifugal : bool
+        Include the elements' centrifugal force.
+    slip : bool
+        The scene's cage slip (else ``2 pi f_c t``).
+    **overrides
+        Any :class:`DynamicParams` field.
+
+    Returns
+    -------
+    DynamicParams
+    """
+    from ..history import cage_angle   # history imports much; read it only here
+
+    b = scene.bearing
+    n = 1.5 if b.kind == "ball" else 10.0 / 9.0
+    ci, co = race_compliances(scene)
+    me = _element_mass(b)
+    ld = scene_load_distribution(scene)
+    kw = dict(z=b.rollers_per_row, element_mass_kg=me, element_radius_m=b.roller_radius_m,
+              k_inner=ci ** -n, k_outer=co ** -n, exponent=n, contact_damping_ns_m=0.0,
+              clearance_m=1e-6 * b.radial_clearance_um, contact_angle_rad=b.contact_angle_rad,
+              force_n=ld.force_row,
+              centrifugal_n=centrifugal_force(b, scene.cage_rate_hz) if centrifugal else 0.0,
+              inner_race_radius_m=b.inner_race_radius_m, outer_race_radius_m=b.outer_race_radius_m,
+              cage_rate_hz=scene.cage_rate_hz, shaft_rate_hz=scene.operation.shaft_rate_hz,
+              defect=defect, defect_race="inner" if scene.defect.location == "inner_race" else "outer",
+              defect_angle_rad=math.radians(getattr(scene.defect, "position_deg", 0.0) or 0.0),
+              cage_angle=partial(cage_angle, scene)
+              if slip and scene.operation.cage_slip_percent > 0 else None)
+    kw.update(overrides)
+    p = DynamicParams(**kw)
+    if "contact_damping_ns_m" not in overrides:
+        p = p.with_(contact_damping_ns_m=contact_damping(p, STRUCTURE_DEFAULTS["contact_zeta"]))
+    return p
+
+
+def contact_damping(params: DynamicParams, zeta: float) -> float:
+    """Contact damping (N s/m) giving the element's mode between its two contacts the damping
+    ratio ``zeta`` at the quasi-static largest load: ``c = zeta sqrt((k_i + k_o) m)`` (each of
+    the two contacts carries ``c``, so the mode sees ``2c``).
+
+    Parameters
+    ----------
+    params : DynamicParams
+    zeta : float
+        Damping ratio, >= 0.
+
+    Returns
+    -------
+    float
+        ``c``, N s/m.
+    """
+    q = max(float(np.max(quasi_static(params).q)) if params.force_n > 0 else 0.0, 1.0)
+    k = (contact_stiffness(params.k_inner, q, params.exponent)
+         + contact_stiffness(params.k_outer, q + params.centrifugal_n, params.exponent))
+    return zeta * math.sqrt(k * params.element_mass_kg)
