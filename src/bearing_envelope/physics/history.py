@@ -237,7 +237,7 @@ MIN_CONTACT_CELLS = 4.0
 #: Most halvings of the fidelity's contact grids (:func:`table_fidelity`) for a table whose
 #: largest contact is narrower than :data:`MIN_CONTACT_CELLS` global cells: 3 (1/8) solves the
 #: CWRU outer race's centrifugal 0.224 N (2a = 21 um) at ``draft`` (25 -> 3.1 um) and, at
-#: ``standard``, contacts down to 0.012 N (issue 43, docs/scene.md "Elements loaded outside
+#: ``standard``, contacts down to 0.003 N (issue 43, docs/scene.md "Elements loaded outside
 #: the load zone", measured cost there); a lighter contact is refused.
 MAX_GRID_HALVINGS = 3
 
@@ -254,11 +254,14 @@ def _halvings(scene: Scene, fid: Fidelity, q: float) -> int:
 def table_fidelity(scene: Scene, fid: Fidelity, q_max: float) -> Fidelity:
     """The fidelity a table whose largest load is ``q_max`` is solved at: ``fid`` itself when
     that contact spans :data:`MIN_CONTACT_CELLS` global cells across rolling, else ``fid`` with
-    its contact grids (``global_dx_um``, ``global_dy_um``, ``local_dx_um``, ``rim_dx_um``) and
-    its offset nodes' spacing (``offset_step_um``, once more, with twice ``max_offsets``: the
-    pressure at a pit wider than the contact changes on the contact's and the rim's scale;
-    ``p_max_defect``'s interpolation error of the CWRU 0.224 N contact at ``draft``: 41 % on
-    262b56a's 25 um grid, 60 % with the grids alone refined, 7.5 % so) halved the fewest times (at most :data:`MAX_GRID_HALVINGS`) that make it span them.
+    its contact grids (``global_dx_um``, ``global_dy_um``, ``local_dx_um``, ``rim_dx_um``)
+    halved the fewest times (at most :data:`MAX_GRID_HALVINGS`) that make it span them, and its
+    offset nodes as fine as the refined window (``offset_step_um``; ``max_offsets`` x 4): at a
+    pit wider than the contact the pressure changes on the scale of the window's cells.
+    Measured on the CWRU 0.224 N contact at ``standard`` (one halving; docs/scene.md, "Elements
+    loaded outside the load zone"): the table's on-grid interpolation error 0.1 % of the
+    no-defect pressure (47 % on 262b56a's grid, 27 % with the grids alone refined), 10 % at
+    off-grid offsets; another halving moves the peak ``p_max`` 10 % and the removed force 2 %.
 
     Parameters
     ----------
@@ -281,8 +284,8 @@ def table_fidelity(scene: Scene, fid: Fidelity, q_max: float) -> Fidelity:
     f = 2.0 ** -k
     return dataclasses.replace(
         fid, global_dx_um=f * fid.global_dx_um, global_dy_um=f * fid.global_dy_um,
-        local_dx_um=f * fid.local_dx_um, offset_step_um=0.5 * f * fid.offset_step_um,
-        max_offsets=2 * fid.max_offsets,
+        local_dx_um=f * fid.local_dx_um, max_offsets=4 * fid.max_offsets,
+        offset_step_um=min(fid.offset_step_um, f * fid.local_dx_um),
         rim_dx_um=None if fid.rim_dx_um is None else f * fid.rim_dx_um)
 
 
