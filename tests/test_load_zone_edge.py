@@ -90,6 +90,15 @@ def test_a_contact_too_small_for_the_solver_is_refused_in_one_line(position_deg)
     assert "\n" not in msg and f"outer_race at {position_deg:g} deg" in msg
     assert "defect.position_deg" in msg and "radial_clearance_um 10" in msg
     assert "75.36 deg" in msg and "global_dx_um" in msg
+    # the boundary: draft's finest grid (25 um / 2^3 = 3.125 um) resolves 2a >= 12.5 um, 0.046 N
+    # by a_H ~ Q^(1/3) from 1.376e-4 m at 487 N; standard's (1.25 um) 5 um, 0.003 N
+    two_a = 2 * 1.376e-4 * (exp["races"]["outer"]["q_max_N"] / 487.0) ** (1 / 3)
+    assert two_a < 4 * 25e-6 / 8
+    if two_a >= 4 * 10e-6 / 8:                  # 0.03 N at 75.3 deg: 10.8 um
+        check_resolved(sc, "standard")          # solved on standard's grids halved twice
+    else:                                       # 2.8e-4 N at 75.36 deg: 2.3 um
+        with pytest.raises(ValueError, match="even refined to 1.25 um"):
+            check_resolved(sc, "standard")
 
 
 @pytest.mark.parametrize("position_deg", [75.36, 75.3])
