@@ -90,6 +90,15 @@ def test_a_contact_too_small_for_the_solver_is_refused_in_one_line(position_deg)
     assert "\n" not in msg and f"outer_race at {position_deg:g} deg" in msg
     assert "defect.position_deg" in msg and "radial_clearance_um 10" in msg
     assert "75.36 deg" in msg and "global_dx_um" in msg
+    # the boundary: draft's finest grid (25 um / 2^3 = 3.125 um) resolves 2a >= 12.5 um, 0.046 N
+    # by a_H ~ Q^(1/3) from 1.376e-4 m at 487 N; standard's (1.25 um) 5 um, 0.003 N
+    two_a = 2 * 1.376e-4 * (exp["races"]["outer"]["q_max_N"] / 487.0) ** (1 / 3)
+    assert two_a < 4 * 25e-6 / 8
+    if two_a >= 4 * 10e-6 / 8:                  # 0.03 N at 75.3 deg: 10.8 um
+        check_resolved(sc, "standard")          # solved on standard's grids halved twice
+    else:                                       # 2.8e-4 N at 75.36 deg: 2.3 um
+        with pytest.raises(ValueError, match="even refined to 1.25 um"):
+            check_resolved(sc, "standard")
 
 
 @pytest.mark.parametrize("position_deg", [75.36, 75.3])
@@ -167,3 +176,28 @@ def test_with_clearance_the_ball_is_free_where_least_loaded_and_redrawn_each_tur
     theta = 2 * math.pi * np.arange(10) + 0.1                # one sample in each of ten turns
     free = rolling_element_kinematics(sc, theta)["track_offset"]
     assert np.unique(free).size == 10
+
+
+def test_a_light_real_contact_is_solved_on_grids_refined_for_it():
+    # CWRU 3:00 with +10 um and centrifugal force only: F_c = 0.224 N at 1797 rpm (m w_c^2 D/2,
+    # docs/scene.md); a_H scales as Q^(1/3) from the 1.376e-4 m at 487 N: 2a = 21.2 um,
+    # 0.85 draft cells (25 um): three halvings (3.125 um) give 6.8 cells, two only 3.4
+    sc = cwru(90.0, 10.0, centrifugal=True)            # 29.95 Hz = 1797 rpm
+    ld = scene_load_distribution(sc)
+    (q_max, _), = sc.defect.fault_location.table_loads(sc, ld, exposure(sc, ld)).values()
+    assert q_max == pytest.approx(0.224, rel=0.01)
+    two_a = 2 * 1.376e-4 * (q_max / 487.0) ** (1 / 3)
+    assert two_a == pytest.approx(21.2e-6, rel=0.01)
+    check_resolved(sc, "draft")                 # no refusal
+    from bearing_envelope.physics.history import MIN_CONTACT_CELLS, table_fidelity
+    from bearing_envelope.physics.fidelity import PRESETS
+    draft = PRESETS["draft"]
+    fid = table_fidelity(sc.for_race("outer"), draft, q_max)
+    assert fid.global_dx_um == draft.global_dx_um / 8 and fid.local_dx_um == draft.local_dx_um / 8
+    assert two_a / (1e-6 * fid.global_dx_um) >= MIN_CONTACT_CELLS > two_a / (2e-6 * fid.global_dx_um)
+    # a resolved table is solved on the fidelity itself (the default sweep is untouched)
+    assert table_fidelity(sc.for_race("outer"), draft, 487.0) is draft
+    h = simulate(sc, "draft")
+    info = h.table.info
+    assert info["grid_halvings"] == 3 and info["global_dx"] == pytest.approx(3.125e-6)
+    assert h.signals["removed_force"].max() > 0.5 * q_max   # the pit sheds the light contact
