@@ -183,7 +183,7 @@ def test_edge_radius_bound_matches_the_rim_geometry(tmp_path, base):
 
 def test_integral_floats_become_integers(tmp_path, base):
     st_ = load_settings(_write(tmp_path, _with(base, ("analysis", "harmonics"), 3.0)))
-    assert type(st_.analysis.harmonics) is int and st_.analysis.harmonics == 3
+    assert type(st_.analysis.options.n_harmonics) is int and st_.analysis.options.n_harmonics == 3
 
 
 # ----------------------------------------------------------------------------- dry runs

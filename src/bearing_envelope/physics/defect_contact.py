@@ -50,7 +50,7 @@ from .loads import ELEMENT_DENSITY_KG_M3, centrifugal_force, scene_load_distribu
 from .scene import Scene
 from .solves import SolveStats
 
-__all__ = ["DefectContactTable", "build_defect_table", "defect_table", "defect_force",
+__all__ = ["DefectContactTable", "tabulated_race", "build_defect_table", "defect_table", "defect_force",
            "hertz_constant", "rigid_drop", "table_grid", "DefectScales", "defect_scales",
            "element_mass", "LOAD_FACTOR", "LOCAL_ERROR_FLOOR", "DELTA_NODES_PER_LOAD",
            "OVERLAP_MARGIN_CELLS", "EDGE_MARGIN_NODES", "RIM_CELLS", "TABLE_CACHE_SIZE"]
@@ -592,7 +592,24 @@ def _default_race(scene: Scene, race: str | None) -> str:
     """The tabulated contact: given, else the pit's race (a rolling-element pit: the outer)."""
     if race is not None:
         return race
-    return "inner" if scene.defect.location == "inner_race" else "outer"
+    return tabulated_race(scene)
+
+
+def tabulated_race(scene: Scene) -> str:
+    """The race whose contact with the pit is tabulated: the last race the location's defect
+    passes (inner race: the inner; outer race and rolling element: the outer).
+
+    Parameters
+    ----------
+    scene : Scene
+        The scene (its defect's location).
+
+    Returns
+    -------
+    str
+        ``"inner"`` or ``"outer"``.
+    """
+    return scene.defect.fault_location.races[-1]
 
 
 def _sweep(stats: SolveStats, scene: Scene, fid: Fidelity, grid: Grid, g0: np.ndarray,
@@ -846,8 +863,8 @@ def _element_loads(scene: Scene) -> tuple[float, float, str]:
     """``(Q on the pitted race, Q on the other, pitted race)`` where the pit meets its event."""
     ld = scene_load_distribution(scene)
     d = scene.defect
-    race = "inner" if d.location == "inner_race" else "outer"
-    psi = math.radians(d.position_deg) if d.location == "outer_race" else 0.0
+    race = tabulated_race(scene)
+    psi = math.radians(d.position_deg) if d.fault_location.positioned else 0.0
     q = {r: float(ld.load_at(psi, r)) for r in ("inner", "outer")}
     return q[race], q["outer" if race == "inner" else "inner"], race
 

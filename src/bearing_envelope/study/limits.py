@@ -368,6 +368,7 @@ class JobEstimate:
         Returns
         -------
         str
+            Each expensive axis as ``count unit``, joined by `` x ``.
         """
         return " x ".join(f"{v:,} {_AXIS_UNITS[k]}" for k, v in self.axes)
 

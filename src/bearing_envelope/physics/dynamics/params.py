@@ -14,6 +14,7 @@ from typing import Callable
 
 import numpy as np
 
+from ..defect_contact import tabulated_race
 from ..loads import (CAGE_PHASE_RAD, ELEMENT_DENSITY_KG_M3, LoadDistribution, centrifugal_force,
                      race_compliances, scene_load_distribution, solve_row)
 from .layout import P_NAMES
@@ -458,7 +459,7 @@ def params_from_scene(scene, *, defect: DefectLaw | None = None, centrifugal: bo
               centrifugal_n=centrifugal_force(b, scene.cage_rate_hz) if centrifugal else 0.0,
               inner_race_radius_m=b.inner_race_radius_m, outer_race_radius_m=b.outer_race_radius_m,
               cage_rate_hz=scene.cage_rate_hz, shaft_rate_hz=scene.operation.shaft_rate_hz,
-              defect=defect, defect_race="inner" if scene.defect.location == "inner_race" else "outer",
+              defect=defect, defect_race=tabulated_race(scene),
               defect_angle_rad=math.radians(scene.defect.position_deg),
               cage_angle=partial(cage_angle, scene)
               if slip and scene.operation.cage_slip_percent > 0 else None)
