@@ -1,6 +1,6 @@
 """Every default is written once: its home against every other place that could hold one.
 
-Homes (docs/architecture.md, "Where defaults live"): the scene in ``physics/scene.py``
+Homes (docs/architecture.md, "Where defaults live"): the scene in ``physics/scene_sections.py``
 (``DEFAULT_SCENE``) with the study bearing's values in its catalogue entry
 (``data/bearings.yaml``); the fidelity preset in ``physics/fidelity.py``; the analysis options in
 ``diagnosis.AnalysisOptions`` (the filter order in ``signal/envelope.py``); the trade-off study
@@ -470,7 +470,7 @@ def test_a_default_constant_is_defined_in_one_module():
 def test_scene_dataclass_defaults_read_default_scene():
     """Each scene dataclass's field default is ``DEFAULT_SCENE``'s value at its key, read from
     it (no literal but None)."""
-    from bearing_envelope.physics import scene as sc
+    from bearing_envelope.physics import scene_sections as sc
 
     tree = ast.parse(inspect.getsource(sc))
     classes = {n.name: n for n in tree.body if isinstance(n, ast.ClassDef)}
