@@ -166,7 +166,7 @@ def no_solver(monkeypatch):
     """Make any contact solve fail the test: rejection must come before expensive work."""
     import bearing_envelope.contact as contact
     import bearing_envelope.physics.history as history
-    import bearing_envelope.physics.solves as solves
+    import bearing_envelope.physics.solves.stats as solves
 
     def boom(*a, **k):  # pragma: no cover - reached only by a bug
         raise AssertionError("a contact solve ran for a config that should have been rejected")

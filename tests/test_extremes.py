@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 
 import bearing_envelope.contact as contact
-import bearing_envelope.physics.solves as solves
+import bearing_envelope.physics.solves.stats as solves
 from bearing_envelope.contact import hertz
 from bearing_envelope.physics.geometry import defect_depth
 from bearing_envelope.physics.history import simulate

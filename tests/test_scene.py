@@ -75,7 +75,7 @@ def test_bad_scenes_name_the_field(mapping, depth, field):
 
 def test_bad_scene_fails_before_any_solve(monkeypatch, tmp_path):
     import bearing_envelope.contact as contact
-    import bearing_envelope.physics.solves as solves
+    import bearing_envelope.physics.solves.stats as solves
     from bearing_envelope.cli import main
 
     def boom(*a, **k):  # pragma: no cover - must not be reached

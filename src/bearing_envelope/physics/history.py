@@ -501,7 +501,7 @@ def simulate(scene: Scene, fidelity: Fidelity | str | None = None, *, progress: 
     }
     if not scene.defect.fault_location.solves_every_row:
         # defect solves on the contact's rows that were solved again on the whole window
-        # (physics/solves.py, window_solve); the inner race solves every row
+        # (physics/solves/windows.py, window_solve); the inner race solves every row
         stats_d["n_rows_fallback"] = stats.n_rows_fallback
     return History(scene, fid, t, signals["p_max"], signals["p_max_defect"], Q, X, table, snaps,
                    ld, signals, stats_d, acq, tables)

@@ -43,7 +43,9 @@ CACHE_FORMAT = 1
 
 #: Modules whose source is part of the solver's code version.
 _SOLVER_SOURCES = ("../contact/__init__.py", "../contact/solver.py", "../contact/halfspace.py",
-                   "../contact/_kernels.py", "solves.py", "geometry.py")
+                   "../contact/_kernels.py", "solves/__init__.py", "solves/stats.py",
+                   "solves/global_solve.py", "solves/windows.py", "solves/load_node.py",
+                   "solves/defect.py", "solves/rims.py", "geometry.py")
 
 
 @dataclass(frozen=True)
