@@ -49,6 +49,8 @@ from scipy import signal as sps
 from bearing_envelope.diagnosis import (KURTOGRAM_MIN_ORDERS, RECORD_OPTIONS, AnalysisOptions,
                                         analyze_signal, faults)
 from bearing_envelope.diagnosis.detection import clopper_pearson
+from bearing_envelope.diagnosis.faults import evidence as faults_evidence
+from bearing_envelope.diagnosis.faults import verdict as faults_verdict
 from bearing_envelope.physics.kinematics import fault_frequencies
 from bearing_envelope.signal import DEFAULT_BANDS
 from bearing_envelope.signal.bandselect import infogram_band, protrugram_band
@@ -183,8 +185,8 @@ def per_level(df: pd.DataFrame) -> pd.DataFrame:
 
 def redecide(stored, high_db: float, medium_db: float) -> pd.DataFrame:
     """The verdicts of the stored tables with other margins (module constants patched)."""
-    keep = faults.HIGH_MIN_MARGIN_DB, faults.MEDIUM_MIN_MARGIN_DB
-    faults.HIGH_MIN_MARGIN_DB, faults.MEDIUM_MIN_MARGIN_DB = high_db, medium_db
+    keep = faults_evidence.HIGH_MIN_MARGIN_DB, faults_evidence.MEDIUM_MIN_MARGIN_DB
+    faults_evidence.HIGH_MIN_MARGIN_DB, faults_evidence.MEDIUM_MIN_MARGIN_DB = high_db, medium_db
     try:
         rows = []
         for rec, (table, fams, n_tests, df_hz, fr, truth, s) in stored.items():
@@ -195,7 +197,7 @@ def redecide(stored, high_db: float, medium_db: float) -> pd.DataFrame:
                          "outcome": outcome(None if d is None else d.family, truth)})
         return pd.DataFrame(rows)
     finally:
-        faults.HIGH_MIN_MARGIN_DB, faults.MEDIUM_MIN_MARGIN_DB = keep
+        faults_evidence.HIGH_MIN_MARGIN_DB, faults_evidence.MEDIUM_MIN_MARGIN_DB = keep
 
 
 def lofo(stored) -> pd.DataFrame:
@@ -388,22 +390,23 @@ def smoke() -> None:
 def _former_band_count(stored) -> pd.DataFrame:
     """The stored tables re-decided with every agreeing band counted (before the third pass:
     ``faults.DISTINCT_BAND_OVERLAP = inf``)."""
-    keep = faults.DISTINCT_BAND_OVERLAP
-    faults.DISTINCT_BAND_OVERLAP = float("inf")
+    keep = faults_evidence.DISTINCT_BAND_OVERLAP
+    faults_evidence.DISTINCT_BAND_OVERLAP = float("inf")
     try:
-        return redecide(stored, faults.HIGH_MIN_MARGIN_DB, faults.MEDIUM_MIN_MARGIN_DB)
+        return redecide(stored, faults_evidence.HIGH_MIN_MARGIN_DB,
+                        faults_evidence.MEDIUM_MIN_MARGIN_DB)
     finally:
-        faults.DISTINCT_BAND_OVERLAP = keep
+        faults_evidence.DISTINCT_BAND_OVERLAP = keep
 
 
 def _without_tie_break(records) -> pd.DataFrame:
     """The evaluation with the second pass's band-count tie-break off."""
-    keep = faults.BAND_TIE_BREAK
-    faults.BAND_TIE_BREAK = False
+    keep = faults_verdict.BAND_TIE_BREAK
+    faults_verdict.BAND_TIE_BREAK = False
     try:
         return evaluate(records, OPTIONS)[0]
     finally:
-        faults.BAND_TIE_BREAK = keep
+        faults_verdict.BAND_TIE_BREAK = keep
 
 
 def _print_mc(records, trials):
