@@ -230,7 +230,7 @@ QUANTITY_OF: dict[tuple[str, str], str] = {
     ("bearing_envelope.diagnosis.plots.save_analysis_figures", "n_sidebands"): "sidebands marked",
     ("bearing_envelope.diagnosis.plots.save_record_figure", "dpi"): "record figure dpi",
     ("bearing_envelope.diagnosis.plots.plot_envelope_waveform", "periods"): "waveform periods",
-    ("bearing_envelope.study.figures.fig_harmonics_vs_depth", "orders"): "harmonic orders drawn",
+    ("bearing_envelope.study.figures.spectra.fig_harmonics_vs_depth", "orders"): "harmonic orders drawn",
     # the shaft-rate search (speed.py) against a fault line's search
     ("bearing_envelope.diagnosis.speed.estimate_shaft_rate", "search_percent"): "shaft-rate search",
     ("bearing_envelope.diagnosis.speed.estimate_shaft_rate", "orders"): "shaft orders searched",
