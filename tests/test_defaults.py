@@ -5,7 +5,7 @@ Homes (docs/architecture.md, "Where defaults live"): the scene in ``physics/scen
 (``data/bearings.yaml``); the fidelity preset in ``physics/fidelity.py``; the analysis options in
 ``diagnosis.AnalysisOptions`` (the filter order in ``signal/envelope.py``); the trade-off study
 in ``study/tradeoff_settings.py``; the pre-run limits in ``study/limits.py``; the sensor in
-``physics/transfer.py`` (``TransferModel``, ``NoiseSpec``). The schema file holds defaults only
+``physics/transfer_model.py`` (``TransferModel``, ``NoiseSpec``). The schema file holds defaults only
 for sections whose home it is (diagnosability, paper_run), and the loader fills the others in
 from their homes. Below: every default of the same quantity across the library.
 """
@@ -411,7 +411,7 @@ def test_the_check_sees_signatures_fields_and_fallbacks():
     where = {d.where for d in LIBRARY_DEFAULTS}
     assert "bearing_envelope.signal.kurtogram.fast_kurtogram" in where          # a function
     assert "bearing_envelope.diagnosis.options.AnalysisOptions" in where        # a dataclass
-    assert any(w.startswith("bearing_envelope.physics.transfer.Mode.") for w in where)  # a method
+    assert any(w.startswith("bearing_envelope.physics.transfer_model.Mode.") for w in where)  # a method
     assert len(LIBRARY_DEFAULTS) > 200
 
 
