@@ -22,11 +22,9 @@ __all__ = ["CANNOT_TELL", "CONFIDENCE_LEVELS", "FamilyVerdict", "distinct_bands"
 #: needs its fundamental and second harmonic.
 HOLD_ORDERS = 2
 
-
 #: Bands agree on a family when the fundamental they found lies within ``AGREE_PERCENT`` % (or
 #: two bins) of the best band's: one shaft speed, one line, in every band.
 AGREE_PERCENT = 0.2
-
 
 #: Two demodulation bands are one piece of evidence when they share more than this fraction of
 #: the narrower one's width (issue 24, third pass): the kurtogram's band often lies inside a
@@ -35,53 +33,35 @@ AGREE_PERCENT = 0.2
 #: agreeing bands no two of which overlap more than this (:func:`distinct_bands`).
 DISTINCT_BAND_OVERLAP = 0.5
 
-
 #: ``high``: detected, at one frequency, in at least this many distinct bands that can hold the
 #: family (``medium`` with fewer harmonics, no modulation or a lower margin).
 HIGH_MIN_BANDS = 3
-
-
 #: ``high``: the fundamental at least this far above its threshold (dB) in the best band.
 HIGH_MIN_MARGIN_DB = 10.0
-
-
 #: ``medium`` from fewer bands: detected, at one frequency, in at least this many distinct
 #: bands ...
 MEDIUM_MIN_BANDS = 2
-
-
 #: ... with the fundamental at least this far above its threshold (dB).
 MEDIUM_MIN_MARGIN_DB = 15.0
-
 
 #: A family sharing a harmonic with the diagnosis (3 BPFO = 2 BPFI) whose fundamental is within
 #: this many dB of the diagnosis's margin is a rival: the verdict cannot tell them apart.
 RIVAL_MARGIN_DB = 6.0
 
-
 #: Orders k <= EXPLAIN_MAX_ORDER and sidebands |m| <= EXPLAIN_MAX_SIDEBAND of a stronger family
 #: that explain a weaker family's fundamental.
 EXPLAIN_MAX_ORDER = 6
-
-
 EXPLAIN_MAX_SIDEBAND = 3
-
-
 #: A cage-rate (FTF) family whose fundamental divides a stronger family's by an integer up to
 #: this is the cage period of that train (BPFO = Z x FTF): not a cage fault.
 CAGE_MAX_DIVISOR = 20
 
-
 #: The family whose detection means a cage fault: it needs ``high`` evidence of its own.
 CAGE_FAMILY = "ftf"
 
-
 #: Confidence levels, strongest first; ``CANNOT_TELL`` where the evidence conflicts.
 CONFIDENCE_LEVELS = ("high", "medium", "low")
-
-
 CANNOT_TELL = "cannot tell"
-
 
 _RANK = {"high": 3, "medium": 2, "low": 1, None: 0}
 

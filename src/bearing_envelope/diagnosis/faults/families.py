@@ -15,7 +15,6 @@ __all__ = ["DEFAULT_SEARCH_PERCENT", "FAMILY_LABELS", "SIDEBAND_SPACING", "Fault
 #: Default half-width (percent of the nominal frequency) of the search for a fundamental.
 DEFAULT_SEARCH_PERCENT = 1.0
 
-
 #: What a detected family means.
 FAMILY_LABELS = {
     "bpfo": "outer race fault",
@@ -25,10 +24,8 @@ FAMILY_LABELS = {
     "ftf": "cage fault",
 }
 
-
 #: Sideband spacing of each known family: the name of another frequency, or None.
 SIDEBAND_SPACING = {"bpfi": "fr", "bsf": "ftf", "bsf2": "ftf", "bpfo": None, "ftf": None}
-
 
 _DISPLAY = {"bpfo": "BPFO", "bpfi": "BPFI", "bsf": "BSF", "bsf2": "2xBSF", "ftf": "FTF",
             "fr": "fr"}

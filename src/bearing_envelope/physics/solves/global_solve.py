@@ -84,11 +84,7 @@ def window_spec(scene: Scene, fid: Fidelity, q_load: float, kappa: float):
 #: sizes once the start no longer followed the defect window, issue 25); a contact that fits
 #: the first size (every default case) is solved exactly as before.
 GLOBAL_GRID_GROWTH = 1.3
-
-
 GLOBAL_GRID_ATTEMPTS = 8
-
-
 #: Axial reach of the global grid beyond each roller end, in axial cells: just over one, so that
 #: exactly one cell centre lies past each end (no material there: gap ``+inf``).
 GLOBAL_END_CELLS = 1.01

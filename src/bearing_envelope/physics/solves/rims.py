@@ -102,8 +102,6 @@ class RimStrip:
 #: under the others' displacement) until the window force changes by less than this
 #: (relative) between passes ...
 RIM_SCHWARZ_TOL = 1e-4
-
-
 #: ... or this many passes.
 RIM_SCHWARZ_MAX = 8
 

@@ -156,8 +156,6 @@ def window_solve(node: "LoadNode | WindowState", g: np.ndarray, stats: SolveStat
 #: Approach (m) of the far-field flat-punch solve (:func:`far_response`); the response is
 #: linear, so only the scale of the solved pressures depends on it.
 FAR_RESPONSE_APPROACH = 1e-6
-
-
 #: Displacement (m) imposed on the no-defect window to measure its pressure response to the far
 #: field's take-up (:func:`far_response`): small against the approach (~50 um), large against the
 #: solver's tolerance times the pressure.

@@ -29,12 +29,10 @@ LINE_NAME = "BPFI"
 #: the healthy race at the same load.
 STUDY_EXAMPLES: tuple[tuple[float, float], ...] = ((250.0, 15.0), (500.0, 50.0), (750.0, 100.0))
 
-
 #: What every pressure figure says about its values.
 ELASTIC_NOTE = ("Linear-elastic, frictionless contact (no plasticity): peaks above ~4 GPa "
                 "(ISO 76 static capacity) would yield real steel; peaks at the defect rim and "
                 "roller ends depend on the grid ({grid}).")
-
 
 #: Fewest frequency points of the spectral-kurtosis panel (Fig. 9): window >= 2 (n - 1) samples.
 SK_MIN_POINTS = 129
@@ -190,7 +188,6 @@ def location_line(location: str) -> str:
         E.g. ``BPFO``.
     """
     return display_name(get_location(location).family)
-
 
 #: Display names of the sweep's fault-family quantities (each location searches its own).
 FAMILY_TITLES = {"bpfi": "BPFI", "bpfo": "BPFO", "2bsf": "2xBSF"}
