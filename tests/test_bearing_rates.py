@@ -81,11 +81,11 @@ def test_every_alias_names_the_entry_everywhere(alias):
 
 
 def test_the_rig_reads_its_bearing_from_the_catalogue():
-    from bearing_envelope.study.rig.records import bearing_rates, resolve_bearing
+    from bearing_envelope.study.rig.records import resolve_bearing, rig_event_rates
 
     b = resolve_bearing("6205")
     assert b.designation == "SKF 6205-2RS"
-    r = bearing_rates(b, 29.95)
+    r = rig_event_rates(b, 29.95)
     assert r["bpfi"] / 29.95 == pytest.approx(CWRU_6205["bpfi"], abs=5e-5)
     assert set(r) == {"bpfo", "bpfi", "bsf", "bsf2"}
 

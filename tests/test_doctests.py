@@ -38,7 +38,7 @@ ENTRY_POINTS = [
     ("bearing_envelope.diagnosis.records", "analyze_record"),
     # io
     ("bearing_envelope.io.case", "read_case"),
-    ("bearing_envelope.io.analysis", "analyze_record"),
+    ("bearing_envelope.io.analysis", "analyze_file"),
     # study
     ("bearing_envelope.study.settings", "load_settings"),
     ("bearing_envelope.study.pipeline", "case_summary"),

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from bearing_envelope.cli import main
-from bearing_envelope.io.analysis import analyze_record, read_task
+from bearing_envelope.io.analysis import analyze_file, read_task
 from bearing_envelope.io.records import read_record
 
 FS = 12_000.0
@@ -58,7 +58,7 @@ def test_a_bad_shaft_rate_in_meta_json_is_named_with_its_value(tmp_path, fr, mat
     f = tmp_path / "neg.npz"
     np.savez(f, x=_signal(24000), fs=np.float64(FS), meta_json=json.dumps({"shaft_hz": fr}))
     with pytest.raises(ValueError, match=match):
-        analyze_record(str(f), bpfi=162.0)
+        analyze_file(str(f), bpfi=162.0)
 
 
 def _csv(path, t, x, decimals):

@@ -231,7 +231,7 @@ def test_outputs_checked_before_the_analysis(tmp_path, capsys, monkeypatch):
     import bearing_envelope.commands.analyze as analyze
 
     calls = []
-    monkeypatch.setattr(analyze, "analyze_record", lambda *a: calls.append(a))
+    monkeypatch.setattr(analyze, "analyze_task", lambda *a: calls.append(a))
     np.save(tmp_path / "x.npy", np.ones(4096))
     (tmp_path / "f").write_text("")
     assert main(["analyze", str(tmp_path / "x.npy"), "--fs", "2000", "--fr", "10", "--bpfi",

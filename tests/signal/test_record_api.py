@@ -66,7 +66,7 @@ def test_noise_gets_no_diagnosis(noise):
 
 def test_array_record_and_path_give_the_same_result(fault, analysed, tmp_path):
     np.savez(tmp_path / "r.npz", x=fault, fs=FS)
-    from_path = io_analysis.analyze_record(tmp_path / "r.npz", shaft_hz=FR, bearing="6205",
+    from_path = io_analysis.analyze_file(tmp_path / "r.npz", shaft_hz=FR, bearing="6205",
                                            options=OPTS)
     read = io_analysis.read_task(str(tmp_path / "r.npz"))
     from_read = analyze_record(read, shaft_hz=FR, bearing="6205", options=OPTS)
@@ -108,7 +108,7 @@ def test_batch_in_parallel_equals_serial_and_a_bad_record_is_a_row(fault, noise,
     np.savez(tmp_path / "b.npz", x=noise, fs=FS)
     (tmp_path / "c.npy").write_bytes(b"not an npy file")
     items = [tmp_path / "a.npz", tmp_path / "b.npz", tmp_path / "c.npy", fault]
-    runs = [io_analysis.analyze_records(items, FS, shaft_hz=FR, bearing="6205", options=OPTS,
+    runs = [io_analysis.analyze_files(items, FS, shaft_hz=FR, bearing="6205", options=OPTS,
                                         jobs=jobs) for jobs in (1, 2)]
     for results in runs:
         assert [r.ok for r in results] == [True, True, False, True]
@@ -127,7 +127,7 @@ def test_the_command_line_prints_the_library_result(fault, tmp_path):
     assert main(["analyze", str(tmp_path / "a.npz"), "--fr", str(FR), "--bearing", "6205",
                  "--nlevel", "5", "--table", str(tmp_path / "t.csv")]) == 0
     cli = pd.read_csv(tmp_path / "t.csv")
-    lib = io_analysis.analyze_record(str(tmp_path / "a.npz"), shaft_hz=FR, bearing="6205",
+    lib = io_analysis.analyze_file(str(tmp_path / "a.npz"), shaft_hz=FR, bearing="6205",
                                      options=OPTS).to_frame()
     lib.to_csv(tmp_path / "lib.csv", index=False)
     pd.testing.assert_frame_equal(cli, pd.read_csv(tmp_path / "lib.csv"))

@@ -6,7 +6,8 @@ from bearing_envelope.diagnosis.detection import false_alarm_rates
 from bearing_envelope.study.figures import fig_diagnosability_maps
 from bearing_envelope.study.paper import write_page
 from bearing_envelope.study.pipeline import log_to
-from bearing_envelope.study.tables import add_location, table_html, write_csv_atomic
+from bearing_envelope.io import write_csv_atomic
+from bearing_envelope.study.tables import add_location, table_html
 
 with log_to(snakemake.log[0]) as log:  # noqa: F821
     inp, out = snakemake.input, snakemake.output  # noqa: F821

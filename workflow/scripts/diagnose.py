@@ -1,7 +1,7 @@
 """Rule diagnose: BPFI detection in the synthetic acceleration of one case, per SNR and band."""
 from bearing_envelope.io import read_case
 from bearing_envelope.study.pipeline import case_diagnosability, log_to
-from bearing_envelope.study.tables import write_csv_atomic
+from bearing_envelope.io import write_csv_atomic
 from bearing_envelope.study.job_transport import job_settings
 
 with log_to(snakemake.log[0]):  # noqa: F821

@@ -1,7 +1,7 @@
 """Rule false_alarms: the detection map's test on many noise realisations of a healthy case."""
 from bearing_envelope.io import read_case
 from bearing_envelope.study.pipeline import case_false_alarms, log_to
-from bearing_envelope.study.tables import write_csv_atomic
+from bearing_envelope.io import write_csv_atomic
 from bearing_envelope.study.job_transport import job_settings
 
 with log_to(snakemake.log[0]):  # noqa: F821

@@ -1,6 +1,6 @@
 """Rule tradeoff: the speed-accuracy study (bearing_envelope.study.tradeoff) -> CSV, Pareto CSV, PNG."""
 from bearing_envelope.study.provenance import log_to
-from bearing_envelope.study.tables import write_csv_atomic
+from bearing_envelope.io import write_csv_atomic
 from bearing_envelope.study.job_transport import job_settings
 from bearing_envelope.study.tradeoff import pareto_points, plot_tradeoff, study_from_config
 

@@ -585,7 +585,7 @@ def library_arguments(args) -> dict:
                               fs=args.fs)}
 
 
-def analyze_record(task: dict, args, library: dict):
+def analyze_task(task: dict, args, library: dict):
     """One record through the library (:func:`bearing_envelope.diagnosis.batch.analyze_item`:
     the task's own fs, shaft rate and bearing win over the options).
 
@@ -634,7 +634,7 @@ def run(args) -> int:
         return run_batch(record_tasks(args), args, library)
     if os.path.isdir(args.files[0]):
         raise ValueError(f"file: {args.files[0]!r} is a directory; allowed: a signal file")
-    res = analyze_record(record_tasks(args)[0], args, library)
+    res = analyze_task(record_tasks(args)[0], args, library)
     print_record(args, res)
     write_record_outputs(args, res)
     return 0

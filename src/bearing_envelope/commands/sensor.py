@@ -86,8 +86,8 @@ def load_sensor_config(path: str) -> TransferModel:
     return settings.sensor
 
 
-def write_sensor_case(case_path, model: TransferModel, output, *, snr_db="model", seed=None, excitation=None,
-                      reference=None, config_label=None) -> dict[str, Any]:
+def synthesize_sensor_case(case_path, model: TransferModel, output, *, snr_db="model", seed=None,
+                           excitation=None, reference=None, config_label=None) -> dict[str, Any]:
     """Synthesise the acceleration of a case file and write it with its provenance.
 
     Reads the case(s), calls :func:`bearing_envelope.study.pipeline.case_acceleration` and writes with
@@ -153,9 +153,9 @@ def run(args: argparse.Namespace) -> int:
     """
     model = load_sensor_config(args.config)
     snr = None if args.no_noise else ("model" if args.snr_db is None else args.snr_db)
-    info = write_sensor_case(args.case, model, args.output, snr_db=snr, seed=args.seed,
-                             excitation=args.excitation, reference=args.reference,
-                             config_label=str(args.config))
+    info = synthesize_sensor_case(args.case, model, args.output, snr_db=snr, seed=args.seed,
+                                  excitation=args.excitation, reference=args.reference,
+                                  config_label=str(args.config))
     print(f"sensor: {args.case} -> {args.output} ({info['n_samples']} samples, "
           f"excitation {info['excitation_signal']}, SNR {info['snr_db_achieved']:.2f} dB)")
     return 0

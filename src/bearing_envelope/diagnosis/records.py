@@ -631,7 +631,7 @@ def _as_record(signal, reader, file) -> tuple[dict, str | None]:
     if isinstance(signal, (str, os.PathLike)):
         if reader is None:
             raise ValueError(f"file: {os.fspath(signal)}: a path needs a reader "
-                             "(bearing_envelope.io.analysis.analyze_record reads files)")
+                             "(bearing_envelope.io.analysis.analyze_file reads files)")
         return dict(reader(os.fspath(signal))), os.fspath(signal)
     if isinstance(signal, Mapping):
         if "x" not in signal:

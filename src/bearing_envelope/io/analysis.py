@@ -1,6 +1,7 @@
-"""The analysis of recordings *from files*: :func:`analyze_record` and :func:`analyze_records`
-accept a path (or an array) and read it with :func:`read_task`
-(:func:`bearing_envelope.io.records.read_record`).
+"""The analysis of recordings *from files*: :func:`analyze_file` and :func:`analyze_files` are
+:func:`~bearing_envelope.diagnosis.records.analyze_record` and
+:func:`~bearing_envelope.diagnosis.batch.analyze_records` that also accept a path and read it
+with :func:`read_task` (:func:`bearing_envelope.io.records.read_record`).
 
 No decision is taken here: every one is :mod:`bearing_envelope.diagnosis.records`' (this module
 only binds the reader, which the diagnosis layer may not import). Importing this module imports
@@ -16,7 +17,7 @@ from ..diagnosis import batch as _batch
 from ..diagnosis import records as _records
 from .records import DEFAULT_CHANNEL, DEFAULT_SIGNAL, read_record
 
-__all__ = ["read_task", "analyze_record", "analyze_records"]
+__all__ = ["read_task", "analyze_file", "analyze_files"]
 
 
 def read_task(item, *, column=None, channel: str = DEFAULT_CHANNEL, signal: str = DEFAULT_SIGNAL,
@@ -51,7 +52,7 @@ def read_task(item, *, column=None, channel: str = DEFAULT_CHANNEL, signal: str 
                        delimiter=delimiter, decimal=decimal, fs=fs)
 
 
-def analyze_record(path_or_array, fs: float | None = None, **kwargs):
+def analyze_file(path_or_array, fs: float | None = None, **kwargs):
     """Analyse one record given as a file or as samples.
 
     Parameters
@@ -78,7 +79,7 @@ def analyze_record(path_or_array, fs: float | None = None, **kwargs):
 
     >>> import os, tempfile
     >>> import numpy as np
-    >>> from bearing_envelope.io.analysis import analyze_record
+    >>> from bearing_envelope.io.analysis import analyze_file
     >>> fs, fr, bpfi = 12000.0, 29.95, 162.19
     >>> t = np.arange(2**15) / fs
     >>> tau = t % (1 / bpfi)
@@ -88,7 +89,7 @@ def analyze_record(path_or_array, fs: float | None = None, **kwargs):
     >>> path = os.path.join(tempfile.mkdtemp(), "record.csv")
     >>> np.savetxt(path, np.column_stack([t, x]), delimiter=",", header="time_s,accel",
     ...            comments="")
-    >>> res = analyze_record(path, shaft_hz=fr, bearing="6205")
+    >>> res = analyze_file(path, shaft_hz=fr, bearing="6205")
     >>> round(res.fs), res.n_samples, res.verdict.diagnosis.family
     (12000, 32768, 'bpfi')
     """
@@ -96,7 +97,7 @@ def analyze_record(path_or_array, fs: float | None = None, **kwargs):
     return _records.analyze_record(path_or_array, fs, **kwargs)
 
 
-def analyze_records(items, fs: float | None = None, **kwargs) -> list:
+def analyze_files(items, fs: float | None = None, **kwargs) -> list:
     """Analyse many records (files, arrays or tasks), in parallel, in input order.
 
     Parameters

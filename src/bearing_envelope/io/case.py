@@ -16,6 +16,7 @@ import io as _io
 import json
 import os
 import subprocess
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -215,25 +216,26 @@ def git_commit(path: str | None = None) -> str:
 
 
 def jsonable(obj):
-    """``obj`` in JSON types, recursively.
+    """``obj`` in JSON types, recursively (case attributes, a job's provenance).
 
     Parameters
     ----------
     obj : object
-        Nested dicts, lists and tuples of numpy scalars and arrays and JSON values.
+        Nested mappings, lists and tuples of numpy scalars and arrays and JSON values.
 
     Returns
     -------
     object
-        The same structure in JSON types (dict keys as str, tuples and arrays as lists).
+        The same structure in JSON types: mappings as dicts with str keys, tuples and arrays
+        as lists, numpy scalars as Python ones; anything else unchanged.
     """
-    if isinstance(obj, dict):
+    if isinstance(obj, Mapping):
         return {str(k): jsonable(v) for k, v in obj.items()}
     if isinstance(obj, (list, tuple)):
         return [jsonable(v) for v in obj]
     if isinstance(obj, np.ndarray):
         return obj.tolist()
-    if isinstance(obj, (np.floating, np.integer, np.bool_)):
+    if isinstance(obj, np.generic):
         return obj.item()
     return obj
 

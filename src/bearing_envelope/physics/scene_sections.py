@@ -393,7 +393,7 @@ class Acquisition:
         Internal rate factor ``N >= 1`` for ``antialiased``. ``auto``: the smallest ``N`` for
         which the defect moves no more than the table's offset-node spacing per internal sample
         (``N = ceil(v / (fs dx_node))``, ``v`` the defect's speed relative to the cage; 6-9 at
-        ``standard``, 17-18 at ``paper``; :func:`bearing_envelope.physics.history.auto_oversample`).
+        ``standard``, 17-18 at ``paper``; :func:`bearing_envelope.physics.acquisition.auto_oversample`).
         Ignored for ``point``.
     """
 

@@ -34,6 +34,7 @@ import pandas as pd
 from ..diagnosis import analyze_signal
 from ..diagnosis.detection import detection_statistic
 from ..io import BandLimits, Case, CaseBands, CaseSpectra
+from ..io.case import jsonable
 from ..physics.kinematics import spin_events
 from ..physics.locations import get_location
 from ..physics.scene import DEFAULT_SCENE
@@ -41,8 +42,7 @@ from ..physics.transfer import (TransferModel, excitation_from_history, select_e
                                 synthesize_acceleration)
 from ..signal import envelope_spectrum, fast_kurtogram, max_kurtogram_level, resolve_band
 from ..signal.bands import clamp_band
-from .accuracy import ErrorModel, attach_errors
-from .accuracy import case_error_model as accuracy_case_error_model
+from .accuracy import ErrorModel, attach_errors, case_error_model
 from .provenance import log_to
 from .case_id import CaseId
 from .sections import AnalysisSettings
@@ -101,7 +101,7 @@ def history_case(history) -> Case:
         :meth:`bearing_envelope.io.Case.from_history` with
         :func:`bearing_envelope.study.accuracy.case_error_model` of the history.
     """
-    return Case.from_history(history, error_model=accuracy_case_error_model(history))
+    return Case.from_history(history, error_model=case_error_model(history))
 
 
 def case_signal(case, name: str = "p_max") -> np.ndarray:
@@ -335,13 +335,13 @@ def case_harmonics(case, analysis: AnalysisSettings, bands, *, full_output: bool
             "scaling": "kurtosis of the best kurtogram cell (order = level)",
             "signal": signal}])],
             ignore_index=True)
-    df = attach_errors(df.reset_index(drop=True), case_error_model(case), signal)
+    df = attach_errors(df.reset_index(drop=True), recorded_error_model(case), signal)
     keep = TIDY_COLUMNS + [c for c in TIDY_EXTRA_COLUMNS if c in df]
     df = df[keep].reset_index(drop=True)
     return (df, extra) if full_output else df
 
 
-def case_error_model(case) -> ErrorModel:
+def recorded_error_model(case) -> ErrorModel:
     """The estimated discretisation errors of a case's amplitudes: the model made once when it
     was simulated (:func:`bearing_envelope.study.accuracy.case_error_model`), as its file stores
     it (:attr:`bearing_envelope.io.Case.error_model`) or :func:`history_case` carries it; no
@@ -821,28 +821,3 @@ def case_false_alarms(case, sensor: TransferModel, analysis: AnalysisSettings, s
                              "detected": bool(d.detected), "peak_hz": d.peak_hz})
     return pd.DataFrame(rows, columns=["case", "load_kN", "depth_um", "snr_db", "band", "trial",
                                        "statistic_db", "threshold_db", "detected", "peak_hz"])
-
-
-def jsonable(obj):
-    """``obj`` in JSON types, recursively (for a job's provenance attributes).
-
-    Parameters
-    ----------
-    obj : object
-        Nested mappings, lists and tuples of numpy scalars and arrays and JSON values.
-
-    Returns
-    -------
-    object
-        The same structure in JSON types: mappings as dicts with str keys, tuples and arrays
-        as lists, numpy scalars as Python ones; anything else unchanged.
-    """
-    if isinstance(obj, Mapping):
-        return {str(k): jsonable(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        return [jsonable(v) for v in obj]
-    if isinstance(obj, np.generic):
-        return obj.item()
-    if isinstance(obj, np.ndarray):
-        return obj.tolist()
-    return obj

@@ -12,7 +12,6 @@ like the study's Figs 8, 12 and 14-20. Files are written and read by :mod:`beari
 from __future__ import annotations
 
 import html
-import os
 from collections.abc import Iterable, Mapping
 
 import numpy as np
@@ -31,13 +30,9 @@ __all__ = [
     "band_table",
     "add_location",
     "pivot_tables",
-    "write_csv_atomic",
-    
     "table_html",
 ]
 
-from ..io import public_mode as _io_public_mode
-from ..io import write_csv_atomic as _io_write_csv_atomic
 from ..io.vocabulary import (BAND_STRATEGIES, QUANTITIES, RAW_BAND, TIDY_COLUMNS,  # noqa: F401
                          TIDY_EXTRA_COLUMNS, TIDY_SORT, quantity_name)
 from .case_id import CaseId, format_number
@@ -77,32 +72,6 @@ def tidy_from_analysis(table: pd.DataFrame, strategies: Mapping[str, str] | None
     if strategies is not None:
         df["band_strategy"] = [strategies.get(n, RAW_BAND) for n in df["band"]]
     return df
-
-
-def public_mode(path) -> None:
-    """Alias of :func:`bearing_envelope.io.public_mode` (kept for existing callers).
-
-    Parameters
-    ----------
-    path : str or os.PathLike
-        A file made by ``mkstemp`` (mode 0600); it gets 0666 minus the umask.
-    """
-    _io_public_mode(path)
-
-
-def write_csv_atomic(df: pd.DataFrame, path: str | os.PathLike, **kwargs) -> None:
-    """Write ``df`` to CSV atomically: :func:`bearing_envelope.io.write_csv_atomic`.
-
-    Parameters
-    ----------
-    df : pandas.DataFrame
-        The table.
-    path : str or os.PathLike
-        The CSV file to write.
-    **kwargs
-        Passed to :meth:`pandas.DataFrame.to_csv` (no index unless ``index=True``).
-    """
-    _io_write_csv_atomic(df, path, **kwargs)
 
 
 def concat_tidy(frames: Iterable[pd.DataFrame], cases: Iterable[CaseId] | None = None

@@ -24,7 +24,7 @@ from .params import (MODEL_NAME, PEAK_LOAD_FACTOR, DynamicParams, highest_freque
 START_S = 0.0
 
 __all__ = ["Arrays", "arrays", "rhs", "element_loads", "initial_state", "simulate_dynamics",
-           "DynamicResult", "jacobian", "linearised_frequencies_hz", "auto_oversample",
+           "DynamicResult", "jacobian", "linearised_frequencies_hz", "modal_oversample",
            "SETTLE_PERIODS", "record_names"]
 
 #: Settling before ``t = 0`` (discarded), in periods of the slowest structural mode, at least
@@ -236,7 +236,7 @@ def linearised_frequencies_hz(params: DynamicParams, y: np.ndarray, t: float = S
     return np.sort(lam.imag[lam.imag > 1e-6 * np.max(np.abs(lam))]) / (2 * math.pi)
 
 
-def auto_oversample(params: DynamicParams, fs_hz: float, peak_factor: float = PEAK_LOAD_FACTOR) -> int:
+def modal_oversample(params: DynamicParams, fs_hz: float, peak_factor: float = PEAK_LOAD_FACTOR) -> int:
     """The internal record rate as a multiple of ``fs``: the smallest ``N >= 2`` with
     ``N fs >= 2 f_max`` (:func:`~.params.highest_frequency_hz`), so that the record's point
     samples do not alias the resolved contact modes before the anti-alias filter.
@@ -405,7 +405,7 @@ def simulate_dynamics(params: DynamicParams, duration_s: float, fs_hz: float, *,
     The state starts at :func:`initial_state` (or ``y0``) at ``-settle_s`` and is integrated by
     classical RK4 with a fixed step (:func:`~.params.step_size` unless ``dt_s``), rounded down
     so that a whole number of steps spans each internal record interval ``1/(N fs)``; the
-    internal record (rate ``N fs``, ``N`` = ``oversample`` or :func:`auto_oversample`) goes
+    internal record (rate ``N fs``, ``N`` = ``oversample`` or :func:`modal_oversample`) goes
     through :func:`~bearing_envelope.physics.acquisition.acquire` (anti-alias FIR, decimation to
     ``fs``; ``point``: ``N = 1``, samples at ``k / fs``).
 
@@ -423,7 +423,7 @@ def simulate_dynamics(params: DynamicParams, duration_s: float, fs_hz: float, *,
     steps_per_period : float, optional
         The step rule's steps per period of the highest frequency.
     oversample : int, optional
-        ``N`` (default :func:`auto_oversample`).
+        ``N`` (default :func:`modal_oversample`).
     acquisition_mode : {"antialiased", "point"}
         ``antialiased``: the internal record (rate ``N fs``) through the anti-alias FIR and
         decimated to ``fs``; ``point``: ``N = 1``, samples at ``k / fs``.
@@ -451,7 +451,7 @@ def simulate_dynamics(params: DynamicParams, duration_s: float, fs_hz: float, *,
         raise ValueError(f"simulate_dynamics: acquisition_mode got {acquisition_mode!r}; allowed: antialiased | point")
     cpu0 = time.process_time()
     n_out = int(round(duration_s * fs_hz))
-    ov = 1 if acquisition_mode == "point" else (auto_oversample(params, fs_hz) if oversample is None
+    ov = 1 if acquisition_mode == "point" else (modal_oversample(params, fs_hz) if oversample is None
                                            else int(oversample))
     rec_dt = 1.0 / (ov * fs_hz)
     dt = step_size(params, **({} if steps_per_period is None else

@@ -14,8 +14,8 @@ import pandas as pd
 
 from ...diagnosis.faults import display_name
 from ...diagnosis.plots import FIGURE_DPI
+from ...io import public_mode
 from ...physics.locations import get_location
-from ..tables import public_mode
 
 __all__ = ["STUDY_EXAMPLES", "ELASTIC_NOTE", "LINE_NAME", "example_pairs", "save_figure",
            "depth_label", "location_line"]

@@ -40,9 +40,9 @@ from .config import RigSettings, read_rig_config
 from .cwru import DRIVE_END
 from .load_zone import (directional_modulation, event_exponent, identify_from_run,
                         identify_load_zone, measured_sideband_db, removed_force_exponent)
-from .manifest import (MANIFEST_NAME, fault_location, manifest_rows, read_manifest,
+from .manifest import (MANIFEST_NAME, fault_location, manifest_rows, read_rig_manifest,
                        record_conditions)
-from .records import RigBearing, RigCondition, bearing_rates, resolve_bearing
+from .records import RigBearing, RigCondition, rig_event_rates, resolve_bearing
 from .run import run_scorecard
 from .scoring import (features_in_measured_band, load_trends, outer_race_ratios,
                       outer_race_ratios_in_band, pass_rates, scorecard)
@@ -51,7 +51,7 @@ from .simulation import (condition_scene, path_modes, record_paths, rig_gain, se
 from .size import size_ranking, size_summary
 
 __all__ = ["record_conditions", "manifest_rows", "RigCondition", "RigBearing", "RigSettings",
-           "read_rig_config", "read_manifest", "fault_location", "bearing_rates",
+           "read_rig_config", "read_rig_manifest", "fault_location", "rig_event_rates",
            "resolve_bearing", "condition_scene", "simulate_excitations", "path_modes",
            "sensor_gain", "record_paths", "rig_gain", "write_rig_record", "run_scorecard",
            "scorecard", "pass_rates", "load_trends", "outer_race_ratios",

@@ -9,7 +9,7 @@ from ...signal.cycles import FLOOR_PERCENTILE, element_windows, synchronous_aver
 from .events import ELEMENT_BINS, record_pairs, squared_envelope
 from .records import read_samples
 
-__all__ = ["pair_figure", "save_figure", "plot_side_by_side", "plot_element_folds"]
+__all__ = ["pair_figure", "finish_figure", "plot_side_by_side", "plot_element_folds"]
 
 
 def pair_figure(n_rows: int, row_height_in: float):
@@ -37,7 +37,7 @@ def pair_figure(n_rows: int, row_height_in: float):
                         sharex=True)
 
 
-def save_figure(fig, axes, out_png, xlabel: str) -> str:
+def finish_figure(fig, axes, out_png, xlabel: str) -> str:
     """Label the bottom row, lay the figure out, write it and close it.
 
     Parameters
@@ -108,7 +108,7 @@ def plot_side_by_side(card, conditions, sim_dir, out_png, *, max_order: float = 
                      f"({row[side + '_confidence'] if row[side + '_diagnosis'] else '-'}), "
                      f"band {lo:.0f}-{hi:.0f} Hz", fontsize=7)
         ax.tick_params(labelsize=6)
-    return save_figure(fig, axes, out_png, "envelope frequency / fr (orders)")
+    return finish_figure(fig, axes, out_png, "envelope frequency / fr (orders)")
 
 
 def plot_element_folds(conditions, sim_dir, out_png) -> str:
@@ -146,5 +146,5 @@ def plot_element_folds(conditions, sim_dir, out_png) -> str:
         ax.tick_params(labelsize=6)
     for ax in axes[:, 0]:
         ax.set_ylabel("over floor", fontsize=7)
-    return save_figure(fig, axes, out_png,
-                       "cage turn, in rolling-element spacings (each element's event)")
+    return finish_figure(fig, axes, out_png,
+                         "cage turn, in rolling-element spacings (each element's event)")

@@ -47,7 +47,7 @@ from ...physics.locations import get_location, location_names
 from .cwru import development_rows, mat_rows
 from .records import GEOMETRY_COLUMNS, RigCondition, condition_from_row, resolve_bearing
 
-__all__ = ["record_conditions", "manifest_rows", "read_manifest", "check_row", "fault_location",
+__all__ = ["record_conditions", "manifest_rows", "read_rig_manifest", "check_row", "fault_location",
            "conditions_of_rows", "FAULT_ALIASES", "NO_FAULT", "COLUMNS", "MANIFEST_NAME"]
 
 #: Names a manifest may give a location by besides the registry's own (the data center's).
@@ -204,7 +204,7 @@ def check_row(row: dict, where: str, base: str | os.PathLike = ".") -> dict | No
             "bearing": _bearing(row, where), "where": where}
 
 
-def read_manifest(path: str | os.PathLike) -> list[dict]:
+def read_rig_manifest(path: str | os.PathLike) -> list[dict]:
     """The fault records of a manifest, every row validated (:func:`check_row`).
 
     Parameters
@@ -230,7 +230,7 @@ def read_manifest(path: str | os.PathLike) -> list[dict]:
         a.npz,outer_race,177.8,279.4,90,2,29.17,6205
         b.npz,none,,,,2,29.17,6205
 
-    >>> rows = read_manifest("records/manifest.csv")   # doctest: +SKIP
+    >>> rows = read_rig_manifest("records/manifest.csv")   # doctest: +SKIP
     >>> [(r["location"], r["position_deg"]) for r in rows]   # doctest: +SKIP
     [('outer_race', 90.0)]
     """
@@ -317,7 +317,7 @@ def manifest_rows(items, *, log=print) -> list[dict]:
     for item in map(str, items):
         own = Path(item) / MANIFEST_NAME
         if item.lower().endswith(".csv") or own.is_file():
-            rows += read_manifest(own if own.is_file() else item)
+            rows += read_rig_manifest(own if own.is_file() else item)
             continue
         files = _files(item)
         mats = [f for f in files if f.lower().endswith(".mat")]

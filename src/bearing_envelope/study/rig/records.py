@@ -8,7 +8,7 @@ its shaft rate where the row gives none) and the rig's two look-ups, both the pr
 
 - :func:`resolve_bearing`: a designation or a geometry -> :class:`RigBearing` (the project's
   one resolver, :func:`bearing_envelope.physics.catalogue.bearing_geometry`);
-- :func:`bearing_rates`: the bearing's event rates at a shaft rate (the project's one rates
+- :func:`rig_event_rates`: the bearing's event rates at a shaft rate (the project's one rates
   function, :func:`bearing_envelope.physics.kinematics.bearing_rates`).
 """
 
@@ -27,8 +27,8 @@ from ...physics.catalogue import bearing_geometry
 from ...physics.kinematics import RADIAL_CONTACT_ANGLE_DEG
 from ...physics.kinematics import bearing_rates as _rates
 
-__all__ = ["RigBearing", "RigCondition", "resolve_bearing", "bearing_rates", "read_samples",
-           "read_record", "condition_from_row", "GEOMETRY_COLUMNS", "GEOMETRY_RTOL"]
+__all__ = ["RigBearing", "RigCondition", "resolve_bearing", "rig_event_rates", "read_samples",
+           "read_simulated_record", "condition_from_row", "GEOMETRY_COLUMNS", "GEOMETRY_RTOL"]
 
 #: The manifest columns that give a bearing by its geometry (instead of ``bearing``).
 GEOMETRY_COLUMNS = ("n_rollers", "roller_diameter_mm", "pitch_diameter_mm", "contact_angle_deg")
@@ -112,7 +112,7 @@ def resolve_bearing(designation: str | None = None, geometry: dict | None = None
                       float(geometry.get("contact_angle_deg") or 0.0))
 
 
-def bearing_rates(bearing: RigBearing, fr: float) -> dict:
+def rig_event_rates(bearing: RigBearing, fr: float) -> dict:
     """The bearing's event rates at a shaft rate (read from the project's one rates function).
 
     Parameters
@@ -182,8 +182,8 @@ class RigCondition:
 
     @property
     def rates(self) -> dict:
-        """The bearing's event rates at the record's shaft rate (:func:`bearing_rates`), Hz."""
-        return bearing_rates(self.bearing, self.shaft_hz)
+        """The bearing's event rates at the record's shaft rate (:func:`rig_event_rates`), Hz."""
+        return rig_event_rates(self.bearing, self.shaft_hz)
 
     def meta(self) -> dict:
         """The condition as a JSON-serialisable mapping (the simulated record's meta).
@@ -213,7 +213,7 @@ def read_samples(path: str) -> np.ndarray:
     return read_file(str(path))["x"]
 
 
-def read_record(path: str) -> tuple[np.ndarray, dict]:
+def read_simulated_record(path: str) -> tuple[np.ndarray, dict]:
     """A simulated record of the rig: its samples and meta (``x``, ``meta_json``; never
     unpickled).
 
