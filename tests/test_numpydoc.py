@@ -39,17 +39,7 @@ SRC = Path(__file__).resolve().parents[1] / "src" / "bearing_envelope"
 #: Exact ``module: qualified name`` entries whose docstrings are left for the lead because
 #: another helper was still rewriting the file when this check was extended (issue 44 part 7).
 #: Only shrinks: an entry with no gap left fails ``test_allowlist_is_still_needed``.
-ALLOWLIST: set[str] = {
-    # diagnosis/transfer_path.py: H5 (issue 43, identify-path) was rewriting this module when
-    # the check was extended; its returns lack descriptions and two functions lack Raises.
-    "diagnosis/transfer_path.py: TransferPath.mode",
-    "diagnosis/transfer_path.py: TransferPath.structure",
-    "diagnosis/transfer_path.py: TransferPath.to_dict",
-    "diagnosis/transfer_path.py: TransferPath.to_json",
-    "diagnosis/transfer_path.py: TransferPath.from_dict",
-    "diagnosis/transfer_path.py: identify_path",
-    "diagnosis/transfer_path.py: background_noise",
-}
+ALLOWLIST: set[str] = set()
 
 #: dunder methods that are part of a class's public behaviour (the others are trivial)
 _PUBLIC_DUNDERS = ("__init__", "__post_init__", "__call__")

@@ -220,6 +220,13 @@ class TransferPath:
         Returns
         -------
         Mode
+            ``f_n_hz`` (Hz), ``zeta`` and the gain ``amplitude / (impulse_area 2 zeta
+            omega_n)`` (record units per unit of excitation at resonance).
+
+        Raises
+        ------
+        ValueError
+            ``impulse_area`` not a finite number > 0 (one line naming it).
         """
         if not (math.isfinite(impulse_area) and impulse_area > 0):
             raise ValueError(f"impulse_area: got {impulse_area!r}; allowed: > 0")
@@ -238,6 +245,8 @@ class TransferPath:
         Returns
         -------
         list of Mode
+            One per entry of :attr:`modes` (at least :meth:`mode`'s), strongest first, each
+            with its gain for ``impulse_area``.
         """
         first = self.mode(impulse_area)
         out = [first]
@@ -253,6 +262,7 @@ class TransferPath:
         Returns
         -------
         dict
+            Every field by name; tuples (``band_hz``, ``zeta_range``) as lists.
         """
         d = asdict(self)
         d["band_hz"], d["zeta_range"] = list(self.band_hz), list(self.zeta_range)
@@ -264,6 +274,7 @@ class TransferPath:
         Returns
         -------
         str
+            The JSON text (one-space indent), read back by :meth:`from_dict` of ``json.loads``.
         """
         return json.dumps(self.to_dict(), indent=1)
 
@@ -279,6 +290,7 @@ class TransferPath:
         Returns
         -------
         TransferPath
+            The path, ``band_hz`` and ``zeta_range`` as tuples again.
         """
         d = dict(d)
         d["band_hz"], d["zeta_range"] = tuple(d["band_hz"]), tuple(d["zeta_range"])
@@ -307,6 +319,9 @@ def identify_path(x, fs: float, event_rates: dict, *, background=None,
     Returns
     -------
     TransferPath
+        The resonance band, the mode (natural frequency in Hz, damping ratio, amplitude in the
+        record's units), the other modes found, the background's spectrum and the flags and
+        quantities not identified to read with them.
 
     Raises
     ------
@@ -819,6 +834,8 @@ def background_noise(path: TransferPath, n: int, *, seed: int = 0) -> np.ndarray
     Parameters
     ----------
     path : TransferPath
+        An identified path: its ``fs_hz`` (Hz), ``background_freq_hz`` and ``background_psd``
+        (record units^2/Hz).
     n : int
         Samples, > 1.
     seed : int
@@ -828,6 +845,11 @@ def background_noise(path: TransferPath, n: int, *, seed: int = 0) -> np.ndarray
     -------
     ndarray
         Noise whose Welch PSD follows ``path.background_psd`` (record units).
+
+    Raises
+    ------
+    ValueError
+        ``n`` below 2 (one line naming it).
     """
     if int(n) < 2:
         raise ValueError(f"n: got {n!r}; allowed: >= 2 samples")
