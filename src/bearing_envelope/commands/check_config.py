@@ -8,9 +8,9 @@ check (:func:`bearing_envelope.study.limits.checked_settings`, the workflow's ow
 check: the estimated cost of every job included); prints the cases it defines, or one line
 naming the field that is wrong, and for each case ``simulate`` would warn about (a defect that
 never meets a loaded contact, a pit beyond the bridging limit) the same line. No simulation
-runs. Use it before passing a file to Snakemake: Snakemake evaluates a ``--configfile`` as a YTE template before any workflow code runs (this
-command reads it as data and refuses the template), and it rejects some files without a line
-("Config file is not valid JSON or YAML").
+runs. Use it before passing a file to Snakemake: Snakemake evaluates a ``--configfile`` as a
+YTE template before any workflow code runs (this command reads it as data and refuses the
+template), and it rejects some files without a line ("Config file is not valid JSON or YAML").
 
 Example::
 
