@@ -221,6 +221,10 @@ def special_configs(base: dict, work: Path) -> list[tuple[str, str, object]]:
         ("OR pit at 90 deg, zero clearance (never loaded)", "issue",
          s(("scene", "bearing"), {"designation": "SKF 6205-2RS", "radial_clearance_um": 0.0},
            *edge_case, ("scene", "defect", "position_deg"), 90)),
+        ("OR pit at 90 deg, zero clearance, no detection map", "issue",
+         s(("scene", "bearing"), {"designation": "SKF 6205-2RS", "radial_clearance_um": 0.0},
+           *edge_case, ("scene", "defect", "position_deg"), 90,
+           ("diagnosability", "enabled"), False)),
         ("OR pit at 75.36 deg, +10 um (2.8e-4 N contact)", "plausibility",
          s(("scene", "bearing"), {"designation": "SKF 6205-2RS", "radial_clearance_um": 10.0},
            *edge_case, ("scene", "defect", "position_deg"), 75.36)),
@@ -360,7 +364,8 @@ def run_jobs(settings, work: Path) -> tuple[str, str]:
             if settings.sensor is not None:
                 rule = "sensor"
                 case_acceleration(c, settings.sensor, reference=refs.get(case.load_kN))
-                rule = "diagnose"
+            if settings.sensor is not None and settings.diagnosability.enabled:
+                rule = "diagnose"     # the detection map's job (workflow/rules/common.smk)
                 case_diagnosability(c, settings.sensor, settings.analysis,
                                     settings.diagnosability.snr_db[:2],
                                     reference=refs.get(case.load_kN),

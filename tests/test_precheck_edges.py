@@ -25,8 +25,9 @@ from test_validate_once import ROOT, _write
 CASE = "F1kN_h279.4um_or"
 
 
-def _overlay(position_deg, clearance_um, fidelity="draft", centrifugal=False):
+def _overlay(position_deg, clearance_um, fidelity="draft", centrifugal=False, detection_map=True):
     return (f"fidelity: {fidelity}\n"
+            f"diagnosability: {{enabled: {str(detection_map).lower()}}}\n"
             f"scene:\n"
             f"  bearing: {{designation: SKF 6205-2RS, radial_clearance_um: {clearance_um}}}\n"
             f"  operation: {{shaft_rate_hz: 29.95, fs_hz: 48000.0, revolutions: 10, "
@@ -50,7 +51,7 @@ def _scene(position_deg, clearance_um, centrifugal=False, revolutions=10):
 def test_check_config_reports_a_never_loaded_case_as_simulate_does(tmp_path, monkeypatch,
                                                                   capsys):
     monkeypatch.chdir(ROOT)
-    path = _write(tmp_path, "p.yaml", _overlay(90, 0.0))
+    path = _write(tmp_path, "p.yaml", _overlay(90, 0.0, detection_map=False))
     assert main(["check-config", str(path)]) == 0          # reported, not refused: as simulate
     err = capsys.readouterr().err.strip().splitlines()
     h = simulate(_scene(90, 0.0), "draft")
@@ -60,6 +61,20 @@ def test_check_config_reports_a_never_loaded_case_as_simulate_does(tmp_path, mon
     assert err == [f"check-config: warning: case {CASE}: {note}"]
     _st, (est,) = checked_settings([path])
     assert est.note == note and est.n_solves == 0          # nothing solved, nothing estimated
+
+
+def test_a_never_loaded_case_is_refused_when_the_run_builds_the_detection_map(tmp_path,
+                                                                            monkeypatch):
+    """The map's SNR is that of the defect's part of the record: none (its diagnose job met a
+    constant record: "x is constant: its kurtogram is undefined")."""
+    monkeypatch.chdir(ROOT)
+    with pytest.raises(ConfigError) as err:
+        checked_settings([_write(tmp_path, "p.yaml", _overlay(90, 0.0))])
+    msg = str(err.value)
+    assert msg.startswith(f"scene.defect.position_deg: case {CASE}: outer_race at 90 deg: the "
+                          f"defect never meets a loaded contact")
+    assert "diagnosability.enabled: false" in msg and "\n" not in msg
+    checked_settings([_write(tmp_path, "q.yaml", _overlay(89, 0.0))])   # inside the zone
 
 
 def test_an_unresolvable_contact_is_refused_before_any_job_with_simulates_line(tmp_path,

@@ -314,9 +314,12 @@ def _limits(config: Mapping) -> dict:
 
 
 def _check_case(case, scene, analysis, limits: dict, memory_cap: float,
-                fidelity) -> ResourceEstimate:
-    """The per-case checks of :func:`precheck` (name, lower bounds, resource estimate);
-    returns the estimate."""
+                fidelity, detection_map: bool = False) -> ResourceEstimate:
+    """The per-case checks of :func:`precheck` (name, lower bounds, simulate's own check of the
+    case, resource estimate); returns the estimate. With the detection map
+    (``detection_map``), a defect that never meets a loaded contact is refused: the map's SNR
+    is that of the defect's part of the record, and there is none (its diagnose job found a
+    constant record, issue 43's retest)."""
     if len(case.name) > MAX_CASE_NAME_CHARS:
         raise ConfigError(f"sweep: case name {case.name[:40]}... has {len(case.name)} "
                           f"characters; allowed: at most {MAX_CASE_NAME_CHARS}")
@@ -337,6 +340,13 @@ def _check_case(case, scene, analysis, limits: dict, memory_cap: float,
         field = ("scene.defect.position_deg" if scene.defect.fault_location.positioned
                  else "sweep.loads_kN")
         raise ConfigError(f"{field}: case {case.name}: {exc}") from None
+    if detection_map and scene.defect.active and not plan.exposure["loaded"]:
+        field = ("scene.defect.position_deg" if scene.defect.fault_location.positioned
+                 else "sweep.loads_kN")
+        raise ConfigError(f"{field}: case {case.name}: {plan.note}; allowed with the detection "
+                          f"map (sensor: and diagnosability.enabled): a defect that meets a "
+                          f"loaded contact (the map's SNR is that of the defect's part of the "
+                          f"record, none here), or diagnosability.enabled: false")
     est = estimate_case(case.name, scene, fidelity, plan)
     _check_estimate(est, limits, memory_cap)
     return est
@@ -578,7 +588,8 @@ def precheck(settings) -> list[ResourceEstimate]:
     setup = settings.simulation
     for case in settings.sweep.cases():
         scene = settings.scene(case)   # built once, by the loader
-        out.append(_check_case(case, scene, settings.analysis, limits, cap, setup.fidelity))
+        out.append(_check_case(case, scene, settings.analysis, limits, cap, setup.fidelity,
+                               settings.sensor is not None and settings.diagnosability.enabled))
         _check_jobs(estimate_jobs(case.name, scene, settings.analysis, settings.sensor,
                                   settings.diagnosability, healthy=case.depth_um == 0), limits)
     _check_physics(settings)   # after the estimates: they bound the record length first
