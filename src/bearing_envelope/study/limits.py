@@ -9,6 +9,12 @@ allowed:
 - a hardness below :data:`MIN_HARDNESS_GPA`, a record shorter than the analysis' longest
   kurtogram window (:func:`min_revolutions`);
 - a missing ``scene.bearing.profile_file``;
+- a case ``simulate`` would refuse before its first solve: a contact too small for the solver
+  even on refined grids (:func:`~bearing_envelope.physics.history.plan_tables`, the same
+  call; a case whose defect never meets a loaded contact is reported, as ``simulate`` reports
+  it, in :attr:`ResourceEstimate.note`, and refused only when the run builds the detection map);
+- global grid cells longer than :data:`MAX_GLOBAL_CELL_ASPECT` times their width (the contact
+  solver does not converge on them);
 - a case whose estimated memory or CPU time (:func:`estimate_case`) exceeds the machine's
   available memory or the stated limits (``limits.max_case_memory_GB``,
   ``limits.max_case_cpu_s``; :data:`DEFAULT_LIMITS`);
@@ -88,11 +94,13 @@ _CPU_S_PER_FINE_SAMPLE = 2.0e-6
 _CG_ITERATIONS = 60
 
 #: The global solves: CPU seconds per cell x log2(4 cells) and iteration, and the iterations
-#: per solve, about 2 sqrt(cells) up to the fidelity's ``max_iter``. Measured at draft (750 kN /
-#: 50 um, ``global_dx_um`` refined, 2026-12-05): 65,269 cells cost 11.5 CPU s over 3 solves
-#: (about 510 iterations each); 261,077 cells did not converge in ``max_iter`` = 1000
-#: iterations (33 ms each); ``global_dx_um: 0.01`` (10^7 cells) ran for hours (issue 43). The
-#: constant is the measured 6.3e-9 with a margin of 1.3.
+#: per solve, about 2 sqrt(cells) up to the fidelity's ``max_iter``: an upper bound. Measured
+#: at draft (750 kN / 50 um, ``global_dx_um`` refined, 2026-12-05): 65,269 cells (1.5625 x 400
+#: um) cost 14.9 CPU s, 8 of the table's global solves past the solver's stall guard (175-838
+#: iterations), the others 23-30; the iterations follow the cells' aspect ratio rather than
+#: their number (16-200:1: 13-33 iterations up to 1.7 million cells, 9.4 CPU s for one solve
+#: at 0.5 x 50 um; beyond 256:1, :data:`MAX_GLOBAL_CELL_ASPECT`, refused). The constant is the
+#: measured 6.3-8.3e-9 with a margin.
 _CPU_S_PER_GLOBAL_CELL_ITERATION = 8.2e-9
 
 #: The window solves' iterations grow with the window grid too (each starts from the previous
