@@ -226,12 +226,12 @@ def test_the_false_alarm_estimate_grows_with_trials_and_snr_levels(base):
 @pytest.mark.parametrize("overlay, field", [
     ("diagnosability: {false_alarm_trials: 1000000}\n", "diagnosability.false_alarm_trials"),
     ("diagnosability: {false_alarm_trials: 1000000000}\n", "diagnosability.false_alarm_trials"),
-    ("fidelity: {preset: draft, global_dx_um: 0.01}\n", "fidelity.global_dx_um"),
+    ("fidelity: {preset: draft, global_dx_um: 1, global_dy_um: 16}\n", "fidelity.global_dx_um"),
     ("diagnosability: {snr_db: [%s]}\n" % ", ".join(["10"] * 10000), "diagnosability.snr_db"),
     ("analysis: {bands: [%s]}\n" % ", ".join(
         f"{{name: b{i}, strategy: fixed, low_hz: {1000 + i}, high_hz: {2000 + i}}}"
         for i in range(1000)), "analysis.bands"),
-], ids=["trials-1e6", "trials-1e9", "global-dx-0.01", "10000-snr-levels", "1000-bands"])
+], ids=["trials-1e6", "trials-1e9", "global-dx-1-dy-16", "10000-snr-levels", "1000-bands"])
 def test_a_resource_bomb_is_refused_in_one_line_naming_its_field(tmp_path, monkeypatch, overlay,
                                                                  field):
     monkeypatch.chdir(ROOT)

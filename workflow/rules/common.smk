@@ -53,6 +53,9 @@ def load_workflow_settings():
             settings, estimates = workflow_settings(workflow.overwrite_configfiles, overrides), []
     except ValueError as exc:  # ConfigError / HandOffError, one line naming the field
         refuse(exc)
+    for est in estimates:  # what each case's simulate job will warn about, said before any job
+        if est.note:
+            print(f"bearing_envelope: warning: case {est.case}: {est.note}", file=sys.stderr)
     if workflow.is_main_process and not is_dry_run(workflow=workflow):
         os.environ[HANDOFF_VAR] = hand_off(settings, HANDOFF_DIR, files, overrides)
         workflow.register_envvars(HANDOFF_VAR)  # executors that pass declared variables

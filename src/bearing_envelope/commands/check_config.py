@@ -6,10 +6,11 @@ this directory would (:func:`bearing_envelope.study.settings.workflow_settings`:
 an overlay, and a designation is a complete bearing), validates and runs every cross-field
 check (:func:`bearing_envelope.study.limits.checked_settings`, the workflow's own pre-run
 check: the estimated cost of every job included); prints the cases it defines, or one line
-naming the field that is wrong. No simulation runs. Use it before passing a file to Snakemake:
-Snakemake evaluates a ``--configfile`` as a YTE template before any workflow code runs (this
-command reads it as data and refuses the template), and it rejects some files without a line
-("Config file is not valid JSON or YAML").
+naming the field that is wrong, and for each case ``simulate`` would warn about (a defect that
+never meets a loaded contact, a pit beyond the bridging limit) the same line. No simulation
+runs. Use it before passing a file to Snakemake: Snakemake evaluates a ``--configfile`` as a
+YTE template before any workflow code runs (this command reads it as data and refuses the
+template), and it rejects some files without a line ("Config file is not valid JSON or YAML").
 
 Example::
 
@@ -67,4 +68,7 @@ def run(args) -> int:
     print(f"{st.source}: valid; fidelity {st.fidelity.name}; {len(cases)} cases: "
           f"{', '.join(c.name for c in cases[:6])}{' ...' if len(cases) > 6 else ''}{cost}",
           file=sys.stdout)
+    for e in estimates:     # what `simulate` will say about the case, one line each
+        if e.note:
+            print(f"check-config: warning: case {e.case}: {e.note}", file=sys.stderr)
     return 0

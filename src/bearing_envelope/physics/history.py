@@ -81,7 +81,8 @@ from .solves import SolveStats
 from .table import PressureTable, build_table, unloaded_table
 
 __all__ = ["History", "simulate", "synthesize", "synthesize_numpy", "kinematics", "cage_angle",
-           "defect_angle", "location_tables", "resolved_load", "check_resolved", "MIN_CONTACT_CELLS",
+           "defect_angle", "location_tables", "resolved_load", "check_resolved", "plan_tables",
+           "TablePlan", "MIN_CONTACT_CELLS",
            "MAX_GRID_HALVINGS", "table_fidelity",
            "evaluate_signals", "synthesize_case", "CONTACT_SIGNALS", "STATE_SIGNALS",
            "SIGNAL_UNITS"]
@@ -339,10 +340,66 @@ def _check_resolved(scene: Scene, fid: Fidelity, ld: LoadDistribution, q_max: fl
         f"bearing.radial_clearance_um, or a finer fidelity.global_dx_um")
 
 
-def check_resolved(scene: Scene, fidelity: Fidelity | str | None = None) -> None:
+@dataclass(frozen=True)
+class TablePlan:
+    """What :func:`simulate` will solve for a case, known before any solve
+    (:func:`plan_tables`)."""
+
+    #: The case's load law (:func:`~.loads.scene_load_distribution`).
+    load_distribution: LoadDistribution
+    #: :func:`~.exposure.exposure` of the case.
+    exposure: dict
+    #: The one line :func:`simulate` records as ``stats["exposure_note"]`` and the commands
+    #: print (:func:`~.exposure.exposure_line`: never loaded, or pits beyond the bridging
+    #: limit), or None.
+    note: str | None
+    #: Race -> ``(q_max, fidelity)``: the largest load of each contact table to solve and the
+    #: fidelity it is solved at (:func:`table_fidelity`); empty when the defect never meets a
+    #: loaded contact (no solve).
+    tables: dict
+
+
+def plan_tables(scene: Scene, fidelity: Fidelity | str | None = None) -> TablePlan:
+    """The contact tables of a case before any solve: the check :func:`simulate` makes (the
+    load law and the exposure only, cheap), for the pre-run check and the cost estimate of
+    every case (:mod:`bearing_envelope.study.limits`).
+
+    Parameters
+    ----------
+    scene : Scene
+        The case's scene.
+    fidelity : Fidelity, preset name or None
+        The fidelity of the solves.
+
+    Returns
+    -------
+    TablePlan
+        The load law, the exposure, the note :func:`simulate` records, and per race the
+        table's largest load and (refined) fidelity.
+
+    Raises
+    ------
+    ValueError
+        One line naming ``defect.position_deg`` / ``bearing.radial_clearance_um``
+        (:func:`_check_resolved`) when a table's largest load is too small a contact for the
+        solver; none for a case that never meets a loaded contact.
+    """
+    fid = fidelity_from(fidelity)
+    ld = scene_load_distribution(scene)
+    exp = exposure(scene, ld)
+    tables = {}
+    if exp["loaded"] or not scene.defect.active:
+        for race, (q_max, _) in scene.defect.fault_location.table_loads(scene, ld, exp).items():
+            sc = scene.for_race(race)
+            _check_resolved(sc, fid, ld, q_max)
+            tables[race] = (q_max, table_fidelity(sc, fid, q_max))
+    return TablePlan(ld, exp, exposure_line(scene, exp), tables)
+
+
+def check_resolved(scene: Scene, fidelity: Fidelity | str | None = None) -> str | None:
     """Refuse, before any solve, a case whose contact tables would be too small a contact for
-    the solver (the check :func:`simulate` makes; cheap: the load law and the exposure only),
-    for a pre-run check of every case.
+    the solver (:func:`plan_tables`, the check :func:`simulate` makes), and return the line
+    :func:`simulate` records about the case.
 
     Parameters
     ----------
@@ -351,19 +408,18 @@ def check_resolved(scene: Scene, fidelity: Fidelity | str | None = None) -> None
     fidelity : Fidelity, preset name or None
         The fidelity of the solves (``global_dx_um``).
 
+    Returns
+    -------
+    str or None
+        The case's :attr:`TablePlan.note` (e.g. the defect never meets a loaded contact).
+
     Raises
     ------
     ValueError
         One line naming ``defect.position_deg`` / ``bearing.radial_clearance_um``
         (:func:`_check_resolved`); none for a case that never meets a loaded contact.
     """
-    fid = fidelity_from(fidelity)
-    ld = scene_load_distribution(scene)
-    exp = exposure(scene, ld)
-    if scene.defect.active and not exp["loaded"]:
-        return
-    for race, (q_max, _) in scene.defect.fault_location.table_loads(scene, ld, exp).items():
-        _check_resolved(scene.for_race(race), fid, ld, q_max)
+    return plan_tables(scene, fidelity).note
 
 
 def location_tables(scene: Scene, fid: Fidelity, ld: LoadDistribution, exposure: dict,
@@ -462,8 +518,8 @@ def simulate(scene: Scene, fidelity: Fidelity | str | None = None, *, progress: 
     """
     fid = fidelity_from(fidelity)
     t_start = _time.perf_counter()
-    ld = scene_load_distribution(scene)
-    exp = exposure(scene, ld)
+    plan = plan_tables(scene, fid)     # the pre-run check's refusal and note, before any solve
+    ld, exp = plan.load_distribution, plan.exposure
     stats = SolveStats(cache=None if nodefect_cache is None else NoDefectCache(nodefect_cache))
     if not exp["loaded"] and scene.defect.active:
         # recognised before any solve: the contact at the defect never carries load
@@ -497,7 +553,7 @@ def simulate(scene: Scene, fidelity: Fidelity | str | None = None, *, progress: 
         "nodefect_cache_misses": stats.cache.misses if stats.cache else 0,
         "solver_seconds": stats.solver_seconds, "table_seconds": t_table,
         "synthesis_seconds": t_synth, "wall_seconds": _time.perf_counter() - t_start,
-        "exposure": exp, "exposure_note": exposure_line(scene, exp),
+        "exposure": exp, "exposure_note": plan.note,
     }
     if not scene.defect.fault_location.solves_every_row:
         # defect solves on the contact's rows that were solved again on the whole window

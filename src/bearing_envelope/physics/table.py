@@ -19,8 +19,8 @@ from .scene import Scene
 from .solves import (LoadNode, SolveStats, defect_solve, neighbourhood_max, outside_solve,
                      solve_load, window_spec)
 
-__all__ = ["PressureTable", "build_table", "direct_pressure", "Q_MIN_FRACTION", "unloaded_table",
-           "relative_error", "interpolation_check_errors", "CHECK_COLUMNS",
+__all__ = ["PressureTable", "build_table", "offset_count", "direct_pressure", "Q_MIN_FRACTION",
+           "unloaded_table", "relative_error", "interpolation_check_errors", "CHECK_COLUMNS",
            "OUTSIDE_LOAD_DENSITY", "CHECK_OFFSETS_PER_LOAD"]
 
 #: Random offsets checked per random roller load (each kind: on the grid / anywhere).
@@ -483,6 +483,31 @@ def _offset_nodes(scene: Scene, fid: Fidelity, s_reach: float, dxw: float) -> np
     return step * np.arange(n)
 
 
+def offset_count(scene: Scene, fid: Fidelity, q_max: float) -> int:
+    """Defect offsets per load node of a table up to ``q_max`` as :func:`build_table` expects
+    them before its first solve (its progress bar's count; the solved contact widths move it
+    by a few), for the pre-run cost estimate (:mod:`bearing_envelope.study.limits`).
+
+    Parameters
+    ----------
+    scene : Scene
+        The scene with its modelled contact (``for_race``).
+    fid : Fidelity
+        The table's fidelity (offset rules and window spacing).
+    q_max : float
+        The table's largest load, N.
+
+    Returns
+    -------
+    int
+        Offset nodes (:func:`_offset_nodes`).
+    """
+    d = scene.defect
+    s_reach = (REACH_GUESS_FACTOR * hertz_estimate(scene, q_max).a
+               + 0.5 * (d.extent_x_m if d.active else 0.0) + fid.neighbourhood_m)
+    return int(_offset_nodes(scene, fid, s_reach, window_spec(scene, fid, q_max, 1.0)[2]).size)
+
+
 def _progress(stats: SolveStats, total: int, progress: bool | None):
     """A tqdm bar over ``total`` solves fed by ``stats`` (None when ``progress`` is None or
     False: a quiet job does not import tqdm, 0.05 CPU s)."""
@@ -793,8 +818,7 @@ def build_table(scene: Scene, fidelity: Fidelity, *, q_max: float,
     # offsets in absolute x: normalised by the largest load's s(Q) only (the pressure peak
     # oscillates with the offset on the scale of the defect width, fixed in x, not in x/a)
     dxw = window_spec(scene, fid, q_max, 1.0)[2]
-    nxi = _offset_nodes(scene, fid, REACH_GUESS_FACTOR * a_coef * q_max ** (1 / 3) + s_const,
-                        dxw).size
+    nxi = offset_count(scene, fid, q_max)
     n_total = nq * 2 + 2 * (nq - 1) + (nq * (nxi + fid.n_snapshot_offsets) + fid.n_checks * (
         2 + 2 * CHECK_OFFSETS_PER_LOAD) if d.active else 0)
     bar = _progress(stats, n_total, progress)

@@ -9,6 +9,12 @@ allowed:
 - a hardness below :data:`MIN_HARDNESS_GPA`, a record shorter than the analysis' longest
   kurtogram window (:func:`min_revolutions`);
 - a missing ``scene.bearing.profile_file``;
+- a case ``simulate`` would refuse before its first solve: a contact too small for the solver
+  even on refined grids (:func:`~bearing_envelope.physics.history.plan_tables`, the same
+  call; a case whose defect never meets a loaded contact is reported, as ``simulate`` reports
+  it, in :attr:`ResourceEstimate.note`, and refused only when the run builds the detection map);
+- global grid cells longer than :data:`MAX_GLOBAL_CELL_ASPECT` times their width (the contact
+  solver does not converge on them);
 - a case whose estimated memory or CPU time (:func:`estimate_case`) exceeds the machine's
   available memory or the stated limits (``limits.max_case_memory_GB``,
   ``limits.max_case_cpu_s``; :data:`DEFAULT_LIMITS`);
@@ -30,13 +36,16 @@ from dataclasses import dataclass
 
 from ..diagnosis.detection import EXCLUDED_SIDEBANDS
 from ..physics.acquisition import auto_oversample
+from ..physics.history import plan_tables
 from ..physics.loads import scene_load_distribution
 from ..physics.solves import window_spec
+from ..physics.table import offset_count
 from ..signal.kurtogram import max_kurtogram_level
 from .config_read import ConfigError, config_files
 from .settings import DEFAULT_MAX_CASES, workflow_settings
 
-__all__ = ["DEFAULT_LIMITS", "MIN_HARDNESS_GPA", "MAX_CASE_NAME_CHARS", "ResourceEstimate",
+__all__ = ["DEFAULT_LIMITS", "MIN_HARDNESS_GPA", "MAX_CASE_NAME_CHARS", "MAX_GLOBAL_CELL_ASPECT",
+           "ResourceEstimate",
            "JobEstimate", "estimate_case", "estimate_jobs", "check_case", "PAPER_RUN_TABLES",
            "paper_run_tables", "checked_settings", "EMPTY_CONFIG_NOTE", "min_revolutions", "available_memory_bytes", "precheck",
            "profile_files"]
@@ -85,11 +94,13 @@ _CPU_S_PER_FINE_SAMPLE = 2.0e-6
 _CG_ITERATIONS = 60
 
 #: The global solves: CPU seconds per cell x log2(4 cells) and iteration, and the iterations
-#: per solve, about 2 sqrt(cells) up to the fidelity's ``max_iter``. Measured at draft (750 kN /
-#: 50 um, ``global_dx_um`` refined, 2026-12-05): 65,269 cells cost 11.5 CPU s over 3 solves
-#: (about 510 iterations each); 261,077 cells did not converge in ``max_iter`` = 1000
-#: iterations (33 ms each); ``global_dx_um: 0.01`` (10^7 cells) ran for hours (issue 43). The
-#: constant is the measured 6.3e-9 with a margin of 1.3.
+#: per solve, about 2 sqrt(cells) up to the fidelity's ``max_iter``: an upper bound. Measured
+#: at draft (750 kN / 50 um, ``global_dx_um`` refined, 2026-12-05): 65,269 cells (1.5625 x 400
+#: um) cost 14.9 CPU s, 8 of the table's global solves past the solver's stall guard (175-838
+#: iterations), the others 23-30; the iterations follow the cells' aspect ratio rather than
+#: their number (16-200:1: 13-33 iterations up to 1.7 million cells, 9.4 CPU s for one solve
+#: at 0.5 x 50 um; beyond 256:1, :data:`MAX_GLOBAL_CELL_ASPECT`, refused). The constant is the
+#: measured 6.3-8.3e-9 with a margin.
 _CPU_S_PER_GLOBAL_CELL_ITERATION = 8.2e-9
 
 #: The window solves' iterations grow with the window grid too (each starts from the previous
@@ -126,6 +137,9 @@ class ResourceEstimate:
     #: field to change when the estimate is refused).
     memory_parts: tuple = ()
     cpu_parts: tuple = ()
+    #: What ``simulate`` will say about the case in one line (``TablePlan.note``: the defect
+    #: never meets a loaded contact, pits beyond the bridging limit), or None.
+    note: str | None = None
 
     def culprit(self, kind: str) -> str:
         """The config field behind the largest part of the ``memory`` or ``cpu`` estimate.
@@ -173,13 +187,35 @@ def _oversample(scene, fidelity) -> int:
     return auto_oversample(scene, fidelity) if acq.oversample == "auto" else int(acq.oversample)
 
 
-def estimate_case(name: str, scene, fidelity) -> ResourceEstimate:
+def _table_cost(scene, fid, q_max: float) -> tuple[float, float, int, float, float]:
+    """Global cells, window cells, solves, global and window CPU seconds of one contact table
+    up to ``q_max`` (N) at its fidelity ``fid`` (refined or not: :func:`table_fidelity`)."""
+    a, _s, dx, dy, xh, _yd, _hy_read, hy = window_spec(scene, fid, q_max, 1.0)
+    g_cells = _cells(fid.global_extent * a, fid.global_dx_um * 1e-6) * \
+        _cells(scene.bearing.half_length_m, fid.global_dy_um * 1e-6)
+    w_cells = _cells(xh, dx) * _cells(hy, dy)
+    offsets = offset_count(scene, fid, q_max) + fid.n_checks + _EXTRA_WINDOW_SOLVES
+    iterations = min(fid.max_iter, _GLOBAL_ITERATIONS_PER_SQRT_CELL * math.sqrt(g_cells))
+    global_cpu = _CPU_S_PER_GLOBAL_CELL_ITERATION * iterations * fid.n_loads * \
+        g_cells * math.log2(4 * g_cells)
+    w_iterations = min(fid.max_iter, max(_CG_ITERATIONS,
+                                         _WINDOW_ITERATIONS_PER_SQRT_CELL * math.sqrt(w_cells)))
+    window_cpu = _CPU_S_PER_CELL_ITERATION * w_iterations * fid.n_loads * \
+        offsets * w_cells * math.log2(4 * w_cells)
+    return g_cells, w_cells, fid.n_loads * (1 + offsets), global_cpu, window_cpu
+
+
+def estimate_case(name: str, scene, fidelity, plan=None) -> ResourceEstimate:
     """Memory and CPU time of one case's simulation, from its scene and fidelity alone.
 
     Samples x signals for the history (the acquisition works block-wise at the fine rate),
-    grid cells x solves for the contact table (``n_loads`` global solves, and per load node the
-    window solves at the table's offsets). An order-of-magnitude estimate: within a factor
-    of 3 of the measured cases, enough to refuse what cannot fit.
+    grid cells x solves for each contact table the case solves (:func:`plan_tables`, the
+    check :func:`~bearing_envelope.physics.history.simulate` makes: none when the defect never
+    meets a loaded contact; a light contact's table on its refined grids,
+    :func:`~bearing_envelope.physics.history.table_fidelity`): ``n_loads`` global solves, and
+    per load node the window solves at the table's offsets
+    (:func:`~bearing_envelope.physics.table.offset_count`). An order-of-magnitude estimate:
+    within a factor of 3 of the measured cases, enough to refuse what cannot fit.
 
     Parameters
     ----------
@@ -189,36 +225,38 @@ def estimate_case(name: str, scene, fidelity) -> ResourceEstimate:
         The case's validated scene (record length, sampling, acquisition, bearing, load).
     fidelity : bearing_envelope.physics.fidelity.Fidelity
         The grids and table densities.
+    plan : bearing_envelope.physics.history.TablePlan, optional
+        The case's :func:`plan_tables` (computed when not given).
 
     Returns
     -------
     ResourceEstimate
         Samples, oversampling, cells, solves, ``memory_bytes`` (bytes) and ``cpu_seconds``
-        (CPU s), with the config fields each part comes from.
+        (CPU s), with the config fields each part comes from, and the plan's note.
+
+    Raises
+    ------
+    ValueError
+        A table's contact too small for the solver (:func:`plan_tables`).
     """
     op = scene.operation
     n = int(math.ceil(op.revolutions / op.shaft_rate_hz * op.fs_hz))
     over = _oversample(scene, fidelity)
-    q = scene_load_distribution(scene).q_max
-    a, _s, dx, dy, xh, _yd, _hy_read, hy = window_spec(scene, fidelity, q, 1.0)
-    g_cells = _cells(fidelity.global_extent * a, fidelity.global_dx_um * 1e-6) * \
-        _cells(scene.bearing.half_length_m, fidelity.global_dy_um * 1e-6)
-    w_cells = _cells(xh, dx) * _cells(hy, dy)
-    offsets = min(fidelity.max_offsets, fidelity.n_offsets) + fidelity.n_checks \
-        + _EXTRA_WINDOW_SOLVES
-    solves = fidelity.n_loads * (1 + offsets)
+    plan = plan_tables(scene, fidelity) if plan is None else plan
+    g_cells = w_cells = global_solves = window_solves = 0.0
+    solves, refined = 0, False
+    for race, (q_max, fid_t) in plan.tables.items():
+        g, w, k, gs, ws = _table_cost(scene.for_race(race), fid_t, q_max)
+        g_cells, w_cells = max(g_cells, g), max(w_cells, w)
+        solves, global_solves, window_solves = solves + k, global_solves + gs, window_solves + ws
+        refined = refined or fid_t is not fidelity
     fine = _CPU_S_PER_FINE_SAMPLE * n * over
-    iterations = min(fidelity.max_iter, _GLOBAL_ITERATIONS_PER_SQRT_CELL * math.sqrt(g_cells))
-    global_solves = _CPU_S_PER_GLOBAL_CELL_ITERATION * iterations * fidelity.n_loads * \
-        g_cells * math.log2(4 * g_cells)
-    w_iterations = min(fidelity.max_iter, max(_CG_ITERATIONS,
-                                              _WINDOW_ITERATIONS_PER_SQRT_CELL * math.sqrt(w_cells)))
-    window_solves = _CPU_S_PER_CELL_ITERATION * w_iterations * fidelity.n_loads * \
-        offsets * w_cells * math.log2(4 * w_cells)
     solve = global_solves + window_solves
     grid_field = ("fidelity.n_loads" if fidelity.n_loads > _MANY_LOADS else
                   "fidelity.local_dx_um / local_dy_um" if window_solves >= global_solves else
                   "fidelity.global_dx_um / global_dy_um")
+    if refined:     # the light contact's refinement is what costs: the load decides it
+        grid_field += " (a light contact's refined grids: sweep.loads_kN, scene.load)"
     samples_field = "scene.operation.revolutions x fs_hz"
     over_field = "scene.operation.acquisition.oversample"
     memory_parts = ((samples_field, 8.0 * _SIGNALS_PER_SAMPLE * n),
@@ -227,7 +265,7 @@ def estimate_case(name: str, scene, fidelity) -> ResourceEstimate:
     cpu_parts = ((samples_field if over <= _MANY_LOADS else over_field, fine), (grid_field, solve))
     return ResourceEstimate(name, n, over, int(g_cells), int(w_cells), solves,
                             _BASE_BYTES + sum(v for _, v in memory_parts),
-                            _BASE_CPU_S + fine + solve, memory_parts, cpu_parts)
+                            _BASE_CPU_S + fine + solve, memory_parts, cpu_parts, plan.note)
 
 
 def available_memory_bytes() -> float:
@@ -284,9 +322,12 @@ def _limits(config: Mapping) -> dict:
 
 
 def _check_case(case, scene, analysis, limits: dict, memory_cap: float,
-                fidelity) -> ResourceEstimate:
-    """The per-case checks of :func:`precheck` (name, lower bounds, resource estimate);
-    returns the estimate."""
+                fidelity, detection_map: bool = False) -> ResourceEstimate:
+    """The per-case checks of :func:`precheck` (name, lower bounds, simulate's own check of the
+    case, resource estimate); returns the estimate. With the detection map
+    (``detection_map``), a defect that never meets a loaded contact is refused: the map's SNR
+    is that of the defect's part of the record, and there is none (its diagnose job found a
+    constant record, issue 43's retest)."""
     if len(case.name) > MAX_CASE_NAME_CHARS:
         raise ConfigError(f"sweep: case name {case.name[:40]}... has {len(case.name)} "
                           f"characters; allowed: at most {MAX_CASE_NAME_CHARS}")
@@ -300,9 +341,53 @@ def _check_case(case, scene, analysis, limits: dict, memory_cap: float,
         raise ConfigError(f"scene.operation.revolutions: got {scene.operation.revolutions:g} "
                           f"({n} samples); allowed: >= {min_revolutions(scene):.3g} (the "
                           f"kurtogram needs {MIN_KURTOGRAM_SAMPLES} samples)")
-    est = estimate_case(case.name, scene, fidelity)
+    _check_grid(fidelity)
+    try:
+        plan = plan_tables(scene, fidelity)    # simulate's own check of the case, no solve
+    except ValueError as exc:
+        field = ("scene.defect.position_deg" if scene.defect.fault_location.positioned
+                 else "sweep.loads_kN")
+        raise ConfigError(f"{field}: case {case.name}: {exc}") from None
+    if detection_map and scene.defect.active and not plan.exposure["loaded"]:
+        field = ("scene.defect.position_deg" if scene.defect.fault_location.positioned
+                 else "sweep.loads_kN")
+        raise ConfigError(f"{field}: case {case.name}: {plan.note}; allowed with the detection "
+                          f"map (sensor: and diagnosability.enabled): a defect that meets a "
+                          f"loaded contact (the map's SNR is that of the defect's part of the "
+                          f"record, none here), or diagnosability.enabled: false")
+    est = estimate_case(case.name, scene, fidelity, plan)
     _check_estimate(est, limits, memory_cap)
     return est
+
+
+#: Longest global grid cell accepted, as the ratio of its sides (``global_dy_um /
+#: global_dx_um`` or the inverse): the contact solver's Fourier preconditioner stalls on
+#: longer cells (the stall guard drops it, and plain CG needs thousands of iterations).
+#: Measured on the draft test config at 750 kN (2026-12-05, ``docs/validation.md``): at 16-200
+#: every isolated global solve converged in 13-33 iterations; at 256 (``global_dx_um``
+#: 1.5625 x 400) the case's table converged, 8 of its global solves past the stall guard
+#: (175-838 iterations); at 300 one solve needed 793, at 400 1,689, at 500 2,095 and at 400
+#: (0.75 x 300 um) one did not converge in 4,000; ``global_dx_um: 0.1`` (4,000) failed
+#: inside its job at ``max_iter`` (issue 43).
+MAX_GLOBAL_CELL_ASPECT = 256.0
+
+
+def _check_grid(fidelity) -> None:
+    """Refuse global cells longer than :data:`MAX_GLOBAL_CELL_ASPECT` times their width, on
+    which the contact solver does not converge (a refined table halves both sides)."""
+    dx, dy = fidelity.global_dx_um, fidelity.global_dy_um
+    if dy / dx > MAX_GLOBAL_CELL_ASPECT:
+        field, got, other, bound = "global_dx_um", dx, f"global_dy_um {dy:g}", dy / MAX_GLOBAL_CELL_ASPECT
+    elif dx / dy > MAX_GLOBAL_CELL_ASPECT:
+        field, got, other, bound = "global_dy_um", dy, f"global_dx_um {dx:g}", dx / MAX_GLOBAL_CELL_ASPECT
+    else:
+        return
+    raise ConfigError(f"fidelity.{field}: got {got:g} um ({max(dx, dy) / min(dx, dy):.4g}:1 "
+                      f"global cells with fidelity.{other} um); allowed: >= {bound:.4g} um "
+                      f"(cells at most {MAX_GLOBAL_CELL_ASPECT:g}:1: on longer ones the contact "
+                      f"solver's preconditioner stalls and a solve needs thousands of "
+                      f"iterations, past fidelity.max_iter {fidelity.max_iter}); refine both "
+                      f"global_dx_um and global_dy_um")
 
 
 def _check_estimate(est: ResourceEstimate, limits: dict, memory_cap: float) -> None:
@@ -511,7 +596,8 @@ def precheck(settings) -> list[ResourceEstimate]:
     setup = settings.simulation
     for case in settings.sweep.cases():
         scene = settings.scene(case)   # built once, by the loader
-        out.append(_check_case(case, scene, settings.analysis, limits, cap, setup.fidelity))
+        out.append(_check_case(case, scene, settings.analysis, limits, cap, setup.fidelity,
+                               settings.sensor is not None and settings.diagnosability.enabled))
         _check_jobs(estimate_jobs(case.name, scene, settings.analysis, settings.sensor,
                                   settings.diagnosability, healthy=case.depth_um == 0), limits)
     _check_physics(settings)   # after the estimates: they bound the record length first
