@@ -192,8 +192,8 @@ class TransferPath:
         Quantities of the first mode the record does not identify within :data:`IDENT_TOL`
         (``zeta``, ``gain``: twice their standard error over :data:`SUBSETS` subsets of the
         events exceeds it, or zeta sits at the fit's bound; the gain also whenever zeta is not
-        identified; ``background``: the events make
-        most of the record's power at the resonance); each also has its line in ``flags``.
+        identified; ``background``: the events make most of the record's power at the
+        resonance); each also has its line in ``flags``.
         Empty in a path written before this was reported.
     """
 
