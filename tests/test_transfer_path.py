@@ -13,7 +13,7 @@ from scipy import signal as sps
 
 from bearing_envelope.cli import main
 from bearing_envelope.diagnosis.transfer_path import (MIN_EVENTS, NoImpulsesError, TransferPath,
-                                                      background_noise, identify_path)
+                                                      _flags, background_noise, identify_path)
 
 FS = 12_000.0
 REAL = Path("/work/shared/data/real")
@@ -251,3 +251,31 @@ def test_not_identified_round_trips_and_defaults_to_empty():
     d = p.to_dict()
     del d["not_identified"]  # a path written before it was reported
     assert TransferPath.from_dict(d).not_identified == []
+
+
+@pytest.mark.parametrize("f_n, zeta, amplitude, noise", [(3000.0, 0.05, 1.0, 0.05),
+                                                         (2660.0, 0.05, 1.0, 0.05),
+                                                         (2660.0, 0.05, 2.4, 0.2),
+                                                         (3000.0, 0.03, 2.4, 0.2)])
+def test_gain_at_full_detection_is_unbiased(f_n, zeta, amplitude, noise):
+    """Every event stands out; each starts between two samples (the record's clock knows
+    nothing of the impulses). Read off the averaged decay aligned on its peak, the amplitude
+    rested on where the events start, and the gain read 5-13 % low at zeta 0.05 (3-4 % at
+    0.03) whatever the noise; from the events' energy it is within 5 %, and zeta within 10 %."""
+    x, gain = _train(f_n, zeta, amplitude, noise, seconds=8.0, seed=1)
+    p = identify_path(x, FS, RATES)
+    assert p.n_events > 0.95 * p.n_periods
+    assert p.zeta == pytest.approx(zeta, rel=0.1)
+    assert p.mode(1e-3).gain == pytest.approx(gain, rel=0.05)
+    assert not {"zeta", "gain"} & set(p.not_identified)
+
+
+def test_gain_is_not_identified_where_zeta_is_not():
+    """The events' energy fixes ``gain^2 zeta``: a zeta not identified (its subsets disagree
+    by 20 %) leaves the gain unidentified however well the subsets agree on it (at 2.5 %
+    detection, zeta 0.05 read -34 % and flagged, the gain +32 % without a flag)."""
+    band, f_n, period = (2000.0, 3300.0), 2660.0, 112.0
+    _, unknown = _flags(band, f_n, 0.05, (0.045, 0.055), (0.2, 0.01), 50, period, None)
+    assert unknown == ["zeta", "gain"]
+    flags, unknown = _flags(band, f_n, 0.05, (0.045, 0.055), (0.01, 0.01), 50, period, None)
+    assert unknown == [] and flags == []

@@ -141,7 +141,8 @@ def run(args) -> int:
     if path.not_identified:
         print(f"bearing-envelope identify-path: warning: not identified: "
               f"{', '.join(path.not_identified)}", file=sys.stderr)
-    print(f"# {path.event_name} {path.event_hz:.2f} Hz, {path.n_events} events; band "
+    print(f"# {path.event_name} {path.event_hz:.2f} Hz, every one of {path.n_periods} periods' "
+          f"events averaged ({path.n_events} stand out one by one); band "
           f"{path.band_hz[0]:.0f}-{path.band_hz[1]:.0f} Hz; f_n {path.f_n_hz:.0f} Hz, zeta "
           f"{path.zeta:.4f} ({path.zeta_range[0]:.4f}-{path.zeta_range[1]:.4f}); amplitude "
           f"{path.amplitude:.4g}; background rms {path.background_rms:.4g}", file=sys.stderr)

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 from scipy import fft as sp_fft
 
@@ -79,9 +81,19 @@ def _bandpass_sos(fs: float, band, order) -> np.ndarray:
     low, high, _ = clamp_band(lo_hz, hi_hz, fs, margin=1.0, clamp=False, field="band")
     if isinstance(order, bool) or int(order) != order or int(order) < 1:
         raise ValueError(f"order must be an integer >= 1, got {order!r}")
+    return _butter_sos(float(low), float(high), fs, int(order)).copy()
+
+
+@functools.lru_cache(maxsize=64)
+def _butter_sos(low: float, high: float, fs: float, order: int) -> np.ndarray:
+    """The design itself, kept for repeated bands (identify-path filters its model of one
+    event some 500 times per record in the same band; the design took most of that time)."""
     if low > 0:
-        return sp_signal.butter(int(order), [low, high], btype="bandpass", fs=fs, output="sos")
-    return sp_signal.butter(int(order), high, btype="lowpass", fs=fs, output="sos")
+        sos = sp_signal.butter(order, [low, high], btype="bandpass", fs=fs, output="sos")
+    else:
+        sos = sp_signal.butter(order, high, btype="lowpass", fs=fs, output="sos")
+    sos.setflags(write=False)
+    return sos
 
 
 #: Relative level below which the band-pass impulse response counts as settled
