@@ -59,6 +59,7 @@ import os
 from dataclasses import dataclass
 from typing import Any, Mapping
 
+from .dynamics_option import Dynamics, build_dynamics
 from .catalogue import bearing_values, designations, operation_values, resolve_designation
 from .geometry import defect_depth, read_defect_profile, read_profile
 from .kinematics import FaultFrequencies, bearing_rates, fault_frequencies
@@ -132,6 +133,8 @@ DEFAULT_SCENE: dict[str, Any] = {
         "spin_axis": "fixed",
         "spin_seed": 0,
     },
+    # physics/dynamics_option.py; structure null: physics/dynamics/params.STRUCTURE_DEFAULTS
+    "dynamics": {"model": "quasi_static", "structure": None},
 }
 
 
@@ -671,6 +674,7 @@ class Scene:
     operation: Operation
     load: Load
     defect: Defect
+    dynamics: Dynamics      # which model simulates the case (physics/dynamics_option.py)
 
     # derived -----------------------------------------------------------------------------
     def frequencies(self) -> FaultFrequencies:
@@ -736,6 +740,9 @@ class Scene:
                      # only when on: the stored scene of every case without it is unchanged
                      **({"centrifugal": True} if self.load.centrifugal else {})},
             "defect": d,
+            # only when not the default: the stored scene of every quasi-static case is unchanged
+            **({"dynamics": self.dynamics.to_mapping()} if self.dynamics.to_mapping()
+               != DEFAULT_SCENE["dynamics"] else {}),
         }
 
     # construction ------------------------------------------------------------------------
@@ -791,7 +798,7 @@ class Scene:
         _check_override_bearing(operation, bearing)
         if defect.fault_location.contact_race != bearing.contact_race:
             bearing = dataclasses.replace(bearing, contact_race=defect.fault_location.contact_race)
-        return cls(bearing, material, operation, load, defect)
+        return cls(bearing, material, operation, load, defect, build_dynamics(m["dynamics"]))
 
     def for_race(self, race: str) -> "Scene":
         """This scene with the modelled contact on ``race`` (``inner`` | ``outer``): the
