@@ -67,4 +67,7 @@ def run(args) -> int:
     print(f"{st.source}: valid; fidelity {st.fidelity.name}; {len(cases)} cases: "
           f"{', '.join(c.name for c in cases[:6])}{' ...' if len(cases) > 6 else ''}{cost}",
           file=sys.stdout)
+    from bearing_envelope.physics.dynamics.criterion import model_choice
+    for c in cases:   # which model simulates each case, and why (docs/dynamics.md)
+        print(f"  {c.name}: model {model_choice(st.scene(c)).reason}", file=sys.stdout)
     return 0

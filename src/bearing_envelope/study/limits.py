@@ -30,6 +30,8 @@ from dataclasses import dataclass
 
 from ..diagnosis.detection import EXCLUDED_SIDEBANDS
 from ..physics.acquisition import auto_oversample
+from ..physics.dynamics.case import dynamic_cost
+from ..physics.dynamics.criterion import DYNAMIC, model_choice
 from ..physics.loads import scene_load_distribution
 from ..physics.solves import window_spec
 from ..signal.kurtogram import max_kurtogram_level
@@ -196,6 +198,11 @@ def estimate_case(name: str, scene, fidelity) -> ResourceEstimate:
         Samples, oversampling, cells, solves, ``memory_bytes`` (bytes) and ``cpu_seconds``
         (CPU s), with the config fields each part comes from.
     """
+    if model_choice(scene).model == DYNAMIC:   # issue 42: the dynamic model's step rule
+        d, field = dynamic_cost(scene), "scene.operation.revolutions x fs_hz"
+        return ResourceEstimate(name, scene.n_samples, d["oversample"], 0, 0, 0,
+                                _BASE_BYTES + d["memory_bytes"], _BASE_CPU_S + d["cpu_s"],
+                                ((field, d["memory_bytes"]),), ((field, d["cpu_s"]),))
     op = scene.operation
     n = int(math.ceil(op.revolutions / op.shaft_rate_hz * op.fs_hz))
     over = _oversample(scene, fidelity)

@@ -21,11 +21,18 @@ from ..defect_contact import defect_table
 from ..fidelity import Fidelity, fidelity_from
 from ..loads import LoadDistribution, scene_load_distribution
 from .criterion import DYNAMIC, ModelChoice, model_choice
-from .model import simulate_dynamics
-from .params import STRUCTURE_DEFAULTS, DefectLaw, DynamicParams, contact_damping, params_from_scene
+from .model import auto_oversample, simulate_dynamics
+from .params import (STRUCTURE_DEFAULTS, DefectLaw, DynamicParams, contact_damping,
+                     params_from_scene, step_size)
 
 __all__ = ["DynamicHistory", "DYNAMIC_SIGNAL_UNITS", "DYNAMIC_SIGNAL_DESCRIPTIONS",
-           "NOISY_SIGNALS", "scene_params", "simulate_dynamic", "simulate_case"]
+           "NOISY_SIGNALS", "scene_params", "simulate_dynamic", "simulate_case", "dynamic_cost",
+           "CPU_S_PER_ELEMENT_STEP"]
+
+#: CPU seconds per RK4 step and element, measured (``python -m benchmarks dynamics_cost
+#: --full``, docs/dynamics.md): the 6205's 10 s record at 12 kHz, 24,111,780 steps of
+#: 0.42 us for its 9 balls in 34.9 CPU s (3.4 CPU s per record second).
+CPU_S_PER_ELEMENT_STEP = 34.9 / 24111780 / 9
 
 #: The 1-D signals of a dynamic case (``/signals``) and their units.
 DYNAMIC_SIGNAL_UNITS = {
@@ -176,6 +183,33 @@ def simulate_dynamic(scene, fidelity: Fidelity | str | None = None, *,
     return DynamicHistory(scene, fid, r.t_s, sig, r.element_load_n, model,
                           scene_load_distribution(scene), stats,
                           {"mode": acq.mode, "oversample": r.oversample})
+
+
+def dynamic_cost(scene) -> dict:
+    """The dynamic model's cost for ``scene``, before running it: the step rule
+    (:func:`~.params.step_size` of the scene's parameters, healthy: the rule does not read the
+    defect law) over the record, at :data:`CPU_S_PER_ELEMENT_STEP`. The defect law's table is
+    not included (0.4-9 CPU s for the 6205's pits, docs/dynamics.md).
+
+    Parameters
+    ----------
+    scene : Scene
+        The case (bearing, load, ``fs_hz``, record length, ``dynamics.structure``).
+
+    Returns
+    -------
+    dict
+        ``steps``, ``step_s`` (s), ``oversample``, ``cpu_s`` (CPU s), ``memory_bytes`` (the
+        record's signals, element loads and velocities at ``fs``, three copies).
+    """
+    p = scene_params(scene)
+    op = scene.operation
+    dt = step_size(p)
+    steps = int(math.ceil(scene.n_samples / op.fs_hz / dt))
+    over = 1 if op.acquisition.mode == "point" else auto_oversample(p, op.fs_hz)
+    return {"steps": steps, "step_s": dt, "oversample": over,
+            "cpu_s": steps * p.z * CPU_S_PER_ELEMENT_STEP,
+            "memory_bytes": 3 * 8.0 * scene.n_samples * (len(DYNAMIC_SIGNAL_UNITS) + 2 * p.z)}
 
 
 def simulate_case(scene, fidelity: Fidelity | str | None = None, **quasi_static_options):

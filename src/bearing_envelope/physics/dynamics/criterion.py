@@ -95,9 +95,9 @@ def model_choice(scene) -> ModelChoice:
     asked = scene.dynamics.model
     if not scene.defect.active:
         model = DYNAMIC if asked == DYNAMIC else QUASI_STATIC
-        how = "forced" if asked != "auto" else "auto"
         return ModelChoice(model, asked, None, float("nan"), float("nan"),
-                           f"{model} ({how}: no defect, nothing for the criterion to judge)")
+                           f"{model} (scene.dynamics.model {asked}; no defect: nothing for the "
+                           f"criterion to judge)")
     sc = defect_scales(scene)
     share, ratio = float(sc.drop_over_approach), float(sc.event_over_period)
     verdict, why = _verdict(share, ratio)
@@ -105,4 +105,4 @@ def model_choice(scene) -> ModelChoice:
         return ModelChoice(verdict, asked, verdict, share, ratio, f"{verdict} (auto: {why})")
     note = "agrees" if asked == verdict else f"the criterion says {verdict}"
     return ModelChoice(asked, asked, verdict, share, ratio,
-                       f"{asked} (forced by scene.dynamics.model; {note}: {why})")
+                       f"{asked} (scene.dynamics.model {asked}; {note}: {why})")
