@@ -15,7 +15,7 @@ import yaml
 
 from bearing_envelope.cli import main
 from bearing_envelope.io import read_case
-from bearing_envelope.physics.dynamics.case import scene_params
+from bearing_envelope.physics.dynamics.case import joined_law, scene_params
 from bearing_envelope.physics.dynamics.criterion import (FAST_SHARE, OPEN_SHARE, _verdict,
                                                          model_choice)
 from bearing_envelope.physics.scene import DEFAULT_SCENE, Scene
@@ -93,6 +93,25 @@ def test_structure_override_reaches_the_model_in_si():
     assert p.sensor_angle_rad == pytest.approx(math.pi / 2)
     # c = 2 zeta sqrt(k m) with the default housing stiffness 1e8 N/m
     assert p.housing_damping_ns_m == pytest.approx(2 * 0.1 * math.sqrt(1e8 * 3.0))
+
+
+def test_joined_law_reads_the_models_healthy_law_at_the_table_ends_and_keeps_the_pits_ratio():
+    """A table whose healthy solve carries half the model's law (the default roller's carries
+    15-72 %): joined, its end columns are the model's ``K delta^n`` (no step where an element
+    enters the table's range) and the pit's ratio to the healthy force is kept."""
+    p = scene_params(_scene())
+    delta = np.array([0.0, 1e-6, 2e-6, 4e-6])
+    law = p.k_outer * delta ** p.exponent
+
+    class Table:
+        race, x_m, delta_m, healthy_force_n = "outer", np.array([-1e-4, 0.0, 1e-4]), delta, 0.5 * law
+        force_n = np.vstack([0.5 * law, 0.15 * law, 0.5 * law])
+
+    j = joined_law(Table, p)
+    np.testing.assert_allclose(j.force_n[0], law, rtol=1e-12)
+    np.testing.assert_allclose(j.force_n[-1], law, rtol=1e-12)
+    np.testing.assert_allclose(j.force_n[1], 0.3 * law, rtol=1e-12)
+    assert j.force_n[1, 0] == 0.0
 
 
 # --- the criterion -------------------------------------------------------------------------
