@@ -107,11 +107,17 @@ def test_joined_law_reads_the_models_healthy_law_at_the_table_ends_and_keeps_the
         race, x_m, delta_m, healthy_force_n = "outer", np.array([-1e-4, 0.0, 1e-4]), delta, 0.5 * law
         force_n = np.vstack([0.5 * law, 0.15 * law, 0.5 * law])
 
-    j = joined_law(Table, p)
-    np.testing.assert_allclose(j.force_n[0], law, rtol=1e-12)
-    np.testing.assert_allclose(j.force_n[-1], law, rtol=1e-12)
-    np.testing.assert_allclose(j.force_n[1], 0.3 * law, rtol=1e-12)
+    j = joined_law(Table, p, nd=401)
+    fine = p.k_outer * j.delta_m ** p.exponent
+    assert j.delta_m[0] == 0.0 and j.delta_m[-1] == delta[-1] and j.delta_m.size == 401
+    np.testing.assert_allclose(j.force_n[0], fine, rtol=1e-12)
+    np.testing.assert_allclose(j.force_n[-1], fine, rtol=1e-12)
+    np.testing.assert_allclose(j.force_n[1], 0.3 * fine, rtol=1e-12)
     assert j.force_n[1, 0] == 0.0
+    # the reading between the table's approach nodes is the power law (not a chord of it):
+    # at the mid-node approach the chord of K delta^1.5 between 2 and 4 um is 3.5 % high
+    mid = np.searchsorted(j.delta_m, 3e-6)
+    assert j.force_n[0, mid] == pytest.approx(p.k_outer * j.delta_m[mid] ** 1.5, rel=1e-12)
 
 
 # --- the criterion -------------------------------------------------------------------------

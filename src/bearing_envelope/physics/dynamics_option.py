@@ -10,9 +10,9 @@ structure of the dynamic one (``docs/dynamics.md``, "Model only what the scene n
         resonator_hz: 4000.0
 
 The default (``quasi_static``, no structure override) is written once, in
-:data:`bearing_envelope.physics.scene.DEFAULT_SCENE`; the structure's defaults once, in
-:data:`bearing_envelope.physics.dynamics.params.STRUCTURE_DEFAULTS`. This module is a leaf (the
-scene builder calls it); the criterion behind ``auto`` is
+:data:`bearing_envelope.physics.scene.DEFAULT_SCENE`; the structure's defaults once, here
+(:data:`STRUCTURE_DEFAULTS`; ``physics.dynamics.params`` re-exports it). This module is a leaf
+(the scene builder and the dynamic model import it); the criterion behind ``auto`` is
 :func:`bearing_envelope.physics.dynamics.criterion.model_choice`.
 """
 
@@ -22,11 +22,24 @@ import math
 from dataclasses import dataclass
 from typing import Any, Mapping
 
-__all__ = ["DYNAMICS_MODELS", "Dynamics", "build_dynamics", "STRUCTURE_POSITIVE"]
+__all__ = ["DYNAMICS_MODELS", "Dynamics", "build_dynamics", "STRUCTURE_DEFAULTS",
+           "STRUCTURE_POSITIVE"]
 
 #: ``scene.dynamics.model``: the quasi-static contact model (``physics/history.py``), the
 #: lumped-parameter dynamic model (``physics/dynamics``), or the criterion's choice.
 DYNAMICS_MODELS = ("quasi_static", "dynamic", "auto")
+
+#: Assumed structural values of the dynamic model (not published for any rig; identify them per
+#: rig): shaft with inner ring 2 kg carried by this bearing alone (no support stiffness), outer
+#: ring with housing 5 kg on 1e8 N/m with 5 % damping, a 4 kHz resonator of 50 g with 5 %
+#: damping on the load axis, contact damping 2 % of critical for an element between its two
+#: contacts at the static load. ``scene.dynamics.structure`` overrides any of them.
+STRUCTURE_DEFAULTS = {
+    "shaft_mass_kg": 2.0, "shaft_stiffness_n_m": 0.0, "shaft_damping_ns_m": 0.0,
+    "housing_mass_kg": 5.0, "housing_stiffness_n_m": 1e8, "housing_zeta": 0.05,
+    "resonator_hz": 4000.0, "resonator_zeta": 0.05, "resonator_mass_kg": 0.05,
+    "sensor_angle_deg": 0.0, "contact_zeta": 0.02,
+}
 
 #: Structure keys that must be > 0 (the others: >= 0; ``sensor_angle_deg`` any finite angle).
 STRUCTURE_POSITIVE = ("shaft_mass_kg", "housing_mass_kg", "resonator_hz", "resonator_mass_kg")
@@ -90,8 +103,6 @@ def build_dynamics(m: Mapping[str, Any]) -> Dynamics:
     given = m.get("structure")
     if given is None:
         return Dynamics(model, ())
-    from .dynamics.params import STRUCTURE_DEFAULTS   # the structure's one home (imports much)
-
     if not isinstance(given, Mapping):
         raise _bad("structure", given, f"null or a mapping with keys {sorted(STRUCTURE_DEFAULTS)}")
     out = {}

@@ -133,7 +133,7 @@ DEFAULT_SCENE: dict[str, Any] = {
         "spin_axis": "fixed",
         "spin_seed": 0,
     },
-    # physics/dynamics_option.py; structure null: physics/dynamics/params.STRUCTURE_DEFAULTS
+    # physics/dynamics_option.py; structure null: its STRUCTURE_DEFAULTS
     "dynamics": {"model": "quasi_static", "structure": None},
 }
 
