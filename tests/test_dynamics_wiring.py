@@ -228,3 +228,11 @@ def test_dynamic_case_bands_and_harmonics_find_bpfo_at_the_kinematic_rate(dynami
                   & (df.sideband == 0)].iloc[0]
         assert abs(line.frequency_hz - bpfo) <= bin_hz, band
         assert bool(line.detected) and line.floor_ratio_db > 20.0, band
+
+
+def test_dynamic_case_summary_row_has_no_pressure_and_its_sample_count(dynamic_case):
+    from bearing_envelope.study.pipeline import case_summary
+    _, path = dynamic_case
+    row = case_summary(read_case(path))
+    assert math.isnan(row["p_max_peak_Pa"]) and math.isnan(row["roller_load_max_N"])
+    assert row["n_samples"] == round(6.0 / RPM_0HP_HZ * 12000.0)

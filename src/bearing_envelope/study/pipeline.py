@@ -479,17 +479,18 @@ def case_summary(case) -> dict[str, Any]:
         v = attrs.get(key) if isinstance(attrs, Mapping) else None
         return float(v) if v is not None and np.ndim(v) == 0 else np.nan
 
-    none = np.full(np.size(case.time), np.nan)   # a dynamic case holds no pressure
-    p = np.asarray(none if case.p_max is None else case.p_max)
-    pd_ = np.asarray(none if case.p_max_defect is None else case.p_max_defect)
+    # a dynamic case holds no pressure (NaN) and counts its samples by its time
+    p, pd_, rl = (np.asarray([np.nan]) if v is None else np.asarray(v)
+                  for v in (case.p_max, case.p_max_defect, case.roller_load))
+    n = int(p.size) if case.p_max is not None else int(np.size(case.time))
     return {
         "case": _case_id(case),
         "load_kN": float(case.load_kN), "depth_um": float(case.depth_um),
         "p_max_peak_Pa": float(p.max()), "p_max_mean_Pa": float(p.mean()),
         "p_max_defect_peak_Pa": float(pd_.max()),
-        "roller_load_max_N": float(np.max(none if case.roller_load is None else case.roller_load)),
+        "roller_load_max_N": float(np.max(rl)),
         "bpfi_used_hz": float(case.bpfi), "bpfi_geometry_hz": float(case.bpfi_geometry),
-        "fs_hz": float(case.fs), "n_samples": int(p.size),
+        "fs_hz": float(case.fs), "n_samples": n,
         "n_solves": stats.get("n_solves", np.nan),
         "simulate_wall_s": stats.get("wall_seconds", np.nan),
         "interp_max_rel_error_p_max": tget("interp_max_rel_error_p_max"),
