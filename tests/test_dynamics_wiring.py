@@ -107,7 +107,7 @@ def test_joined_law_reads_the_models_healthy_law_at_the_table_ends_and_keeps_the
         race, x_m, delta_m, healthy_force_n = "outer", np.array([-1e-4, 0.0, 1e-4]), delta, 0.5 * law
         force_n = np.vstack([0.5 * law, 0.15 * law, 0.5 * law])
 
-    j = joined_law(Table, p, nd=401)
+    j = joined_law(Table, p, n_approach=401)
     fine = p.k_outer * j.delta_m ** p.exponent
     assert j.delta_m[0] == 0.0 and j.delta_m[-1] == delta[-1] and j.delta_m.size == 401
     np.testing.assert_allclose(j.force_n[0], fine, rtol=1e-12)

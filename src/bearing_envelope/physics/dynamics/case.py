@@ -139,9 +139,9 @@ def scene_params(scene, defect: DefectLaw | None = None) -> DynamicParams:
 JOINED_DELTA_NODES = 2001
 
 
-def joined_law(table, params: DynamicParams, nd: int = JOINED_DELTA_NODES) -> DefectLaw:
+def joined_law(table, params: DynamicParams, n_approach: int = JOINED_DELTA_NODES) -> DefectLaw:
     """The defect law of ``table`` joined to the model's healthy contact:
-    ``F(x, delta) = r(x, delta) K delta^n`` on ``nd`` uniform approach nodes, with ``K, n`` the
+    ``F(x, delta) = r(x, delta) K delta^n`` on ``n_approach`` uniform approach nodes, with ``K, n`` the
     model's law of the pitted race and ``r = F_table / F_healthy`` the pit's ratio, read linearly
     between the table's approach nodes (``r`` is smooth where ``F`` is a power law). The reading
     is then the model's law outside the ``x`` range and at its ends (no step where an element
@@ -162,7 +162,7 @@ def joined_law(table, params: DynamicParams, nd: int = JOINED_DELTA_NODES) -> De
         ``x_m``, ``delta_m``, ``force_n``, ``healthy_force_n``, ``race``.
     params : DynamicParams
         The model (its ``k_inner``/``k_outer`` and ``exponent``).
-    nd : int
+    n_approach : int
         Approach nodes of the joined law (>= 2).
 
     Returns
@@ -179,7 +179,7 @@ def joined_law(table, params: DynamicParams, nd: int = JOINED_DELTA_NODES) -> De
     ratio[:, ok] = f[:, ok] / healthy[ok]
     first = int(np.argmax(ok))            # below the first loaded node: its ratio
     ratio[:, :first] = ratio[:, first:first + 1]
-    fine = np.linspace(0.0, float(d[-1]), int(nd))
+    fine = np.linspace(0.0, float(d[-1]), int(n_approach))
     r = np.array([np.interp(fine, d, row) for row in ratio])
     return DefectLaw(np.array(table.x_m, dtype=float), fine,
                      r * (k * fine ** params.exponent)[None, :])
