@@ -52,6 +52,9 @@ REGISTRY: dict[str, str] = {
                      "step rule's envelope-line convergence, CPU of a 12 kHz record",
     "identify_path_truth": "identify-path on synthetic records of known f_n, zeta, gain and "
                            "background at partial detection: within tolerance / flagged / wrong",
+    "model_choice": "the criterion of scene.dynamics auto against where the quasi-static and the "
+                    "dynamic model's answers differ (force line at the event rate, contact "
+                    "opening over the pit)",
 }
 
 #: Benchmarks of work in flight, registered as soon as their module is in this folder (each

@@ -1,7 +1,8 @@
 """Rule simulate: one load x depth case -> HDF5 (bearing_envelope.physics.history.simulate)."""
 import json
 
-from bearing_envelope.physics.history import simulate
+from bearing_envelope.physics.dynamics.case import simulate_case
+from bearing_envelope.physics.dynamics.criterion import model_choice
 from bearing_envelope.io import write_case
 from bearing_envelope.study.accuracy import case_error_model
 from bearing_envelope.study.provenance import log_to
@@ -14,7 +15,10 @@ with log_to(snakemake.log[0]) as log:  # noqa: F821
     setup = job_settings(snakemake).simulation  # noqa: F821  (case, scene, fidelity: typed)
     case = setup.case
     # the no-defect solves of a load are shared by its depth cases (issue 25; bit-identical)
-    hist = simulate(setup.scene, setup.fidelity, progress=False, nodefect_cache=NODEFECT_CACHE)
+    # the model the scene needs (scene.dynamics; docs/dynamics.md), one line in the log
+    print(f"simulate: {case.name}: model {model_choice(setup.scene).reason}", file=log)
+    hist = simulate_case(setup.scene, setup.fidelity, progress=False,
+                         nodefect_cache=NODEFECT_CACHE)
     if hist.stats.get("exposure_note"):
         # one line: a defect that never meets a loaded contact, or passages beyond the
         # validated pit bridging (physics/exposure.py); also in the case's stats

@@ -71,4 +71,7 @@ def run(args) -> int:
     for e in estimates:     # what `simulate` will say about the case, one line each
         if e.note:
             print(f"check-config: warning: case {e.case}: {e.note}", file=sys.stderr)
+    from bearing_envelope.physics.dynamics.criterion import model_choice
+    for c in cases:   # which model simulates each case, and why (docs/dynamics.md)
+        print(f"  {c.name}: model {model_choice(st.scene(c)).reason}", file=sys.stdout)
     return 0

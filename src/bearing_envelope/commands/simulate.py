@@ -110,7 +110,8 @@ def run(args) -> int:
     """
     # lazy: keeps `bearing-envelope --help` ~0.4 s (numba, pandas: ~4 s)
     from bearing_envelope.physics.fidelity import fidelity_from
-    from bearing_envelope.physics.history import simulate
+    from bearing_envelope.physics.dynamics.case import simulate_case
+    from bearing_envelope.physics.dynamics.criterion import model_choice
     from bearing_envelope.io import write_case
     from bearing_envelope.study.accuracy import case_error_model
     from bearing_envelope.study.limits import check_case
@@ -133,13 +134,20 @@ def run(args) -> int:
     scene = case.scene(scene_map)
     check_output(args.output)
     check_case(case, scene, fid, cfg)  # memory and CPU estimate before any allocation
-    hist = simulate(scene, fid, progress=not args.quiet, use_numba=not args.numpy)
+    if not args.quiet:   # which model and why, one line (docs/dynamics.md)
+        print(f"simulate: {case.name}: model {model_choice(scene).reason}", file=sys.stderr)
+    hist = simulate_case(scene, fid, progress=not args.quiet, use_numba=not args.numpy)
     if hist.stats.get("exposure_note"):
         # one line, also when quiet: the case's model is outside its validated range
         print(f"simulate: warning: {case.name}: {hist.stats['exposure_note']}", file=sys.stderr)
     write_case(args.output, hist, extra_attrs={"config_file": str(path or ""), **case.attrs()},
                error_model=case_error_model(hist))
-    if not args.quiet:
+    if not args.quiet and hasattr(hist, "element_load_n"):
+        m = hist.model
+        print(f"{args.output}: {case.name}, {hist.time.size} samples, dynamic model: "
+              f"{m['steps']} steps of {m['step_s'] * 1e6:.3g} us, {m['cpu_s']:.1f} CPU s; "
+              f"defect force peak {m['defect_force_peak_n']:.4g} N", file=sys.stderr)
+    elif not args.quiet:
         s = hist.stats
         info = hist.table.info
         print(f"{args.output}: {case.name}, {hist.time.size} samples, {s['n_solves']} solves in "

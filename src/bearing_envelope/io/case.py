@@ -23,6 +23,8 @@ from typing import Any
 import numpy as np
 
 from .. import __version__
+from ..physics.dynamics.case import DYNAMIC_SIGNAL_DESCRIPTIONS, DYNAMIC_SIGNAL_UNITS
+from ..physics.dynamics.params import MODEL_NAME as DYNAMIC_MODEL
 from ..physics.history import SIGNAL_UNITS
 from ..physics.locations import scene_event_frequencies
 from .atomic import clean_stale_temps, public_mode, temp_path_for
@@ -44,6 +46,12 @@ READABLE_VERSIONS = (2, 3)
 
 _REQUIRED = ("time", "signals/p_max", "signals/p_max_defect", "signals/roller_load",
              "signals/defect_offset")
+#: A dynamic case's required datasets (root attribute ``model`` = ``lumped_dynamic``): what a
+#: sensor sees and the element loads (``docs/dynamics.md``, "Model only what the scene needs").
+_REQUIRED_DYNAMIC = ("time", "signals/sensor_acceleration", "signals/housing_force_x",
+                     "signals/housing_force_y", "signals/defect_force", "dynamics/element_load")
+#: The model a case file without a ``model`` attribute was made by.
+QUASI_STATIC_MODEL = "quasi_static"
 _COMPRESSION = dict(compression="gzip", compression_opts=4, shuffle=True)
 
 
@@ -58,7 +66,14 @@ _SIGNAL_DESCRIPTIONS = {
     "contact_area": "contact area at the roller load",
     "roller_load": "load of the roller at the defect",
     "defect_offset": "arc-length offset of the defect from the nearest roller's contact centre",
+    **DYNAMIC_SIGNAL_DESCRIPTIONS,
 }
+_UNITS = {**SIGNAL_UNITS, **DYNAMIC_SIGNAL_UNITS}
+
+
+def _required(attrs) -> tuple[str, ...]:
+    """The datasets a case file of its model must hold."""
+    return _REQUIRED_DYNAMIC if _attr(attrs.get("model")) == DYNAMIC_MODEL else _REQUIRED
 
 
 class CaseFormatError(ValueError):
@@ -108,13 +123,14 @@ class Case:
         Geometric BPFI (Hz).
     time : ndarray
         Sample times (s).
-    p_max, p_max_defect : ndarray
+    p_max, p_max_defect : ndarray or None
         Maximum pressure over the whole contact / in the defect neighbourhood (Pa); with noise on,
-        the noisy signals (the clean ones are in ``signals``).
-    roller_load : ndarray
-        Load of the roller at the defect (N).
-    defect_offset : ndarray
-        Arc-length offset of the defect from that roller's contact centre (m).
+        the noisy signals (the clean ones are in ``signals``). None in a dynamic case.
+    roller_load : ndarray or None
+        Load of the roller at the defect (N). None in a dynamic case.
+    defect_offset : ndarray or None
+        Arc-length offset of the defect from that roller's contact centre (m). None in a
+        dynamic case.
     load_kN, depth_um : float
         The case's sweep values.
     scene : dict
@@ -126,7 +142,9 @@ class Case:
         Name -> 1-D array: ``p_max``, ``p_max_defect``, ``roller_load``, ``defect_offset``, the
         integral signals ``removed_force`` (N), ``contact_force`` (N), ``approach`` (m),
         ``approach_change`` (m), ``contact_area`` (m^2) and, with noise, ``p_max_clean``,
-        ``p_max_defect_clean``.
+        ``p_max_defect_clean``; a dynamic case: ``housing_force_x/y`` (N),
+        ``housing_displacement_x/y`` (m), ``housing_acceleration_x/y`` and
+        ``sensor_acceleration`` (m/s^2), ``sensor_displacement`` (m), ``defect_force`` (N).
     snapshots : dict
         ``load_<i>`` -> dict of pressure fields and coordinates.
     table : dict
@@ -135,6 +153,8 @@ class Case:
         Race -> table of a second contact (``outer`` for a rolling-element defect, issue 23).
     error_model : ErrorModel or None
         The discretisation errors stored with the case (None: its file stores none).
+    dynamics : dict
+        A dynamic case's ``element_load`` (n, Z), N (group ``/dynamics``); empty otherwise.
     """
 
     fs: float
@@ -158,6 +178,13 @@ class Case:
     table: dict = field(default_factory=dict)
     other_tables: dict = field(default_factory=dict)
     error_model: ErrorModel | None = None
+    dynamics: dict = field(default_factory=dict)
+
+    @property
+    def model(self) -> str:
+        """The model that made the case: ``lumped_dynamic`` or ``quasi_static`` (a file without
+        the ``model`` attribute)."""
+        return str(self.attrs.get("model") or QUASI_STATIC_MODEL)
 
     @classmethod
     def from_history(cls, history, *, extra_attrs: dict | None = None,
@@ -181,6 +208,10 @@ class Case:
         Case
             Field by field what reading its file gives (the digest attribute aside).
         """
+        if hasattr(history, "element_load_n"):   # physics.dynamics.case.DynamicHistory
+            return _case_of(_dynamic_attrs(history, extra_attrs), history.time,
+                            dict(history.signals), {}, {}, {}, error_model,
+                            {"element_load": history.element_load_n})
         table, more = _history_tables(history)
         return _case_of(_root_attrs(history, extra_attrs), history.time,
                         _history_signals(history), table, more,
@@ -344,6 +375,19 @@ def _root_attrs(history, extra_attrs: dict | None) -> dict[str, Any]:
     return a
 
 
+def _dynamic_attrs(history, extra_attrs: dict | None) -> dict[str, Any]:
+    """The root attributes of a dynamic case: those of a quasi-static one (scene, fidelity of
+    the defect law, load zone, acquisition, statistics), the integrator for the solver, and
+    ``model`` with ``dynamics_json`` (step, oversample, CPU, structure, the criterion's line,
+    the defect law's metadata)."""
+    a = _root_attrs(history, extra_attrs)
+    solver = {"solver": "bearing_envelope.physics.dynamics (RK4, fixed step, numba)",
+              "step_s": history.model["step_s"], "oversample": history.model["oversample"]}
+    a.update(model=history.model["model"], solver_json=_json(solver), solver=jsonable(solver),
+             dynamics_json=_json(history.model), dynamics=jsonable(history.model))
+    return a
+
+
 def _history_signals(history) -> dict[str, np.ndarray]:
     """Every signal of a history, with the roller load and the defect offset."""
     return {**history.signals, "roller_load": history.roller_load,
@@ -387,7 +431,7 @@ def _history_snapshots(snapshots: dict) -> dict[str, dict]:
 def _write_root_attrs(f, attrs: dict) -> None:
     """Stage 1 of :func:`write_case`: the case's root attributes (not the parsed values of the
     ``*_json`` ones, nor a read file's digest: :func:`seal` makes it)."""
-    skip = {k[:-5] for k in _JSON_ATTRS} | {DIGEST_ATTR}
+    skip = {k[:-5] for k in _JSON_ATTRS} | {DIGEST_ATTR, "dynamics"}
     for k, v in attrs.items():
         if k not in skip:
             f.attrs[k] = v
@@ -399,7 +443,10 @@ def _write_signals(f, case: "Case") -> None:
     sg = f.create_group("signals")
     for name, arr in case.signals.items():
         base = name[:-6] if name.endswith("_clean") else name
-        _dset(sg, name, arr, SIGNAL_UNITS.get(base, ""), _SIGNAL_DESCRIPTIONS.get(base, ""))
+        _dset(sg, name, arr, _UNITS.get(base, ""), _SIGNAL_DESCRIPTIONS.get(base, ""))
+    if case.dynamics:
+        _dset(f.create_group("dynamics"), "element_load", case.dynamics["element_load"], "N",
+              "each element's outer contact load (samples x elements)")
 
 
 def _write_table(tg, table: dict) -> None:
@@ -581,7 +628,7 @@ def case_file_problem(path: str | os.PathLike) -> str | None:
             ver = _attr(f.attrs.get("format_version"))
             if ver != FORMAT_VERSION:
                 return f"format_version {ver!r} is not the current one ({FORMAT_VERSION})"
-            for name in _REQUIRED:
+            for name in _required(f.attrs):
                 if name not in f:
                     return f"required dataset '/{name}' is missing"
     except (OSError, KeyError, ValueError, RuntimeError) as exc:
@@ -735,7 +782,7 @@ def _read_case(path: str | os.PathLike) -> Case:
         if ver not in READABLE_VERSIONS:
             raise CaseFormatError(f"{path}: format_version {ver!r} is not supported (this reader: "
                                   f"{', '.join(map(str, READABLE_VERSIONS))})")
-        for name in _REQUIRED:
+        for name in _required(attrs):
             if name not in f:
                 raise CaseFormatError(f"{path}: required dataset '/{name}' is missing")
         if ver >= 3:
@@ -746,22 +793,23 @@ def _read_case(path: str | os.PathLike) -> Case:
         snaps = _read_group(f["snapshots"]) if "snapshots" in f else {}
         time = f["time"][()]
         error_model = _error_model_of(f)
-    for k in _JSON_ATTRS:
+        dyn = {"element_load": f["dynamics/element_load"][()]} if "dynamics" in f else {}
+    for k in _JSON_ATTRS + ("dynamics_json",):
         if k in attrs:
             attrs[k[:-5]] = json.loads(attrs[k])
-    return _case_of(attrs, time, signals, table, more, snaps, error_model)
+    return _case_of(attrs, time, signals, table, more, snaps, error_model, dyn)
 
 
 def _case_of(attrs: dict, time, signals: dict, table: dict, more: dict, snaps: dict,
-             error_model: ErrorModel | None) -> Case:
+             error_model: ErrorModel | None, dynamics: dict | None = None) -> Case:
     """The :class:`Case` of a file's (or a history's) parts."""
     return Case(
         fs=float(attrs["fs"]), fr=float(attrs["fr"]), bpfi=float(attrs["bpfi"]),
         bpfi_geometry=float(attrs["bpfi_geometry"]), bpfo=float(attrs["bpfo"]),
         ftf=float(attrs["ftf"]), bsf=float(attrs["bsf"]), time=time,
-        p_max=signals["p_max"], p_max_defect=signals["p_max_defect"],
-        roller_load=signals["roller_load"], defect_offset=signals["defect_offset"],
+        p_max=signals.get("p_max"), p_max_defect=signals.get("p_max_defect"),
+        roller_load=signals.get("roller_load"), defect_offset=signals.get("defect_offset"),
         load_kN=float(attrs["load_kN"]), depth_um=float(attrs["depth_um"]),
         scene=attrs.get("scene", {}), attrs=attrs, signals=signals, snapshots=snaps, table=table,
-        other_tables=more, error_model=error_model,
+        other_tables=more, error_model=error_model, dynamics=dynamics or {},
     )

@@ -61,6 +61,7 @@ import dataclasses
 from dataclasses import dataclass
 from typing import Any, Mapping
 
+from .dynamics_option import Dynamics, build_dynamics
 from .kinematics import FaultFrequencies, bearing_rates, fault_frequencies
 from .scene_build import (
     BEARING_KINDS, DEFAULT_GROOVE_CONFORMITY, DEFECT_LOCATIONS, DEFECT_SHAPES, MAX_BAND_ORDER,
@@ -92,6 +93,7 @@ class Scene:
     operation: Operation
     load: Load
     defect: Defect
+    dynamics: Dynamics      # which model simulates the case (physics/dynamics_option.py)
 
     # derived -----------------------------------------------------------------------------
     def frequencies(self) -> FaultFrequencies:
@@ -157,6 +159,9 @@ class Scene:
                      # only when on: the stored scene of every case without it is unchanged
                      **({"centrifugal": True} if self.load.centrifugal else {})},
             "defect": d,
+            # only when not the default: the stored scene of every quasi-static case is unchanged
+            **({"dynamics": self.dynamics.to_mapping()} if self.dynamics.to_mapping()
+               != DEFAULT_SCENE["dynamics"] else {}),
         }
 
     # construction ------------------------------------------------------------------------
@@ -212,7 +217,7 @@ class Scene:
         _check_override_bearing(operation, bearing)
         if defect.fault_location.contact_race != bearing.contact_race:
             bearing = dataclasses.replace(bearing, contact_race=defect.fault_location.contact_race)
-        return cls(bearing, material, operation, load, defect)
+        return cls(bearing, material, operation, load, defect, build_dynamics(m["dynamics"]))
 
     def for_race(self, race: str) -> "Scene":
         """This scene with the modelled contact on ``race`` (``inner`` | ``outer``): the

@@ -80,6 +80,8 @@ DEFAULT_SCENE: dict[str, Any] = {
         "spin_axis": "fixed",
         "spin_seed": 0,
     },
+    # physics/dynamics_option.py; structure null: its STRUCTURE_DEFAULTS
+    "dynamics": {"model": "quasi_static", "structure": None},
 }
 
 

@@ -44,6 +44,8 @@ hardness differ.
 
 from __future__ import annotations
 
+import dataclasses
+
 import json
 import math
 from functools import lru_cache
@@ -391,7 +393,12 @@ def case_error_model(history) -> ErrorModel:
     ErrorModel
         As :func:`error_model` with the default load rule (``worst``).
     """
-    return error_model(history.fidelity, history.scene.defect.depth_um, history.scene.to_mapping())
+    em = error_model(history.fidelity, history.scene.defect.depth_um, history.scene.to_mapping())
+    if hasattr(history, "element_load_n"):   # a dynamic case: the estimates are the contact's
+        return dataclasses.replace(em, point=None, table=em.table.iloc[0:0].copy(), withheld=(),
+                                   basis="not estimated: a dynamic case (docs/dynamics.md states "
+                                         "the step rule's convergence of its envelope lines)")
+    return em
 
 
 def attach_errors(table: pd.DataFrame, model: ErrorModel, signal: str) -> pd.DataFrame:

@@ -36,6 +36,8 @@ from dataclasses import dataclass
 
 from ..diagnosis.detection import EXCLUDED_SIDEBANDS
 from ..physics.acquisition import auto_oversample
+from ..physics.dynamics.case import dynamic_cost
+from ..physics.dynamics.criterion import DYNAMIC, model_choice
 from ..physics.history import plan_tables
 from ..physics.loads import scene_load_distribution
 from ..physics.solves import window_spec
@@ -239,6 +241,11 @@ def estimate_case(name: str, scene, fidelity, plan=None) -> ResourceEstimate:
     ValueError
         A table's contact too small for the solver (:func:`plan_tables`).
     """
+    if model_choice(scene).model == DYNAMIC:   # issue 42: the dynamic model's step rule
+        d, field = dynamic_cost(scene), "scene.operation.revolutions x fs_hz"
+        return ResourceEstimate(name, scene.n_samples, d["oversample"], 0, 0, 0,
+                                _BASE_BYTES + d["memory_bytes"], _BASE_CPU_S + d["cpu_s"],
+                                ((field, d["memory_bytes"]),), ((field, d["cpu_s"]),))
     op = scene.operation
     n = int(math.ceil(op.revolutions / op.shaft_rate_hz * op.fs_hz))
     over = _oversample(scene, fidelity)

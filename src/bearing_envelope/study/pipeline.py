@@ -48,7 +48,7 @@ from .case_id import CaseId
 from .sections import AnalysisSettings
 from .tables import TIDY_COLUMNS, TIDY_EXTRA_COLUMNS, tidy_from_analysis
 
-__all__ = ["AMPLITUDE_ESTIMATORS", "amplitude_estimator", "history_case", "case_signal", "case_frequencies", "case_location", "case_fault_lines",
+__all__ = ["AMPLITUDE_ESTIMATORS", "amplitude_estimator", "DYNAMIC_ANALYSIS_SIGNAL", "analysis_signal", "history_case", "case_signal", "case_frequencies", "case_location", "case_fault_lines",
            "case_bands", "case_harmonics", "case_envelope",
            "case_summary", "case_acceleration", "diagnosability_bands", "case_diagnosability",
            "case_false_alarms", "FALSE_ALARM_SEED_OFFSET", "log_to"]
@@ -132,6 +132,34 @@ def case_signal(case, name: str = "p_max") -> np.ndarray:
     if not np.all(np.isfinite(x)):
         raise ValueError(f"signal {name!r} of case {_case_id(case)} has non-finite values")
     return x
+
+
+#: The signal a dynamic case is analysed on when ``analysis.signal`` names one it does not hold
+#: (the quasi-static pressures and integrals): the sensor structure's acceleration, what an
+#: accelerometer on the housing measures (``docs/dynamics.md``, "Model only what the scene
+#: needs"); ``analysis.signal: housing_force_x`` (or ``_y``) analyses the force instead.
+DYNAMIC_ANALYSIS_SIGNAL = "sensor_acceleration"
+
+
+def analysis_signal(case, name: str) -> str:
+    """The signal of ``case`` the analysis reads for ``analysis.signal = name``: ``name`` itself,
+    or for a dynamic case that does not hold it, :data:`DYNAMIC_ANALYSIS_SIGNAL`.
+
+    Parameters
+    ----------
+    case : bearing_envelope.io.Case
+        The case (its ``model`` and ``signals`` are read).
+    name : str
+        ``analysis.signal``.
+
+    Returns
+    -------
+    str
+        The name of the signal analysed (stated in the bands file and the harmonic table).
+    """
+    if getattr(case, "model", "quasi_static") == "quasi_static" or name in case.signals:
+        return name
+    return DYNAMIC_ANALYSIS_SIGNAL
 
 
 def case_frequencies(case) -> dict[str, float]:
@@ -232,7 +260,7 @@ def case_bands(case, analysis: AnalysisSettings) -> tuple[CaseBands, Any]:
         None when no band uses the kurtogram strategy
         (:func:`bearing_envelope.io.write_kurtogram` stores it).
     """
-    signal = analysis.signal
+    signal = analysis_signal(case, analysis.signal)
     x = case_signal(case, signal)
     fs = float(case.fs)
     freqs = case_frequencies(case)
@@ -299,7 +327,7 @@ def case_harmonics(case, analysis: AnalysisSettings, bands, *, full_output: bool
         ``raw``, one ``kurtogram_kurtosis`` row (order = level) when a band uses the kurtogram.
     """
     bands = _as_case_bands(bands)
-    signal = analysis.signal
+    signal = analysis_signal(case, analysis.signal)
     x = case_signal(case, signal)
     fs = float(case.fs)
     estimator = amplitude_estimator(analysis)
@@ -451,16 +479,18 @@ def case_summary(case) -> dict[str, Any]:
         v = attrs.get(key) if isinstance(attrs, Mapping) else None
         return float(v) if v is not None and np.ndim(v) == 0 else np.nan
 
-    p = np.asarray(case.p_max)
-    pd_ = np.asarray(case.p_max_defect)
+    # a dynamic case holds no pressure (NaN) and counts its samples by its time
+    p, pd_, rl = (np.asarray([np.nan]) if v is None else np.asarray(v)
+                  for v in (case.p_max, case.p_max_defect, case.roller_load))
+    n = int(p.size) if case.p_max is not None else int(np.size(case.time))
     return {
         "case": _case_id(case),
         "load_kN": float(case.load_kN), "depth_um": float(case.depth_um),
         "p_max_peak_Pa": float(p.max()), "p_max_mean_Pa": float(p.mean()),
         "p_max_defect_peak_Pa": float(pd_.max()),
-        "roller_load_max_N": float(np.max(case.roller_load)),
+        "roller_load_max_N": float(np.max(rl)),
         "bpfi_used_hz": float(case.bpfi), "bpfi_geometry_hz": float(case.bpfi_geometry),
-        "fs_hz": float(case.fs), "n_samples": int(p.size),
+        "fs_hz": float(case.fs), "n_samples": n,
         "n_solves": stats.get("n_solves", np.nan),
         "simulate_wall_s": stats.get("wall_seconds", np.nan),
         "interp_max_rel_error_p_max": tget("interp_max_rel_error_p_max"),

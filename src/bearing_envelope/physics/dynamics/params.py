@@ -17,6 +17,7 @@ import numpy as np
 from ..defect_contact import tabulated_race
 from ..loads import (CAGE_PHASE_RAD, ELEMENT_DENSITY_KG_M3, LoadDistribution, centrifugal_force,
                      race_compliances, scene_load_distribution, solve_row)
+from ..dynamics_option import STRUCTURE_DEFAULTS   # the assumed structure's one home
 from .layout import P_NAMES
 
 __all__ = ["DefectLaw", "DynamicParams", "STRUCTURE_DEFAULTS", "slot_drop", "slot_law",
@@ -25,17 +26,6 @@ __all__ = ["DefectLaw", "DynamicParams", "STRUCTURE_DEFAULTS", "slot_drop", "slo
 
 #: Name of the model a result says made it.
 MODEL_NAME = "lumped_dynamic"
-
-#: Assumed structural values (not published for any rig; identify them per rig): shaft with
-#: inner ring 2 kg carried by this bearing alone (no support stiffness), outer ring with housing
-#: 5 kg on 1e8 N/m with 5 % damping, a 4 kHz resonator of 50 g with 5 % damping on the load axis,
-#: contact damping 2 % of critical for an element between its two contacts at the static load.
-STRUCTURE_DEFAULTS = {
-    "shaft_mass_kg": 2.0, "shaft_stiffness_n_m": 0.0, "shaft_damping_ns_m": 0.0,
-    "housing_mass_kg": 5.0, "housing_stiffness_n_m": 1e8, "housing_zeta": 0.05,
-    "resonator_hz": 4000.0, "resonator_zeta": 0.05, "resonator_mass_kg": 0.05,
-    "sensor_angle_deg": 0.0, "contact_zeta": 0.02,
-}
 
 #: Step rule: RK4 steps per period of the highest linearised frequency (measured by
 #: ``python -m benchmarks dynamics_cost``: the envelope lines change < 1 % when it doubles,

@@ -1,0 +1,198 @@
+"""Model only what the scene needs: the criterion's verdict against where the two models' answers
+differ (docs/dynamics.md, "Model only what the scene needs").
+
+    nice -n 5 python -m benchmarks model_choice --fidelity draft --duration 0.5
+
+For each scene, both models on the same scene, fs and record length:
+
+- quasi-static (``physics.history.simulate``): the removed force (N), the surrogate of the
+  defect's action, along the direction of the defect's contact (``defect_angle``);
+- dynamic (``physics.dynamics.case.simulate_dynamic``): the force the bearing passes to the
+  housing (N) along the same direction, its mean removed.
+
+Per scene: the criterion's ``share`` (drop / static approach), ``event_over_period`` and verdict;
+the envelope line at 1 x the event rate of each force in the band fs/4 - 3 fs/8 (Hann, largest
+bin within 1 % of the rate) and their ratio in dB; the peak force of the element contact over the pit against the static element load; and
+whether that contact opens over the pit (a second dynamic run, point samples at 1 MHz over two
+passages: the least outer-contact load of the element whose contact centre is within the pit's
+middle half, against the static load). Where the element follows the pit quasi-statically, the
+housing receives the blocked (removed) force through the element's two contacts in series:
+``k_other / (k + k_other)`` of it (``defect_scales``' stiffnesses; about -6 dB for a ball). The
+answers differ where the line ratio leaves that value by more than 3 dB, the contact over the
+pit strikes (peak above 1.5 x its static load; the quasi-static contact never exceeds it), or
+the contact opens. Prints a markdown table; CPU seconds are process time.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import time
+
+import numpy as np
+
+from bearing_envelope.physics.defect_contact import defect_scales, defect_table
+from bearing_envelope.physics.dynamics.case import joined_law, scene_params, simulate_dynamic
+from bearing_envelope.physics.dynamics.criterion import model_choice
+from bearing_envelope.physics.dynamics.model import simulate_dynamics
+from bearing_envelope.physics.history import defect_angle, simulate
+from bearing_envelope.physics.locations import scene_event_frequencies
+from bearing_envelope.physics.scene import Scene
+from bearing_envelope.signal.envelope import envelope_spectrum
+from bearing_envelope.signal.spectrum import amplitude_at
+
+INCH_UM = 25400.0
+#: The rig's scene (config_rig.yaml): its load, its identified preload, centrifugal force on.
+RIG = {"load_kN": 0.1, "clearance_um": -3.94}
+#: Departure of the two models' line ratio from its quasi-static value beyond which their
+#: answers differ, dB.
+DIFFER_DB = 3.0
+#: Peak force of the contact over the pit, over its static load, above which it is a strike
+#: (the quasi-static contact never exceeds its static load).
+STRIKE = 1.5
+
+
+def cwru(pit_in: float, position_deg: float, clearance_um: float, *, fs_hz: float,
+         duration_s: float, load_kN: float = RIG["load_kN"], rpm: float = 1797.0) -> Scene:
+    """The CWRU 6205 (1797 rpm unless ``rpm``) with a round 0.28 mm deep outer-race pit."""
+    fr = rpm / 60.0
+    dia = pit_in * INCH_UM
+    m = {"bearing": {"designation": "SKF 6205-2RS", "radial_clearance_um": clearance_um},
+         "operation": {"shaft_rate_hz": fr, "fs_hz": fs_hz, "revolutions": duration_s * fr},
+         "load": {"centrifugal": True},
+         "defect": {"location": "outer_race", "shape": "cylinder", "length_um": dia,
+                    "width_um": dia, "position_deg": position_deg},
+         "dynamics": {"model": "auto"}}
+    return Scene.from_mapping(m, load_kN=load_kN, depth_um=279.4)
+
+
+def default_sweep(load_kN: float, depth_um: float, *, duration_s: float) -> Scene:
+    """A default-sweep case (config.yaml's scene), shortened to ``duration_s``."""
+    m = {"operation": {"revolutions": duration_s * 15.8}, "dynamics": {"model": "auto"}}
+    return Scene.from_mapping(m, load_kN=load_kN, depth_um=depth_um)
+
+
+def scenes(fs_hz: float, duration_s: float) -> list[tuple[str, Scene]]:
+    """The measured scenes: the rig's (preload), the catalogue's clearance at 3:00 and 6:00, and
+    default-sweep cases."""
+    out = []
+    for pit in (0.007, 0.021):
+        out.append((f"rig OR 6:00 {pit} in", cwru(pit, 0.0, RIG["clearance_um"], fs_hz=fs_hz,
+                                                 duration_s=duration_s)))
+    out.append(("rig OR 3:00 0.021 in", cwru(0.021, 90.0, RIG["clearance_um"], fs_hz=fs_hz,
+                                             duration_s=duration_s)))
+    for pit in (0.007, 0.014, 0.021):
+        out.append((f"10 um clearance OR 3:00 {pit} in",
+                    cwru(pit, 90.0, 10.0, fs_hz=fs_hz, duration_s=duration_s)))
+    out.append(("10 um clearance OR 6:00 0.021 in", cwru(0.021, 0.0, 10.0, fs_hz=fs_hz,
+                                                         duration_s=duration_s)))
+    for pit, pos in ((0.014, 90.0), (0.021, 0.0)):   # events shorter than the natural period
+        clock = "3:00" if pos else "6:00"
+        out.append((f"rig OR {clock} {pit} in, 10 x speed, 48 kHz",
+                    cwru(pit, pos, RIG["clearance_um"], fs_hz=4 * fs_hz, duration_s=duration_s,
+                         rpm=17970.0)))
+    for load, depth in ((250.0, 50.0), (750.0, 100.0)):
+        out.append((f"default sweep {load:g} kN h {depth:g} um",
+                    default_sweep(load, depth, duration_s=duration_s)))
+    return out
+
+
+def line(x: np.ndarray, fs: float, rate: float) -> float:
+    """Envelope line at 1 x ``rate`` of ``x`` in the band fs/4 - 3 fs/8 (mean removed, Hann,
+    largest bin within 1 %): above the shaft's mode on the bearing, where the housing receives
+    an internal force pulse whole (at the event rate itself the shaft's motion cancels it: the
+    mean force through a bearing is the applied load)."""
+    f, a = envelope_spectrum(x - np.mean(x), fs, (0.25 * fs, 0.375 * fs))
+    return float(amplitude_at(f, a, rate, 0.01 * rate)[1])
+
+
+def opening(scene: Scene, fidelity: str, q_static: float) -> float:
+    """Least outer-contact load of an element whose contact centre is within the pit's middle
+    half, over two passages at 1 MHz point samples, over the static load (outer race only)."""
+    if scene.defect.location != "outer_race":
+        return float("nan")
+    p = scene_params(scene)
+    p = p.with_(defect=joined_law(defect_table(scene, fidelity), p))
+    bpfo = scene_event_frequencies(scene)["bpfo"]
+    r = simulate_dynamics(p, 2.0 / bpfo, 1e6, acquisition_mode="point")
+    theta = 2 * math.pi * p.cage_rate_hz * r.t_s[:, None] + 2 * math.pi * np.arange(p.z) / p.z
+    x = p.outer_race_radius_m * np.angle(np.exp(1j * (theta - p.defect_angle_rad)))
+    inside = np.abs(x) < 0.25 * scene.defect.extent_x_m
+    return float(r.element_load_n[inside].min() / q_static) if inside.any() else float("nan")
+
+
+def measure(name: str, scene: Scene, fidelity: str) -> dict:
+    """Both models on ``scene``: the lines, their ratio, the strike and the opening."""
+    ch = model_choice(scene)
+    sc = defect_scales(scene)
+    ev = scene_event_frequencies(scene)
+    rate = ev["bpfo"] if scene.defect.location == "outer_race" else ev["bpfi"]
+    fs = scene.operation.fs_hz
+    c0 = time.process_time()
+    h = simulate(scene, fidelity)
+    c_qs = time.process_time() - c0
+    c0 = time.process_time()
+    d = simulate_dynamic(scene, fidelity)
+    c_dyn = time.process_time() - c0
+    ang = defect_angle(scene, h.time)   # the removed force's direction; the housing force's:
+    phi = math.radians(scene.defect.position_deg) if scene.defect.location == "outer_race" else 0.0
+    qs = line(h.signals["removed_force"] * np.cos(ang - phi), fs, rate)
+    f_dir = d.signals["housing_force_x"] * math.cos(phi) + d.signals["housing_force_y"] * math.sin(phi)
+    dyn = line(f_dir, fs, rate)
+    ratio = 20 * math.log10(dyn / qs) if qs > 0 and dyn > 0 else float("inf")
+    least = opening(scene, fidelity, sc.element_load_n)
+    k, ko = sc.stiffness_n_m, sc.other_stiffness_n_m
+    expected = 20 * math.log10(ko / (k + ko)) if ko > 0 else float("-inf")
+    peak = d.model["defect_force_peak_n"] / sc.element_load_n
+    differ = not abs(ratio - expected) <= DIFFER_DB or peak > STRIKE or least <= 0.0
+    return {"scene": name, "Q_N": sc.element_load_n, "share": ch.share,
+            "event_periods": ch.event_over_period, "verdict": ch.verdict,
+            "qs_line_N": qs, "dyn_line_N": dyn, "ratio_dB": ratio, "expected_dB": expected,
+            "peak_over_Q": peak,
+            "least_over_Q": least, "differ": differ,
+            "agrees": (ch.verdict == "dynamic") == differ, "cpu_qs": c_qs, "cpu_dyn": c_dyn}
+
+
+def table(rows: list[dict]) -> str:
+    """The markdown table of :func:`measure`'s rows."""
+    head = ("| scene | Q N | drop/approach | event / T_n | verdict | QS removed-force env. line N | "
+            "dynamic housing-force env. line N | ratio dB | quasi-static ratio dB | peak / Q | least load over pit / Q | "
+            "answers differ | verdict agrees | CPU s QS, dyn |")
+    out = [head, "|" + "---|" * 14]
+    for r in rows:
+        out.append(f"| {r['scene']} | {r['Q_N']:.3g} | {r['share']:.3g} | "
+                   f"{r['event_periods']:.3g} | {r['verdict']} | {r['qs_line_N']:.3g} | "
+                   f"{r['dyn_line_N']:.3g} | {r['ratio_dB']:+.1f} | {r['expected_dB']:+.1f} | "
+                   f"{r['peak_over_Q']:.3g} | "
+                   f"{r['least_over_Q']:.3g} | {'yes' if r['differ'] else 'no'} | "
+                   f"{'yes' if r['agrees'] else 'NO'} | {r['cpu_qs']:.1f}, {r['cpu_dyn']:.1f} |")
+    return "\n".join(out)
+
+
+def main(argv=None) -> int:
+    """Measure the criterion on the scenes of :func:`scenes` (or those named)."""
+    ap = argparse.ArgumentParser(prog="python -m benchmarks model_choice", description=__doc__,
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--fidelity", default="draft")
+    ap.add_argument("--duration", type=float, default=0.5, help="record length, s")
+    ap.add_argument("--fs", type=float, default=12000.0, help="CWRU scenes' fs, Hz")
+    ap.add_argument("--only", nargs="*", default=None, help="scene names containing these")
+    a = ap.parse_args(argv)
+    rows = []
+    for name, sc in scenes(a.fs, a.duration):
+        if a.only and not any(o in name for o in a.only):
+            continue
+        rows.append(measure(name, sc, a.fidelity))
+        print(table(rows[-1:]).splitlines()[-1], flush=True)
+    print()
+    print(table(rows))
+    return 0
+
+
+def smoke() -> None:
+    """The same path on one short scene."""
+    main(["--duration", "0.05", "--only", "rig OR 6:00 0.007"])
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
