@@ -23,11 +23,15 @@ try:  # pragma: no cover - numba optional at import time
 
     HAVE_NUMBA = True
     _jit = numba.njit(cache=True, fastmath=False)
+    # inlined in numba's IR: a call with array arguments costs their reference counting
+    _jit_inline = numba.njit(cache=True, fastmath=False, inline="always")
 except ImportError:  # pragma: no cover
     HAVE_NUMBA = False
 
     def _jit(f):
         return f
+
+    _jit_inline = _jit
 
 (MS, KS, CS, MH, KH, CH, MR, KR, CR, SENS_C, SENS_S, ME, KI, KO, NEXP, CC, GAP, CA, FX, FY, FC,
  RI, RO, DRACE, DANG, WS, CT0, CDT, N15, RE, SPR, BI2, BO2, TURN0, NX2, ND2, NOR) = range(len(P_NAMES))
@@ -215,8 +219,8 @@ def element_pit_offsets(P, thc):
     elif k > n - 1:
         k = n - 1
     o = P.size - 2 * n + 2 * k
-    beta = P[SPR] * thc + P[o + 1]
-    return P[RE] * _wrap(beta), P[RE] * _wrap(beta - math.pi), P[o] * P[o]
+    w = _wrap(P[SPR] * thc + P[o + 1])
+    return P[RE] * w, P[RE] * (w - math.pi if w >= 0.0 else w + math.pi), P[o] * P[o]
 
 
 @_jit
@@ -243,7 +247,7 @@ def pit_arrays(P):
     return P[o:o + nx], P[o + nx:o + nx + nd], P[o + nx + nd:o + nx + nd + nx * nd].reshape((nx, nd))
 
 
-@_jit
+@_jit_inline
 def _element_pit(P, thc, di, dout, ddi, ddo, tx, td, tf, qi, qo, xd):
     """Element 0's contacts with the pit on its surface (its outer law ``tx, td, tf``, its inner
     law in ``P``, :func:`pit_arrays`) where the pit is inside a law's ``x`` range and within that contact's Hertz
@@ -257,8 +261,9 @@ def _element_pit(P, thc, di, dout, ddi, ddo, tx, td, tf, qi, qo, xd):
         qo[0] = _law_force(xo, dout, ddo, tx, td, tf, P[CC])
         xd[z] = 1.0
         return qo[0]
-    tx2, td2, tf2 = pit_arrays(P)
-    if xi >= tx2[0] and xi <= tx2[tx2.size - 1] and off2 <= P[BI2] * max(di, 0.0):
+    o = len(P_NAMES)                # the inner law's x nodes: P[o : o + nx2]
+    if xi >= P[o] and xi <= P[o + int(P[NX2]) - 1] and off2 <= P[BI2] * max(di, 0.0):
+        tx2, td2, tf2 = pit_arrays(P)
         qi[0] = _law_force(xi, di, ddi, tx2, td2, tf2, P[CC])
         xd[z] = -1.0
         return qi[0]
