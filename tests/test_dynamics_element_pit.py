@@ -272,6 +272,7 @@ def test_the_defect_contact_tables_of_a_ball_pit_drive_the_element_pit():
     assert (to.race, ti.race) == ("outer", "inner")
     p = params_from_scene(scene, defect=DefectLaw.from_table(to), defect_inner=DefectLaw.from_table(ti))
     assert p.defect_race == "element" and p.pit.inner is not None
+    base = p
     p = p.with_(shaft_mass_kg=1e3 * p.shaft_mass_kg, housing_mass_kg=1e3 * p.housing_mass_kg,
                 housing_stiffness_n_m=1e3 * p.housing_stiffness_n_m,
                 housing_damping_ns_m=1e3 * p.housing_damping_ns_m)
@@ -294,6 +295,19 @@ def test_the_defect_contact_tables_of_a_ball_pit_drive_the_element_pit():
         assert r.defect_force_n[m] == pytest.approx(expect, abs=0.1 * (q_h - expect))
         n += 1
     assert n == 2
+    # with the assumed rings the shaft's mode takes part: less is removed than held rings give
+    light = p.with_(**{k: getattr(base, k) for k in ("shaft_mass_kg", "housing_mass_kg",
+                                                     "housing_stiffness_n_m", "housing_damping_ns_m")})
+    r, h = (simulate_dynamics(q, 0.009, FS, acquisition_mode="point") for q in (light, light.with_(defect=None)))
+    a, b = next((a, b) for a, b in runs(r.defect_contact < 0) if a > 0)
+    m = (a + b) // 2
+    q_h = h.element_load_n[m, 0] - p.centrifugal_n
+    total = (q_h / p.k_inner) ** (2 / 3) + ((q_h + p.centrifugal_n) / p.k_outer) ** (2 / 3)
+    held = brentq(lambda q: float(ti.approach(0.0, q)) + ((q + p.centrifugal_n) / p.k_outer) ** (2 / 3)
+                  - total, 0.05 * q_h, q_h)
+    print(f"assumed rings, inner strike: removes {q_h - r.defect_force_n[m]:.1f} N of {q_h:.1f} N "
+          f"(held rings {q_h - held:.1f} N)")
+    assert 0 < q_h - r.defect_force_n[m] < q_h - held
 
 
 def test_element_pit_refuses_bad_values():
