@@ -20,11 +20,16 @@ force, the assumed structure of ``STRUCTURE_DEFAULTS``), an outer-race slot of t
    0.021 in slot at 3:00 (an element bouncing at the load zone's edge).
 3. Cost: CPU s of 0.5 s and 1 s records at 12 kHz at the step rule; 10 s extrapolated linearly
    (and measured with ``--full``).
+4. Ball pit (``--parts ball``): the 0.007 in slot on element 0 (each contact's geometric law),
+   envelope lines at 2 BSF and 2 BSF -+ FTF of the resonator acceleration and the housing force
+   (fs/4-3fs/8, 12 kHz, 1 s) for 20-80 steps per period, their height over the spectrum's
+   median (20-500 Hz), the largest change when the step halves, and the CPU s of each record.
 """
 
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import datetime
 import math
 import platform
@@ -39,6 +44,7 @@ from bearing_envelope.physics.dynamics import (StateLayout, initial_state, param
                                                simulate_dynamics, slot_law)
 from bearing_envelope.physics.dynamics.model import arrays
 from bearing_envelope.physics.dynamics.params import STEPS_PER_PERIOD
+from bearing_envelope.physics.kinematics import bearing_rates
 from bearing_envelope.physics.scene import Scene
 from bearing_envelope.signal.envelope import envelope_spectrum
 from bearing_envelope.signal.spectrum import amplitude_at
@@ -155,6 +161,49 @@ def cost(durations=(0.5, 1.0), full: bool = False) -> list[dict]:
     return rows
 
 
+def ball_params(width_in: float = 0.007):
+    """The CWRU scene with the slot on element 0 (outer and inner contact laws)."""
+    m = yaml.safe_load((ROOT / "config_cwru.yaml").read_text(encoding="utf-8"))["scene"]
+    m["defect"]["location"] = "rolling_element"
+    p = params_from_scene(Scene.from_mapping(m, load_kN=1.0, depth_um=0.0))
+    lo, li = (slot_law(p.element_radius_m, width_in * INCH, DEPTH_M, k, p.exponent, 30e-6)
+              for k in (p.k_outer, p.k_inner))
+    return p.with_(defect=lo, element_pit=dataclasses.replace(p.pit, inner=li))
+
+
+def ball(duration: float = 1.0, steps=(20, 40, 80), fs: float = 12000.0) -> list[dict]:
+    p = ball_params()
+    r = bearing_rates(p.shaft_rate_hz, p.z, 2e3 * p.element_radius_m,
+                      1e3 * (p.outer_race_radius_m + p.inner_race_radius_m),
+                      math.degrees(p.contact_angle_rad))
+    freqs = (2 * r["bsf"] - r["ftf"], 2 * r["bsf"], 2 * r["bsf"] + r["ftf"])
+    rows = []
+    for s in steps:
+        c0 = time.process_time()
+        res = simulate_dynamics(p, duration, fs, steps_per_period=float(s))
+        cpu = time.process_time() - c0
+        lines, over = [], []
+        for x in (res.resonator_acceleration_m_s2, res.housing_force_n[:, 0]):
+            f, a = envelope_spectrum(x - x.mean(), fs, (0.25 * fs, 0.375 * fs))
+            floor = np.median(a[(f > 20) & (f < 500)])
+            lines += [amplitude_at(f, a, q, 1.0 / duration)[1] for q in freqs]
+            over += [lines[-2] / floor]
+        rows.append(dict(steps=s, cpu=cpu, lines=np.array(lines), over=over,
+                         mean=res.housing_force_n[:, 0].mean() / p.force_n - 1))
+    for a, b in zip(rows[:-1], rows[1:]):
+        a["change"] = float(np.max(np.abs(a["lines"] - b["lines"]) / np.abs(b["lines"])))
+    rows[-1]["change"] = math.nan
+    return rows
+
+
+def print_ball(rows) -> None:
+    print("\n| steps/period | CPU s | lines 2BSF-FTF, 2BSF, 2BSF+FTF (res; force) | 2BSF / floor (res, force) | mean force / load - 1 | largest change when the step halves |")
+    print("|---|---|---|---|---|---|")
+    for r in rows:
+        print(f"| {r['steps']} | {r['cpu']:.2f} | {' '.join(f'{v:.4g}' for v in r['lines'])} | "
+              f"{r['over'][0]:.0f}, {r['over'][1]:.0f} | {r['mean']:.1e} | {100 * r['change']:.3f} % |")
+
+
 def print_tables(ints, rule, costs) -> None:
     print(f"# dynamics_cost, {datetime.date.today().isoformat()}, {machine()}\n")
     print("| integrator | CPU s | CPU / RK4 at the rule | RK4 steps or solve_ivp nfev | end state error | resonator error |")
@@ -177,13 +226,15 @@ def main(argv=None) -> int:
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--full", action="store_true", help="also measure a 10 s record")
     ap.add_argument("--rule-duration", type=float, default=1.0, help="record length of part 2, s")
-    ap.add_argument("--parts", nargs="+", default=["integrators", "rule", "cost"],
-                    choices=["integrators", "rule", "cost"], help="the parts to run")
+    ap.add_argument("--parts", nargs="+", default=["integrators", "rule", "cost", "ball"],
+                    choices=["integrators", "rule", "cost", "ball"], help="the parts to run")
     args = ap.parse_args(argv)
     simulate_dynamics(scene_params(None), 0.01, 12000.0)          # compile outside the clocks
     print_tables(integrators() if "integrators" in args.parts else [],
                  step_rule(args.rule_duration) if "rule" in args.parts else [],
                  cost(full=args.full) if "cost" in args.parts else [])
+    if "ball" in args.parts:
+        print_ball(ball())
     return 0
 
 
@@ -191,6 +242,7 @@ def smoke() -> None:
     ints = integrators(duration=2e-4, steps=(20, 40), methods=(("LSODA", 1e-6),))
     rule = step_rule(duration=0.02, steps=(20, 40))
     print_tables(ints, rule, cost(durations=(0.01, 0.02)))
+    print_ball(ball(duration=0.02, steps=(20, 40)))
 
 
 if __name__ == "__main__":

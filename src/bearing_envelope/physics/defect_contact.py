@@ -728,7 +728,7 @@ def defect_table(scene: Scene, fidelity: "str | Fidelity | dict" = DEFAULT_PRESE
     if key in _TABLES:
         _TABLES[key] = _TABLES.pop(key)
         return _TABLES[key]
-    table = build_defect_table(sc, fid, delta_m=deltas)
+    table = build_defect_table(sc, fid, race=sc.bearing.contact_race, delta_m=deltas)
     for a in (table.x_m, table.delta_m, table.force_n, table.healthy_force_n, table.edge_m):
         a.setflags(write=False)
     _TABLES[key] = table

@@ -14,10 +14,12 @@ Petersen et al. 2015; Moazen-Ahmadi & Howard 2016.
 
 from .layout import StateLayout
 from .model import DynamicResult, initial_state, linearised_frequencies_hz, rhs, simulate_dynamics
-from .params import (DefectLaw, DynamicParams, contact_stiffness, highest_frequency_hz,
-                     params_from_scene, quasi_static, slot_drop, slot_law, step_size)
+from .params import (DefectLaw, DynamicParams, ElementPit, contact_stiffness, element_pit_from_scene,
+                     highest_frequency_hz, params_from_scene, quasi_static, slot_drop, slot_law,
+                     step_size)
 
 __all__ = ["StateLayout", "DynamicResult", "initial_state", "linearised_frequencies_hz", "rhs",
-           "simulate_dynamics", "DefectLaw", "DynamicParams", "contact_stiffness",
+           "simulate_dynamics", "DefectLaw", "DynamicParams", "ElementPit", "element_pit_from_scene",
+           "contact_stiffness",
            "highest_frequency_hz", "params_from_scene", "quasi_static", "slot_drop", "slot_law",
            "step_size"]

@@ -213,6 +213,9 @@ def simulate_dynamic(scene, fidelity: Fidelity | str | None = None, *,
     p = scene_params(scene)
     if table is not None:
         p = p.with_(defect=joined_law(table, p))
+        if p.defect_race == "element":   # a pit on a ball meets both races: each its own law
+            inner = defect_table(scene, fid, race="inner")
+            p = p.with_(defect_inner=joined_law(inner, p))
     op = scene.operation
     n = scene.n_samples
     acq = op.acquisition

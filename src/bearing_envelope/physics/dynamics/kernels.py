@@ -14,22 +14,27 @@ import numpy as np
 
 from .layout import P_NAMES, REC_SIZE_FIXED
 
-__all__ = ["HAVE_NUMBA", "hertz_force", "table_force", "cage_angle_at", "contact_forces",
-           "rhs_kernel", "rk4_run"]
+__all__ = ["HAVE_NUMBA", "hertz_force", "table_force", "cage_angle_at", "element_pit_offsets",
+           "pit_arrays",
+           "contact_forces", "rhs_kernel", "rk4_run"]
 
 try:  # pragma: no cover - numba optional at import time
     import numba
 
     HAVE_NUMBA = True
     _jit = numba.njit(cache=True, fastmath=False)
+    # inlined in numba's IR: a call with array arguments costs their reference counting
+    _jit_inline = numba.njit(cache=True, fastmath=False, inline="always")
 except ImportError:  # pragma: no cover
     HAVE_NUMBA = False
 
     def _jit(f):
         return f
 
+    _jit_inline = _jit
+
 (MS, KS, CS, MH, KH, CH, MR, KR, CR, SENS_C, SENS_S, ME, KI, KO, NEXP, CC, GAP, CA, FX, FY, FC,
- RI, RO, DRACE, DANG, WS, CT0, CDT, N15) = range(len(P_NAMES))
+ RI, RO, DRACE, DANG, WS, CT0, CDT, N15, RE, SPR, BI2, BO2, TURN0, NX2, ND2, NOR) = range(len(P_NAMES))
 _E0 = 5  # first element DOF (layout.StateLayout.ELEM0)
 
 
@@ -157,10 +162,120 @@ def _defect_x(P, th, t):
 
 
 @_jit
+def _approaches(r, c, s, thd, u, ud, ca, g):
+    """Approaches (m) of an element's inner and outer contact and their rates (m/s):
+    ``(di, dout, ddi, ddo)``; ``r`` the rings' ``(x_i, y_i, x_o, y_o)`` and their velocities,
+    ``(c, s)`` the element's normal, ``thd`` the cage rate (the normal's turning), ``u, ud``
+    the element's displacement and velocity, ``ca`` cos(contact angle), ``g`` the quarter
+    clearance."""
+    ri = r[0] * c + r[1] * s
+    ro = r[2] * c + r[3] * s
+    rid = r[4] * c + r[5] * s + thd * (r[1] * c - r[0] * s)
+    rod = r[6] * c + r[7] * s + thd * (r[3] * c - r[2] * s)
+    return (ri - g) * ca - u, u - (ro + g) * ca, rid * ca - ud, ud - rod * ca
+
+
+@_jit
+def _law_force(x, delta, ddelta, tx, td, tf, c):
+    """The defect law at ``(x, delta)`` with the contact damping while it carries force (N)."""
+    el = table_force(x, delta, tx, td, tf)
+    if el > 0.0:
+        el = el + c * ddelta
+        el = el if el > 0.0 else 0.0
+    return el
+
+
+@_jit
+def element_pit_offsets(P, thc):
+    """Where a pit on element 0 is, at cage angle ``thc``: its position in the outer and in the
+    inner contact (m, arc length on the element's surface from the pit centre to the contact
+    point along the surface's motion relative to the contact: the entry edge at negative ``x``)
+    and its squared distance from the element's rolling track (m^2).
+
+    The element turns relative to the cage by ``beta = spr thc + lon_k`` (rolling without slip on
+    the fixed outer race: ``spr = BSF / FTF``); the pit is at the outer contact at ``beta = 0``,
+    at the inner at ``beta = pi``: ``x_o = r wrap(beta)``, ``x_i = r wrap(beta - pi)``.
+    ``(track offset m, lon rad)`` of cage turn ``k + turn0``: the ``k``-th pair of the
+    orientation rows at the end of ``P`` (a turn runs from ``thc = (2k - 1) pi`` to ``(2k + 1) pi``: the
+    orientation changes where the element is least loaded; clamped to the rows).
+
+    Parameters
+    ----------
+    P : ndarray
+        Parameters (:data:`~.layout.P_NAMES`: ``re``, ``spr``, ``turn0``, ``nor``; then the
+        element pit's arrays, :func:`pit_arrays`).
+    thc : float
+        Cage angle (element 0's angle from the load direction), rad.
+
+    Returns
+    -------
+    tuple of float
+        ``(x_outer, x_inner, offset^2)``.
+    """
+    k = int(math.floor((thc + math.pi) / (2.0 * math.pi)) - P[TURN0])
+    n = int(P[NOR])
+    if k < 0:
+        k = 0
+    elif k > n - 1:
+        k = n - 1
+    o = P.size - 2 * n + 2 * k
+    w = _wrap(P[SPR] * thc + P[o + 1])
+    return P[RE] * w, P[RE] * (w - math.pi if w >= 0.0 else w + math.pi), P[o] * P[o]
+
+
+@_jit
+def pit_arrays(P):
+    """The element pit's inner contact law ``(tx2, td2, tf2)``: views of ``P`` past its scalars
+    (:data:`~.layout.P_NAMES`), which hold ``tx2`` (``P[NX2]`` nodes), ``td2`` (``P[ND2]``),
+    ``tf2`` row by row, then the ``P[NOR]`` orientation rows (track offset, longitude) of
+    :func:`element_pit_offsets`. Packed into ``P`` rather than passed as arrays of their own:
+    each array argument of the kernels costs the healthy bearing ~4 % of its run time.
+
+    Parameters
+    ----------
+    P : ndarray
+        Parameters and the packed arrays (:func:`~.model.arrays`).
+
+    Returns
+    -------
+    tuple of ndarray
+        ``tx2``, ``td2``, ``tf2`` (``(nx2, nd2)``).
+    """
+    o = len(P_NAMES)
+    nx = int(P[NX2])
+    nd = int(P[ND2])
+    return P[o:o + nx], P[o + nx:o + nx + nd], P[o + nx + nd:o + nx + nd + nx * nd].reshape((nx, nd))
+
+
+@_jit_inline
+def _element_pit(P, thc, di, dout, ddi, ddo, tx, td, tf, qi, qo, xd):
+    """Element 0's contacts with the pit on its surface (its outer law ``tx, td, tf``, its inner
+    law in ``P``, :func:`pit_arrays`) where the pit is inside a law's ``x`` range and within that contact's Hertz
+    axial semi-axis ``b`` (``off^2 <= b^2 = P[BO2 | BI2] delta``): overwrites ``qo[0]`` or
+    ``qi[0]``, ``xd[0]`` (the pit's position in the nearer contact) and ``xd[Z]`` (the side:
+    +1 outer, -1 inner, 0 none); returns the force (N)."""
+    z = qi.size
+    xo, xi, off2 = element_pit_offsets(P, thc)
+    xd[0] = xo if abs(xo) <= abs(xi) else xi
+    if xo >= tx[0] and xo <= tx[tx.size - 1] and off2 <= P[BO2] * max(dout, 0.0):
+        qo[0] = _law_force(xo, dout, ddo, tx, td, tf, P[CC])
+        xd[z] = 1.0
+        return qo[0]
+    o = len(P_NAMES)                # the inner law's x nodes: P[o : o + nx2]
+    if xi >= P[o] and xi <= P[o + int(P[NX2]) - 1] and off2 <= P[BI2] * max(di, 0.0):
+        tx2, td2, tf2 = pit_arrays(P)
+        qi[0] = _law_force(xi, di, ddi, tx2, td2, tf2, P[CC])
+        xd[z] = -1.0
+        return qi[0]
+    return 0.0
+
+
+@_jit
 def contact_forces(t, y, P, cage, cph, sph, tx, td, tf, qi, qo, xd):
     """Contact forces of every element at ``(t, y)``: inner ``qi`` and outer ``qo`` (N, along the
-    normal, >= 0), the defect positions ``xd`` (m; 1e9 when no defect); returns the defect
-    contact's force (N, summed over the elements on the defect).
+    normal, >= 0), the defect positions ``xd[:Z]`` (m; 1e9 when no defect) and ``xd[Z]`` which
+    contact reads the defect law (+1 outer, -1 inner, 0 none); returns the defect contact's
+    force (N, summed over the elements on the defect).
 
     Parameters
     ----------
@@ -169,15 +284,19 @@ def contact_forces(t, y, P, cage, cph, sph, tx, td, tf, qi, qo, xd):
     y : ndarray
         State (:class:`~.layout.StateLayout`).
     P : ndarray
-        Scalar parameters (:data:`~.layout.P_NAMES`).
+        Scalar parameters (:data:`~.layout.P_NAMES`), then a pitted element's packed arrays
+        (:func:`pit_arrays`).
     cage : ndarray
         Cage-angle nodes (:func:`cage_angle_at`).
     cph, sph : ndarray
         cos and sin of each element's pitch angle ``2 pi j / Z``.
     tx, td, tf : ndarray
-        Defect law (:func:`table_force`).
-    qi, qo, xd : ndarray
+        Defect law (:func:`table_force`): of the pitted race, or of a pitted element's outer
+        contact.
+    qi, qo : ndarray
         Outputs, length ``Z``.
+    xd : ndarray
+        Output, length ``Z + 1``.
 
     Returns
     -------
@@ -189,39 +308,34 @@ def contact_forces(t, y, P, cage, cph, sph, tx, td, tf, qi, qo, xd):
     thc, thd = cage_angle_at(t, cage, P[CT0], P[CDT])
     c0 = math.cos(thc)
     s0 = math.sin(thc)
-    xi, yi, xo, yo = y[0], y[1], y[2], y[3]
-    vxi, vyi, vxo, vyo = y[nd], y[nd + 1], y[nd + 2], y[nd + 3]
+    rings = (y[0], y[1], y[2], y[3], y[nd], y[nd + 1], y[nd + 2], y[nd + 3])
     ca, g = P[CA], P[GAP]
     fdef = 0.0
+    xd[z] = 0.0
+    drace = P[DRACE]
+    race = drace == 1.0 or drace == 2.0
     for j in range(z):
         c = c0 * cph[j] - s0 * sph[j]
         s = s0 * cph[j] + c0 * sph[j]
-        ri = xi * c + yi * s
-        ro = xo * c + yo * s
-        rid = vxi * c + vyi * s + thd * (yi * c - xi * s)
-        rod = vxo * c + vyo * s + thd * (yo * c - xo * s)
-        u = y[_E0 + j]
-        ud = y[nd + _E0 + j]
-        di = (ri - g) * ca - u
-        dout = u - (ro + g) * ca
-        ddi = rid * ca - ud
-        ddo = ud - rod * ca
+        di, dout, ddi, ddo = _approaches(rings, c, s, thd, y[_E0 + j], y[nd + _E0 + j], ca, g)
         xd[j] = 1e9
-        if P[DRACE] != 0.0:
-            xd[j] = _defect_x(P, thc + 2.0 * math.pi * j / z, t)
-        on = xd[j] >= tx[0] and xd[j] <= tx[tx.size - 1]
         qi[j] = hertz_force(di, ddi, P[KI], P[NEXP], P[N15], P[CC])
         qo[j] = hertz_force(dout, ddo, P[KO], P[NEXP], P[N15], P[CC])
-        if on:
-            el = table_force(xd[j], dout if P[DRACE] == 1.0 else di, tx, td, tf)
-            if el > 0.0:
-                el = el + P[CC] * (ddo if P[DRACE] == 1.0 else ddi)
-                el = el if el > 0.0 else 0.0
-            if P[DRACE] == 1.0:
-                qo[j] = el
-            else:
-                qi[j] = el
-            fdef += el
+        if race:
+            xd[j] = _defect_x(P, thc + 2.0 * math.pi * j / z, t)
+            if xd[j] >= tx[0] and xd[j] <= tx[tx.size - 1]:
+                if drace == 1.0:
+                    qo[j] = _law_force(xd[j], dout, ddo, tx, td, tf, P[CC])
+                    fdef += qo[j]
+                    xd[z] = 1.0
+                else:
+                    qi[j] = _law_force(xd[j], di, ddi, tx, td, tf, P[CC])
+                    fdef += qi[j]
+                    xd[z] = -1.0
+    if drace == 3.0:
+        di, dout, ddi, ddo = _approaches(rings, c0 * cph[0] - s0 * sph[0],
+                                         s0 * cph[0] + c0 * sph[0], thd, y[_E0], y[nd + _E0], ca, g)
+        fdef = _element_pit(P, thc, di, dout, ddi, ddo, tx, td, tf, qi, qo, xd)
     return fdef
 
 
@@ -276,9 +390,9 @@ def rhs_kernel(t, y, P, cage, cph, sph, tx, td, tf, qi, qo, xd, dydt):
 
 
 @_jit
-def _record(t, y, k1, fdef, P, cage, cph, sph, qo, row):
+def _record(t, y, k1, fdef, side, P, cage, cph, sph, qo, row):
     """One row of the internal record (:data:`~.layout.REC_FIXED`, the ``Z`` outer loads, the
-    ``Z`` element velocities)."""
+    ``Z`` element velocities, the defect's side :data:`~.layout.REC_CONTACT`)."""
     z = cph.size
     nd = _E0 + z
     thc, _ = cage_angle_at(t, cage, P[CT0], P[CDT])
@@ -297,6 +411,7 @@ def _record(t, y, k1, fdef, P, cage, cph, sph, qo, row):
     row[6], row[7] = y[4], k1[nd + 4]
     row[8] = fdef
     row[9], row[10] = y[0], y[1]
+    row[REC_SIZE_FIXED + 2 * z] = side
 
 
 @_jit
@@ -315,7 +430,7 @@ def rk4_run(y, t0, dt, n_rec, every, P, cage, cph, sph, tx, td, tf, rec):
     P, cage, cph, sph, tx, td, tf
         As :func:`contact_forces`.
     rec : ndarray
-        Output, shape ``(n_rec, REC_SIZE_FIXED + 2 Z)``.
+        Output, shape ``(n_rec, REC_SIZE_FIXED + 2 Z + 1)``.
 
     Returns
     -------
@@ -331,14 +446,14 @@ def rk4_run(y, t0, dt, n_rec, every, P, cage, cph, sph, tx, td, tf, rec):
     tmp = np.empty(n)
     qi = np.empty(z)
     qo = np.empty(z)
-    xd = np.empty(z)
+    xd = np.empty(z + 1)
     h2 = 0.5 * dt
     for r in range(n_rec):
         for m in range(every):
             t = t0 + (r * every + m) * dt
             fdef = rhs_kernel(t, y, P, cage, cph, sph, tx, td, tf, qi, qo, xd, k1)
             if m == 0:
-                _record(t, y, k1, fdef, P, cage, cph, sph, qo, rec[r])
+                _record(t, y, k1, fdef, xd[z], P, cage, cph, sph, qo, rec[r])
             for i in range(n):
                 tmp[i] = y[i] + h2 * k1[i]
             rhs_kernel(t + h2, tmp, P, cage, cph, sph, tx, td, tf, qi, qo, xd, k2)

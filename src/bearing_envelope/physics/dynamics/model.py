@@ -16,7 +16,7 @@ import numpy as np
 from ..acquisition import acquire, antialias_filter
 from ..scene import Acquisition
 from .kernels import CDT, CT0, cage_angle_at, contact_forces, rhs_kernel, rk4_run
-from .layout import REC_FIXED, REC_SIZE_FIXED, StateLayout
+from .layout import REC_CONTACT, REC_FIXED, REC_SIZE_FIXED, StateLayout
 from .params import (MODEL_NAME, PEAK_LOAD_FACTOR, DynamicParams, highest_frequency_hz, quasi_static,
                      step_size)
 
@@ -47,6 +47,16 @@ class Arrays:
     td: np.ndarray
     tf: np.ndarray
 
+    def kernel_args(self) -> tuple:
+        """The kernels' arguments after ``(t, y)`` and before the outputs, in their order.
+
+        Returns
+        -------
+        tuple of ndarray
+            ``P, cage, cph, sph, tx, td, tf``.
+        """
+        return self.P, self.cage, self.cph, self.sph, self.tx, self.td, self.tf
+
 
 def arrays(params: DynamicParams, t_lo: float = 0.0, t_hi: float = 1.0) -> Arrays:
     """The kernels' arrays for times in ``[t_lo, t_hi]`` (the cage nodes cover them; outside,
@@ -73,13 +83,21 @@ def arrays(params: DynamicParams, t_lo: float = 0.0, t_hi: float = 1.0) -> Array
         n = max(2, int(math.ceil((t_hi - t_lo) / _CAGE_NODE_S)) + 1)
         t0, dt = t_lo, (t_hi - t_lo) / (n - 1) if t_hi > t_lo else 1.0
         cage = np.asarray(params.cage_angle(t0 + dt * np.arange(n)), dtype=float)
+    cage = np.ascontiguousarray(cage, dtype=float)
     ph = 2 * math.pi * np.arange(params.z) / params.z
-    if params.defect is None:
-        tx, td, tf = np.array([1e18, 2e18]), np.array([0.0, 1.0]), np.zeros((2, 2))
-    else:
-        tx, td, tf = params.defect.x_m, params.defect.delta_m, params.defect.force_n
-    return Arrays(params.vector(t0, dt), np.ascontiguousarray(cage), np.cos(ph), np.sin(ph),
-                  tx, td, np.ascontiguousarray(tf))
+    none = (np.array([1e18, 2e18]), np.array([0.0, 1.0]), np.zeros((2, 2)))
+    law = params.defect
+    tx, td, tf = none if law is None else (law.x_m, law.delta_m, law.force_n)
+    element = law is not None and params.defect_race == "element"
+    inner = (params.pit.inner or law) if element else None
+    tx2, td2, tf2 = none if inner is None else (inner.x_m, inner.delta_m, inner.force_n)
+    turns = np.floor((cage_angle_at(t_lo, cage, t0, dt)[0] + math.pi) / (2 * math.pi)), \
+        np.floor((cage_angle_at(t_hi, cage, t0, dt)[0] + math.pi) / (2 * math.pi))
+    lo, hi = int(min(turns)), int(max(turns)) + 1
+    orient = params.pit.table(lo, hi) if element else np.zeros((1, 2))
+    P = np.concatenate([params.vector(t0, dt, lo, (tx2.size, td2.size, orient.shape[0])),
+                        tx2, td2, np.ravel(tf2), orient.ravel()])
+    return Arrays(P, cage, np.cos(ph), np.sin(ph), tx, td, np.ascontiguousarray(tf))
 
 
 def rhs(t: float, y: np.ndarray, params: DynamicParams, a: Arrays | None = None) -> np.ndarray:
@@ -105,8 +123,8 @@ def rhs(t: float, y: np.ndarray, params: DynamicParams, a: Arrays | None = None)
     a = arrays(params, t, t + 1e-3) if a is None else a
     z = params.z
     out = np.empty(len(y))
-    rhs_kernel(float(t), np.ascontiguousarray(y, dtype=float), a.P, a.cage, a.cph, a.sph, a.tx,
-               a.td, a.tf, np.empty(z), np.empty(z), np.empty(z), out)
+    rhs_kernel(float(t), np.ascontiguousarray(y, dtype=float), *a.kernel_args(), np.empty(z),
+               np.empty(z), np.empty(z + 1), out)
     return out
 
 
@@ -134,9 +152,8 @@ def element_loads(t: float, y: np.ndarray, params: DynamicParams,
         Force of the defect contact, N.
     """
     a = arrays(params, t, t + 1e-3) if a is None else a
-    qi, qo, xd = np.empty(params.z), np.empty(params.z), np.empty(params.z)
-    f = contact_forces(float(t), np.ascontiguousarray(y, dtype=float), a.P, a.cage, a.cph, a.sph,
-                       a.tx, a.td, a.tf, qi, qo, xd)
+    qi, qo, xd = np.empty(params.z), np.empty(params.z), np.empty(params.z + 1)
+    f = contact_forces(float(t), np.ascontiguousarray(y, dtype=float), *a.kernel_args(), qi, qo, xd)
     return qi, qo, float(f)
 
 
@@ -282,6 +299,9 @@ class DynamicResult:
         ``(n,)``: force of the contact on the defect (0 when none is on it), N.
     element_velocity_m_s : ndarray
         ``(n, Z)``: each element's velocity along its normal, outwards (point samples), m/s.
+    defect_contact : ndarray
+        ``(n,)``: the contact that reads the defect law, +1 outer, -1 inner, 0 none (point
+        samples; a pitted element meets both).
     state_end : ndarray
         The state where the integration stopped (at ``t_end_s``, past the record by the
         anti-alias filter's half length).
@@ -321,11 +341,12 @@ class DynamicResult:
     oversample: int
     cpu_s: float
     params: DynamicParams
+    defect_contact: np.ndarray | None = None
 
 
 def record_names(z: int) -> tuple[str, ...]:
     """Names of the internal record's columns (:data:`~.layout.REC_FIXED`, ``element_k`` the
-    outer loads, ``velocity_k`` the element velocities).
+    outer loads, ``velocity_k`` the element velocities, :data:`~.layout.REC_CONTACT`).
 
     Parameters
     ----------
@@ -335,10 +356,11 @@ def record_names(z: int) -> tuple[str, ...]:
     Returns
     -------
     tuple of str
-        The fixed columns, then ``element_0 .. element_{z-1}`` and ``velocity_0 ..
-        velocity_{z-1}``.
+        The fixed columns, then ``element_0 .. element_{z-1}``, ``velocity_0 ..
+        velocity_{z-1}`` and ``defect_contact``.
     """
-    return REC_FIXED + tuple(f"element_{k}" for k in range(z)) + tuple(f"velocity_{k}" for k in range(z))
+    return (REC_FIXED + tuple(f"element_{k}" for k in range(z))
+            + tuple(f"velocity_{k}" for k in range(z)) + (REC_CONTACT,))
 
 
 class _Stream:
@@ -349,7 +371,7 @@ class _Stream:
         self.a, self.y, self.rec_dt, self.every = a, y0.copy(), rec_dt, every
         self.z = params.z
         self.next_j = j_first
-        self.buf = np.empty((0, REC_SIZE_FIXED + 2 * params.z))
+        self.buf = np.empty((0, REC_SIZE_FIXED + 2 * params.z + 1))
         self.buf_j = j_first
         self.steps = 0
 
@@ -361,7 +383,7 @@ class _Stream:
             new = np.empty((n, self.buf.shape[1]))
             a = self.a
             rk4_run(self.y, self.next_j * self.rec_dt, self.rec_dt / self.every, n, self.every,
-                    a.P, a.cage, a.cph, a.sph, a.tx, a.td, a.tf, new)
+                    *a.kernel_args(), new)
             if not np.all(np.isfinite(self.y)):
                 bad = ~np.all(np.isfinite(new), axis=1)
                 k = int(np.argmax(bad)) if bad.any() else n
@@ -383,9 +405,14 @@ class _Stream:
 def _check_table_range(params: DynamicParams, peak: float) -> None:
     """Warn when the defect contact went above the law's largest tabulated force (read by
     linear extrapolation in ``delta``)."""
-    if params.defect is not None and peak > float(params.defect.force_n[:, -1].max()):
+    if params.defect is None:
+        return
+    laws = [params.defect] + ([params.pit.inner] if params.defect_race == "element"
+                              and params.pit.inner is not None else [])
+    top = min(float(law.force_n[:, -1].max()) for law in laws)
+    if peak > top:
         warnings.warn(f"simulate_dynamics: the defect contact reached {peak:.4g} N, above the defect "
-                      f"law's largest tabulated force {params.defect.force_n[:, -1].max():.4g} N: read "
+                      f"law's largest tabulated force {top:.4g} N: read "
                       "by linear extrapolation in delta (extend delta_m)", RuntimeWarning, stacklevel=3)
 
 
@@ -485,4 +512,4 @@ def simulate_dynamics(params: DynamicParams, duration_s: float, fs_hz: float, *,
                          sig["defect_force"],
                          np.stack([sig[f"velocity_{k}"] for k in range(z)], axis=1),
                          st.y.copy(), st.next_j * rec_dt, peak, MODEL_NAME, rec_dt / every, st.steps, ov,
-                         time.process_time() - cpu0, params)
+                         time.process_time() - cpu0, params, sig[REC_CONTACT])

@@ -15,12 +15,14 @@ from typing import Callable
 import numpy as np
 
 from ..defect_contact import tabulated_race
+from ..geometry import hertz_estimate
+from ..kinematics import bearing_rates
 from ..loads import (CAGE_PHASE_RAD, ELEMENT_DENSITY_KG_M3, LoadDistribution, centrifugal_force,
                      race_compliances, scene_load_distribution, solve_row)
 from ..dynamics_option import STRUCTURE_DEFAULTS   # the assumed structure's one home
 from .layout import P_NAMES
 
-__all__ = ["DefectLaw", "DynamicParams", "STRUCTURE_DEFAULTS", "slot_drop", "slot_law",
+__all__ = ["DefectLaw", "ElementPit", "DynamicParams", "element_pit_from_scene", "STRUCTURE_DEFAULTS", "slot_drop", "slot_law",
            "params_from_scene", "contact_stiffness", "highest_frequency_hz", "step_size",
            "quasi_static", "contact_damping", "STEPS_PER_PERIOD", "PEAK_LOAD_FACTOR", "MODEL_NAME"]
 
@@ -157,6 +159,81 @@ def slot_law(radius_m: float, width_m: float, depth_m: float, k: float, n: float
 
 
 @dataclass(frozen=True)
+class ElementPit:
+    """A pit on the surface of element 0 (``DynamicParams.defect_race == "element"``): its
+    motion with the element's spin and which contact it meets (``docs/dynamics.md``, "A pit on a
+    rolling element").
+
+    The element turns relative to the cage by ``beta = spin_per_cage theta_c + lon`` (rolling
+    without slip on the fixed outer race); the pit meets the outer contact at ``beta = 0`` and
+    the inner at ``beta = pi`` (mod ``2 pi``), where the outer law (``DynamicParams.defect``)
+    or :attr:`inner` replaces Hertz. ``lon`` and the pit's axial offset from the rolling track
+    are :attr:`phase_rad` and 0 (a spin axis held fixed), or per cage turn from
+    :attr:`orientation` (a wandering axis); an off-track pit strikes a contact only within its
+    Hertz axial semi-axis ``b = b_1 Q^(1/3)`` (``Q`` the contact's Hertz force at its approach).
+
+    Attributes
+    ----------
+    inner : DefectLaw or None
+        The law of the element's inner contact over the pit (None: ``DynamicParams.defect``).
+    spin_per_cage : float or None
+        Element spin relative to the cage per radian of cage, ``BSF / FTF``; None: ``R_o / r``.
+    phase_rad : float
+        ``beta`` at ``theta_c = 0`` when :attr:`orientation` is None, rad.
+    orientation : callable or None
+        ``turns (int ndarray) -> (track_offset_m, lon_rad)`` for cage turn ``k`` (``theta_c``
+        from ``(2k - 1) pi`` to ``(2k + 1) pi``); None: on the track, ``lon = phase_rad``.
+    semi_axis_inner_m, semi_axis_outer_m : float
+        Hertz axial semi-axis of each contact at 1 N, m (``b_1``; read with an orientation).
+
+    Raises
+    ------
+    ValueError
+        A ``spin_per_cage`` not finite and > 0, a non-finite ``phase_rad``, a semi-axis not
+        finite and >= 0 (the message names the field).
+    """
+
+    inner: DefectLaw | None = None
+    spin_per_cage: float | None = None
+    phase_rad: float = 0.0
+    orientation: Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]] | None = field(
+        default=None, compare=False)
+    semi_axis_inner_m: float = 0.0
+    semi_axis_outer_m: float = 0.0
+
+    def __post_init__(self):
+        if self.spin_per_cage is not None and not (math.isfinite(self.spin_per_cage)
+                                                   and self.spin_per_cage > 0):
+            raise ValueError(f"ElementPit.spin_per_cage: got {self.spin_per_cage!r}; allowed: "
+                             "finite > 0 or None")
+        if not math.isfinite(self.phase_rad):
+            raise ValueError(f"ElementPit.phase_rad: got {self.phase_rad!r}; allowed: finite")
+        for name in ("semi_axis_inner_m", "semi_axis_outer_m"):
+            v = getattr(self, name)
+            if not (math.isfinite(v) and v >= 0):
+                raise ValueError(f"ElementPit.{name}: got {v!r}; allowed: finite >= 0")
+
+    def table(self, turn_lo: int, turn_hi: int) -> np.ndarray:
+        """The kernels' orientation rows of cage turns ``turn_lo .. turn_hi``.
+
+        Parameters
+        ----------
+        turn_lo, turn_hi : int
+            First and last cage turn.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(turn_hi - turn_lo + 1, 2)``: track offset (m), longitude (rad); one row
+            ``(0, phase_rad)`` without an orientation.
+        """
+        if self.orientation is None:
+            return np.array([[0.0, self.phase_rad]])
+        off, lon = self.orientation(np.arange(turn_lo, turn_hi + 1))
+        return np.ascontiguousarray(np.stack([off, lon], axis=1), dtype=float)
+
+
+@dataclass(frozen=True)
 class DynamicParams:
     """Everything the model needs, SI (``docs/dynamics.md`` names each symbol).
 
@@ -183,9 +260,13 @@ class DynamicParams:
     shaft_*, housing_*, resonator_*, sensor_angle_rad
         Structure (:data:`STRUCTURE_DEFAULTS`).
     defect : DefectLaw or None
-    defect_race : {"outer", "inner"}
+        The pitted race's law, or a pitted element's outer contact law.
+    defect_race : {"outer", "inner", "element"}
+        ``element``: the pit is on element 0 (:class:`ElementPit`).
     defect_angle_rad : float
         Pit centre from ``x`` (outer race), or at ``t = 0`` (inner race, turning with the shaft).
+    element_pit : ElementPit or None
+        A pit on element 0 (``defect_race == "element"``; None there: ``ElementPit()``).
     cage_angle : callable or None
         ``t -> angle`` (rad) of element 0 (slip); None: ``2 pi f_c t``.
 
@@ -194,8 +275,9 @@ class DynamicParams:
     ValueError
         ``z`` not an integer >= 1; a mass, radius, contact stiffness, exponent or the
         resonator's frequency not finite and > 0; a damping, structure stiffness, force or rate
-        not finite and >= 0; a non-finite clearance; a ``defect_race`` other than ``outer`` or
-        ``inner`` (the message names the field).
+        not finite and >= 0; a non-finite clearance; a ``defect_race`` other than ``outer``,
+        ``inner`` or ``element``; a wandering element pit on a line contact (the message names
+        the field).
     """
 
     z: int
@@ -229,6 +311,7 @@ class DynamicParams:
     defect_race: str = "outer"
     defect_angle_rad: float = 0.0
     cage_angle: Callable[[np.ndarray], np.ndarray] | None = field(default=None, compare=False)
+    element_pit: ElementPit | None = None
 
     def __post_init__(self):
         if int(self.z) != self.z or self.z < 1:
@@ -247,9 +330,13 @@ class DynamicParams:
                 raise ValueError(f"DynamicParams.{name}: got {v!r}; allowed: finite >= 0")
         if not math.isfinite(self.clearance_m):
             raise ValueError(f"DynamicParams.clearance_m: got {self.clearance_m!r}; allowed: finite")
-        if self.defect_race not in ("outer", "inner"):
+        if self.defect_race not in ("outer", "inner", "element"):
             raise ValueError(f"DynamicParams.defect_race: got {self.defect_race!r}; allowed: "
-                             "outer | inner")
+                             "outer | inner | element")
+        if self.element_pit is not None and self.element_pit.orientation is not None \
+                and self.exponent != 1.5:
+            raise ValueError(f"DynamicParams.element_pit: a wandering orientation needs a point "
+                             f"contact (exponent 1.5), got exponent {self.exponent!r}")
 
     def with_(self, **changes) -> "DynamicParams":
         """A copy with ``changes`` (validated again).
@@ -266,13 +353,25 @@ class DynamicParams:
         """
         return replace(self, **changes)
 
-    def vector(self, cage_t0: float, cage_dt: float) -> np.ndarray:
+    @property
+    def pit(self) -> ElementPit:
+        """The element pit's description (:attr:`element_pit`, or :class:`ElementPit`'s
+        defaults)."""
+        return self.element_pit if self.element_pit is not None else ElementPit()
+
+    def vector(self, cage_t0: float, cage_dt: float, turn0: int = 0,
+               pit_sizes: tuple[int, int, int] = (2, 2, 1)) -> np.ndarray:
         """The scalar vector ``P`` of the kernels (:data:`~.layout.P_NAMES`).
 
         Parameters
         ----------
         cage_t0, cage_dt : float
             First time and spacing of the cage-angle nodes, s.
+        turn0 : int
+            Cage turn of the element pit's first orientation row.
+        pit_sizes : tuple of int
+            Nodes of the element pit's inner law along ``x`` and ``delta``, orientation rows (the
+            arrays :func:`~.model.arrays` packs after these scalars).
 
         Returns
         -------
@@ -281,6 +380,8 @@ class DynamicParams:
         """
         ca = math.cos(self.contact_angle_rad)
         wr = 2 * math.pi * self.resonator_hz
+        pit = self.pit
+        drace = {"outer": 1.0, "inner": 2.0, "element": 3.0}[self.defect_race]
         v = {"ms": self.shaft_mass_kg, "ks": self.shaft_stiffness_n_m, "cs": self.shaft_damping_ns_m,
              "mh": self.housing_mass_kg, "kh": self.housing_stiffness_n_m,
              "ch": self.housing_damping_ns_m, "mr": self.resonator_mass_kg,
@@ -292,9 +393,15 @@ class DynamicParams:
              "ca": ca, "fx": self.force_n * math.cos(self.load_angle_rad),
              "fy": self.force_n * math.sin(self.load_angle_rad), "fc": self.centrifugal_n * ca,
              "ri": self.inner_race_radius_m, "ro": self.outer_race_radius_m,
-             "drace": 0.0 if self.defect is None else (1.0 if self.defect_race == "outer" else 2.0),
+             "drace": 0.0 if self.defect is None else drace,
              "dang": self.defect_angle_rad, "ws": 2 * math.pi * self.shaft_rate_hz,
-             "ct0": cage_t0, "cdt": cage_dt, "n15": 1.0 if self.exponent == 1.5 else 0.0}
+             "ct0": cage_t0, "cdt": cage_dt, "n15": 1.0 if self.exponent == 1.5 else 0.0,
+             "re": self.element_radius_m,
+             "spr": (self.outer_race_radius_m / self.element_radius_m
+                     if pit.spin_per_cage is None else pit.spin_per_cage),
+             "bi2": pit.semi_axis_inner_m ** 2 * self.k_inner ** (2.0 / 3.0),
+             "bo2": pit.semi_axis_outer_m ** 2 * self.k_outer ** (2.0 / 3.0), "turn0": turn0,
+             "nx2": pit_sizes[0], "nd2": pit_sizes[1], "nor": pit_sizes[2]}
         return np.array([v[k] for k in P_NAMES], dtype=float)
 
     @property
@@ -405,7 +512,59 @@ def _element_mass(bearing) -> float:
     return ELEMENT_DENSITY_KG_M3 * vol
 
 
-def params_from_scene(scene, *, defect: DefectLaw | None = None, centrifugal: bool = True,
+def element_pit_from_scene(scene, inner: DefectLaw | None = None) -> ElementPit:
+    """The element pit of ``scene``'s rolling-element defect: the spin ``BSF / FTF``
+    (:func:`~bearing_envelope.physics.kinematics.bearing_rates`), and with ``defect.spin_axis:
+    wandering`` the location's own orientation rule (:mod:`~bearing_envelope.physics.locations.
+    rolling_element`: redrawn once per cage turn where the ball is least loaded, seeded by
+    ``defect.spin_seed``, only when :func:`~bearing_envelope.physics.locations.rolling_element.
+    spin_is_free` under the scene's quasi-static load law; else turn 0's throughout) and each
+    contact's Hertz axial semi-axis at 1 N.
+
+    Parameters
+    ----------
+    scene : Scene
+        A rolling-element defect (its bearing, speed, load and ``defect.spin_axis``,
+        ``spin_seed``).
+    inner : DefectLaw, optional
+        The inner contact's law (None: the outer law for both).
+
+    Returns
+    -------
+    ElementPit
+        Its kinematics.
+    """
+    from ..locations.rolling_element import spin_is_free   # locations import much; read here
+
+    b = scene.bearing
+    r = bearing_rates(scene.operation.shaft_rate_hz, b.rollers_per_row, b.roller_diameter_mm,
+                      b.pitch_diameter_mm, b.contact_angle_deg, bpfi=scene.bpfi_hz)
+    orient, b1 = None, (0.0, 0.0)
+    if scene.defect.spin_axis == "wandering":
+        free = spin_is_free(scene_load_distribution(scene))
+        orient = partial(_turn_orientations, scene, free)
+        b1 = tuple(hertz_estimate(scene.for_race(race), 1.0).b for race in ("inner", "outer"))
+    return ElementPit(inner=inner, spin_per_cage=r["bsf"] / r["ftf"], orientation=orient,
+                      semi_axis_inner_m=b1[0], semi_axis_outer_m=b1[1])
+
+
+def _turn_orientations(scene, free: bool, turns: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``(track offset m, longitude rad)`` of cage turns ``turns`` from the location's own rule
+    (:func:`~bearing_envelope.physics.locations.rolling_element.rolling_element_kinematics` at
+    each turn's centre ``theta_c = 2 pi k``: its offset in the outer contact is ``r wrap(beta +
+    lon)``, ``beta`` the rolling turn there)."""
+    from ..locations.rolling_element import rolling_element_kinematics
+
+    b = scene.bearing
+    theta = 2.0 * math.pi * np.asarray(turns, dtype=float)
+    kin = rolling_element_kinematics(scene, theta, redraw=free)
+    beta = theta * b.outer_race_radius_m / b.roller_radius_m
+    lon = np.mod(kin["offset_outer"] / b.roller_radius_m - beta, 2.0 * math.pi)
+    return kin["track_offset"], lon
+
+
+def params_from_scene(scene, *, defect: DefectLaw | None = None,
+                      defect_inner: DefectLaw | None = None, centrifugal: bool = True,
                       slip: bool = True, **overrides) -> DynamicParams:
     """Model parameters of ``scene``'s bearing (one row, its share of the load).
 
@@ -413,7 +572,8 @@ def params_from_scene(scene, *, defect: DefectLaw | None = None, centrifugal: bo
     for balls, Palmgren line contact for rollers), ``K_j = c_j^(-n)``; element mass from
     :data:`~bearing_envelope.physics.loads.ELEMENT_DENSITY_KG_M3`; the cage angle from
     :func:`bearing_envelope.physics.history.cage_angle` (the scene's slip); the structure from
-    :data:`STRUCTURE_DEFAULTS`; the pit at ``defect.position_deg`` of the scene's race.
+    :data:`STRUCTURE_DEFAULTS`; the pit at ``defect.position_deg`` of the scene's race, or on
+    element 0 (a rolling-element defect: :func:`element_pit_from_scene`).
 
     Parameters
     ----------
@@ -421,7 +581,9 @@ def params_from_scene(scene, *, defect: DefectLaw | None = None, centrifugal: bo
         The case's scene: bearing geometry, material, load, shaft rate, cage slip and the
         defect's race and position.
     defect : DefectLaw, optional
-        The defect law (None: healthy).
+        The defect law (None: healthy); a rolling-element pit's outer contact law.
+    defect_inner : DefectLaw, optional
+        A rolling-element pit's inner contact law (None: ``defect`` for both contacts).
     centrifugal : bool
         Include the elements' centrifugal force.
     slip : bool
@@ -442,6 +604,7 @@ def params_from_scene(scene, *, defect: DefectLaw | None = None, centrifugal: bo
     ci, co = race_compliances(scene)
     me = _element_mass(b)
     ld = scene_load_distribution(scene)
+    spins = scene.defect.fault_location.spins
     kw = dict(z=b.rollers_per_row, element_mass_kg=me, element_radius_m=b.roller_radius_m,
               k_inner=ci ** -n, k_outer=co ** -n, exponent=n, contact_damping_ns_m=0.0,
               clearance_m=1e-6 * b.radial_clearance_um, contact_angle_rad=b.contact_angle_rad,
@@ -449,7 +612,8 @@ def params_from_scene(scene, *, defect: DefectLaw | None = None, centrifugal: bo
               centrifugal_n=centrifugal_force(b, scene.cage_rate_hz) if centrifugal else 0.0,
               inner_race_radius_m=b.inner_race_radius_m, outer_race_radius_m=b.outer_race_radius_m,
               cage_rate_hz=scene.cage_rate_hz, shaft_rate_hz=scene.operation.shaft_rate_hz,
-              defect=defect, defect_race=tabulated_race(scene),
+              defect=defect, defect_race="element" if spins else tabulated_race(scene),
+              element_pit=element_pit_from_scene(scene, defect_inner) if spins else None,
               defect_angle_rad=math.radians(scene.defect.position_deg),
               cage_angle=partial(cage_angle, scene)
               if slip and scene.operation.cage_slip_percent > 0 else None)
