@@ -52,6 +52,8 @@ REGISTRY: dict[str, str] = {
                      "step rule's envelope-line convergence, CPU of a 12 kHz record",
     "identify_path_truth": "identify-path on synthetic records of known f_n, zeta, gain and "
                            "background at partial detection: within tolerance / flagged / wrong",
+    "rig_cost": "virtual rig with the dynamics: CPU of a dynamic rig record per preset, and the "
+                "whole rig quasi-static against dynamic (--whole)",
 }
 
 #: Benchmarks of work in flight, registered as soon as their module is in this folder (each
