@@ -69,7 +69,8 @@ def record_costs(presets=("draft", "standard"), names=tuple(SCENES), duration_s:
                 t0 = time.process_time()
                 defect_table(scene, preset)
                 table = time.process_time() - t0
-                info = simulate_dynamic_record(c, s, Path(out or tmp) / f"{name}_{preset}.npz")
+                info = simulate_dynamic_record(c, scene, s,
+                                               Path(out or tmp) / f"{name}_{preset}.npz")
                 p = rig_params(scene, s, None)
                 rows.append({"preset": preset, "scene": name, "table": table,
                              "run": info["run_cpu_s"], "step_us": 1e6 * info["step_s"],

@@ -109,7 +109,7 @@ def rig_params(scene, settings: RigSettings, law: DefectLaw | None):
     return p.with_(contact_damping_ns_m=contact_damping(p, s["contact_zeta"]))
 
 
-def simulate_dynamic_record(cond, settings: RigSettings, path) -> dict:
+def simulate_dynamic_record(cond, scene, settings: RigSettings, path) -> dict:
     """Run one record's scene in the dynamic model for the record's length at its fs and
     write its excitation file.
 
@@ -117,8 +117,10 @@ def simulate_dynamic_record(cond, settings: RigSettings, path) -> dict:
     ----------
     cond : RigCondition
         The record (defect, shaft rate, fs in Hz, ``n_samples``).
+    scene : Scene
+        Its scene (:func:`~.simulation.condition_scene`).
     settings : RigSettings
-        The rig's settings (scene, load, fidelity of the defect table, structure, sensor).
+        The rig's settings (fidelity of the defect table, structure, sensor).
     path : path
         The ``.npz`` written: ``time``, ``fs``, ``model``, ``housing_force`` (n, 2; N, x along
         the load), ``defect_force`` (N), ``removed_force`` (N: the housing force's deficit
@@ -131,9 +133,6 @@ def simulate_dynamic_record(cond, settings: RigSettings, path) -> dict:
         ``cpu_s`` of the table and of the run, the step (s), steps and the defect contact's
         peak (N).
     """
-    from .simulation import condition_scene   # simulation imports this module
-
-    scene = condition_scene(cond, settings)
     t0 = time.process_time()
     law = DefectLaw.from_table(defect_table(scene, settings.fidelity))
     t_table = time.process_time() - t0

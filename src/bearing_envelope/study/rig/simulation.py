@@ -140,7 +140,7 @@ def simulate_excitations(conditions, settings: RigSettings, out_dir, *, log=prin
         f = dynamic_path(out_dir, c)
         t0 = _cpu()
         if not f.exists():
-            info = simulate_dynamic_record(c, settings, f)
+            info = simulate_dynamic_record(c, condition_scene(c, settings), settings, f)
             log(f"rig: {c.name}: dynamic, table {info['table_cpu_s']:.1f} + run "
                 f"{info['run_cpu_s']:.1f} CPU s (step {1e6 * info['step_s']:.3g} us)")
         paths["_cpu_s"][c.name] = _cpu() - t0
