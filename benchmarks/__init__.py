@@ -55,6 +55,10 @@ REGISTRY: dict[str, str] = {
     "model_choice": "the criterion of scene.dynamics auto against where the quasi-static and the "
                     "dynamic model's answers differ (force line at the event rate, contact "
                     "opening over the pit)",
+    "rig_cost": "virtual rig with the dynamics: CPU of a dynamic rig record per preset, and the "
+                "whole rig quasi-static against dynamic (--whole)",
+    "rig_targets": "issue 42's rig targets (line height, 3x/1x, OR 3:00 re 6:00, secondary "
+                   "events at 3:00, ball class, height against pit size) read off scored runs",
 }
 
 #: Benchmarks of work in flight, registered as soon as their module is in this folder (each

@@ -69,7 +69,8 @@ def run(args) -> int:
     Raises
     ------
     ValueError
-        No fault record among the records given.
+        No fault record among the records given; ``--identify`` with ``rig.dynamics`` other
+        than ``quasi_static``.
     """
     # lazy: keeps `bearing-envelope --help` ~0.4 s (numba, pandas: ~4 s)
     from pathlib import Path
@@ -78,15 +79,19 @@ def run(args) -> int:
 
     out = Path(args.output)
     settings = rig.read_rig_config(args.config)
+    if args.identify and settings.dynamics != "quasi_static":
+        raise ValueError(f"{args.config}: rig.dynamics: got {settings.dynamics!r} with --identify; "
+                         "allowed: quasi_static (the load zone is identified on the contact "
+                         "histories)")
     conds = rig.record_conditions(args.records)
     if not conds:
         raise ValueError("records: no fault record (location inner_race / outer_race / "
                          "rolling_element) among the records given")
     if args.score_only:
-        contact = {c.name: str(out / "contact" / f"{c.name}_contact.npz") for c in conds
-                   if (out / "contact" / f"{c.name}_contact.npz").exists()}
+        contact = rig.existing_excitations(conds, settings, out / "contact")
     else:
-        contact = rig.simulate_excitations(conds, settings, out / "contact")
+        contact = rig.simulate_excitations(conds, settings, out / "contact",
+                                           gain_reference=args.gain_reference)
     if args.simulate_only:
         return 0
     rig.run_scorecard(conds, contact, out, args.gain_reference, settings=settings)

@@ -46,8 +46,9 @@ from .records import RigBearing, RigCondition, rig_event_rates, resolve_bearing
 from .run import run_scorecard
 from .scoring import (features_in_measured_band, load_trends, outer_race_ratios,
                       outer_race_ratios_in_band, pass_rates, scorecard)
-from .simulation import (condition_scene, path_modes, record_paths, rig_gain, sensor_gain,
-                         simulate_excitations, write_rig_record)
+from .dynamic import dynamic_supported, sensor_excitation
+from .simulation import (condition_scene, existing_excitations, path_modes, record_paths,
+                         rig_gain, sensor_gain, simulate_excitations, write_rig_record)
 from .size import size_ranking, size_summary
 
 __all__ = ["record_conditions", "manifest_rows", "RigCondition", "RigBearing", "RigSettings",
@@ -58,4 +59,4 @@ __all__ = ["record_conditions", "manifest_rows", "RigCondition", "RigBearing", "
            "outer_race_ratios_in_band", "features_in_measured_band", "size_ranking",
            "size_summary", "removed_force_exponent", "event_exponent", "directional_modulation",
            "identify_load_zone", "measured_sideband_db", "identify_from_run", "DRIVE_END",
-           "MANIFEST_NAME"]
+           "MANIFEST_NAME", "existing_excitations", "dynamic_supported", "sensor_excitation"]

@@ -1,18 +1,32 @@
 """The rig's config (``config_rig.yaml``): the scene every record is re-made in, and the rig's
-own parameters (``rig:``: radial load, fidelity, the ball records' spin axis, the sensor)."""
+own parameters (``rig:``: radial load, fidelity, the ball records' spin axis, the sensor, the
+excitation model ``dynamics`` and the dynamic model's ``structure``)."""
 
 from __future__ import annotations
 
 import math
 import os
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 from ...checks import check_number
+from ...physics.dynamics.params import STRUCTURE_DEFAULTS
 from ...physics.fidelity import DEFAULT_PRESET
 from ...physics.scene import DEFAULT_SCENE
 from ..config_read import read_yaml
 
-__all__ = ["RigSettings", "read_rig_config"]
+__all__ = ["RigSettings", "read_rig_config", "RIG_DYNAMICS", "RIG_STRUCTURE_KEYS"]
+
+#: Values of ``rig.dynamics``: the excitation of each simulated record. ``quasi_static``: the
+#: force the defect removes from the quasi-static contact history (the rig before);
+#: ``dynamic``: the force the outer ring passes to the housing in the lumped-parameter model
+#: (:mod:`bearing_envelope.physics.dynamics`, docs/virtual_rig.md "With the dynamics").
+RIG_DYNAMICS = ("quasi_static", "dynamic")
+#: Keys ``rig.structure`` may set (the dynamic model's structure, defaults in
+#: :data:`~bearing_envelope.physics.dynamics.params.STRUCTURE_DEFAULTS`; the sensor's axis is
+#: ``rig.sensor_deg``).
+RIG_STRUCTURE_KEYS = tuple(k for k in STRUCTURE_DEFAULTS if k != "sensor_angle_deg")
+#: Of those, the ones that must be > 0 (the rest >= 0).
+_POSITIVE = ("shaft_mass_kg", "housing_mass_kg", "resonator_hz", "resonator_mass_kg")
 
 
 @dataclass(frozen=True)
@@ -34,6 +48,11 @@ class RigSettings:
     sensor_cross_axis : float
         Gain of a force across the sensor's axis relative to one along it, in [0, 1]
         (:func:`~bearing_envelope.physics.transfer.direction_gain`; 1: blind to direction).
+    dynamics : str
+        The excitation model of the simulated records (:data:`RIG_DYNAMICS`).
+    structure : dict
+        The dynamic model's structure (keys of :data:`RIG_STRUCTURE_KEYS`, SI with units in
+        the names); a key not given keeps its ``STRUCTURE_DEFAULTS`` value.
     """
 
     scene: dict
@@ -42,6 +61,8 @@ class RigSettings:
     ball_spin_axis: str = DEFAULT_SCENE["defect"]["spin_axis"]
     sensor_deg: float = 180.0
     sensor_cross_axis: float = 1.0
+    dynamics: str = RIG_DYNAMICS[0]
+    structure: dict = field(default_factory=dict)
 
 
 def read_rig_config(path: str | os.PathLike) -> RigSettings:
@@ -76,8 +97,34 @@ def read_rig_config(path: str | os.PathLike) -> RigSettings:
         raise ValueError(f"{path}: rig.load_kN: got {rig.get('load_kN')!r}; allowed: > 0 kN")
     sensor = _number_in(path, rig, "sensor_deg", RigSettings.sensor_deg, 0.0, 360.0)
     cross = _number_in(path, rig, "sensor_cross_axis", RigSettings.sensor_cross_axis, 0.0, 1.0)
+    dyn = rig.get("dynamics", RigSettings.dynamics)
+    if dyn not in RIG_DYNAMICS:
+        raise ValueError(f"{path}: rig.dynamics: got {dyn!r}; allowed: {' | '.join(RIG_DYNAMICS)}")
     return RigSettings(raw["scene"], load, str(rig.get("fidelity", DEFAULT_PRESET)),
-                       str(rig.get("ball_spin_axis", RigSettings.ball_spin_axis)), sensor, cross)
+                       str(rig.get("ball_spin_axis", RigSettings.ball_spin_axis)), sensor, cross,
+                       dyn, _structure(path, rig.get("structure", {})))
+
+
+def _structure(path, raw) -> dict:
+    """``rig.structure`` checked: a mapping of :data:`RIG_STRUCTURE_KEYS` to finite numbers,
+    > 0 for the masses and the resonator's frequency, >= 0 for the rest; else one line."""
+    if not isinstance(raw, dict):
+        raise ValueError(f"{path}: rig.structure: got {raw!r}; allowed: a mapping of "
+                         f"{', '.join(RIG_STRUCTURE_KEYS)}")
+    out = {}
+    for key, v in raw.items():
+        if key not in RIG_STRUCTURE_KEYS:
+            raise ValueError(f"{path}: rig.structure.{key}: unknown key; allowed: "
+                             f"{', '.join(RIG_STRUCTURE_KEYS)}")
+        try:
+            x = check_number(v, f"rig.structure.{key}")
+        except ValueError:
+            x = math.nan
+        if not (math.isfinite(x) and (x > 0 if key in _POSITIVE else x >= 0)):
+            raise ValueError(f"{path}: rig.structure.{key}: got {v!r}; allowed: a number "
+                             f"{'> 0' if key in _POSITIVE else '>= 0'}")
+        out[key] = x
+    return out
 
 
 def _number_in(path, rig: dict, key: str, default: float, lo: float, hi: float) -> float:

@@ -15,6 +15,7 @@ from .events import event_shapes
 from .figures import plot_element_folds, plot_side_by_side
 from .scoring import (features_in_measured_band, load_trends, outer_race_ratios,
                       outer_race_ratios_in_band, pass_rates, scorecard, scorecard_markdown)
+from .dynamic import excitation_model
 from .simulation import record_paths, rig_gain, write_rig_record
 from .size import size_ranking, size_summary
 
@@ -127,12 +128,13 @@ def run_scorecard(conditions, contact: dict, out_dir, gain_reference: str, *, lo
     out_dir = Path(out_dir)
     conditions = [c for c in conditions if c.name in contact]
     paths = record_paths(conditions, log=log)
-    gain = rig_gain(conditions, paths, contact, gain_reference, settings)
-    log(f"rig: gain {gain[0]:.4g} (m/s^2 or g)/N at resonance of the {gain[3]:.0f} Hz mode, "
-        f"{gain[1]:.4g}-{gain[2]:.4g} over the {gain_reference} records")
-    sim = [write_rig_record(c, contact[c.name], paths[c.name][0], gain[0], out_dir / "sim",
-                            seed=i, reference_hz=gain[3], settings=settings)
-           for i, c in enumerate(conditions)]
+    gains = _gains(conditions, paths, contact, gain_reference, settings, log)
+    gain = next(iter(gains.values()))
+    sim = []
+    for i, c in enumerate(conditions):
+        g = gains.get(excitation_model(contact[c.name]), gain)
+        sim.append(write_rig_record(c, contact[c.name], paths[c.name][0], g[0], out_dir / "sim",
+                                    seed=i, reference_hz=g[3], settings=settings))
     with open(out_dir / "paths.json", "w", encoding="utf-8") as fh:
         json.dump({n: {"status": s, **{k: v for k, v in p.to_dict().items()
                                        if not k.startswith("background_")}}
@@ -140,7 +142,7 @@ def run_scorecard(conditions, contact: dict, out_dir, gain_reference: str, *, lo
     mt, ml = _analyze([c.path for c in conditions], conditions, out_dir / "measured")
     st, sl = _analyze(sim, conditions, out_dir / "simulated")
     card = scorecard(conditions, mt, ml, st, sl)
-    _write_tables(out_dir, card, ml, sl, gain)
+    _write_tables(out_dir, card, ml, sl, gain, gains)
     with open(out_dir / "paths.json", encoding="utf-8") as fh:
         _write_size(out_dir, size_ranking(card, conditions, contact, json.load(fh)))
     zero = figure_records(conditions)
@@ -148,6 +150,23 @@ def run_scorecard(conditions, contact: dict, out_dir, gain_reference: str, *, lo
         plot_side_by_side(card, zero, out_dir / "sim", out_dir / "side_by_side.png")
     _write_events(conditions, out_dir)
     return card
+
+
+def _gains(conditions, paths, contact: dict, reference: str, settings, log) -> dict:
+    """The rig's gain per excitation model (:func:`~.dynamic.excitation_model`): on the
+    reference records' excitations, and, where some record's excitation is of the other model,
+    on their contact histories (``contact["_quasi_static"]``) too."""
+    ref = [c for c in conditions if reference in c.name and c.name in contact]
+    own = excitation_model(contact[ref[0].name]) if ref else "quasi_static"
+    gains = {own: rig_gain(conditions, paths, contact, reference, settings)}
+    others = {excitation_model(contact[c.name]) for c in conditions} - {own}
+    qs = contact.get("_quasi_static", {})
+    if "quasi_static" in others and any(c.name in qs for c in ref):
+        gains["quasi_static"] = rig_gain(conditions, paths, qs, reference, settings)
+    for model, g in gains.items():
+        log(f"rig: gain ({model}) {g[0]:.4g} (m/s^2 or g)/N at resonance of the {g[3]:.0f} Hz "
+            f"mode, {g[1]:.4g}-{g[2]:.4g} over the {reference} records")
+    return gains
 
 
 def _write_events(conditions, out_dir: Path) -> None:
@@ -163,7 +182,7 @@ def _write_events(conditions, out_dir: Path) -> None:
         plot_element_folds(outer, out_dir / "sim", out_dir / "element_folds.png")
 
 
-def _write_tables(out_dir: Path, card, ml, sl, gain) -> None:
+def _write_tables(out_dir: Path, card, ml, sl, gain, gains: dict) -> None:
     """The scorecard's files: CSVs, ``summary.json``, ``scorecard.md``."""
     import pandas as pd  # lazy: pandas ~1.8 s
 
@@ -177,7 +196,7 @@ def _write_tables(out_dir: Path, card, ml, sl, gain) -> None:
     pd.DataFrame(features_in_measured_band(card, ml, sl)).to_csv(
         out_dir / "same_band.csv", index=False)
     with open(out_dir / "summary.json", "w", encoding="utf-8") as fh:
-        json.dump({"gain": gain, "pass_rates": pass_rates(card)}, fh, indent=1)
+        json.dump({"gain": gain, "gains": gains, "pass_rates": pass_rates(card)}, fh, indent=1)
     (out_dir / "scorecard.md").write_text(scorecard_markdown(card, ratios, trends),
                                           encoding="utf-8")
 

@@ -33,10 +33,12 @@ from ...physics.locations import get_location
 from ...physics.scene import Scene
 from ...physics.transfer import Mode, apply_structure, direction_gain, excitation_from_history
 from .config import RigSettings
+from .dynamic import (dynamic_path, dynamic_supported, is_dynamic, sensor_excitation,
+                      simulate_dynamic_record)
 from .records import RigBearing, RigCondition, read_samples
 
-__all__ = ["condition_scene", "simulate_excitations", "path_modes", "sensor_gain",
-           "record_paths", "rig_gain", "write_rig_record", "REFERENCE_MODE_TOL"]
+__all__ = ["condition_scene", "simulate_excitations", "existing_excitations", "path_modes",
+           "sensor_gain", "record_paths", "rig_gain", "write_rig_record", "REFERENCE_MODE_TOL"]
 
 
 def _scene_bearing(scene: Scene) -> RigBearing:
@@ -95,8 +97,13 @@ def _excitation_path(out_dir: Path, cond: RigCondition) -> Path:
     return out_dir / f"{cond.name}_contact.npz"
 
 
-def simulate_excitations(conditions, settings: RigSettings, out_dir, *, log=print) -> dict:
-    """Contact history of every condition, one contact table per defect key.
+def simulate_excitations(conditions, settings: RigSettings, out_dir, *, log=print,
+                         gain_reference: str | None = None) -> dict:
+    """Excitation of every condition: with ``rig.dynamics: quasi_static`` the contact history
+    (one contact table per defect key), with ``dynamic`` the dynamic model's run of each record
+    whose defect it holds (:func:`~.dynamic.simulate_dynamic_record`), the others' contact
+    history; then, where some record stays quasi-static, also the contact histories of the
+    reference records (``gain_reference``), whose gain those records take.
 
     Parameters
     ----------
@@ -104,26 +111,55 @@ def simulate_excitations(conditions, settings: RigSettings, out_dir, *, log=prin
         The records to re-make (:func:`~.manifest.record_conditions`).
     settings : RigSettings
         The rig's settings (:func:`~.config.read_rig_config`): base scene, load (kN), fidelity,
-        sensor direction and cross-axis gain.
+        sensor direction and cross-axis gain, ``dynamics`` and the structure.
     out_dir : path
-        Where ``<record>_contact.npz`` (time, contact_force, removed_force, p_max) is written;
-        an existing file is kept (delete it to re-simulate).
+        Where ``<record>_contact.npz`` (time, contact_force, removed_force, p_max) and
+        ``<record>_dynamic.npz`` (:func:`~.dynamic.simulate_dynamic_record`) are written; an
+        existing file is kept (delete it to re-simulate).
     log : callable
         Progress lines.
+    gain_reference : str, optional
+        Records (name contains) the rig's gain is identified on.
 
     Returns
     -------
     dict
-        ``{record name: path}``, and ``cpu_s`` per defect key under ``"_cpu_s"``.
+        ``{record name: path}``, CPU s per defect key (or record) under ``"_cpu_s"``, and, in a
+        dynamic run with quasi-static records, ``{name: path}`` of the reference records'
+        contact histories under ``"_quasi_static"``.
     """
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     for c in conditions:  # every scene (and its bearing) checked before the first table
         condition_scene(c, settings)
+    dyn = [c for c in conditions if settings.dynamics == "dynamic" and dynamic_supported(c)]
+    qs = [c for c in conditions if c not in dyn]
+    paths: dict[str, Any] = {"_cpu_s": {}}
+    paths.update(_quasi_static_histories(qs, settings, out_dir, paths["_cpu_s"], log))
+    for c in dyn:
+        f = dynamic_path(out_dir, c)
+        t0 = _cpu()
+        if not f.exists():
+            info = simulate_dynamic_record(c, condition_scene(c, settings), settings, f)
+            log(f"rig: {c.name}: dynamic, table {info['table_cpu_s']:.1f} + run "
+                f"{info['run_cpu_s']:.1f} CPU s (step {1e6 * info['step_s']:.3g} us)")
+        paths["_cpu_s"][c.name] = _cpu() - t0
+        paths[c.name] = str(f)
+    if dyn and qs and gain_reference:
+        ref = [c for c in dyn if gain_reference in c.name]
+        paths["_quasi_static"] = _quasi_static_histories(ref, settings, out_dir,
+                                                         paths["_cpu_s"], log)
+    return paths
+
+
+def _quasi_static_histories(conditions, settings: RigSettings, out_dir: Path, cpu: dict,
+                            log) -> dict:
+    """Contact history of every condition, one contact table per defect key: ``{name:
+    path}``; CPU s per key into ``cpu``."""
     groups: dict[str, list[RigCondition]] = {}
     for c in conditions:
         groups.setdefault(c.defect_key, []).append(c)
-    paths: dict[str, Any] = {"_cpu_s": {}}
+    paths = {}
     for key, conds in groups.items():
         todo = [c for c in conds if not _excitation_path(out_dir, c).exists()]
         t0 = _cpu()
@@ -135,11 +171,42 @@ def simulate_excitations(conditions, settings: RigSettings, out_dir, *, log=prin
                 t, sig, _ = synthesize_case(scene, hist.tables, hist.load_distribution,
                                             hist.fidelity)
                 _write_excitation(_excitation_path(out_dir, c), t, sig, c)
-        paths["_cpu_s"][key] = _cpu() - t0
-        log(f"rig: {key}: {len(todo)} of {len(conds)} simulated, {paths['_cpu_s'][key]:.1f} CPU s")
+        cpu[key] = cpu.get(key, 0.0) + _cpu() - t0
+        log(f"rig: {key}: {len(todo)} of {len(conds)} simulated, {cpu[key]:.1f} CPU s")
         for c in conds:
             paths[c.name] = str(_excitation_path(out_dir, c))
     return paths
+
+
+def existing_excitations(conditions, settings: RigSettings, out_dir) -> dict:
+    """The excitations a previous run left in ``out_dir`` (``--score-only``): as
+    :func:`simulate_excitations` returns them, for the records whose file exists.
+
+    Parameters
+    ----------
+    conditions : sequence of RigCondition
+        The rig's records.
+    settings : RigSettings
+        The rig's settings (``dynamics``).
+    out_dir : path
+        The run's contact folder.
+
+    Returns
+    -------
+    dict
+        ``{name: path}`` (the dynamic file where ``dynamics`` is ``dynamic`` and it exists,
+        else the contact history) and ``"_quasi_static"``: every contact history found.
+    """
+    out: dict[str, Any] = {"_quasi_static": {}}
+    for c in conditions:
+        q, d = _excitation_path(Path(out_dir), c), dynamic_path(out_dir, c)
+        if q.exists():
+            out["_quasi_static"][c.name] = str(q)
+        if settings.dynamics == "dynamic" and dynamic_supported(c) and d.exists():
+            out[c.name] = str(d)
+        elif q.exists() and not (settings.dynamics == "dynamic" and dynamic_supported(c)):
+            out[c.name] = str(q)
+    return out
 
 
 def _cpu() -> float:
@@ -198,7 +265,14 @@ def _unit_response(cond: RigCondition, contact: dict, path, reference_hz: float 
     """The modes' response (the anchor mode's gain 1 per N at resonance: :func:`path_modes`)
     to the force the defect removes from the contact (the blocked-force deficit; the roller
     load's own sweep through the load zone is a rotating load, not a force on the housing),
-    seen by the rig's single-axis sensor (``settings``: :func:`sensor_gain`)."""
+    seen by the rig's single-axis sensor (``settings``: :func:`sensor_gain`); for a dynamic
+    excitation (:func:`~.dynamic.is_dynamic`) the force on the housing read by the same sensor
+    (:func:`~.dynamic.sensor_excitation`; None: blind to direction)."""
+    if is_dynamic(contact):
+        f = np.asarray(contact["housing_force"][:cond.n_samples])
+        e = (sensor_excitation(f, 0.0, 1.0) if settings is None else
+             sensor_excitation(f, settings.sensor_deg, settings.sensor_cross_axis))
+        return apply_structure(e, cond.fs_hz, path_modes(path, reference_hz))
     e = excitation_from_history(-contact["removed_force"][:cond.n_samples])
     if settings is not None:
         e = e * sensor_gain(cond, settings, np.asarray(contact["time"][:cond.n_samples]))
@@ -364,10 +438,12 @@ def write_rig_record(cond: RigCondition, contact_path: str, path, gain: float, o
         The simulated record's path.
     """
     with np.load(contact_path) as z:
-        y = gain * _unit_response(cond, dict(z), path, reference_hz, settings)
+        contact = dict(z)
+    y = gain * _unit_response(cond, contact, path, reference_hz, settings)
     x = y + background_noise(path, y.size, seed=seed)
     meta = cond.meta()
-    meta.update(simulated=True, source_record=cond.name, transfer_path={
+    meta.update(simulated=True, source_record=cond.name,
+                excitation="dynamic" if is_dynamic(contact) else "quasi_static", transfer_path={
         "f_n_hz": path.f_n_hz, "zeta": path.zeta, "gain_per_N": gain,
         "modes": [dataclasses.asdict(m) for m in path_modes(path, reference_hz)],
         "reference_mode_hz": reference_hz,
