@@ -9,9 +9,13 @@ R_o` on the outer race, 1.76 m/s in the CWRU 6205 at 1797 rpm). Sawalhi & Randal
 25, 846-870) read it as an echo at lag :math:`\Delta t` in the (squared) envelope of the
 pre-whitened signal; this module reads it the same way, event by event:
 
-1. cepstrum pre-whitening (:func:`~bearing_envelope.signal.spectrum.prewhiten`) flattens the
-   structure's resonances, so each event's ringing shortens to about ``1 / bandwidth``; a
-   band-pass (default :data:`BAND_FRACTIONS` of fs) and the squared envelope ``e`` follow;
+1. pre-whitening by the inverse of an autoregressive model of the record (order
+   :data:`AR_ORDER`, Yule-Walker; Sawalhi & Randall's choice): a minimum-phase inverse of the
+   structure's resonances, so each event's ringing shortens towards the force that made it
+   (the step at the entry, the impulse at the exit); a band-pass (default
+   :data:`BAND_FRACTIONS` of fs) and the squared envelope ``e`` follow. (Cepstrum
+   pre-whitening flattens the magnitude only and leaves the resonances' phase ringing: on the
+   records of ``tests/test_defect_size.py`` it read echoes of the structure itself);
 2. events: the peaks of ``e`` at least half an event period apart that exceed the floor's
    level at a false-alarm probability of :data:`EVENT_PFA` per period (a floor of complex
    Gaussian noise has an exponential squared envelope of mean :math:`\mu = \mathrm{median}/\ln
@@ -49,13 +53,14 @@ import numpy as np
 
 from ..lazy import lazy_module
 from ..signal.envelope import bandpass, envelope
-from ..signal.spectrum import prewhiten
 from ..signal.validation import check_fs, check_signal
 
 sp_signal = lazy_module("scipy.signal")
+sp_linalg = lazy_module("scipy.linalg")
 
 __all__ = ["ESTIMATED", "NOT_RESOLVABLE", "NO_EVENTS", "Spacing", "DefectSize",
-           "entry_exit_spacing", "defect_length", "record_scene", "FAMILY_LOCATIONS"]
+           "entry_exit_spacing", "defect_length", "record_scene", "FAMILY_LOCATIONS", "ar_whiten",
+           "squared_envelope", "find_events", "event_autocorrelations"]
 
 #: Status of a length read from the echo.
 ESTIMATED = "estimated"
@@ -64,6 +69,8 @@ NOT_RESOLVABLE = "not resolvable at this fs"
 #: Status when the record holds too few events to read anything.
 NO_EVENTS = "no events"
 
+#: Order of the autoregressive model whose inverse whitens the record.
+AR_ORDER = 32
 #: Default band of the whitened signal, as fractions of fs (1.5 kHz - 21.6 kHz at 48 kHz).
 BAND_FRACTIONS = (1.0 / 32.0, 0.45)
 #: Shortest echo lag, samples: the lag grid's +-0.5 sample is then within 1/6 of the spacing.
@@ -210,7 +217,7 @@ class DefectSize:
 # ------------------------------------------------------------------------------ the spacing
 def _check_inputs(x, fs, event_rate_hz, band, max_lag_s):
     fs = check_fs(fs)
-    x = check_signal(x, "x", min_length=16)
+    x = check_signal(x, "x", min_length=4 * AR_ORDER)
     if np.ptp(x) == 0.0:
         raise ValueError(f"x: a constant signal ({x[0]:g}); allowed: a vibration record")
     rate = float(event_rate_hz)
@@ -237,8 +244,36 @@ def _check_inputs(x, fs, event_rate_hz, band, max_lag_s):
     return x, fs, rate, n_periods, (lo, hi), k_max
 
 
+def ar_whiten(x, order: int = AR_ORDER) -> np.ndarray:
+    """The record through the inverse of its autoregressive model (the prediction error).
+
+    The model's coefficients solve the Yule-Walker equations on the record's biased
+    autocorrelation (FFT, :func:`scipy.linalg.solve_toeplitz`); the inverse filter
+    ``A(z) = 1 + a_1 z^-1 + ... + a_p z^-p`` is minimum phase, so it undoes the resonances'
+    phase as well as their magnitude.
+
+    Parameters
+    ----------
+    x : array_like, 1-D
+        The record, longer than ``4 order``.
+    order : int, default :data:`AR_ORDER`
+        Model order ``p``.
+
+    Returns
+    -------
+    ndarray
+        The prediction error, same length.
+    """
+    x = np.asarray(x, dtype=float)
+    x = x - x.mean()
+    spec = np.fft.rfft(x, 2 * x.size)
+    r = np.fft.irfft(np.abs(spec) ** 2)[:order + 1]
+    a = sp_linalg.solve_toeplitz(r[:order], -r[1:order + 1])
+    return sp_signal.lfilter(np.concatenate([[1.0], a]), [1.0], x)
+
+
 def squared_envelope(x, fs: float, band) -> np.ndarray:
-    """The squared envelope of the cepstrum-pre-whitened, band-passed signal.
+    """The squared envelope of the AR-whitened (:func:`ar_whiten`), band-passed signal.
 
     Parameters
     ----------
@@ -252,9 +287,9 @@ def squared_envelope(x, fs: float, band) -> np.ndarray:
     Returns
     -------
     ndarray
-        ``|analytic(bandpass(prewhiten(x)))|^2``, same length as ``x``.
+        ``|analytic(bandpass(ar_whiten(x)))|^2``, same length as ``x``.
     """
-    return envelope(bandpass(prewhiten(x), fs, band), squared=True)
+    return envelope(bandpass(ar_whiten(x), fs, band), squared=True)
 
 
 def find_events(e: np.ndarray, period: float) -> tuple[np.ndarray, float]:
