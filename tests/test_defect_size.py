@@ -144,3 +144,28 @@ def test_bad_input_refused_in_one_line(kwargs, match):
     with pytest.raises(ValueError, match=match) as exc:
         entry_exit_spacing(x, fs, rate, **args)
     assert "\n" not in str(exc.value)
+
+
+def test_analyze_reports_the_length(tmp_path, capsys):
+    """``bearing-envelope analyze`` on a record of known spacing: the diagnosed family's length
+    printed and in the JSON, the truth (v dt) inside its interval; at 12 kHz for a short
+    spacing the status instead of a number."""
+    import json
+
+    from bearing_envelope.cli import main
+
+    for fs, dt, status in ((48000.0, 202e-6, ESTIMATED), (12000.0, 101e-6, NOT_RESOLVABLE)):
+        f = tmp_path / f"pit_{int(fs)}.npz"
+        np.savez(f, x=pit_record(fs, dt, duration_s=1.0), fs=fs)
+        out = tmp_path / f"pit_{int(fs)}.json"
+        assert main(["analyze", str(f), "--fr", "29.95", "--bearing", "6205", "--speed",
+                     "nominal", "--routes", "envelope", "--nlevel", "4", "--json", str(out)]) == 0
+        assert "defect length (entry-exit spacing): outer_race defect length" in \
+            capsys.readouterr().out
+        size = json.loads(out.read_text())["defect_size"]
+        assert size["status"] == status
+        if status == ESTIMATED:
+            lo, hi = size["interval_mm"]
+            assert lo <= 1e3 * size["speed_m_s"] * dt <= hi
+        else:
+            assert size["length_mm"] is None and size["min_length_mm"] > 1e3 * 1.761 * dt

@@ -60,7 +60,7 @@ sp_linalg = lazy_module("scipy.linalg")
 
 __all__ = ["ESTIMATED", "NOT_RESOLVABLE", "NO_EVENTS", "Spacing", "DefectSize",
            "entry_exit_spacing", "defect_length", "record_scene", "FAMILY_LOCATIONS", "ar_whiten",
-           "squared_envelope", "find_events", "event_autocorrelations"]
+           "squared_envelope", "find_events", "event_autocorrelations", "record_defect_size"]
 
 #: Status of a length read from the echo.
 ESTIMATED = "estimated"
@@ -512,3 +512,39 @@ def defect_length(x, fs: float, scene, *, event_rate_hz: float | None = None, ba
         else event_rate_hz
     sp = entry_exit_spacing(x, fs, rate, band=band, max_lag_s=max_lag_s)
     return DefectSize(loc.name, float(scene.defect_speed_m_s), sp)
+
+
+def record_defect_size(res) -> DefectSize | str:
+    """The defect length of an analysed record's diagnosed family (``bearing-envelope analyze``).
+
+    Parameters
+    ----------
+    res : RecordAnalysis
+        A record's analysis with its samples (:func:`~bearing_envelope.diagnosis.records.
+        analyze_record`).
+
+    Returns
+    -------
+    DefectSize or str
+        The estimate (or its status) at the diagnosed family's measured rate and the measured
+        shaft rate; a str saying why none was attempted: no family diagnosed, a family of no
+        location (``ftf``, a named line), no catalogue bearing, or a record shorter than
+        :data:`MIN_EVENTS` periods.
+    """
+    diag = res.verdict.diagnosis
+    if diag is None:
+        return "no fault diagnosed"
+    location = FAMILY_LOCATIONS.get(diag.family)
+    if location is None:
+        return f"{diag.family}: no fault location makes this family's events"
+    if res.bearing is None:
+        return "no catalogue bearing (--bearing): the defect's speed needs its radii"
+    if res.signal is None:
+        return "the record's samples were not kept"
+    fr = float(res.frequencies.get("fr", res.shaft_hz))
+    scene = record_scene(res.bearing, fr, location)
+    rate = res.frequencies.get(scene.defect.fault_location.family)
+    try:
+        return defect_length(res.signal, res.fs, scene, event_rate_hz=rate)
+    except ValueError as exc:
+        return f"not estimated: {exc}"
