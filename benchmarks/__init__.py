@@ -52,6 +52,9 @@ REGISTRY: dict[str, str] = {
                      "step rule's envelope-line convergence, CPU of a 12 kHz record",
     "identify_path_truth": "identify-path on synthetic records of known f_n, zeta, gain and "
                            "background at partial detection: within tolerance / flagged / wrong",
+    "defect_size": "defect length from the entry-exit spacing: records of known spacing, the "
+                   "dynamic model's three CWRU pits, the CWRU 48 / 12 kHz records against the "
+                   "pit diameter (rank correlation)",
 }
 
 #: Benchmarks of work in flight, registered as soon as their module is in this folder (each

@@ -244,7 +244,7 @@ def _check_inputs(x, fs, event_rate_hz, band, max_lag_s):
     return x, fs, rate, n_periods, (lo, hi), k_max
 
 
-def ar_whiten(x, order: int = AR_ORDER) -> np.ndarray:
+def ar_whiten(x, ar_order: int = AR_ORDER) -> np.ndarray:
     """The record through the inverse of its autoregressive model (the prediction error).
 
     The model's coefficients solve the Yule-Walker equations on the record's biased
@@ -255,8 +255,8 @@ def ar_whiten(x, order: int = AR_ORDER) -> np.ndarray:
     Parameters
     ----------
     x : array_like, 1-D
-        The record, longer than ``4 order``.
-    order : int, default :data:`AR_ORDER`
+        The record, longer than ``4 ar_order``.
+    ar_order : int, default :data:`AR_ORDER`
         Model order ``p``.
 
     Returns
@@ -267,8 +267,8 @@ def ar_whiten(x, order: int = AR_ORDER) -> np.ndarray:
     x = np.asarray(x, dtype=float)
     x = x - x.mean()
     spec = np.fft.rfft(x, 2 * x.size)
-    r = np.fft.irfft(np.abs(spec) ** 2)[:order + 1]
-    a = sp_linalg.solve_toeplitz(r[:order], -r[1:order + 1])
+    r = np.fft.irfft(np.abs(spec) ** 2)[:ar_order + 1]
+    a = sp_linalg.solve_toeplitz(r[:ar_order], -r[1:ar_order + 1])
     return sp_signal.lfilter(np.concatenate([[1.0], a]), [1.0], x)
 
 
@@ -412,28 +412,40 @@ def entry_exit_spacing(x, fs: float, event_rate_hz: float, *, band=None,
     r = acs.mean(axis=0)
     k_min = max(MIN_LAG_SAMPLES, int(math.ceil(LOBE_FACTOR * _hwhm(r))))
     out.update(min_dt_s=k_min / fs, n_events=int(acs.shape[0]), autocorrelation=r)
-    found = _echo(r, k_min) if k_min < k_max - 1 else None
     rng = np.random.default_rng(BOOTSTRAP_SEED)
     boot = acs[rng.integers(0, acs.shape[0], (N_BOOTSTRAP, acs.shape[0]))].mean(axis=1)
-    if found is not None:
-        peak, valley = found
-        prom = boot[:, peak] - boot[:, valley]
-        if r[peak] - r[valley] <= ECHO_Z * prom.std():
-            found = None
-    if found is None:
+    peak = _significant_echo(r, boot, k_min, k_max)
+    if peak is None:
         return Spacing(NOT_RESOLVABLE, None, None,
                        reason=f"no echo stands {ECHO_Z:g} bootstrap s.d. above the lobe between "
                               f"{k_min} and {k_max} samples", **out)
+    dt = _refine(r, peak)
+    lo, hi, found = _interval(boot, k_min, dt)
+    return Spacing(ESTIMATED, dt / fs, (lo / fs, hi / fs),
+                   reason=f"echo at {dt:.2f} samples, {found:.0%} of the resamples find one",
+                   **out)
+
+
+def _significant_echo(r, boot, k_min: int, k_max: int) -> int | None:
+    """The echo's lag (samples) if its prominence exceeds :data:`ECHO_Z` bootstrap s.d."""
+    found = _echo(r, k_min) if k_min < k_max - 1 else None
+    if found is None:
+        return None
+    peak, valley = found
+    prom = boot[:, peak] - boot[:, valley]
+    return peak if r[peak] - r[valley] > ECHO_Z * prom.std() else None
+
+
+def _interval(boot, k_min: int, dt: float) -> tuple[float, float, float]:
+    """The :data:`COVERAGE` interval of the echo's lag over the resamples, widened by half a
+    sample (samples), and the fraction of resamples that find an echo."""
     lags = []
     for rb in boot:
         hit = _echo(rb, k_min)
         lags.append(_refine(rb, hit[0]) if hit is not None else np.nan)
     lags = np.asarray(lags)
     lo, hi = np.nanpercentile(lags, [50 * (1 - COVERAGE), 50 * (1 + COVERAGE)])
-    dt = _refine(r, peak) / fs
-    return Spacing(ESTIMATED, dt, ((min(lo, dt * fs) - 0.5) / fs, (max(hi, dt * fs) + 0.5) / fs),
-                   reason=f"echo at {dt * fs:.2f} samples, {np.isfinite(lags).mean():.0%} of "
-                          f"the resamples find one", **out)
+    return min(lo, dt) - 0.5, max(hi, dt) + 0.5, float(np.isfinite(lags).mean())
 
 
 # ----------------------------------------------------------------------------- the length
