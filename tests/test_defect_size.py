@@ -160,8 +160,9 @@ def test_analyze_reports_the_length(tmp_path, capsys):
         out = tmp_path / f"pit_{int(fs)}.json"
         assert main(["analyze", str(f), "--fr", "29.95", "--bearing", "6205", "--speed",
                      "nominal", "--routes", "envelope", "--nlevel", "4", "--json", str(out)]) == 0
-        assert "defect length (entry-exit spacing): outer_race defect length" in \
-            capsys.readouterr().out
+        printed = capsys.readouterr().out
+        assert "defect length (entry-exit spacing, docs/analysis.md): outer_race defect length" \
+            in printed
         size = json.loads(out.read_text())["defect_size"]
         assert size["status"] == status
         if status == ESTIMATED:

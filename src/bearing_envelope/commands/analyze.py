@@ -722,7 +722,8 @@ def print_record(args, res, size: dict | None = None) -> None:
     for i, line in enumerate(verdict.summary_lines()):
         print(f"{'verdict: ' if i == 0 else '         '}{line}", file=out)
     if size is not None:
-        print(f"defect length (entry-exit spacing): {size['summary']}", file=out)
+        print(f"defect length (entry-exit spacing, docs/analysis.md): {size['summary']}",
+              file=out)
 
 
 def write_record_outputs(args, res, size: dict | None = None) -> None:

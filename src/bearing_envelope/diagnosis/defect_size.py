@@ -6,37 +6,40 @@ spacing :math:`\Delta t` is the time the element takes to cross the pit,
 :math:`L \approx v\,\Delta t`, with :math:`v` the speed at which the defect sweeps through the
 contact (:meth:`~bearing_envelope.physics.locations.FaultLocation.speed_m_s`: :math:`2\pi f_c
 R_o` on the outer race, 1.76 m/s in the CWRU 6205 at 1797 rpm). Sawalhi & Randall (2011, MSSP
-25, 846-870) read it as an echo at lag :math:`\Delta t` in the (squared) envelope of the
-pre-whitened signal; this module reads it the same way, event by event:
+25, 846-870) read it in the envelope of the pre-whitened signal; this module reads it in the
+average of the events, each aligned on its exit:
 
 1. pre-whitening by the inverse of an autoregressive model of the record (order
    :data:`AR_ORDER`, Yule-Walker; Sawalhi & Randall's choice): a minimum-phase inverse of the
    structure's resonances, so each event's ringing shortens towards the force that made it
-   (the step at the entry, the impulse at the exit); a band-pass (default
+   (the step at the entry, the impulse at the exit); a zero-phase band-pass (default
    :data:`BAND_FRACTIONS` of fs) and the squared envelope ``e`` follow. (Cepstrum
-   pre-whitening flattens the magnitude only and leaves the resonances' phase ringing: on the
-   records of ``tests/test_defect_size.py`` it read echoes of the structure itself);
+   pre-whitening flattens the magnitude only and leaves the resonances' phase ringing);
 2. events: the peaks of ``e`` at least half an event period apart that exceed the floor's
    level at a false-alarm probability of :data:`EVENT_PFA` per period (a floor of complex
    Gaussian noise has an exponential squared envelope of mean :math:`\mu = \mathrm{median}/\ln
    2`: threshold :math:`\mu \ln(N_P / p)` over the :math:`N_P` samples of a period). Fewer
-   than :data:`MIN_EVENTS`: no estimate;
-3. each event's segment ``e - mu`` (+- the longest lag) gives its autocorrelation, normalised at
-   lag 0; their mean :math:`R(k)` holds the event's own lobe at 0 and the echo of the pair at
-   :math:`\pm \Delta t` (autocorrelation does not depend on where the event sits, so the
-   events' jitter does not smear it);
-4. resolvability: an echo is read only at lags ``k >= k_min = max(MIN_LAG_SAMPLES,
-   LOBE_FACTOR x HWHM)``, where HWHM is the half-width at half maximum of :math:`R`'s main lobe
+   than :data:`MIN_EVENTS`: no estimate. The peak of an event is its exit impact;
+3. each event's profile *before* its peak, ``(e[peak - k] - mu) / (e[peak] - mu)``, k = 0 ..
+   k_max, is averaged over the events: :math:`A(k)`, the exit's own lobe at 0 and the entry
+   at :math:`k = \Delta t f_s`. Aligning each event on its own peak takes out the events'
+   jitter; looking before the peak only keeps out what the structure does *after* an impact
+   (its ringing and the beats of its modes, which are causal): in the autocorrelation of the
+   events, which is symmetric, those read as echoes (they did on the records of
+   ``tests/test_defect_size.py``);
+4. resolvability: the entry is read only at lags ``k >= k_min = max(MIN_LAG_SAMPLES,
+   LOBE_FACTOR x HWHM)``, where HWHM is the half-width at half maximum of :math:`A`'s main lobe
    (what is left of the resonance's decay after whitening, and the band's own width), and
    ``MIN_LAG_SAMPLES`` keeps the lag's quantisation (+-0.5 sample) within 1/6 of the spacing.
-   The shortest length this record can show is ``L_min = v k_min / fs``. The echo is the
-   largest local maximum of :math:`R` on ``[k_min, k_max]`` (``k_max``: :data:`MAX_LAG_FRACTION`
-   of the event period) whose prominence over the lowest value between it and the main lobe
-   exceeds :data:`ECHO_Z` x its bootstrap standard deviation; none: "not resolvable at this
-   fs";
-5. the interval: the 2.5-97.5 % range of the echo's lag over :data:`N_BOOTSTRAP` resamples of
-   the events (seeded), each refined by a parabola through its three highest lags, widened by
-   half a sample (the lag grid).
+   The shortest length this record can show is ``L_min = v k_min / fs``. The entry is the
+   largest local maximum of :math:`A` on ``[k_min, k_max]`` (``k_max``:
+   :data:`MAX_LAG_FRACTION` of the event period) whose prominence over the lowest value
+   between it and the main lobe exceeds :data:`ECHO_Z` x its bootstrap standard deviation, and
+   that :data:`STABLE_FRACTION` of the bootstrap resamples find within
+   :data:`STABLE_TOLERANCE`; otherwise "not resolvable at this fs";
+5. the interval: the 2.5-97.5 % range of the entry's lag over :data:`N_BOOTSTRAP` resamples
+   of the events (seeded), each refined by a parabola through its three highest lags, widened
+   by half a sample (the lag grid).
 
 What the length is not: the exit impact happens when the element's surface meets the exit
 edge, slightly before its centre is over it, so ``v dt`` reads somewhat shorter than the pit's
@@ -60,7 +63,7 @@ sp_linalg = lazy_module("scipy.linalg")
 
 __all__ = ["ESTIMATED", "NOT_RESOLVABLE", "NO_EVENTS", "Spacing", "DefectSize",
            "entry_exit_spacing", "defect_length", "record_scene", "FAMILY_LOCATIONS", "ar_whiten",
-           "squared_envelope", "find_events", "event_autocorrelations", "record_defect_size"]
+           "squared_envelope", "find_events", "event_profiles", "record_defect_size"]
 
 #: Status of a length read from the echo.
 ESTIMATED = "estimated"
@@ -89,6 +92,11 @@ N_BOOTSTRAP = 200
 BOOTSTRAP_SEED = 0
 #: The echo's prominence must exceed this many bootstrap standard deviations.
 ECHO_Z = 3.0
+#: An echo is read only when this fraction of the event resamples find it within
+#: :data:`STABLE_TOLERANCE` of the estimate (else two candidates compete: no estimate).
+STABLE_FRACTION = 0.8
+#: (samples, fraction of the lag): the larger is the tolerance of :data:`STABLE_FRACTION`.
+STABLE_TOLERANCE = (1.5, 0.1)
 #: Coverage of the interval (2.5 - 97.5 % of the bootstrap).
 COVERAGE = 0.95
 
@@ -117,9 +125,9 @@ class Spacing:
         Band of the whitened signal.
     reason : str
         Why the status, in words.
-    autocorrelation : ndarray
-        The events' mean normalised autocorrelation ``R(k)``, k = 0 .. k_max (empty without
-        events).
+    profile : ndarray
+        The events' mean profile before their peak ``A(k)``, k = 0 .. k_max
+        (:func:`event_profiles`; empty without events).
     """
 
     status: str
@@ -130,7 +138,7 @@ class Spacing:
     n_periods: int
     band_hz: tuple[float, float]
     reason: str
-    autocorrelation: np.ndarray = field(repr=False, default_factory=lambda: np.zeros(0))
+    profile: np.ndarray = field(repr=False, default_factory=lambda: np.zeros(0))
 
 
 @dataclass(frozen=True)
@@ -315,9 +323,9 @@ def find_events(e: np.ndarray, period: float) -> tuple[np.ndarray, float]:
     return peaks, floor
 
 
-def event_autocorrelations(e: np.ndarray, peaks: np.ndarray, floor: float,
-                           k_max: int) -> np.ndarray:
-    """Each event's normalised autocorrelation at lags 0 .. k_max.
+def event_profiles(e: np.ndarray, peaks: np.ndarray, floor: float, k_max: int) -> np.ndarray:
+    """What precedes each event's peak: ``e[peak - k] - floor`` for k = 0 .. k_max, normalised
+    at k = 0.
 
     Parameters
     ----------
@@ -336,11 +344,8 @@ def event_autocorrelations(e: np.ndarray, peaks: np.ndarray, floor: float,
         Shape ``(n_events, k_max + 1)``, each row 1 at lag 0.
     """
     p = peaks[(peaks >= k_max) & (peaks + k_max < e.size)]
-    seg = e[p[:, None] + np.arange(-k_max, k_max + 1)[None, :]] - floor
-    n = seg.shape[1]
-    spec = np.fft.rfft(seg, 2 * n, axis=1)
-    ac = np.fft.irfft(np.abs(spec) ** 2, 2 * n, axis=1)[:, :k_max + 1]
-    return ac / ac[:, :1]
+    seg = e[p[:, None] - np.arange(k_max + 1)[None, :]] - floor
+    return seg / seg[:, :1]
 
 
 def _hwhm(r: np.ndarray) -> float:
@@ -408,22 +413,26 @@ def entry_exit_spacing(x, fs: float, event_rate_hz: float, *, band=None,
         return Spacing(NO_EVENTS, None, None, None, int(peaks.size),
                        reason=f"{peaks.size} event(s) above the floor at {EVENT_PFA:g} false "
                               f"alarms per period, fewer than {MIN_EVENTS}", **out)
-    acs = event_autocorrelations(e, peaks, floor, k_max)
+    acs = event_profiles(e, peaks, floor, k_max)
     r = acs.mean(axis=0)
     k_min = max(MIN_LAG_SAMPLES, int(math.ceil(LOBE_FACTOR * _hwhm(r))))
-    out.update(min_dt_s=k_min / fs, n_events=int(acs.shape[0]), autocorrelation=r)
+    out.update(min_dt_s=k_min / fs, n_events=int(acs.shape[0]), profile=r)
     rng = np.random.default_rng(BOOTSTRAP_SEED)
     boot = acs[rng.integers(0, acs.shape[0], (N_BOOTSTRAP, acs.shape[0]))].mean(axis=1)
     peak = _significant_echo(r, boot, k_min, k_max)
     if peak is None:
         return Spacing(NOT_RESOLVABLE, None, None,
-                       reason=f"no echo stands {ECHO_Z:g} bootstrap s.d. above the lobe between "
+                       reason=f"no entry stands {ECHO_Z:g} bootstrap s.d. above the lobe between "
                               f"{k_min} and {k_max} samples", **out)
     dt = _refine(r, peak)
-    lo, hi, found = _interval(boot, k_min, dt)
+    lo, hi, stable = _interval(boot, k_min, dt)
+    if stable < STABLE_FRACTION:
+        return Spacing(NOT_RESOLVABLE, None, None,
+                       reason=f"the entry at {dt:.1f} samples is found by {stable:.0%} of the "
+                              f"event resamples, fewer than {STABLE_FRACTION:.0%}", **out)
     return Spacing(ESTIMATED, dt / fs, (lo / fs, hi / fs),
-                   reason=f"echo at {dt:.2f} samples, {found:.0%} of the resamples find one",
-                   **out)
+                   reason=f"entry {dt:.2f} samples before the exit, found by {stable:.0%} of "
+                          f"the event resamples", **out)
 
 
 def _significant_echo(r, boot, k_min: int, k_max: int) -> int | None:
@@ -438,14 +447,16 @@ def _significant_echo(r, boot, k_min: int, k_max: int) -> int | None:
 
 def _interval(boot, k_min: int, dt: float) -> tuple[float, float, float]:
     """The :data:`COVERAGE` interval of the echo's lag over the resamples, widened by half a
-    sample (samples), and the fraction of resamples that find an echo."""
+    sample (samples), and the fraction of resamples whose echo lies within
+    :data:`STABLE_TOLERANCE` of ``dt``."""
     lags = []
     for rb in boot:
         hit = _echo(rb, k_min)
         lags.append(_refine(rb, hit[0]) if hit is not None else np.nan)
     lags = np.asarray(lags)
     lo, hi = np.nanpercentile(lags, [50 * (1 - COVERAGE), 50 * (1 + COVERAGE)])
-    return min(lo, dt) - 0.5, max(hi, dt) + 0.5, float(np.isfinite(lags).mean())
+    near = np.abs(lags - dt) <= max(STABLE_TOLERANCE[0], STABLE_TOLERANCE[1] * dt)
+    return min(lo, dt) - 0.5, max(hi, dt) + 0.5, float(np.mean(near))
 
 
 # ----------------------------------------------------------------------------- the length
