@@ -53,21 +53,35 @@ def _tests_generator():
 
 def synthetic(fss=(48000.0, 12000.0), dts_us=(101.0, 202.0, 303.0),
               noises=(0.02, 0.1, 0.3), duration_s: float = 3.0) -> list[dict]:
-    """Part 1: records of known spacing; one row per fs x spacing x noise."""
+    """Part 1: records of known spacing; one row per fs x spacing x noise; spacing 0 is the
+    control: the exit impulse alone, no entry step (nothing to find)."""
     rate, pit_record = _tests_generator()
     rows = []
     for fs in fss:
-        for dt in dts_us:
+        for dt in (*dts_us, 0.0):
             for noise in noises:
                 s = entry_exit_spacing(pit_record(fs, dt * 1e-6, noise=noise,
-                                                  duration_s=duration_s), fs, rate)
+                                                  duration_s=duration_s,
+                                                  entry=0.5 if dt else 0.0), fs, rate)
                 iv = s.interval_s
                 rows.append({"fs_khz": fs / 1e3, "dt_us": dt, "noise": noise, "status": s.status,
                              "estimate_us": None if s.dt_s is None else 1e6 * s.dt_s,
                              "interval_us": None if iv is None else (1e6 * iv[0], 1e6 * iv[1]),
-                             "inside": None if iv is None else iv[0] <= dt * 1e-6 <= iv[1],
+                             "min_us": None if s.min_dt_s is None else 1e6 * s.min_dt_s,
+                             "verdict": _verdict(s, dt * 1e-6),
                              "events": f"{s.n_events}/{s.n_periods}"})
     return rows
+
+
+def _verdict(s, dt: float) -> str:
+    """Right or wrong, for a spacing known by construction (0: the control, no entry)."""
+    if s.status == ESTIMATED:
+        if dt == 0:
+            return "false estimate"
+        return "inside" if s.interval_s[0] <= dt <= s.interval_s[1] else "outside"
+    if dt == 0 or (s.min_dt_s is not None and dt < s.min_dt_s):
+        return "right: none"
+    return "missed"
 
 
 def dynamic(widths_in=(0.007, 0.014, 0.021), duration_s: float = 0.5,
