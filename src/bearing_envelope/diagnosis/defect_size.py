@@ -34,7 +34,8 @@ average of the events, each aligned on its exit:
    The shortest length this record can show is ``L_min = v k_min / fs``. The entry is the
    largest local maximum of :math:`A` on ``[k_min, k_max]`` (``k_max``:
    :data:`MAX_LAG_FRACTION` of the event period) whose prominence over the lowest value
-   between it and the main lobe exceeds :data:`ECHO_Z` x its bootstrap standard deviation, and
+   between it and the main lobe exceeds :data:`ECHO_Z` x its bootstrap standard deviation and
+   :data:`MIN_PROMINENCE` of the exit's peak, and
    that :data:`STABLE_FRACTION` of the bootstrap resamples find within
    :data:`STABLE_TOLERANCE`; otherwise "not resolvable at this fs";
 5. the interval: the 2.5-97.5 % range of the entry's lag over :data:`N_BOOTSTRAP` resamples
@@ -92,6 +93,10 @@ N_BOOTSTRAP = 200
 BOOTSTRAP_SEED = 0
 #: The echo's prominence must exceed this many bootstrap standard deviations.
 ECHO_Z = 3.0
+#: ... and this fraction of the exit's peak (an entry carries at least 5 % of the exit's squared
+#: envelope; the whitening's residual before a lone impact reached 0.8 % on the control records
+#: of ``benchmarks/defect_size.py``, a bump that consistent passes any bootstrap test).
+MIN_PROMINENCE = 0.05
 #: An echo is read only when this fraction of the event resamples find it within
 #: :data:`STABLE_TOLERANCE` of the estimate (else two candidates compete: no estimate).
 STABLE_FRACTION = 0.8
@@ -422,7 +427,8 @@ def entry_exit_spacing(x, fs: float, event_rate_hz: float, *, band=None,
     peak = _significant_echo(r, boot, k_min, k_max)
     if peak is None:
         return Spacing(NOT_RESOLVABLE, None, None,
-                       reason=f"no entry stands {ECHO_Z:g} bootstrap s.d. above the lobe between "
+                       reason=f"no entry stands {ECHO_Z:g} bootstrap s.d. and {MIN_PROMINENCE:g} of the "
+                              f"exit above the lobe between "
                               f"{k_min} and {k_max} samples", **out)
     dt = _refine(r, peak)
     lo, hi, stable = _interval(boot, k_min, dt)
@@ -442,7 +448,8 @@ def _significant_echo(r, boot, k_min: int, k_max: int) -> int | None:
         return None
     peak, valley = found
     prom = boot[:, peak] - boot[:, valley]
-    return peak if r[peak] - r[valley] > ECHO_Z * prom.std() else None
+    height = r[peak] - r[valley]
+    return peak if height > max(ECHO_Z * prom.std(), MIN_PROMINENCE) else None
 
 
 def _interval(boot, k_min: int, dt: float) -> tuple[float, float, float]:
