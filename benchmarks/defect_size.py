@@ -1,7 +1,7 @@
 """Defect length from the entry-exit spacing (diagnosis.defect_size; docs/analysis.md, "Defect
 length from the entry-exit spacing").
 
-    nice -n 5 python -m benchmarks defect_size            # all three parts, ~1 CPU min
+    nice -n 5 python -m benchmarks defect_size            # all four parts, ~20 CPU s
     nice -n 5 python -m benchmarks defect_size --part real
 
 1. ``synthetic``: records whose spacing is known by construction (two modes, 3.5 and 9 kHz,
@@ -18,6 +18,8 @@ length from the entry-exit spacing").
    12 kHz ones (``cwru_de12``), each at its fault's own location with the shaft rate measured
    from the record (``diagnosis.speed``): the estimated length per record against the pit's
    diameter, and the Spearman rank correlation over the records estimated.
+4. ``bands``: the 48 kHz records through five bands (:data:`SCAN_BANDS`): the length read in
+   each (n.r.: not resolvable, with its shortest resolvable length).
 """
 
 from __future__ import annotations
@@ -138,6 +140,31 @@ def real(folders=("cwru_de48", "cwru_de12")) -> list[dict]:
     return rows
 
 
+#: Bands of the scan (Hz) on the 48 kHz records.
+SCAN_BANDS = ((500.0, 6000.0), (1500.0, 12000.0), (1500.0, 21600.0), (3000.0, 21600.0),
+              (6000.0, 21600.0))
+
+
+def band_scan(bands=SCAN_BANDS, folder: str = "cwru_de48") -> list[dict]:
+    """Part 4: the 48 kHz records through each band: how much the reading depends on it."""
+    rows = []
+    with open(DATA / folder / "index.csv", newline="", encoding="utf-8") as fh:
+        records = list(csv.DictReader(fh))
+    for rec in records:
+        d = np.load(DATA / folder / rec["file"])
+        x, fs = np.asarray(d["x"], float), float(d["fs"])
+        scene = record_scene("6205", estimate_shaft_rate(x, fs, float(rec["rpm_nominal"]) / 60.0)
+                             .hz, LOCATIONS[rec["fault"]])
+        row = {"file": rec["file"], "diameter_mm": float(rec["fault_diameter_mils"]) * 0.0254}
+        for band in bands:
+            res = defect_length(x, fs, scene, band=band)
+            row[f"{band[0] / 1e3:g}-{band[1] / 1e3:g} kHz"] = (
+                f"{res.length_mm:.3g}" if res.status == ESTIMATED else
+                f"n.r. (>= {res.min_length_mm:.2g})" if res.min_length_mm else res.status)
+        rows.append(row)
+    return rows
+
+
 def _f(v, fmt="{:.3g}"):
     if v is None:
         return "-"
@@ -187,9 +214,10 @@ def main(argv=None) -> int:
         0.
     """
     ap = argparse.ArgumentParser(prog="python -m benchmarks defect_size")
-    ap.add_argument("--part", action="append", choices=("synthetic", "dynamic", "real"))
+    ap.add_argument("--part", action="append",
+                    choices=("synthetic", "dynamic", "real", "bands"))
     args = ap.parse_args(argv)
-    parts = args.part or ["synthetic", "dynamic", "real"]
+    parts = args.part or ["synthetic", "dynamic", "real", "bands"]
     from benchmarks.dynamics_cost import machine
 
     print(f"# defect_size, {datetime.date.today()}, {machine()}\n")
@@ -201,6 +229,8 @@ def main(argv=None) -> int:
     if "real" in parts:
         rows = real()
         print("## CWRU records\n\n" + table(rows) + "\n" + rank_summary(rows))
+    if "bands" in parts:
+        print("## Estimated length (mm) per band, CWRU 48 kHz\n\n" + table(band_scan()))
     print(f"\nCPU {time.process_time() - cpu:.1f} s")
     return 0
 
