@@ -59,6 +59,9 @@ REGISTRY: dict[str, str] = {
                 "whole rig quasi-static against dynamic (--whole)",
     "rig_targets": "issue 42's rig targets (line height, 3x/1x, OR 3:00 re 6:00, secondary "
                    "events at 3:00, ball class, height against pit size) read off scored runs",
+    "defect_size": "defect length from the entry-exit spacing: records of known spacing, the "
+                   "dynamic model's three CWRU pits, the CWRU 48 / 12 kHz records against the "
+                   "pit diameter (rank correlation)",
 }
 
 #: Benchmarks of work in flight, registered as soon as their module is in this folder (each

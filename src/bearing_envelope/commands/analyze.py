@@ -635,12 +635,44 @@ def run(args) -> int:
     if os.path.isdir(args.files[0]):
         raise ValueError(f"file: {args.files[0]!r} is a directory; allowed: a signal file")
     res = analyze_task(record_tasks(args)[0], args, library)
-    print_record(args, res)
-    write_record_outputs(args, res)
+    size = defect_size(res)
+    print_record(args, res, size)
+    write_record_outputs(args, res, size)
     return 0
 
 
-def print_record(args, res) -> None:
+def defect_size(res) -> dict:
+    """The diagnosed defect's length from its entry-exit spacing, or why there is none
+    (:func:`bearing_envelope.diagnosis.defect_size.record_defect_size`; docs/analysis.md).
+
+    Parameters
+    ----------
+    res : RecordAnalysis
+        The record's analysis (with its samples).
+
+    Returns
+    -------
+    dict
+        ``summary`` (one line) and, where attempted, the estimate's fields
+        (:meth:`~bearing_envelope.diagnosis.defect_size.DefectSize.to_dict`: ``status``,
+        ``length_mm``, ``interval_mm``, ``min_length_mm``, ...).
+    """
+    from bearing_envelope.diagnosis.defect_size import record_defect_size
+
+    size = record_defect_size(res)
+    if isinstance(size, str):
+        return {"status": "not attempted", "summary": size}
+    return {**size.to_dict(), "summary": size.summary()}
+
+
+def _record_doc(res, size) -> dict:
+    doc = record_json(res)
+    if size is not None:
+        doc["defect_size"] = size
+    return doc
+
+
+def print_record(args, res, size: dict | None = None) -> None:
     """The header, the full line table and the verdict of one record (stdout; stderr when
     ``--json -`` takes stdout).
 
@@ -650,13 +682,15 @@ def print_record(args, res) -> None:
         Parsed ``analyze`` arguments.
     res : RecordAnalysis
         The record's analysis.
+    size : dict, optional
+        :func:`defect_size`, printed last (and put in the JSON).
     """
     import pandas as pd
 
     opt = res.options
     json_only = args.json == "-"
     if json_only:
-        print(json.dumps(record_json(res), indent=1, allow_nan=False))
+        print(json.dumps(_record_doc(res, size), indent=1, allow_nan=False))
     out = sys.stderr if json_only else sys.stdout
     print(f"# {res.file} ({res.source}): {res.n_samples} samples, fs = {res.fs:g} Hz, "
           f"fr = {res.shaft_hz:g} Hz, " + ", ".join(f"{k} = {v:g} Hz" for k, v in
@@ -687,9 +721,12 @@ def print_record(args, res) -> None:
         print(f"#   {fv.summary()}", file=out)
     for i, line in enumerate(verdict.summary_lines()):
         print(f"{'verdict: ' if i == 0 else '         '}{line}", file=out)
+    if size is not None:
+        print(f"defect length (entry-exit spacing, docs/analysis.md): {size['summary']}",
+              file=out)
 
 
-def write_record_outputs(args, res) -> None:
+def write_record_outputs(args, res, size: dict | None = None) -> None:
     """``--csv``, ``--json OUT``, ``--table``, ``--plot`` and ``--html`` of one record.
 
     Parameters
@@ -698,6 +735,8 @@ def write_record_outputs(args, res) -> None:
         Parsed ``analyze`` arguments.
     res : RecordAnalysis
         The record's analysis.
+    size : dict, optional
+        :func:`defect_size`, written into ``--json OUT``.
     """
     out = sys.stderr if args.json == "-" else sys.stdout
     if args.csv:
@@ -705,7 +744,8 @@ def write_record_outputs(args, res) -> None:
         tidy_lines(res).to_csv(args.csv, index=False)
         print(f"# table written to {args.csv}", file=out)
     if args.json is not None and args.json != "-":
-        write_text(args.json, json.dumps(record_json(res), indent=1, allow_nan=False) + "\n")
+        write_text(args.json, json.dumps(_record_doc(res, size), indent=1, allow_nan=False)
+                   + "\n")
         print(f"# JSON written to {args.json}", file=out)
     if args.plot:
         from bearing_envelope.diagnosis.plots import save_analysis_figures
