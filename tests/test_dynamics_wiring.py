@@ -16,7 +16,7 @@ import yaml
 from bearing_envelope.cli import main
 from bearing_envelope.io import read_case
 from bearing_envelope.physics.dynamics.case import joined_law, scene_params
-from bearing_envelope.physics.dynamics.criterion import (FAST_SHARE, OPEN_SHARE, _verdict,
+from bearing_envelope.physics.dynamics.criterion import (FAST_SHARE, OPEN_SHARE, criterion_verdict,
                                                          model_choice)
 from bearing_envelope.physics.scene import DEFAULT_SCENE, Scene
 from bearing_envelope.study.limits import estimate_case
@@ -129,7 +129,7 @@ def test_joined_law_reads_the_models_healthy_law_at_the_table_ends_and_keeps_the
     (FAST_SHARE * 0.999, 0.01, "quasi_static"),       # fast but negligible (the default sweep)
 ])
 def test_verdict_thresholds_at_their_boundaries(share, ratio, model):
-    assert _verdict(share, ratio)[0] == model
+    assert criterion_verdict(share, ratio)[0] == model
 
 
 def test_auto_follows_the_pit_and_load_a_forced_model_says_when_it_disagrees():

@@ -13,7 +13,7 @@ from scipy import signal as sps
 
 from bearing_envelope.cli import main
 from bearing_envelope.diagnosis.transfer_path import (MIN_EVENTS, NoImpulsesError, TransferPath,
-                                                      _flags, background_noise, identify_path)
+                                                      identification_flags, background_noise, identify_path)
 
 FS = 12_000.0
 REAL = Path("/work/shared/data/real")
@@ -275,7 +275,7 @@ def test_gain_is_not_identified_where_zeta_is_not():
     by 20 %) leaves the gain unidentified however well the subsets agree on it (at 2.5 %
     detection, zeta 0.05 read -34 % and flagged, the gain +32 % without a flag)."""
     band, f_n, period = (2000.0, 3300.0), 2660.0, 112.0
-    _, unknown = _flags(band, f_n, 0.05, (0.045, 0.055), (0.2, 0.01), 50, period, None)
+    _, unknown = identification_flags(band, f_n, 0.05, (0.045, 0.055), (0.2, 0.01), 50, period, None)
     assert unknown == ["zeta", "gain"]
-    flags, unknown = _flags(band, f_n, 0.05, (0.045, 0.055), (0.01, 0.01), 50, period, None)
+    flags, unknown = identification_flags(band, f_n, 0.05, (0.045, 0.055), (0.01, 0.01), 50, period, None)
     assert unknown == [] and flags == []

@@ -64,7 +64,7 @@ sp_linalg = lazy_module("scipy.linalg")
 
 __all__ = ["ESTIMATED", "NOT_RESOLVABLE", "NO_EVENTS", "Spacing", "DefectSize",
            "entry_exit_spacing", "defect_length", "record_scene", "FAMILY_LOCATIONS", "ar_whiten",
-           "squared_envelope", "find_events", "event_profiles", "record_defect_size"]
+           "whitened_squared_envelope", "find_events", "event_profiles", "record_defect_size"]
 
 #: Status of a length read from the echo.
 ESTIMATED = "estimated"
@@ -285,7 +285,7 @@ def ar_whiten(x, ar_order: int = AR_ORDER) -> np.ndarray:
     return sp_signal.lfilter(np.concatenate([[1.0], a]), [1.0], x)
 
 
-def squared_envelope(x, fs: float, band) -> np.ndarray:
+def whitened_squared_envelope(x, fs: float, band) -> np.ndarray:
     """The squared envelope of the AR-whitened (:func:`ar_whiten`), band-passed signal.
 
     Parameters
@@ -411,7 +411,7 @@ def entry_exit_spacing(x, fs: float, event_rate_hz: float, *, band=None,
         :data:`MIN_EVENTS` periods; fs or the rate out of range; a band outside (0, fs/2).
     """
     x, fs, rate, n_periods, band, k_max = _check_inputs(x, fs, event_rate_hz, band, max_lag_s)
-    e = squared_envelope(x, fs, band)
+    e = whitened_squared_envelope(x, fs, band)
     peaks, floor = find_events(e, fs / rate)
     out = dict(n_periods=n_periods, band_hz=band)
     if peaks.size < MIN_EVENTS:

@@ -65,7 +65,7 @@ from .detection import threshold_db
 #: Area of the excitation impulse a mode's gain refers to when none is given: a unit impulse.
 UNIT_IMPULSE_AREA = 1.0
 
-__all__ = ["TransferPath", "NoImpulsesError", "identify_path", "background_noise",
+__all__ = ["TransferPath", "NoImpulsesError", "identify_path", "background_noise", "identification_flags",
            "MIN_EVENTS", "DEFAULT_PFA", "EVENT_PFA", "MAX_LEVEL", "MODE_PFA", "MODE_FLOOR",
            "MAX_MODES", "IDENT_TOL", "MIN_BACKGROUND"]
 
@@ -379,7 +379,7 @@ def identify_path(x, fs: float, event_rates: dict, *, background=None,
     gate = _gate_samples(amp, zeta, f_n, fs, env, n_post, hz)
     freq, psd, src, bg_flag = _background(x, fs, every, gate, background, background_name,
                                           (hz, modes))
-    flags, unknown = _flags(band, f_n, zeta, zr, se, gate, fs / hz, bg_flag)
+    flags, unknown = identification_flags(band, f_n, zeta, zr, se, gate, fs / hz, bg_flag)
     return TransferPath(fs, tuple(band), kurt, name, hz, line_db, thr,
                         int(peaks.size), int(n_periods), f_n, zeta, zr, amp,
                         float(math.sqrt(np.trapezoid(psd, freq))), list(map(float, freq)),
@@ -473,9 +473,33 @@ def _resonance_band(x, kg, f_low: float, fs: float, rates: dict):
     return best
 
 
-def _flags(band, f_n, zeta, zeta_range, se, gate, period, bg_flag) -> tuple[list, list]:
+def identification_flags(band, f_n, zeta, zeta_range, se, gate, period,
+                         bg_flag) -> tuple[list, list]:
     """Warnings a user must read with the numbers (one line each), and the quantities not
-    identified (``zeta``, ``gain``, ``background``)."""
+    identified (``zeta``, ``gain``, ``background``).
+
+    Parameters
+    ----------
+    band : (float, float)
+        The demodulation band, Hz.
+    f_n, zeta : float
+        The identified natural frequency (Hz) and damping ratio.
+    zeta_range : (float, float)
+        Damping identified on the record's two halves.
+    se : (float, float)
+        Relative standard errors of zeta and the gain over subsets of the events.
+    gate : float
+        Samples each event is gated over.
+    period : float
+        Samples per event period.
+    bg_flag : str or None
+        The background's own flag (None: read between the events).
+
+    Returns
+    -------
+    (list of str, list of str)
+        The warning lines, and the names of the quantities not identified.
+    """
     out, unknown = [], []
     if gate >= 0.9 * period - 1 and bg_flag is None:
         out.append("the events ring for most of a period: the background (events gated out) "

@@ -26,7 +26,7 @@ from dataclasses import dataclass
 
 from ..defect_contact import defect_scales
 
-__all__ = ["ModelChoice", "model_choice", "OPEN_SHARE", "FAST_SHARE", "QUASI_STATIC", "DYNAMIC"]
+__all__ = ["ModelChoice", "model_choice", "criterion_verdict", "OPEN_SHARE", "FAST_SHARE", "QUASI_STATIC", "DYNAMIC"]
 
 QUASI_STATIC, DYNAMIC = "quasi_static", "dynamic"
 
@@ -67,7 +67,21 @@ class ModelChoice:
     reason: str
 
 
-def _verdict(share: float, ratio: float) -> tuple[str, str]:
+def criterion_verdict(share: float, ratio: float) -> tuple[str, str]:
+    """The criterion's model for a pit's two scales, and its reason in words.
+
+    Parameters
+    ----------
+    share : float
+        Rigid drop over the pitted contact's static approach.
+    ratio : float
+        The event's duration over the element's natural period.
+
+    Returns
+    -------
+    (str, str)
+        ``dynamic`` or ``quasi_static``, and why (one line).
+    """
     if share >= OPEN_SHARE:
         return DYNAMIC, f"the element's contact over the pit opens and strikes its exit edge " \
                         f"(drop/approach {share:.2g} >= {OPEN_SHARE:g})"
@@ -102,7 +116,7 @@ def model_choice(scene) -> ModelChoice:
                            f"criterion to judge)")
     sc = defect_scales(scene)
     share, ratio = float(sc.drop_over_approach), float(sc.event_over_period)
-    verdict, why = _verdict(share, ratio)
+    verdict, why = criterion_verdict(share, ratio)
     if asked == "auto":
         return ModelChoice(verdict, asked, verdict, share, ratio, f"{verdict} (auto: {why})")
     note = "agrees" if asked == verdict else f"the criterion says {verdict}"
