@@ -236,3 +236,23 @@ def test_dynamic_case_summary_row_has_no_pressure_and_its_sample_count(dynamic_c
     row = case_summary(read_case(path))
     assert math.isnan(row["p_max_peak_Pa"]) and math.isnan(row["roller_load_max_N"])
     assert row["n_samples"] == round(6.0 / RPM_0HP_HZ * 12000.0)
+
+
+def test_a_ball_pit_case_reads_each_race_with_its_own_law():
+    """A pit on a ball meets both races: the outer law away from the pit is the outer contact's
+    Hertz law, the inner law the inner contact's (closed form, hertz_constant), not one for both."""
+    from bearing_envelope.physics.defect_contact import hertz_constant
+    from bearing_envelope.physics.dynamics.case import case_params
+    m = _cwru(rev=4.0)
+    m["defect"]["location"] = "rolling_element"
+    m["defect"].pop("position_deg")
+    s = Scene.from_mapping(m, load_kN=1.0, depth_um=279.4)
+    p, _ = case_params(s, "draft")
+    assert p.defect_race == "element" and p.element_pit.inner is not None
+    for law, race in ((p.defect, "outer"), (p.element_pit.inner, "inner")):
+        d = law.delta_m[-1] / 2
+        far = law.force_n[0, np.searchsorted(law.delta_m, d)]
+        k = hertz_constant(s, race)
+        assert far == pytest.approx(k * law.delta_m[np.searchsorted(law.delta_m, d)] ** 1.5,
+                                    rel=2e-3)
+    assert abs(hertz_constant(s, "inner") / hertz_constant(s, "outer") - 1) > 0.03   # differ

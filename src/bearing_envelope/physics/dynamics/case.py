@@ -10,6 +10,7 @@ length. Its :class:`DynamicHistory` is what :func:`bearing_envelope.io.write_cas
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import time as _time
 from dataclasses import dataclass, field
@@ -26,7 +27,7 @@ from .params import (STRUCTURE_DEFAULTS, DefectLaw, DynamicParams, contact_dampi
                      params_from_scene, step_size)
 
 __all__ = ["DynamicHistory", "DYNAMIC_SIGNAL_UNITS", "DYNAMIC_SIGNAL_DESCRIPTIONS",
-           "NOISY_SIGNALS", "scene_params", "joined_law", "JOINED_DELTA_NODES", "simulate_dynamic", "simulate_case", "dynamic_cost",
+           "NOISY_SIGNALS", "scene_params", "case_params", "joined_law", "JOINED_DELTA_NODES", "simulate_dynamic", "simulate_case", "dynamic_cost",
            "CPU_S_PER_ELEMENT_STEP"]
 
 #: CPU seconds per RK4 step and element, measured (``python -m benchmarks dynamics_cost
@@ -185,6 +186,36 @@ def joined_law(table, params: DynamicParams, n_approach: int = JOINED_DELTA_NODE
                      r * (k * fine ** params.exponent)[None, :])
 
 
+def case_params(scene, fidelity: Fidelity | str | None = None):
+    """The dynamic model of a case: :func:`scene_params` with the pit's joined law
+    (:func:`joined_law` of :func:`~bearing_envelope.physics.defect_contact.defect_table`); a pit
+    on a rolling element meets both races, each with its own table (the outer as ``defect``,
+    the inner as ``element_pit.inner``).
+
+    Parameters
+    ----------
+    scene : Scene
+        The case.
+    fidelity : Fidelity, preset name or None (``standard``)
+        The defect tables' fidelity.
+
+    Returns
+    -------
+    (DynamicParams, DefectContactTable or None)
+        The model and the pitted race's table (None without a defect).
+    """
+    fid = fidelity_from(fidelity)
+    table = defect_table(scene, fid) if scene.defect.active else None
+    p = scene_params(scene)
+    if table is not None:
+        p = p.with_(defect=joined_law(table, p))
+        if p.defect_race == "element":
+            inner = defect_table(scene, fid, race="inner")
+            p = p.with_(element_pit=dataclasses.replace(p.element_pit,
+                                                        inner=joined_law(inner, p)))
+    return p, table
+
+
 def simulate_dynamic(scene, fidelity: Fidelity | str | None = None, *,
                      choice: ModelChoice | None = None) -> DynamicHistory:
     """Simulate one case with the dynamic model at the scene's ``fs`` and record length.
@@ -208,14 +239,8 @@ def simulate_dynamic(scene, fidelity: Fidelity | str | None = None, *,
     fid = fidelity_from(fidelity)
     t0, c0 = _time.perf_counter(), _time.process_time()
     choice = choice or model_choice(scene)
-    table = defect_table(scene, fid) if scene.defect.active else None
+    p, table = case_params(scene, fid)
     c_table = _time.process_time() - c0
-    p = scene_params(scene)
-    if table is not None:
-        p = p.with_(defect=joined_law(table, p))
-        if p.defect_race == "element":   # a pit on a ball meets both races: each its own law
-            inner = defect_table(scene, fid, race="inner")
-            p = p.with_(defect_inner=joined_law(inner, p))
     op = scene.operation
     n = scene.n_samples
     acq = op.acquisition
