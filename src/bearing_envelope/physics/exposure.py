@@ -144,7 +144,7 @@ def exposure_line(scene, exp: dict) -> str | None:
         if r.get("beyond_bridge_fraction", 0.0) > 0:
             parts.append(f"{race} race: pit ({1e6 * scene.defect.extent_y_m:.4g} um axially) beyond "
                          f"{BRIDGE_MAX_FRACTION:g} x 2b below {r['bridge_load_N']:.3g} N in "
-                         f"{100 * r['beyond_bridge_fraction']:.0f} % of the loaded passages, longer "
+                         f"{100 * r['beyond_bridge_fraction']:.2g} % of the loaded passages, longer "
                          f"than the contact below {r['longer_load_N']:.3g} N in "
-                         f"{100 * r['longer_than_contact_fraction']:.0f} %")
+                         f"{100 * r['longer_than_contact_fraction']:.2g} %")
     return "; ".join(parts) or None
