@@ -80,6 +80,8 @@ def run_batch(tasks: list[dict], args, library: dict) -> int:
             print(f"bearing-envelope analyze: {where}{r.error}", file=sys.stderr)
     for r in results:
         print(f"{r.file}: {r.summary_lines()[0] if r.ok else 'FAILED: ' + r.error}", file=out)
+        if r.ok and r.defect_size is not None:
+            print(f"  defect length (entry-exit spacing): {r.defect_size['summary']}", file=out)
     n_bad = sum(not r.ok for r in results)
     print(f"# {len(results)} records: {len(results) - n_bad} analysed, {n_bad} failed "
           f"({jobs} job{'s' if jobs > 1 else ''})", file=out)

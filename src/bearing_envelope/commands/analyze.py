@@ -635,34 +635,12 @@ def run(args) -> int:
     if os.path.isdir(args.files[0]):
         raise ValueError(f"file: {args.files[0]!r} is a directory; allowed: a signal file")
     res = analyze_task(record_tasks(args)[0], args, library)
-    size = defect_size(res)
+    from bearing_envelope.diagnosis.defect_size import size_document
+
+    size = size_document(res)
     print_record(args, res, size)
     write_record_outputs(args, res, size)
     return 0
-
-
-def defect_size(res) -> dict:
-    """The diagnosed defect's length from its entry-exit spacing, or why there is none
-    (:func:`bearing_envelope.diagnosis.defect_size.record_defect_size`; docs/analysis.md).
-
-    Parameters
-    ----------
-    res : RecordAnalysis
-        The record's analysis (with its samples).
-
-    Returns
-    -------
-    dict
-        ``summary`` (one line) and, where attempted, the estimate's fields
-        (:meth:`~bearing_envelope.diagnosis.defect_size.DefectSize.to_dict`: ``status``,
-        ``length_mm``, ``interval_mm``, ``min_length_mm``, ...).
-    """
-    from bearing_envelope.diagnosis.defect_size import record_defect_size
-
-    size = record_defect_size(res)
-    if isinstance(size, str):
-        return {"status": "not attempted", "summary": size}
-    return {**size.to_dict(), "summary": size.summary()}
 
 
 def _record_doc(res, size) -> dict:
@@ -683,7 +661,8 @@ def print_record(args, res, size: dict | None = None) -> None:
     res : RecordAnalysis
         The record's analysis.
     size : dict, optional
-        :func:`defect_size`, printed last (and put in the JSON).
+        :func:`~bearing_envelope.diagnosis.defect_size.size_document`, printed last (and put
+        in the JSON).
     """
     import pandas as pd
 
@@ -736,7 +715,8 @@ def write_record_outputs(args, res, size: dict | None = None) -> None:
     res : RecordAnalysis
         The record's analysis.
     size : dict, optional
-        :func:`defect_size`, written into ``--json OUT``.
+        :func:`~bearing_envelope.diagnosis.defect_size.size_document`, written into
+        ``--json OUT``.
     """
     out = sys.stderr if args.json == "-" else sys.stdout
     if args.csv:

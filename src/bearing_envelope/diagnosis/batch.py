@@ -20,6 +20,7 @@ from dataclasses import replace
 
 import numpy as np
 
+from .defect_size import size_document
 from .records import RecordFailure, analyze_record
 from ..lazy import lazy_module
 
@@ -138,6 +139,7 @@ def _work(index: int, item, kwargs: dict, reader, fig_dir, figure_options):
     try:
         _, per = _split(item, index)
         res = analyze_item(item, reader=reader, index=index, **kwargs)
+        res = replace(res, defect_size=size_document(res))   # needs the samples: before compact
         if fig_dir is not None:
             res = replace(res, figure=record_figure(res, fig_dir, figure_options))
         return res.compact()

@@ -64,7 +64,7 @@ sp_linalg = lazy_module("scipy.linalg")
 
 __all__ = ["ESTIMATED", "NOT_RESOLVABLE", "NO_EVENTS", "Spacing", "DefectSize",
            "entry_exit_spacing", "defect_length", "record_scene", "FAMILY_LOCATIONS", "ar_whiten",
-           "whitened_squared_envelope", "find_events", "event_profiles", "record_defect_size"]
+           "whitened_squared_envelope", "find_events", "event_profiles", "record_defect_size", "size_document"]
 
 #: Status of a length read from the echo.
 ESTIMATED = "estimated"
@@ -578,3 +578,26 @@ def record_defect_size(res) -> DefectSize | str:
         return defect_length(res.signal, res.fs, scene, event_rate_hz=rate)
     except ValueError as exc:
         return f"not estimated: {exc}"
+
+
+def size_document(res) -> dict:
+    """The diagnosed defect's length from its entry-exit spacing as a JSON-able document, or
+    why there is none (:func:`record_defect_size`; what ``analyze`` prints and stores, for one
+    record and in a batch).
+
+    Parameters
+    ----------
+    res : RecordAnalysis
+        The record's analysis (with its samples).
+
+    Returns
+    -------
+    dict
+        ``summary`` (one line) and, where attempted, the estimate's fields
+        (:meth:`DefectSize.to_dict`: ``status``, ``length_mm``, ``interval_mm``,
+        ``min_length_mm``, ...); ``status`` ``not attempted`` with the reason otherwise.
+    """
+    size = record_defect_size(res)
+    if isinstance(size, str):
+        return {"status": "not attempted", "summary": size}
+    return {**size.to_dict(), "summary": size.summary()}

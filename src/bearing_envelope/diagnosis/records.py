@@ -438,6 +438,9 @@ class RecordAnalysis:
         The samples (None once compact).
     figure : str or None
         The analyst figure written for it, if any.
+    defect_size : dict or None
+        The diagnosed defect's length from its entry-exit spacing, or why there is none
+        (:func:`~bearing_envelope.diagnosis.defect_size.size_document`; None: not asked).
     """
 
     file: str | None
@@ -455,6 +458,7 @@ class RecordAnalysis:
     rows: tuple = field(repr=False, default=())
     signal: np.ndarray | None = field(repr=False, default=None)
     figure: str | None = None
+    defect_size: dict | None = None
 
     ok = True  # a failed record is a RecordFailure
 
@@ -519,7 +523,7 @@ class RecordAnalysis:
             ``bearing``, ``families`` (name, ``frequency_hz``, sideband), ``search_percent``,
             ``kurtogram`` (level, ``fc_hz``, ``bandwidth_hz``, kurtosis), ``bands`` (name,
             ``low_hz``, ``high_hz``, strategy), ``lines`` (one dict per line; NaN as None) and
-            ``verdict`` (:meth:`Verdict.to_dict`).
+            ``verdict`` (:meth:`Verdict.to_dict`); ``defect_size`` when estimated.
         """
         table = self.lines if lines is None else lines
         kg = self.kurtogram
@@ -542,6 +546,7 @@ class RecordAnalysis:
                       for nm, b in self.bands.items()],
             "lines": rows,
             "verdict": self.verdict.to_dict(),
+            **({} if self.defect_size is None else {"defect_size": self.defect_size}),
         }
 
     def compact(self) -> "RecordAnalysis":
