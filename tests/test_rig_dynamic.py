@@ -18,7 +18,9 @@ from scipy import signal as sps
 
 from bearing_envelope.physics.scene import Scene
 from bearing_envelope.study import rig
-from bearing_envelope.study.rig.dynamic import dynamic_path, rig_params, sensor_excitation
+from bearing_envelope.physics.kinematics import bearing_rates
+from bearing_envelope.study.rig.dynamic import (dynamic_path, excitation_model, rig_params,
+                                                sensor_excitation)
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from test_rig_sets import FS, _bpfi, _bpfo, _ringing  # noqa: E402  (the shared fixture)
@@ -159,13 +161,34 @@ def test_tiny_dynamic_rig_runs_end_to_end(records):
     assert {k: again[k] for k in recs} == {k: contact[k] for k in recs}
 
 
-def test_a_ball_record_stays_quasi_static_with_the_quasi_static_gain(records):
-    """A rolling element's defect is not in the dynamic model: its record is made from its
-    contact history, and the reference records' contact histories give that record's gain."""
+def test_a_ball_record_is_made_by_the_dynamic_model_at_twice_the_ball_spin(records):
+    """A pit on a rolling element is in the dynamic model: the ball record's excitation is the
+    dynamic model's, its pit meets a contact, and the envelope of the sensor's reading has its
+    line at twice the ball spin frequency (the pit meets the inner and the outer race once per
+    spin; ``2 BSF`` from the kinematics, independent of the model), well above the band's
+    floor, and its strongest line is of that family: ``2 BSF`` or a cage-rate sideband of it
+    (the ball carries load only through the load zone, once per cage turn)."""
     tmp, _, conds, _ = records
     ball = dataclasses.replace(conds[1], name="ball_1000N", location="rolling_element")
-    assert not rig.dynamic_supported(ball) and rig.dynamic_supported(conds[1])
-    contact = rig.simulate_excitations([conds[1], ball], _settings(), tmp / "run" / "contact",
+    assert rig.dynamic_supported(ball)
+    contact = rig.simulate_excitations([ball], _settings(), tmp / "ball" / "contact",
                                        log=lambda s: None, gain_reference="ref")
-    assert contact["ball_1000N"].endswith("ball_1000N_contact.npz")
-    assert list(contact["_quasi_static"]) == [conds[1].name]
+    assert contact["ball_1000N"] == str(dynamic_path(tmp / "ball" / "contact", ball))
+    assert "_quasi_static" not in contact
+    assert excitation_model(contact["ball_1000N"]) == "dynamic"
+    with np.load(contact["ball_1000N"]) as z:
+        f, fs, peak = z["housing_force"], float(z["fs"]), float(z["defect_force_peak"])
+    assert peak > 0
+    x = sensor_excitation(f, 180.0, 0.255)
+    e = np.abs(sps.hilbert(sps.sosfiltfilt(sps.butter(4, [1500, 4500], "bandpass", fs=fs,
+                                                      output="sos"), x))) ** 2
+    spec = np.abs(np.fft.rfft(e - e.mean()))
+    freq = np.fft.rfftfreq(e.size, 1 / fs)
+    band = (freq > 20) & (freq < 200)
+    k = bearing_rates(FR, Z, D, PITCH)
+    at = spec[np.argmin(np.abs(freq - 2 * k["bsf"]))]
+    assert at > 10 * np.median(spec[band])
+    line = freq[band][np.argmax(spec[band])]
+    family = [2 * k["bsf"] + j * k["ftf"] for j in (-1, 0, 1)]
+    assert min(abs(line - f) for f in family) <= 2 * fs / e.size
+

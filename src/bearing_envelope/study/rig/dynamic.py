@@ -11,13 +11,15 @@ quadrature (:func:`sensor_excitation`), so that their envelopes add in power as
 :func:`~bearing_envelope.physics.transfer.direction_gain` says. The transfer path and the gain
 are the quasi-static rig's (:mod:`.simulation`): only the excitation changes.
 
-A location the dynamic model does not hold (a rolling element's defect) stays quasi-static
-(:func:`dynamic_supported`); its records go through the gain identified on the quasi-static
-histories of the same reference records.
+Every record's defect is in the model (:func:`dynamic_supported`): a pit on a race, and a pit
+on a rolling element, which meets both races (:func:`~bearing_envelope.physics.dynamics.case.case_params`
+joins each race's defect law), so every record goes through the one gain identified on the
+dynamic reference records.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import time
 from pathlib import Path
@@ -26,14 +28,13 @@ import numpy as np
 from scipy import signal as sps
 
 from ...io.atomic import atomic_path
-from ...physics.defect_contact import defect_table
 from ...physics.dynamics import DefectLaw, params_from_scene, simulate_dynamics
+from ...physics.dynamics.case import case_params
 from ...physics.dynamics.params import STRUCTURE_DEFAULTS, contact_damping
 from ...physics.history import defect_angle
-from ...physics.locations import get_location
 from .config import RigSettings
 
-__all__ = ["DYNAMIC_MODEL", "dynamic_supported", "rig_params", "simulate_dynamic_record",
+__all__ = ["DYNAMIC_MODEL", "dynamic_supported", "rig_params", "rig_scene", "simulate_dynamic_record",
            "dynamic_path", "sensor_excitation", "is_dynamic", "excitation_model"]
 
 #: ``model`` of a dynamic excitation file (that of :func:`simulate_dynamics`' results).
@@ -41,8 +42,8 @@ DYNAMIC_MODEL = "lumped_dynamic"
 
 
 def dynamic_supported(cond) -> bool:
-    """Whether the dynamic model holds the record's defect: a pit on a race (a defect on a
-    spinning body, a rolling element, is not in the model).
+    """Whether the dynamic model holds the record's defect: a pit on a race or on a rolling
+    element (element 0).
 
     Parameters
     ----------
@@ -52,10 +53,9 @@ def dynamic_supported(cond) -> bool:
     Returns
     -------
     bool
-        True for the inner and the outer race.
+        True for the inner race, the outer race and a rolling element.
     """
-    loc = get_location(cond.location)
-    return not loc.spins and cond.location in ("inner_race", "outer_race")
+    return cond.location in ("inner_race", "outer_race", "rolling_element")
 
 
 def dynamic_path(out_dir, cond) -> Path:
@@ -109,6 +109,28 @@ def rig_params(scene, settings: RigSettings, law: DefectLaw | None):
     return p.with_(contact_damping_ns_m=contact_damping(p, s["contact_zeta"]))
 
 
+def rig_scene(scene, settings: RigSettings):
+    """The scene with the rig's structure (``rig.structure`` over :data:`STRUCTURE_DEFAULTS`)
+    and its sensor axis (``rig.sensor_deg``) as ``scene.dynamics.structure``, the model
+    :func:`~bearing_envelope.physics.dynamics.case.case_params` builds.
+
+    Parameters
+    ----------
+    scene : Scene
+        The record's scene.
+    settings : RigSettings
+        The rig's settings.
+
+    Returns
+    -------
+    Scene
+        The same scene, its structure the rig's.
+    """
+    s = {**STRUCTURE_DEFAULTS, **settings.structure, "sensor_angle_deg": settings.sensor_deg}
+    dyn = dataclasses.replace(scene.dynamics, structure=tuple(sorted(s.items())))
+    return dataclasses.replace(scene, dynamics=dyn)
+
+
 def simulate_dynamic_record(cond, scene, settings: RigSettings, path) -> dict:
     """Run one record's scene in the dynamic model for the record's length at its fs and
     write its excitation file.
@@ -134,9 +156,8 @@ def simulate_dynamic_record(cond, scene, settings: RigSettings, path) -> dict:
         peak (N).
     """
     t0 = time.process_time()
-    law = DefectLaw.from_table(defect_table(scene, settings.fidelity))
+    p, _ = case_params(rig_scene(scene, settings), settings.fidelity)
     t_table = time.process_time() - t0
-    p = rig_params(scene, settings, law)
     r = simulate_dynamics(p, cond.n_samples / cond.fs_hz, cond.fs_hz)
     theta = defect_angle(scene, r.t_s)
     e = np.stack([np.cos(theta), np.sin(theta)], axis=1)
