@@ -101,9 +101,7 @@ def simulate_excitations(conditions, settings: RigSettings, out_dir, *, log=prin
                          gain_reference: str | None = None) -> dict:
     """Excitation of every condition: with ``rig.dynamics: quasi_static`` the contact history
     (one contact table per defect key), with ``dynamic`` the dynamic model's run of each record
-    whose defect it holds (:func:`~.dynamic.simulate_dynamic_record`), the others' contact
-    history; then, where some record stays quasi-static, also the contact histories of the
-    reference records (``gain_reference``), whose gain those records take.
+    (:func:`~.dynamic.simulate_dynamic_record`: a pit on either race or on a rolling element).
 
     Parameters
     ----------
@@ -119,14 +117,13 @@ def simulate_excitations(conditions, settings: RigSettings, out_dir, *, log=prin
     log : callable
         Progress lines.
     gain_reference : str, optional
-        Records (name contains) the rig's gain is identified on.
+        Unused (kept for the callers; every record of a run is made by one model, whose gain
+        the scorecard identifies).
 
     Returns
     -------
     dict
-        ``{record name: path}``, CPU s per defect key (or record) under ``"_cpu_s"``, and, in a
-        dynamic run with quasi-static records, ``{name: path}`` of the reference records'
-        contact histories under ``"_quasi_static"``.
+        ``{record name: path}`` and CPU s per defect key (or record) under ``"_cpu_s"``.
     """
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
@@ -145,10 +142,6 @@ def simulate_excitations(conditions, settings: RigSettings, out_dir, *, log=prin
                 f"{info['run_cpu_s']:.1f} CPU s (step {1e6 * info['step_s']:.3g} us)")
         paths["_cpu_s"][c.name] = _cpu() - t0
         paths[c.name] = str(f)
-    if dyn and qs and gain_reference:
-        ref = [c for c in dyn if gain_reference in c.name]
-        paths["_quasi_static"] = _quasi_static_histories(ref, settings, out_dir,
-                                                         paths["_cpu_s"], log)
     return paths
 
 
