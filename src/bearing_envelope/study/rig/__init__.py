@@ -47,13 +47,15 @@ from .run import run_scorecard
 from .scoring import (features_in_measured_band, load_trends, outer_race_ratios,
                       outer_race_ratios_in_band, pass_rates, scorecard)
 from .dynamic import dynamic_supported, sensor_excitation
-from .simulation import (condition_scene, existing_excitations, path_modes, record_paths,
-                         rig_gain, sensor_gain, simulate_excitations, write_rig_record)
+from .simulation import (anchor_gains, condition_scene, existing_excitations, path_modes,
+                         record_paths, reference_mode, rig_gain, sensor_gain,
+                         simulate_excitations, write_rig_record)
 from .size import size_ranking, size_summary
 
 __all__ = ["record_conditions", "manifest_rows", "RigCondition", "RigBearing", "RigSettings",
            "read_rig_config", "read_rig_manifest", "fault_location", "rig_event_rates",
            "resolve_bearing", "condition_scene", "simulate_excitations", "path_modes",
+           "reference_mode", "anchor_gains",
            "sensor_gain", "record_paths", "rig_gain", "write_rig_record", "run_scorecard",
            "scorecard", "pass_rates", "load_trends", "outer_race_ratios",
            "outer_race_ratios_in_band", "features_in_measured_band", "size_ranking",

@@ -16,7 +16,7 @@ from .figures import plot_element_folds, plot_side_by_side
 from .scoring import (features_in_measured_band, load_trends, outer_race_ratios,
                       outer_race_ratios_in_band, pass_rates, scorecard, scorecard_markdown)
 from .dynamic import excitation_model
-from .simulation import record_paths, rig_gain, write_rig_record
+from .simulation import anchor_gains, record_paths, rig_gain, write_rig_record
 from .size import size_ranking, size_summary
 
 __all__ = ["run_scorecard", "figure_records", "analyze_manifest"]
@@ -130,13 +130,16 @@ def run_scorecard(conditions, contact: dict, out_dir, gain_reference: str, *, lo
     paths = record_paths(conditions, log=log)
     gains = _gains(conditions, paths, contact, gain_reference, settings, log)
     gain = next(iter(gains.values()))
+    anchors = anchor_gains(conditions, paths, gain[3], gain[4])
     sim = []
     for i, c in enumerate(conditions):
         g = gains.get(excitation_model(contact[c.name]), gain)
         sim.append(write_rig_record(c, contact[c.name], paths[c.name][0], g[0], out_dir / "sim",
-                                    seed=i, reference_hz=g[3], settings=settings))
+                                    seed=i, first_gain=anchors[c.name][0], settings=settings))
     with open(out_dir / "paths.json", "w", encoding="utf-8") as fh:
-        json.dump({n: {"status": s, **{k: v for k, v in p.to_dict().items()
+        json.dump({n: {"status": s, "first_mode_gain_re_reference": anchors[n][0],
+                       "group_records_with_reference_mode": anchors[n][1],
+                       **{k: v for k, v in p.to_dict().items()
                                        if not k.startswith("background_")}}
                    for n, (p, s) in paths.items()}, fh, indent=1)
     mt, ml = _analyze([c.path for c in conditions], conditions, out_dir / "measured")

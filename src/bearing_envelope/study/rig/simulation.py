@@ -38,7 +38,8 @@ from .dynamic import (dynamic_path, dynamic_supported, is_dynamic, sensor_excita
 from .records import RigBearing, RigCondition, read_samples
 
 __all__ = ["condition_scene", "simulate_excitations", "existing_excitations", "path_modes",
-           "sensor_gain", "record_paths", "rig_gain", "write_rig_record", "REFERENCE_MODE_TOL"]
+           "sensor_gain", "record_paths", "rig_gain", "write_rig_record", "REFERENCE_MODE_TOL",
+           "REFERENCE_ZETA_FACTOR", "reference_mode", "anchor_gains"]
 
 
 def _scene_bearing(scene: Scene) -> RigBearing:
@@ -220,42 +221,102 @@ def _write_excitation(path: Path, t, sig: dict, cond: RigCondition) -> None:
 # ------------------------------------------------------------------ simulated records
 #: A record's mode is the rig's reference mode (whose gain the reference records identify)
 #: when its f_n is within this fraction of the reference mode's (3 %: the identification's
-#: f_n tolerance).
+#: f_n tolerance) ...
 REFERENCE_MODE_TOL = 0.03
+#: ... and its damping within this factor of the reference mode's (either way): a broad hump
+#: identified near the reference frequency (zeta 0.22 at 3.35 kHz in record 146, against
+#: 0.015-0.026 on the reference records) is not the reference mode.
+REFERENCE_ZETA_FACTOR = 2.0
 
 
-def path_modes(path, reference_hz: float | None = None) -> list:
-    """The record's identified modes, each gain relative to the anchor mode's (gain 1 per N
-    at resonance) as identified (:meth:`TransferPath.structure`: the same impulses ring every
-    mode, so the ratio of the gains is the record's). The anchor is the record's mode at the
-    rig's reference mode ``reference_hz`` (the structural mode whose gain the rig identifies
-    on its reference records) where the record holds one, else its first mode.
+def path_modes(path, first_gain: float) -> list:
+    """The record's identified modes, the first (strongest) at gain ``first_gain`` and each
+    other at its gain relative to the first as identified (:meth:`TransferPath.structure`: the
+    same impulses ring every mode, so the ratio of the gains is the record's own).
 
     Parameters
     ----------
     path : TransferPath
         The record's identified transfer path (f_n in Hz, damping, gains).
-    reference_hz : float, optional
-        f_n of the rig's reference mode, Hz; None: the first mode is the anchor.
+    first_gain : float
+        Gain of the first mode relative to the rig's reference mode (:func:`anchor_gains`;
+        1: the first mode rings at the rig's gain).
 
     Returns
     -------
     list of Mode
-        The record's modes, gains relative to the anchor's (dimensionless; the anchor's
-        is 1).
+        The record's modes, gains relative to the rig's reference mode (dimensionless).
     """
     modes = path.structure()
-    anchor = modes[0]
-    if reference_hz is not None:
-        near = [m for m in modes
-                if abs(m.f_n_hz - reference_hz) <= REFERENCE_MODE_TOL * reference_hz]
-        anchor = min(near, key=lambda m: abs(m.f_n_hz - reference_hz)) if near else anchor
-    return [Mode(m.f_n_hz, m.zeta, m.gain / anchor.gain) for m in modes]
+    first = modes[0].gain
+    return [Mode(m.f_n_hz, m.zeta, first_gain * m.gain / first) for m in modes]
 
 
-def _unit_response(cond: RigCondition, contact: dict, path, reference_hz: float | None = None,
+def reference_mode(path, reference_hz: float, reference_zeta: float):
+    """The record's mode that is the rig's reference mode, if it holds one: f_n within
+    :data:`REFERENCE_MODE_TOL` and damping within :data:`REFERENCE_ZETA_FACTOR` of the
+    reference's, the nearest in f_n.
+
+    Parameters
+    ----------
+    path : TransferPath
+        The record's identified transfer path.
+    reference_hz, reference_zeta : float
+        The reference mode's f_n (Hz) and damping ratio (:func:`rig_gain`).
+
+    Returns
+    -------
+    Mode or None
+        The matching mode (gain as :meth:`TransferPath.structure` gives it), None if none.
+    """
+    near = [m for m in path.structure()
+            if abs(m.f_n_hz - reference_hz) <= REFERENCE_MODE_TOL * reference_hz
+            and reference_zeta / REFERENCE_ZETA_FACTOR <= m.zeta
+            <= reference_zeta * REFERENCE_ZETA_FACTOR]
+    return min(near, key=lambda m: abs(m.f_n_hz - reference_hz)) if near else None
+
+
+def anchor_gains(conditions, paths: dict, reference_hz: float, reference_zeta: float) -> dict:
+    """Each record's first-mode gain relative to the rig's reference mode, one per group of
+    records that share the structure's path (fault location, outer-race position, fs): the
+    median over the group's records that hold the reference mode (:func:`reference_mode`) of
+    their first mode's gain over it; 1 for a group where none holds it (its first mode rings at
+    the rig's gain). The ratio is a property of the rig and the fault's place, not of the load:
+    one record's weak or missing reference mode does not move its level.
+
+    Parameters
+    ----------
+    conditions : sequence of RigCondition
+        The rig's records.
+    paths : dict
+        :func:`record_paths`.
+    reference_hz, reference_zeta : float
+        The reference mode's f_n (Hz) and damping ratio (:func:`rig_gain`).
+
+    Returns
+    -------
+    dict
+        ``{name: (first_gain, number of the group's records that hold the reference mode)}``.
+    """
+    groups: dict = {}
+    for c in conditions:
+        groups.setdefault((c.location, c.position_deg, c.fs_hz), []).append(c.name)
+    out = {}
+    for names in groups.values():
+        ratios = []
+        for n in names:
+            p = paths[n][0]
+            ref = None if p is None else reference_mode(p, reference_hz, reference_zeta)
+            if ref is not None:
+                ratios.append(p.structure()[0].gain / ref.gain)
+        g = float(np.median(ratios)) if ratios else 1.0
+        out.update({n: (g, len(ratios)) for n in names})
+    return out
+
+
+def _unit_response(cond: RigCondition, contact: dict, path, first_gain: float,
                    settings: RigSettings | None = None) -> np.ndarray:
-    """The modes' response (the anchor mode's gain 1 per N at resonance: :func:`path_modes`)
+    """The modes' response (the reference mode's gain 1 per N at resonance: :func:`path_modes`)
     to the force the defect removes from the contact (the blocked-force deficit; the roller
     load's own sweep through the load zone is a rotating load, not a force on the housing),
     seen by the rig's single-axis sensor (``settings``: :func:`sensor_gain`); for a dynamic
@@ -265,11 +326,11 @@ def _unit_response(cond: RigCondition, contact: dict, path, reference_hz: float 
         f = np.asarray(contact["housing_force"][:cond.n_samples])
         e = (sensor_excitation(f, 0.0, 1.0) if settings is None else
              sensor_excitation(f, settings.sensor_deg, settings.sensor_cross_axis))
-        return apply_structure(e, cond.fs_hz, path_modes(path, reference_hz))
+        return apply_structure(e, cond.fs_hz, path_modes(path, first_gain))
     e = excitation_from_history(-contact["removed_force"][:cond.n_samples])
     if settings is not None:
         e = e * sensor_gain(cond, settings, np.asarray(contact["time"][:cond.n_samples]))
-    return apply_structure(e, cond.fs_hz, path_modes(path, reference_hz))
+    return apply_structure(e, cond.fs_hz, path_modes(path, first_gain))
 
 
 def sensor_gain(cond: RigCondition, settings: RigSettings, t: np.ndarray) -> np.ndarray:
@@ -370,36 +431,39 @@ def rig_gain(conditions, paths: dict, contact_paths: dict, reference: str,
 
     Returns
     -------
-    (float, float, float, float)
-        Median, min and max over the reference records, and the median f_n of their first
-        modes (Hz: the mode the gain belongs to, :func:`path_modes`'s ``reference_hz``).
+    (float, float, float, float, float)
+        Median, min and max over the reference records, and the median f_n (Hz) and damping
+        ratio of their first modes: the reference mode the gain belongs to
+        (:func:`anchor_gains`).
 
     Raises
     ------
     ValueError
         ``reference`` names no identified record.
     """
-    ratios, f_ref = [], []
+    ratios, f_ref, z_ref = [], [], []
     for c in conditions:
         p, status = paths[c.name]
         if reference not in c.name or status != "identified":
             continue
         with np.load(contact_paths[c.name]) as z:
-            y = _unit_response(c, dict(z), p, settings=settings)
+            # a reference record's first mode is the reference mode
+            y = _unit_response(c, dict(z), p, 1.0, settings=settings)
         tiny = 1e-3 * np.std(y) * np.random.default_rng(1).standard_normal(y.size)
         rates = c.rates
         own = {p.event_name: rates.get(p.event_name, p.event_hz)}
         a = identify_path(y + tiny, c.fs_hz, own).amplitude
         ratios.append(p.amplitude / a)
         f_ref.append(p.f_n_hz)
+        z_ref.append(p.zeta)
     if not ratios:
         raise ValueError(f"rig.gain_reference: {reference!r} names no identified record")
     return (float(np.median(ratios)), float(min(ratios)), float(max(ratios)),
-            float(np.median(f_ref)))
+            float(np.median(f_ref)), float(np.median(z_ref)))
 
 
 def write_rig_record(cond: RigCondition, contact_path: str, path, gain: float, out_dir,
-                     *, seed: int = 0, reference_hz: float | None = None,
+                     *, seed: int = 0, first_gain: float = 1.0,
                      settings: RigSettings | None = None) -> str:
     """Simulated record of one condition: the contact force through the record's modes, the
     anchor mode (:func:`path_modes`) at the rig's gain, plus its background; written like a
@@ -420,8 +484,9 @@ def write_rig_record(cond: RigCondition, contact_path: str, path, gain: float, o
         Where ``<name>_sim.npz`` is written.
     seed : int
         Seed of the background noise.
-    reference_hz : float, optional
-        The rig's reference mode (:func:`path_modes`).
+    first_gain : float
+        The record's first mode's gain relative to the rig's reference mode
+        (:func:`anchor_gains`; 1: the first mode rings at the rig's gain).
     settings : RigSettings, optional
         The rig's sensor (:func:`sensor_gain`); None: blind to direction.
 
@@ -432,14 +497,14 @@ def write_rig_record(cond: RigCondition, contact_path: str, path, gain: float, o
     """
     with np.load(contact_path) as z:
         contact = dict(z)
-    y = gain * _unit_response(cond, contact, path, reference_hz, settings)
+    y = gain * _unit_response(cond, contact, path, first_gain, settings)
     x = y + background_noise(path, y.size, seed=seed)
     meta = cond.meta()
     meta.update(simulated=True, source_record=cond.name,
                 excitation="dynamic" if is_dynamic(contact) else "quasi_static", transfer_path={
         "f_n_hz": path.f_n_hz, "zeta": path.zeta, "gain_per_N": gain,
-        "modes": [dataclasses.asdict(m) for m in path_modes(path, reference_hz)],
-        "reference_mode_hz": reference_hz,
+        "modes": [dataclasses.asdict(m) for m in path_modes(path, first_gain)],
+        "first_mode_gain_re_reference": first_gain,
         "sensor_deg": None if settings is None else settings.sensor_deg,
         "sensor_cross_axis": None if settings is None else settings.sensor_cross_axis,
         "background": path.background_source, "flags": path.flags})
