@@ -95,6 +95,53 @@ def test_identify_load_zone_recovers_a_known_rig(tmp_path):
         rig.identify_load_zone(s, ir, or3, truth["sb1_db"], 3.0, 0.5, 0.26)
 
 
+def test_structure_part_of_the_3_oclock_ratio(tmp_path):
+    """The simulated pairs' median ratio less the load zone's and sensor's model: what the
+    structure adds (the 2026-12-05 quasi-static run's pairs: -1.3, -2.2, -2.2, -5.9 dB against
+    the model's -13.6 dB: 11.4 dB); a pair without a simulated line is left out; no simulated
+    pair: 0. Identifying with that part held recovers a known rig whose simulated ratio
+    carries it."""
+    import pandas as pd
+
+    got = rig.structure_ratio_db(pd.DataFrame({"sim_db": [-1.3, -2.2, -2.2, -5.9, np.nan]}),
+                                 -13.6)
+    assert got == pytest.approx(11.4)
+    assert rig.structure_ratio_db(pd.DataFrame({"sim_db": [np.nan]}), -13.6) == 0.0
+    s = _settings(load_kN=0.2, clearance_um=-6.0, cross=0.1)
+    ir, or3, _ = _conds(tmp_path, s)
+    truth = rig.directional_modulation(s, ir, or3, 0.5, 0.26)
+    measured = truth["ratio_3_6_db"] + 11.4
+    c, k = rig.identify_load_zone(s, ir, or3, truth["sb1_db"], measured - 11.4, 0.5, 0.26)
+    assert c == pytest.approx(-6.0, abs=0.05) and k == pytest.approx(0.1, abs=0.005)
+
+
+def test_each_ball_record_draws_its_own_orientation(tmp_path):
+    """Each record is its own run of the rig: its ball's orientation is its own draw (a seed
+    from its name), so over many records the defect lies within the contact's axial
+    semi-axis b of the track in a fraction b / (d/2) of them (sin(latitude) uniform on the
+    sphere); before, every ball record of the rig shared one draw, and all 15 development
+    records missed their contacts alike."""
+    from bearing_envelope.physics.locations.rolling_element import rolling_element_kinematics
+
+    s = _settings()
+    _, _, ball = _conds(tmp_path, s)
+    s = dataclasses.replace(s, ball_spin_axis="wandering")
+    half_d = 0.5 * 7.94e-3
+    b = 0.25 * half_d  # a semi-axis a quarter of the radius: a strike probability of 1/4
+    offsets = []
+    for i in range(400):
+        scene = rig.condition_scene(dataclasses.replace(ball, name=f"rec_{i}"), s)
+        k = rolling_element_kinematics(scene, np.zeros(1), redraw=False)
+        offsets.append(float(k["track_offset"][0]))
+    assert len({rig.record_spin_seed(f"rec_{i}") for i in range(400)}) == 400
+    frac = np.mean(np.abs(offsets) < b)
+    assert frac == pytest.approx(0.25, abs=3 * math.sqrt(0.25 * 0.75 / 400))
+    # the same record, the same draw
+    again = rig.condition_scene(dataclasses.replace(ball, name="rec_7"), s)
+    assert rolling_element_kinematics(again, np.zeros(1), redraw=False)["track_offset"][0] == \
+        offsets[7]
+
+
 def test_sensor_gain_scales_a_3_oclock_record_by_the_cross_axis_gain(tmp_path):
     """A 3:00 defect's force acts across a 12:00 sensor's axis: the simulated record is the
     cross-axis gain times the direction-blind one (the path is linear)."""

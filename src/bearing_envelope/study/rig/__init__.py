@@ -39,7 +39,8 @@ from __future__ import annotations
 from .config import RigSettings, read_rig_config
 from .cwru import DRIVE_END
 from .load_zone import (directional_modulation, event_exponent, identify_from_run,
-                        identify_load_zone, measured_sideband_db, removed_force_exponent)
+                        identify_load_zone, measured_sideband_db, removed_force_exponent,
+                        structure_ratio_db)
 from .manifest import (MANIFEST_NAME, fault_location, manifest_rows, read_rig_manifest,
                        record_conditions)
 from .records import RigBearing, RigCondition, rig_event_rates, resolve_bearing
@@ -48,17 +49,18 @@ from .scoring import (features_in_measured_band, load_trends, outer_race_ratios,
                       outer_race_ratios_in_band, pass_rates, scorecard)
 from .dynamic import dynamic_supported, sensor_excitation
 from .simulation import (anchor_gains, condition_scene, existing_excitations, path_modes,
-                         record_paths, reference_mode, rig_gain, sensor_gain,
+                         record_paths, record_spin_seed, reference_mode, rig_gain, sensor_gain,
                          simulate_excitations, write_rig_record)
 from .size import size_ranking, size_summary
 
 __all__ = ["record_conditions", "manifest_rows", "RigCondition", "RigBearing", "RigSettings",
            "read_rig_config", "read_rig_manifest", "fault_location", "rig_event_rates",
            "resolve_bearing", "condition_scene", "simulate_excitations", "path_modes",
-           "reference_mode", "anchor_gains",
+           "reference_mode", "anchor_gains", "record_spin_seed",
            "sensor_gain", "record_paths", "rig_gain", "write_rig_record", "run_scorecard",
            "scorecard", "pass_rates", "load_trends", "outer_race_ratios",
            "outer_race_ratios_in_band", "features_in_measured_band", "size_ranking",
            "size_summary", "removed_force_exponent", "event_exponent", "directional_modulation",
+           "structure_ratio_db",
            "identify_load_zone", "measured_sideband_db", "identify_from_run", "DRIVE_END",
            "MANIFEST_NAME", "existing_excitations", "dynamic_supported", "sensor_excitation"]

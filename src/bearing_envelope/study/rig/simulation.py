@@ -20,6 +20,7 @@ import dataclasses
 import json
 import math
 import os
+import zlib
 from pathlib import Path
 from typing import Any
 
@@ -39,7 +40,7 @@ from .records import RigBearing, RigCondition, read_samples
 
 __all__ = ["condition_scene", "simulate_excitations", "existing_excitations", "path_modes",
            "sensor_gain", "record_paths", "rig_gain", "write_rig_record", "REFERENCE_MODE_TOL",
-           "REFERENCE_ZETA_FACTOR", "reference_mode", "anchor_gains"]
+           "REFERENCE_ZETA_FACTOR", "reference_mode", "anchor_gains", "record_spin_seed"]
 
 
 def _scene_bearing(scene: Scene) -> RigBearing:
@@ -77,6 +78,7 @@ def condition_scene(cond: RigCondition, settings: RigSettings) -> Scene:
              length_um=cond.length_um, width_um=cond.width_um)
     if get_location(cond.location).spins:  # a defect on a spinning body: the ball's axis
         d["spin_axis"] = settings.ball_spin_axis
+        d["spin_seed"] = record_spin_seed(cond.name, d.get("spin_seed", 0))
     op = m.setdefault("operation", {})
     op.update(shaft_rate_hz=cond.shaft_hz, fs_hz=cond.fs_hz,
               revolutions=(cond.n_samples + 0.5) / cond.fs_hz * cond.shaft_hz)
@@ -87,6 +89,26 @@ def condition_scene(cond: RigCondition, settings: RigSettings) -> Scene:
                          f"scene's {_geometry(have)}; allowed: records of the scene's bearing "
                          "(config scene.bearing)")
     return scene
+
+
+def record_spin_seed(name: str, base: int = 0) -> int:
+    """The seed of a record's ball orientations: each record is its own run of the rig (its own
+    draw of the ball's orientation, kept through the record where loaded contacts hold the
+    spin axis), deterministic from the record's name and the rig scene's ``defect.spin_seed``.
+
+    Parameters
+    ----------
+    name : str
+        The record's name.
+    base : int
+        The rig scene's ``defect.spin_seed``.
+
+    Returns
+    -------
+    int
+        A seed in [0, 2**32) (CRC-32 of ``"<base>:<name>"``: the same on every platform).
+    """
+    return zlib.crc32(f"{int(base)}:{name}".encode())
 
 
 def _geometry(b: RigBearing) -> str:
