@@ -292,7 +292,8 @@ def test_anchor_gain_is_one_per_group_not_per_record():
     records holding the reference mode (f_n within 3 %, damping within a factor 2); a broad hump
     near the reference frequency does not count (record 146's 3.35 kHz at zeta 0.22 made its
     2.64 kHz mode 38 x the rig's gain, 32 dB above its neighbours at the other loads); a
-    group without the reference mode rings its first mode at the rig's gain."""
+    group without the reference mode takes its place's ratio at another fs, and a place
+    without one rings its first mode at the rig's gain."""
     from types import SimpleNamespace as NS
 
     from bearing_envelope.physics.transfer import Mode
@@ -304,13 +305,17 @@ def test_anchor_gain_is_one_per_group_not_per_record():
         return NS(name=name, location="outer_race", position_deg=pos, fs_hz=12000.0)
 
     conds = [cond("a0", 90.0), cond("a1", 90.0), cond("a2", 90.0), cond("a3", 90.0),
-             cond("b0", 0.0)]
+             cond("b0", 0.0), cond("a48", 90.0)]
+    conds[-1].fs_hz = 48000.0
     paths = {"a0": (path((2660.0, 0.024, 12.0), (3398.0, 0.032, 3.0)), "identified"),  # 4
              "a1": (path((2660.0, 0.023, 7.0), (1758.0, 0.26, 0.2)), "identified"),  # none
              "a2": (path((2637.0, 0.020, 38.0), (3352.0, 0.224, 1.0)), "identified"),  # hump
              "a3": (path((2672.0, 0.018, 5.0), (3430.0, 0.020, 0.5)), "identified"),  # 10
-             "b0": (path((3000.0, 0.02, 1.0)), "identified")}
+             "b0": (path((3000.0, 0.02, 1.0)), "identified"),
+             "a48": (path((2824.0, 0.015, 3.0)), "identified")}
     got = rig.anchor_gains(conds, paths, 3422.0, 0.024)
     for n in ("a0", "a1", "a2", "a3"):
         assert got[n] == (pytest.approx(7.0), 2)  # median of 4 and 10
     assert got["b0"] == (1.0, 0)
+    # a group (here another fs) with no reference mode: its place's ratio at any fs
+    assert got["a48"] == (pytest.approx(7.0), 2)

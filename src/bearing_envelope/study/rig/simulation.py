@@ -302,9 +302,10 @@ def anchor_gains(conditions, paths: dict, reference_hz: float, reference_zeta: f
     """Each record's first-mode gain relative to the rig's reference mode, one per group of
     records that share the structure's path (fault location, outer-race position, fs): the
     median over the group's records that hold the reference mode (:func:`reference_mode`) of
-    their first mode's gain over it; 1 for a group where none holds it (its first mode rings at
-    the rig's gain). The ratio is a property of the rig and the fault's place, not of the load:
-    one record's weak or missing reference mode does not move its level.
+    their first mode's gain over it; for a group where none holds it, the same median over the
+    records of its location and position at any fs; 1 where none of those holds it either (the
+    first mode rings at the rig's gain). The ratio is a property of the rig and the fault's
+    place, not of the load: one record's weak or missing reference mode does not move its level.
 
     Parameters
     ----------
@@ -318,21 +319,25 @@ def anchor_gains(conditions, paths: dict, reference_hz: float, reference_zeta: f
     Returns
     -------
     dict
-        ``{name: (first_gain, number of the group's records that hold the reference mode)}``.
+        ``{name: (first_gain, number of records it is the median of)}``.
     """
-    groups: dict = {}
+    ratio = {}
     for c in conditions:
-        groups.setdefault((c.location, c.position_deg, c.fs_hz), []).append(c.name)
+        p = paths[c.name][0]
+        ref = None if p is None else reference_mode(p, reference_hz, reference_zeta)
+        if ref is not None:
+            ratio[c.name] = p.structure()[0].gain / ref.gain
     out = {}
-    for names in groups.values():
-        ratios = []
-        for n in names:
-            p = paths[n][0]
-            ref = None if p is None else reference_mode(p, reference_hz, reference_zeta)
-            if ref is not None:
-                ratios.append(p.structure()[0].gain / ref.gain)
-        g = float(np.median(ratios)) if ratios else 1.0
-        out.update({n: (g, len(ratios)) for n in names})
+    for c in conditions:
+        for same in (lambda o: (o.location, o.position_deg, o.fs_hz) ==
+                     (c.location, c.position_deg, c.fs_hz),
+                     lambda o: (o.location, o.position_deg) == (c.location, c.position_deg)):
+            got = [ratio[o.name] for o in conditions if o.name in ratio and same(o)]
+            if got:
+                out[c.name] = (float(np.median(got)), len(got))
+                break
+        else:
+            out[c.name] = (1.0, 0)
     return out
 
 
