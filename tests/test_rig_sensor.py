@@ -133,7 +133,7 @@ def test_each_ball_record_draws_its_own_orientation(tmp_path):
         scene = rig.condition_scene(dataclasses.replace(ball, name=f"rec_{i}"), s)
         k = rolling_element_kinematics(scene, np.zeros(1), redraw=False)
         offsets.append(float(k["track_offset"][0]))
-    assert len({rig.record_spin_seed(f"rec_{i}") for i in range(400)}) == 400
+    assert len({rig.record_spin_seed(f"rec_{i}", 0) for i in range(400)}) == 400
     frac = np.mean(np.abs(offsets) < b)
     assert frac == pytest.approx(0.25, abs=3 * math.sqrt(0.25 * 0.75 / 400))
     # the same record, the same draw

@@ -31,7 +31,7 @@ from ...diagnosis.transfer_path import WELCH_SEGMENT, background_noise, identify
 from ...io.atomic import atomic_path
 from ...physics.history import defect_angle, simulate, synthesize_case
 from ...physics.locations import get_location
-from ...physics.scene import Scene
+from ...physics.scene import DEFAULT_SCENE, Scene
 from ...physics.transfer import Mode, apply_structure, direction_gain, excitation_from_history
 from .config import RigSettings
 from .dynamic import (dynamic_path, dynamic_supported, is_dynamic, sensor_excitation,
@@ -78,7 +78,7 @@ def condition_scene(cond: RigCondition, settings: RigSettings) -> Scene:
              length_um=cond.length_um, width_um=cond.width_um)
     if get_location(cond.location).spins:  # a defect on a spinning body: the ball's axis
         d["spin_axis"] = settings.ball_spin_axis
-        d["spin_seed"] = record_spin_seed(cond.name, d.get("spin_seed", 0))
+        d["spin_seed"] = record_spin_seed(cond.name, d.get("spin_seed", DEFAULT_SCENE["defect"]["spin_seed"]))
     op = m.setdefault("operation", {})
     op.update(shaft_rate_hz=cond.shaft_hz, fs_hz=cond.fs_hz,
               revolutions=(cond.n_samples + 0.5) / cond.fs_hz * cond.shaft_hz)
@@ -91,7 +91,7 @@ def condition_scene(cond: RigCondition, settings: RigSettings) -> Scene:
     return scene
 
 
-def record_spin_seed(name: str, base: int = 0) -> int:
+def record_spin_seed(name: str, base: int) -> int:
     """The seed of a record's ball orientations: each record is its own run of the rig (its own
     draw of the ball's orientation, kept through the record where loaded contacts hold the
     spin axis), deterministic from the record's name and the rig scene's ``defect.spin_seed``.
