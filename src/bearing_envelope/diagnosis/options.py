@@ -17,6 +17,7 @@ scene (:mod:`bearing_envelope.study.sections`), not here.
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
@@ -107,7 +108,7 @@ class OptionSpec:
         if self.kind == "routes":
             return f"any of {ROUTES}"
         if self.kind == "bands":
-            return "a sequence of band mappings or None"
+            return "a non-empty sequence of band mappings or None"
         if self.kind == "spacing":
             return "a mapping family -> spacing name, or None"
         return "a window scipy.signal.get_window knows"
@@ -180,10 +181,30 @@ def _float(spec, v):
 
 
 def _bands(spec, v):
-    if isinstance(v, (str, bytes, Mapping)) or not isinstance(v, Sequence) \
+    if isinstance(v, (str, bytes, Mapping)) or not isinstance(v, Sequence) or not v \
             or not all(isinstance(b, Mapping) for b in v):
-        return False, v
+        return False, v   # an empty list too: no band, no envelope, no verdict
     return True, tuple(v)
+
+
+@functools.lru_cache(maxsize=64)
+def _known_window(v) -> bool:
+    """Whether scipy.signal.get_window makes a window of ``v`` (a name or a (name, params)
+    tuple): checked where the option is set, not deep in the chain."""
+    from scipy.signal import get_window  # scipy only when a window is checked
+
+    try:
+        get_window(v, 16)
+    except (ValueError, TypeError, KeyError):
+        return False
+    return True
+
+
+def _window(spec, v):
+    try:
+        return (isinstance(v, (str, tuple)) and _known_window(v)), v
+    except TypeError:   # an unhashable tuple member
+        return False, v
 
 
 def _routes(spec, v):
@@ -200,7 +221,7 @@ _KIND_CHECKS = {
     "bands": _bands,
     "routes": _routes,
     "spacing": lambda s, v: (isinstance(v, Mapping), v),
-    "window": lambda s, v: (isinstance(v, (str, tuple)), v),
+    "window": _window,
 }
 
 _INF = None   # an unbounded side

@@ -51,7 +51,8 @@ DEFAULT_CHANNEL = "DE"
 DEFAULT_SIGNAL = "p_max"
 
 __all__ = ["DEFAULT_CHANNEL", "DEFAULT_SIGNAL", "SUFFIXES", "MEMORY_FACTOR", "MAX_MAGNITUDE",
-           "read_record", "sniff_csv", "read_manifest", "collect_records", "check_memory"]
+           "RATE_AGREEMENT", "read_record", "sniff_csv", "read_manifest", "collect_records",
+           "check_memory"]
 
 #: File types :func:`read_record` reads.
 SUFFIXES = (".csv", ".npy", ".npz", ".mat", ".wav", ".h5", ".hdf5")
@@ -517,20 +518,44 @@ def _choose(members: dict, column, path: str) -> str:
     return _pick(cands if column is None else list(members), column, "variable", path)
 
 
+#: Relative difference above which two entries of one file that give the same rate (``fs``
+#: and ``sampling_rate``; ``fr``, ``shaft_hz`` and ``rpm`` / 60; ``meta_json``'s ``shaft_hz``)
+#: contradict each other: the file is refused instead of one being picked. 1e-3 lets an rpm
+#: written to the unit (1797 rpm for 29.95 Hz) agree with its rate in Hz.
+RATE_AGREEMENT = 1e-3
+
+
 def _scalars(arrays: dict, path: str) -> dict:
-    """fs and fr (Hz) from scalar entries (``fs``, ``fr``/``shaft_hz``, ``rpm``)."""
+    """fs and fr (Hz) from scalar entries (``fs``, ``fr``/``shaft_hz``, ``rpm``); entries that
+    give the same rate must agree (:data:`RATE_AGREEMENT`), else the file is refused naming
+    both."""
     out: dict = {"fs": None, "fr": None}
+    seen: dict = {"fs": None, "fr": None}   # key -> (entry, value as written)
     for names, key, scale in ((_FS_NAMES, "fs", 1.0), (_FR_NAMES, "fr", 1.0),
                               (_RPM_NAMES, "fr", 1.0 / 60.0)):
-        if out[key] is not None:
-            continue
         for k in names:
             if k in arrays and np.size(arrays[k]) == 1:
                 v = np.asarray(arrays[k])
                 if v.dtype.kind in "iuf":
-                    out[key] = float(v.ravel()[0]) * scale
-                    break
+                    value = float(v.ravel()[0])
+                    if out[key] is None:
+                        out[key], seen[key] = value * scale, (k, value)
+                    else:
+                        _agree(seen[key], out[key], (k, value), value * scale, path)
     return out
+
+
+def _agree(first: tuple, first_hz: float, other: tuple, other_hz: float, path: str) -> None:
+    """Refuse two entries of one file that give the same rate differently (one line, both
+    named with their values)."""
+    same = first_hz == other_hz or (math.isfinite(first_hz) and math.isfinite(other_hz) and
+                                    abs(first_hz - other_hz) <= RATE_AGREEMENT
+                                    * max(abs(first_hz), abs(other_hz)))
+    if not same:
+        raise ValueError(f"file: {path}: {first[0]!r} = {first[1]!r} and {other[0]!r} = "
+                         f"{other[1]!r} contradict each other ({first_hz:g} vs {other_hz:g} "
+                         f"Hz); allowed: entries that agree within {RATE_AGREEMENT:g}, or one "
+                         f"of them")
 
 
 def _meta(raw, out: dict, path: str) -> dict:
@@ -538,6 +563,9 @@ def _meta(raw, out: dict, path: str) -> dict:
     ``meta_json`` that is not a JSON object is refused (one line), never ignored."""
     try:
         meta = json.loads(str(np.asarray(raw).ravel()[0]))
+    except RecursionError:
+        raise ValueError(f"file: {path}: 'meta_json' is nested too deeply to read; allowed: a "
+                         f"JSON object (or no meta_json)") from None
     except (ValueError, TypeError) as exc:
         raise ValueError(f"file: {path}: 'meta_json' is not valid JSON ({exc}); allowed: a JSON "
                          f"object (or no meta_json)") from None
@@ -545,11 +573,14 @@ def _meta(raw, out: dict, path: str) -> dict:
         raise ValueError(f"file: {path}: 'meta_json' holds a JSON {type(meta).__name__}; "
                          f"allowed: a JSON object (or no meta_json)")
     fr = meta.get("shaft_hz")
-    if fr is None or out.get("fr") is not None:
+    if fr is None:
         return {}
     if isinstance(fr, bool) or not isinstance(fr, (int, float)):
         raise ValueError(f"file: {path}: 'meta_json' shaft_hz = {fr!r}; allowed: a shaft rate "
                          f"> 0 (Hz, a number) or no shaft_hz")
+    if out.get("fr") is not None:   # a scalar gave one: they must agree
+        _agree(("fr (Hz)", out["fr"]), out["fr"], ("meta_json shaft_hz", fr), float(fr), path)
+        return {}
     # a non-positive or non-finite rate is returned as the file gives it: the consumer names
     # it and its allowed range ("the file gives fr = -29.95; pass a shaft rate > 0 ...")
     return {"fr": float(fr)}
