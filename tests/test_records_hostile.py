@@ -166,7 +166,8 @@ def test_rollers_that_do_not_fit_the_pitch_circle_are_refused(record, z, capsys)
 def test_a_geometry_whose_lines_pass_nyquist_names_its_options(record, capsys):
     msg = _refusal([record, "--n-rollers", "9", "--roller-diameter-mm", "1e-300",
                     "--pitch-diameter-mm", "39.04"], capsys)
-    assert "bearing geometry (--n-rollers, --roller-diameter-mm, --pitch-diameter-mm)" in msg
+    assert ("bearing geometry (--n-rollers, --roller-diameter-mm/-in, "
+            "--pitch-diameter-mm/-in) (bsf = ") in msg
 
 
 @pytest.mark.parametrize("bands, named", [

@@ -515,8 +515,8 @@ OPTION_NAMES = {"fs": "--fs", "shaft_hz": "--fr", "bpfi": "--bpfi", "faults": "-
                 "nlevel": "--nlevel", "fixed_band": "--fixed-band", "clamp": "--clamp",
                 "bands": "--bands", "record": "the case file",
                 "min_bandwidth": "--min-bandwidth", "n_rollers": "--n-rollers",
-                "roller_diameter_mm": "--roller-diameter-mm",
-                "pitch_diameter_mm": "--pitch-diameter-mm"}
+                "roller_diameter_mm": "--roller-diameter-mm/-in",
+                "pitch_diameter_mm": "--pitch-diameter-mm/-in"}
 
 #: ``AnalysisOptions`` field -> the option that sets it (None: not given, the library's); the
 #: options' ranges are AnalysisOptions' own (``options_with`` names the option in its errors).
