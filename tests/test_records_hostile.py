@@ -171,7 +171,8 @@ def test_a_geometry_whose_lines_pass_nyquist_names_its_options(record, capsys):
 
 
 @pytest.mark.parametrize("bands, named", [
-    ("[]", "--bands: got []; allowed: a non-empty sequence"),
+    ("[]", "--bands: got an empty list; allowed: at least one band (or an empty list with "
+           "--fixed-band)"),
     ('[{"name": "b", "strategy": "fixed", "low_hz": "low", "high_hz": 2000}]',
      "--bands: fixed band: band edges must be numbers"),
 ])

@@ -108,7 +108,7 @@ class OptionSpec:
         if self.kind == "routes":
             return f"any of {ROUTES}"
         if self.kind == "bands":
-            return "a non-empty sequence of band mappings or None"
+            return "a sequence of band mappings or None"
         if self.kind == "spacing":
             return "a mapping family -> spacing name, or None"
         return "a window scipy.signal.get_window knows"
@@ -181,9 +181,9 @@ def _float(spec, v):
 
 
 def _bands(spec, v):
-    if isinstance(v, (str, bytes, Mapping)) or not isinstance(v, Sequence) or not v \
+    if isinstance(v, (str, bytes, Mapping)) or not isinstance(v, Sequence) \
             or not all(isinstance(b, Mapping) for b in v):
-        return False, v   # an empty list too: no band, no envelope, no verdict
+        return False, v
     return True, tuple(v)
 
 

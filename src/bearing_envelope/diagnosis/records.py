@@ -751,6 +751,9 @@ def analyze_record(signal, fs: float | None = None, *, shaft_hz: float | None = 
     bands_given = opt.bands is not None
     opt = replace(opt, nlevel=nlevel, bands=record_bands(opt.bands, fixed_band, fs,
                                                          clamp=clamp, names=names))
+    if opt.bands is not None and not opt.bands:   # no band: no envelope, no verdict
+        raise ValueError(f"{n('bands')}: got an empty list; allowed: at least one band (or "
+                         f"an empty list with {n('fixed_band')})")
     table, det = _run_chain(x, fs, fr, sources, opt, where,
                             n("bands") if bands_given else "bands")
     geometry = _geometry(bearing, n)
