@@ -552,7 +552,8 @@ def csv_cases(w: Writer) -> list:
     case("an empty cell", w.csv(zip(t, xe)), ("refuse", r"'x'|line"))
     case("empty file", w.raw(b"", ".csv"), ("refuse", r"data line|CSV"))
     case("header only", w.raw(b"time,x\n", ".csv"), ("refuse", r"data line"))
-    case("one line", w.raw(b"0.0,1.0\n", ".csv"), ("refuse", r"samples|--fs|time column"))
+    case("one line", w.raw(b"0.0,1.0\n", ".csv"), ("refuse", r"samples|--fs|time column|"
+                                                             r"--column"))
     case("binary garbage .csv", w.raw(bytes(np.random.default_rng(5).integers(0, 256, 70000,
                                                                               dtype=np.uint8)),
                                       ".csv"), ("refuse", r"UTF-8|CSV"))
@@ -698,7 +699,7 @@ def file_cases(w: Writer) -> list:
     case(".wav rate 1 Hz", "wav", w.raw(_wav_rate(wv, 1), ".wav"), ("refuse", r"\bfs\b|--fr|"
                                                                             r"--bearing|Nyquist"))
     case(".wav rate 4e9 Hz", "wav", w.raw(_wav_rate(wv, 4_000_000_000), ".wav"),
-         ("refuse", r"\bfs\b|resolution|--fr"))
+         ("refuse", r"\bfs\b|resolution|--fr|nSamplesPerSec"))
     case(".wav rate 0, --fs 12000", "wav", w.raw(_wav_rate(wv, 0), ".wav"),
          ("analyse", "bpfi"), ("--fs", "12000"))
     case(".wav 8-bit", "wav", _wav8(w, x), ("analyse", "bpfi"))
@@ -904,7 +905,8 @@ def run_one(argv: list, work: Path, timeout: float = TIMEOUT_S, src: Path = ROOT
             "hung": hung}
 
 
-def classify(expect: tuple, r: dict, unpickled: bool) -> tuple[str, str]:
+def classify(expect: tuple, r: dict, unpickled: bool, timeout: float = TIMEOUT_S
+             ) -> tuple[str, str]:
     """(class, message) of one run against what the input expects (module docstring)."""
     err = r["stderr"].strip()
     lines = [ln for ln in err.splitlines() if ln.strip()]
@@ -912,7 +914,7 @@ def classify(expect: tuple, r: dict, unpickled: bool) -> tuple[str, str]:
     if unpickled:
         return "silently wrong", "a pickled object was unpickled (the witness file exists)"
     if r["hung"]:
-        return "hang", f"still running after {TIMEOUT_S:g} s"
+        return "hang", f"still running after {timeout:g} s (wall)"
     if "Traceback (most recent call last)" in err or r["rc"] not in (0, 1, 2):
         return "traceback", (msg or f"exit code {r['rc']}")
     kind, what = expect
@@ -946,7 +948,7 @@ def main(argv: list[str] | None = None) -> int:
     Parameters
     ----------
     argv : list of str, optional
-        ``[--quick] [--only TEXT] [--out CSV] [--timeout S] [--src DIR]``.
+        ``[--quick] [--only REGEX] [--classes REGEX] [--out CSV] [--timeout S] [--src DIR]``.
 
     Returns
     -------
@@ -957,14 +959,15 @@ def main(argv: list[str] | None = None) -> int:
                                  description=__doc__.split("\n\n")[0])
     ap.add_argument("--quick", action="store_true", help="the QUICK subset only")
     ap.add_argument("--only", default=None, help="inputs whose name matches this regex")
+    ap.add_argument("--classes", default=None, help="inputs whose class matches this regex")
     ap.add_argument("--out", default=None, help="write the per-input results as CSV")
     ap.add_argument("--timeout", type=float, default=TIMEOUT_S, help="seconds per run")
     ap.add_argument("--src", default=str(ROOT / "src"),
                     help="the source tree whose package runs (default this checkout's src; "
                          "another, e.g. an exported older commit, gives its 'before')")
     args = ap.parse_args(argv)
-    rows = run_set(quick=args.quick, only=args.only, timeout=args.timeout, echo=True,
-                   src=Path(args.src))
+    rows = run_set(quick=args.quick, only=args.only, classes=args.classes,
+                   timeout=args.timeout, echo=True, src=Path(args.src))
     if args.out:
         import pandas as pd
 
@@ -972,8 +975,9 @@ def main(argv: list[str] | None = None) -> int:
     return summary(rows)
 
 
-def run_set(*, quick: bool = False, only: str | None = None, timeout: float = TIMEOUT_S,
-            echo: bool = False, src: Path = ROOT / "src") -> list[dict]:
+def run_set(*, quick: bool = False, only: str | None = None, classes: str | None = None,
+            timeout: float = TIMEOUT_S, echo: bool = False, src: Path = ROOT / "src"
+            ) -> list[dict]:
     """Generate and run the set (or its quick subset) with the package of ``src``; one row
     per input."""
     rows = []
@@ -984,12 +988,14 @@ def run_set(*, quick: bool = False, only: str | None = None, timeout: float = TI
             cases = [c for c in cases if c[0] in QUICK]
         if only:
             cases = [c for c in cases if re.search(only, c[0])]
+        if classes:
+            cases = [c for c in cases if re.search(classes, c[1])]
         for name, cls, argv, expect in cases:
             if PICKLE_WITNESS.exists():
                 PICKLE_WITNESS.unlink()
             t0 = time.time()
             r = run_one(argv, work, timeout, src)
-            status, msg = classify(expect, r, PICKLE_WITNESS.exists())
+            status, msg = classify(expect, r, PICKLE_WITNESS.exists(), timeout)
             rows.append({"name": name, "class": cls, "expect": expect[0], "status": status,
                          "cpu_s": r["cpu_s"], "wall_s": time.time() - t0, "message": msg})
             if echo:

@@ -197,3 +197,72 @@ def test_a_window_scipy_does_not_know_is_refused_as_the_option(record, window, c
 def test_a_minimum_bandwidth_above_nyquist_names_the_option(record, capsys):
     msg = _refusal([record, "--bearing", "6205", "--min-bandwidth", "1e9"], capsys)
     assert "--min-bandwidth: got 1e+09 Hz; allowed: at most fs/2 = 6000 Hz" in msg
+
+
+def test_a_time_column_in_g_format_with_a_jump_is_not_uniform(tmp_path):
+    """'%.9g' writes t = 0 as '0': its printed step (1 s) used to be taken as the column's
+    precision, and a 6 % long step or a 1 s gap passed as uniform."""
+    x = _signal()
+    for shift in (5e-6, 1.0):
+        t = np.arange(x.size) / FS
+        t[x.size // 2:] += shift
+        f = tmp_path / f"g{shift}.csv"
+        f.write_text("time,x\n" + "".join(f"{a:.9g},{b:.9g}\n" for a, b in zip(t, x)))
+        with pytest.raises(ValueError, match="not uniformly sampled"):
+            read_record(str(f))
+    f = tmp_path / "g.csv"   # the same format, uniform: read, fs exact to the printed digits
+    f.write_text("time,x\n" + "".join(f"{a:.9g},{b:.9g}\n"
+                                      for a, b in zip(np.arange(x.size) / FS, x)))
+    assert read_record(str(f))["fs"] == pytest.approx(FS, rel=1e-6)
+
+
+def test_an_npy_of_format_3_is_read(tmp_path):
+    """Version 3.0 (a UTF-8 header) used to crash on a numpy without _read_array_header."""
+    x = _signal()
+    body = "{'descr': '<f8', 'fortran_order': False, 'shape': (%d,), }" % x.size
+    head = len(body) + 1 + 12
+    text = (body + " " * (-head % 64) + "\n").encode()
+    f = tmp_path / "v3.npy"
+    f.write_bytes(b"\x93NUMPY\x03\x00" + len(text).to_bytes(4, "little") + text + x.tobytes())
+    assert np.array_equal(read_record(str(f))["x"], x)
+
+
+def test_a_cwru_rpm_written_as_text_is_refused(tmp_path):
+    from scipy.io import savemat
+
+    f = tmp_path / "X105.mat"
+    savemat(f, {"X105_DE_time": _signal()[:, None], "X105RPM": "1797"})
+    with pytest.raises(ValueError, match=r"'X105RPM' holds <U4 data; allowed: one number"):
+        read_record(str(f))
+
+
+def test_fs_option_overrides_an_uneven_mat_time_vector(tmp_path):
+    """--fs used to be ignored by the .mat reader: refused 'give --fs' with --fs given."""
+    from scipy.io import savemat
+
+    x = _signal()
+    t = np.arange(x.size) / FS
+    t[x.size // 2:] += 5e-6
+    f = tmp_path / "t.mat"
+    savemat(f, {"a": x, "time": t})
+    with pytest.raises(ValueError, match="not uniformly sampled.*give --fs"):
+        read_record(str(f))
+    assert read_record(str(f), fs=FS)["fs"] is None
+
+
+@pytest.mark.parametrize("suffix", [".csv", ".npz"])
+def test_a_fifo_is_refused_not_read(tmp_path, suffix):
+    """Opening a FIFO blocks until a writer comes: the command used to hang."""
+    import os
+
+    f = tmp_path / f"pipe{suffix}"
+    os.mkfifo(f)
+    with pytest.raises(ValueError, match=r"is a FIFO; allowed: a regular signal file"):
+        read_record(str(f))
+
+
+def test_a_binary_manifest_names_the_manifest(tmp_path, capsys):
+    f = tmp_path / "m.csv"
+    f.write_bytes(bytes(range(256)) * 16)
+    msg = _refusal(["--manifest", str(f), "--fr", "29.95", "--bearing", "6205"], capsys)
+    assert "error: --manifest: " in msg and "is not a UTF-8 text CSV" in msg

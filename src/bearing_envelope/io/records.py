@@ -35,6 +35,7 @@ import json
 import math
 import os
 import re
+import stat
 import tokenize
 import zipfile
 import zlib
@@ -172,8 +173,9 @@ _DECIMALS = r"^[+-]?\d*(?:\.(?P<frac>\d*))?(?:[eE](?P<exp>[+-]?\d+))?$"
 
 
 def _printed_quantum(series, dec: str) -> float:
-    """The coarsest last written digit of a column of numbers (s for a time column): 1e-6
-    for ``0.000083``, 1e-9 for ``8.3333e-05``; 0 when the texts are not plain numbers."""
+    """The last written digit of a column of numbers, its median over the column (s for a
+    time column): 1e-6 for ``0.000083``, 1e-9 for ``8.3333e-05``; 0 when the texts are not
+    plain numbers."""
     text = series.str.strip()
     if dec == ",":
         text = text.str.replace(",", ".", regex=False)
@@ -182,7 +184,9 @@ def _printed_quantum(series, dec: str) -> float:
         return 0.0
     frac = parts["frac"].fillna("").str.len().to_numpy(dtype=float)
     exp = parts["exp"].fillna("0").astype(int).to_numpy(dtype=float)
-    return float(np.max(10.0 ** (exp - frac)))
+    # the median, not the coarsest: "%g" writes 0 s as "0" and 0.5 s as "0.5", values exact
+    # as written, and the largest quantum (1 s for "0") would let any step through
+    return float(np.median(10.0 ** (exp - frac)))
 
 
 def _pick(names, column, what: str, path: str) -> str:
@@ -379,8 +383,11 @@ def _npy_header(fh, path: str, what: str):
             shape, fortran, dtype = npf.read_array_header_1_0(fh)
         elif version == (2, 0):
             shape, fortran, dtype = npf.read_array_header_2_0(fh)
+        elif version == (3, 0):   # 2.0's layout with a UTF-8 header: no public reader
+            shape, fortran, dtype = npf.read_array_header_2_0(fh)
         else:
-            shape, fortran, dtype = npf._read_array_header(fh, version)  # 3.0: no public reader
+            raise ValueError(f"format version {version[0]}.{version[1]}; allowed: 1.0, 2.0, "
+                             f"3.0")
     except (ValueError, EOFError, OSError, SyntaxError, tokenize.TokenError) as exc:
         raise ValueError(f"file: {path}: {what} has no valid .npy header "
                          f"({str(exc).splitlines()[0] if str(exc) else type(exc).__name__})"
@@ -591,7 +598,7 @@ _CWRU_VAR = re.compile(r"^X(\d+)_(DE|FE|BA)_time$")
 _CWRU_RPM = re.compile(r"^X(\d+)RPM$")
 
 
-def _read_mat(path, column, channel) -> dict:
+def _read_mat(path, column, channel, fs=None) -> dict:
     from scipy.io import loadmat
 
     try:
@@ -611,6 +618,9 @@ def _read_mat(path, column, channel) -> dict:
         number = cwru[name].group(1)
         rpm = [v for k, v in m.items() if (mt := _CWRU_RPM.match(k)) and mt.group(1) == number]
         if rpm and np.size(rpm[0]) == 1 and out["fr"] is None:
+            if np.asarray(rpm[0]).dtype.kind not in "iuf":
+                raise ValueError(f"file: {path}: variable 'X{number}RPM' holds "
+                                 f"{np.asarray(rpm[0]).dtype} data; allowed: one number (rpm)")
             out["fr"] = float(np.asarray(rpm[0]).ravel()[0]) / 60.0
     else:
         cands = [k for k, v in m.items() if isinstance(v, np.ndarray) and v.dtype.kind in "iufcb"
@@ -621,7 +631,7 @@ def _read_mat(path, column, channel) -> dict:
         raise ValueError(f"file: {path}: variable {name!r} has shape {shape}; allowed: one "
                          f"signal (a vector; save one channel per variable)")
     out["x"] = _real_vector(m[name], path, f"variable {name!r}")
-    if out["fs"] is None:
+    if out["fs"] is None and fs is None:   # the caller's rate: no time vector read
         for k in m:
             if k.lower() in _TIME_NAMES and np.size(m[k]) == out["x"].size:
                 out["fs"] = _fs_from_time(np.ravel(m[k]), path)
@@ -742,13 +752,14 @@ def read_record(path: str, *, column=None, channel: str = DEFAULT_CHANNEL,
         raise FileNotFoundError(f"no such file: {path}")
     if os.path.isdir(path):
         raise ValueError(f"file: {path!r} is a directory; allowed: a signal file")
+    _check_regular(path)
     ext = os.path.splitext(path)[1].lower()
     if ext in (".h5", ".hdf5"):
         return _read_case(path, signal)
     readers = {".csv": lambda: _read_csv(path, column, delimiter, decimal, fs),
                ".npy": lambda: _read_npy(path, column),
                ".npz": lambda: _read_npz(path, column, fs),
-               ".mat": lambda: _read_mat(path, column, channel),
+               ".mat": lambda: _read_mat(path, column, channel, fs),
                ".wav": lambda: _read_wav(path, column)}
     if ext not in readers:
         raise ValueError(f"file: {path}: unsupported file type {ext!r}; allowed: "
@@ -757,6 +768,17 @@ def read_record(path: str, *, column=None, channel: str = DEFAULT_CHANNEL,
     out.update(readers[ext]())
     _check_magnitude(out["x"], path)
     return out
+
+
+def _check_regular(path: str) -> None:
+    """Refuse what is not a regular file (after its symlinks): a FIFO blocks the reader
+    forever, a device (``/dev/zero``) never ends; one line naming the file and what it is."""
+    mode = os.stat(path).st_mode
+    if not stat.S_ISREG(mode):
+        kind = ("a FIFO" if stat.S_ISFIFO(mode) else "a character device" if stat.S_ISCHR(mode)
+                else "a block device" if stat.S_ISBLK(mode) else "a socket"
+                if stat.S_ISSOCK(mode) else "not a regular file")
+        raise ValueError(f"file: {path} is {kind}; allowed: a regular signal file")
 
 
 #: Largest |sample| a record may hold (and 1/MAX_MAGNITUDE the smallest peak): the analysis
@@ -851,7 +873,10 @@ def read_manifest(path: str) -> list[dict]:
     """
     if not os.path.isfile(path):
         raise ValueError(f"--manifest: no such file: {path}")
-    lines = _csv_lines(path)
+    try:
+        lines = _csv_lines(path)
+    except ValueError as exc:   # not UTF-8 text: the manifest is named, not a record
+        raise ValueError(f"--manifest: {str(exc).replace('file: ', '', 1)}") from None
     if not lines:
         raise ValueError(f"--manifest: {path} is empty; allowed: a CSV with a 'file' column")
     sep = _guess_sep(lines)
