@@ -38,11 +38,9 @@ from __future__ import annotations
 import argparse
 import json
 import os
-import pickle  # noqa: F401 -- only to *write* the pickle the reader must refuse
 import re
 import resource
 import signal
-import stat
 import struct
 import subprocess
 import sys
