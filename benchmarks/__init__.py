@@ -44,6 +44,9 @@ REGISTRY: dict[str, str] = {
                     "(centrifugal force, preload): loads, events, BPFO level",
     "cwru_hardness": "what the hardness bound changes in the CWRU scenes (p_max, removed force, "
                      "envelope line)",
+    "hostile_records": "hostile `analyze` inputs (every file type, rates, bearings, options, "
+                       "broken files, pickles, devices): each refused in one line naming its "
+                       "field or analysed right, none hanging",
     "hostile_configs": "bad and hostile configs: each refused before any job (or run to the "
                        "end with --run), and the check's cost",
     "defect_contact": "the defect contact law F(x, delta) of the dynamic model: cost and errors per "

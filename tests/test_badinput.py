@@ -295,7 +295,9 @@ ANALYZE_ARGS = {
     "geometry-above-nyquist": ("x1.npy", ["--fr", "200", "--n-rollers", "9",
                                           "--roller-diameter-in", "0.3126",
                                           "--pitch-diameter-in", "1.537"],
-                               r"bearing geometry \(bpfo = 716\.9.* at or above the Nyquist"),
+                               r"bearing geometry \(--n-rollers, --roller-diameter-mm/-in, "
+                               r"--pitch-diameter-mm/-in\) \(bpfo = 716\.9.* at or above "
+                               r"the Nyquist"),
     "fault-below-resolution": ("x1.npy", ["--fault", "ftf=0.2"],
                                r"--fault \(ftf = 0.2 Hz\): .* below the resolution .* 0\.05 Hz"),
     "fr-above-nyquist": ("x1.npy", ["--fr", "600"], r"--fr: 600 Hz is at or above the Nyquist"),

@@ -447,6 +447,9 @@ def load_bands(text: str | None):
     """
     if text is None:
         return None
+    if os.path.isdir(text):
+        raise ValueError(f"--bands: {text!r} is a directory; allowed: a YAML/JSON file or an "
+                         f"inline JSON list")
     if os.path.exists(text):
         import yaml  # only for a --bands file
 
@@ -510,7 +513,10 @@ OPTION_NAMES = {"fs": "--fs", "shaft_hz": "--fr", "bpfi": "--bpfi", "faults": "-
                 "bearing": "--bearing", "n_harmonics": "--harmonics",
                 "n_raw_harmonics": "--raw-harmonics", "n_sidebands": "--sidebands",
                 "nlevel": "--nlevel", "fixed_band": "--fixed-band", "clamp": "--clamp",
-                "bands": "--bands", "record": "the case file"}
+                "bands": "--bands", "record": "the case file",
+                "min_bandwidth": "--min-bandwidth", "n_rollers": "--n-rollers",
+                "roller_diameter_mm": "--roller-diameter-mm/-in",
+                "pitch_diameter_mm": "--pitch-diameter-mm/-in"}
 
 #: ``AnalysisOptions`` field -> the option that sets it (None: not given, the library's); the
 #: options' ranges are AnalysisOptions' own (``options_with`` names the option in its errors).
@@ -555,7 +561,8 @@ def build_options(args):
     if args.routes is not None:
         given["routes"] = args.routes
     names = {f: "--" + a.replace("_", "-") for f, a in _OPTION_FIELDS.items()}
-    return options_with(RECORD_OPTIONS, names={**names, "routes": "--routes"}, **given)
+    names.update(routes="--routes", bands="--bands")
+    return options_with(RECORD_OPTIONS, names=names, **given)
 
 
 def library_arguments(args) -> dict:

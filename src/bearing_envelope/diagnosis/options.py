@@ -17,6 +17,7 @@ scene (:mod:`bearing_envelope.study.sections`), not here.
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
@@ -186,6 +187,26 @@ def _bands(spec, v):
     return True, tuple(v)
 
 
+@functools.lru_cache(maxsize=64)
+def _known_window(v) -> bool:
+    """Whether scipy.signal.get_window makes a window of ``v`` (a name or a (name, params)
+    tuple): checked where the option is set, not deep in the chain."""
+    from scipy.signal import get_window  # scipy only when a window is checked
+
+    try:
+        get_window(v, 16)
+    except (ValueError, TypeError, KeyError):
+        return False
+    return True
+
+
+def _window(spec, v):
+    try:
+        return (isinstance(v, (str, tuple)) and _known_window(v)), v
+    except TypeError:   # an unhashable tuple member
+        return False, v
+
+
 def _routes(spec, v):
     routes = (v,) if isinstance(v, str) else tuple(v) if isinstance(v, Sequence) else None
     ok = routes is not None and all(r in ROUTES for r in routes)
@@ -200,7 +221,7 @@ _KIND_CHECKS = {
     "bands": _bands,
     "routes": _routes,
     "spacing": lambda s, v: (isinstance(v, Mapping), v),
-    "window": lambda s, v: (isinstance(v, (str, tuple)), v),
+    "window": _window,
 }
 
 _INF = None   # an unbounded side

@@ -354,7 +354,8 @@ def fault_sources(shaft_hz: float, *, bearing=None, bpfi: float | None = None,
     geometry = _geometry(bearing, n)
     if geometry is not None:
         label = f"{n('bearing')} {geometry['designation']}" if geometry.get("designation") \
-            else "bearing geometry"
+            else (f"bearing geometry ({n('n_rollers')}, {n('roller_diameter_mm')}, "
+                  f"{n('pitch_diameter_mm')})")
         try:
             rates = bearing_rates(shaft_hz, geometry["n_rollers"],
                                   geometry["roller_diameter_mm"],
@@ -744,9 +745,15 @@ def analyze_record(signal, fs: float | None = None, *, shaft_hz: float | None = 
     check_frequencies({"fr": Source(fr, n("shaft_hz"), "shaft_hz"), **sources}, fs, x.size,
                       names)
     check_orders(opt, sources, fr, fs, names)
+    if opt.min_bandwidth is not None and opt.min_bandwidth > fs / 2.0:
+        raise ValueError(f"{n('min_bandwidth')}: got {opt.min_bandwidth:g} Hz; allowed: at "
+                         f"most fs/2 = {fs / 2.0:g} Hz (the kurtogram's widest band)")
     bands_given = opt.bands is not None
     opt = replace(opt, nlevel=nlevel, bands=record_bands(opt.bands, fixed_band, fs,
                                                          clamp=clamp, names=names))
+    if opt.bands is not None and not opt.bands:   # no band: no envelope, no verdict
+        raise ValueError(f"{n('bands')}: got an empty list; allowed: at least one band (or "
+                         f"an empty list with {n('fixed_band')})")
     table, det = _run_chain(x, fs, fr, sources, opt, where,
                             n("bands") if bands_given else "bands")
     geometry = _geometry(bearing, n)

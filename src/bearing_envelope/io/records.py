@@ -35,6 +35,7 @@ import json
 import math
 import os
 import re
+import stat
 import tokenize
 import zipfile
 import zlib
@@ -51,7 +52,8 @@ DEFAULT_CHANNEL = "DE"
 DEFAULT_SIGNAL = "p_max"
 
 __all__ = ["DEFAULT_CHANNEL", "DEFAULT_SIGNAL", "SUFFIXES", "MEMORY_FACTOR", "MAX_MAGNITUDE",
-           "read_record", "sniff_csv", "read_manifest", "collect_records", "check_memory"]
+           "RATE_AGREEMENT", "read_record", "sniff_csv", "read_manifest", "collect_records",
+           "check_memory"]
 
 #: File types :func:`read_record` reads.
 SUFFIXES = (".csv", ".npy", ".npz", ".mat", ".wav", ".h5", ".hdf5")
@@ -171,8 +173,9 @@ _DECIMALS = r"^[+-]?\d*(?:\.(?P<frac>\d*))?(?:[eE](?P<exp>[+-]?\d+))?$"
 
 
 def _printed_quantum(series, dec: str) -> float:
-    """The coarsest last written digit of a column of numbers (s for a time column): 1e-6
-    for ``0.000083``, 1e-9 for ``8.3333e-05``; 0 when the texts are not plain numbers."""
+    """The last written digit of a column of numbers, its median over the column (s for a
+    time column): 1e-6 for ``0.000083``, 1e-9 for ``8.3333e-05``; 0 when the texts are not
+    plain numbers."""
     text = series.str.strip()
     if dec == ",":
         text = text.str.replace(",", ".", regex=False)
@@ -181,7 +184,9 @@ def _printed_quantum(series, dec: str) -> float:
         return 0.0
     frac = parts["frac"].fillna("").str.len().to_numpy(dtype=float)
     exp = parts["exp"].fillna("0").astype(int).to_numpy(dtype=float)
-    return float(np.max(10.0 ** (exp - frac)))
+    # the median, not the coarsest: "%g" writes 0 s as "0" and 0.5 s as "0.5", values exact
+    # as written, and the largest quantum (1 s for "0") would let any step through
+    return float(np.median(10.0 ** (exp - frac)))
 
 
 def _pick(names, column, what: str, path: str) -> str:
@@ -378,8 +383,11 @@ def _npy_header(fh, path: str, what: str):
             shape, fortran, dtype = npf.read_array_header_1_0(fh)
         elif version == (2, 0):
             shape, fortran, dtype = npf.read_array_header_2_0(fh)
+        elif version == (3, 0):   # 2.0's layout with a UTF-8 header: no public reader
+            shape, fortran, dtype = npf.read_array_header_2_0(fh)
         else:
-            shape, fortran, dtype = npf._read_array_header(fh, version)  # 3.0: no public reader
+            raise ValueError(f"format version {version[0]}.{version[1]}; allowed: 1.0, 2.0, "
+                             f"3.0")
     except (ValueError, EOFError, OSError, SyntaxError, tokenize.TokenError) as exc:
         raise ValueError(f"file: {path}: {what} has no valid .npy header "
                          f"({str(exc).splitlines()[0] if str(exc) else type(exc).__name__})"
@@ -517,20 +525,44 @@ def _choose(members: dict, column, path: str) -> str:
     return _pick(cands if column is None else list(members), column, "variable", path)
 
 
+#: Relative difference above which two entries of one file that give the same rate (``fs``
+#: and ``sampling_rate``; ``fr``, ``shaft_hz`` and ``rpm`` / 60; ``meta_json``'s ``shaft_hz``)
+#: contradict each other: the file is refused instead of one being picked. 1e-3 lets an rpm
+#: written to the unit (1797 rpm for 29.95 Hz) agree with its rate in Hz.
+RATE_AGREEMENT = 1e-3
+
+
 def _scalars(arrays: dict, path: str) -> dict:
-    """fs and fr (Hz) from scalar entries (``fs``, ``fr``/``shaft_hz``, ``rpm``)."""
+    """fs and fr (Hz) from scalar entries (``fs``, ``fr``/``shaft_hz``, ``rpm``); entries that
+    give the same rate must agree (:data:`RATE_AGREEMENT`), else the file is refused naming
+    both."""
     out: dict = {"fs": None, "fr": None}
+    seen: dict = {"fs": None, "fr": None}   # key -> (entry, value as written)
     for names, key, scale in ((_FS_NAMES, "fs", 1.0), (_FR_NAMES, "fr", 1.0),
                               (_RPM_NAMES, "fr", 1.0 / 60.0)):
-        if out[key] is not None:
-            continue
         for k in names:
             if k in arrays and np.size(arrays[k]) == 1:
                 v = np.asarray(arrays[k])
                 if v.dtype.kind in "iuf":
-                    out[key] = float(v.ravel()[0]) * scale
-                    break
+                    value = float(v.ravel()[0])
+                    if out[key] is None:
+                        out[key], seen[key] = value * scale, (k, value)
+                    else:
+                        _agree(seen[key], out[key], (k, value), value * scale, path)
     return out
+
+
+def _agree(first: tuple, first_hz: float, other: tuple, other_hz: float, path: str) -> None:
+    """Refuse two entries of one file that give the same rate differently (one line, both
+    named with their values)."""
+    same = first_hz == other_hz or (math.isfinite(first_hz) and math.isfinite(other_hz) and
+                                    abs(first_hz - other_hz) <= RATE_AGREEMENT
+                                    * max(abs(first_hz), abs(other_hz)))
+    if not same:
+        raise ValueError(f"file: {path}: {first[0]!r} = {first[1]!r} and {other[0]!r} = "
+                         f"{other[1]!r} contradict each other ({first_hz:g} vs {other_hz:g} "
+                         f"Hz); allowed: entries that agree within {RATE_AGREEMENT:g}, or one "
+                         f"of them")
 
 
 def _meta(raw, out: dict, path: str) -> dict:
@@ -538,6 +570,9 @@ def _meta(raw, out: dict, path: str) -> dict:
     ``meta_json`` that is not a JSON object is refused (one line), never ignored."""
     try:
         meta = json.loads(str(np.asarray(raw).ravel()[0]))
+    except RecursionError:
+        raise ValueError(f"file: {path}: 'meta_json' is nested too deeply to read; allowed: a "
+                         f"JSON object (or no meta_json)") from None
     except (ValueError, TypeError) as exc:
         raise ValueError(f"file: {path}: 'meta_json' is not valid JSON ({exc}); allowed: a JSON "
                          f"object (or no meta_json)") from None
@@ -545,11 +580,14 @@ def _meta(raw, out: dict, path: str) -> dict:
         raise ValueError(f"file: {path}: 'meta_json' holds a JSON {type(meta).__name__}; "
                          f"allowed: a JSON object (or no meta_json)")
     fr = meta.get("shaft_hz")
-    if fr is None or out.get("fr") is not None:
+    if fr is None:
         return {}
     if isinstance(fr, bool) or not isinstance(fr, (int, float)):
         raise ValueError(f"file: {path}: 'meta_json' shaft_hz = {fr!r}; allowed: a shaft rate "
                          f"> 0 (Hz, a number) or no shaft_hz")
+    if out.get("fr") is not None:   # a scalar gave one: they must agree
+        _agree(("fr (Hz)", out["fr"]), out["fr"], ("meta_json shaft_hz", fr), float(fr), path)
+        return {}
     # a non-positive or non-finite rate is returned as the file gives it: the consumer names
     # it and its allowed range ("the file gives fr = -29.95; pass a shaft rate > 0 ...")
     return {"fr": float(fr)}
@@ -560,7 +598,7 @@ _CWRU_VAR = re.compile(r"^X(\d+)_(DE|FE|BA)_time$")
 _CWRU_RPM = re.compile(r"^X(\d+)RPM$")
 
 
-def _read_mat(path, column, channel) -> dict:
+def _read_mat(path, column, channel, fs=None) -> dict:
     from scipy.io import loadmat
 
     try:
@@ -580,6 +618,9 @@ def _read_mat(path, column, channel) -> dict:
         number = cwru[name].group(1)
         rpm = [v for k, v in m.items() if (mt := _CWRU_RPM.match(k)) and mt.group(1) == number]
         if rpm and np.size(rpm[0]) == 1 and out["fr"] is None:
+            if np.asarray(rpm[0]).dtype.kind not in "iuf":
+                raise ValueError(f"file: {path}: variable 'X{number}RPM' holds "
+                                 f"{np.asarray(rpm[0]).dtype} data; allowed: one number (rpm)")
             out["fr"] = float(np.asarray(rpm[0]).ravel()[0]) / 60.0
     else:
         cands = [k for k, v in m.items() if isinstance(v, np.ndarray) and v.dtype.kind in "iufcb"
@@ -590,7 +631,7 @@ def _read_mat(path, column, channel) -> dict:
         raise ValueError(f"file: {path}: variable {name!r} has shape {shape}; allowed: one "
                          f"signal (a vector; save one channel per variable)")
     out["x"] = _real_vector(m[name], path, f"variable {name!r}")
-    if out["fs"] is None:
+    if out["fs"] is None and fs is None:   # the caller's rate: no time vector read
         for k in m:
             if k.lower() in _TIME_NAMES and np.size(m[k]) == out["x"].size:
                 out["fs"] = _fs_from_time(np.ravel(m[k]), path)
@@ -711,13 +752,14 @@ def read_record(path: str, *, column=None, channel: str = DEFAULT_CHANNEL,
         raise FileNotFoundError(f"no such file: {path}")
     if os.path.isdir(path):
         raise ValueError(f"file: {path!r} is a directory; allowed: a signal file")
+    _check_regular(path)
     ext = os.path.splitext(path)[1].lower()
     if ext in (".h5", ".hdf5"):
         return _read_case(path, signal)
     readers = {".csv": lambda: _read_csv(path, column, delimiter, decimal, fs),
                ".npy": lambda: _read_npy(path, column),
                ".npz": lambda: _read_npz(path, column, fs),
-               ".mat": lambda: _read_mat(path, column, channel),
+               ".mat": lambda: _read_mat(path, column, channel, fs),
                ".wav": lambda: _read_wav(path, column)}
     if ext not in readers:
         raise ValueError(f"file: {path}: unsupported file type {ext!r}; allowed: "
@@ -726,6 +768,17 @@ def read_record(path: str, *, column=None, channel: str = DEFAULT_CHANNEL,
     out.update(readers[ext]())
     _check_magnitude(out["x"], path)
     return out
+
+
+def _check_regular(path: str) -> None:
+    """Refuse what is not a regular file (after its symlinks): a FIFO blocks the reader
+    forever, a device (``/dev/zero``) never ends; one line naming the file and what it is."""
+    mode = os.stat(path).st_mode
+    if not stat.S_ISREG(mode):
+        kind = ("a FIFO" if stat.S_ISFIFO(mode) else "a character device" if stat.S_ISCHR(mode)
+                else "a block device" if stat.S_ISBLK(mode) else "a socket"
+                if stat.S_ISSOCK(mode) else "not a regular file")
+        raise ValueError(f"file: {path} is {kind}; allowed: a regular signal file")
 
 
 #: Largest |sample| a record may hold (and 1/MAX_MAGNITUDE the smallest peak): the analysis
@@ -820,7 +873,10 @@ def read_manifest(path: str) -> list[dict]:
     """
     if not os.path.isfile(path):
         raise ValueError(f"--manifest: no such file: {path}")
-    lines = _csv_lines(path)
+    try:
+        lines = _csv_lines(path)
+    except ValueError as exc:   # not UTF-8 text: the manifest is named, not a record
+        raise ValueError(f"--manifest: {str(exc).replace('file: ', '', 1)}") from None
     if not lines:
         raise ValueError(f"--manifest: {path} is empty; allowed: a CSV with a 'file' column")
     sep = _guess_sep(lines)

@@ -34,7 +34,8 @@ import yaml
 
 __all__ = ["CATALOGUE_PATH", "designations", "bearing_values", "bearing_sources", "entry",
            "operation_values", "OPERATION_KEYS", "resolve_designation", "known_bearings",
-           "bearing_geometry", "MM_PER_INCH", "GEOMETRY_KEYS"]
+           "bearing_geometry", "max_rollers", "DESIGNATION_TEXT", "MM_PER_INCH",
+           "GEOMETRY_KEYS"]
 
 #: Millimetres per inch (the geometry may be given in inch).
 MM_PER_INCH = 25.4
@@ -169,7 +170,12 @@ def resolve_designation(name: str, *, field: str = "scene.bearing.designation") 
         return name
     table = _alias_table()
     found = None
+    if isinstance(name, str) and not DESIGNATION_TEXT.fullmatch(name):
+        raise ValueError(f"{field}: got {name[:60]!r}{'...' if len(name) > 60 else ''}; "
+                         f"allowed: a designation of ASCII letters, digits, spaces and "
+                         f"- _ . / + ( ) (e.g. 6205, SKF 6205-2RS), at most 80 characters")
     if isinstance(name, str):
+        _one_number(name, table, field)
         key = _key(name)
         found = table.get(key)
         words = key.split("-")
@@ -184,6 +190,21 @@ def resolve_designation(name: str, *, field: str = "scene.bearing.designation") 
                          f"(bearing_envelope/data/bearings.yaml), or an alias such as 6205, "
                          f"SKF 6205, 6203")
     return found
+
+
+#: What a bearing designation may be written with: ASCII letters, digits, spaces and
+#: ``- _ . / + ( )``, at most 80 characters (``SKF 6205-2RS/C3``, ``NU 2310 (ECP)``); control
+#: characters, ``;``, quotes and non-ASCII digits are refused, never skipped over.
+DESIGNATION_TEXT = re.compile(r"[A-Za-z0-9 ._/+()\-]{1,80}")
+
+
+def _one_number(name: str, table: Mapping[str, str], field: str) -> None:
+    """Refuse a name that holds the numbers of two catalogue entries (``6205 6203``): it
+    names no one bearing, and picking the first would be a guess."""
+    hits = {table[m] for m in re.findall(r"\d{3,}", _key(name)) if m in table}
+    if len(hits) > 1:
+        raise ValueError(f"{field}: got {name!r}, which names {len(hits)} catalogue bearings "
+                         f"({', '.join(sorted(hits))}); allowed: one designation")
 
 
 def bearing_values(designation: str) -> dict[str, Any]:
@@ -250,8 +271,9 @@ def bearing_geometry(designation: str | None = None, *, n_rollers=None,
     bearing given by a user live.
 
     Rules: a designation or the geometry, not both; each diameter in mm or in inch, not both;
-    the element count and both diameters together; ``n_rollers`` an integer >= 1, diameters
-    finite and > 0 with ``d < D``, the contact angle in [0, 90) degrees (default 0).
+    the element count and both diameters together; diameters finite and > 0 with ``d < D``,
+    ``n_rollers`` an integer that fits on the pitch circle (2 .. :func:`max_rollers`), the
+    contact angle in [0, 90) degrees (default 0).
 
     Parameters
     ----------
@@ -329,10 +351,39 @@ def _checked_geometry(z, d_mm, p_mm, alpha, nm) -> dict:
     if d_mm >= p_mm:
         raise ValueError(f"{nm('roller_diameter_mm')}: got {d_mm:g} mm; allowed: below the "
                          f"pitch diameter ({p_mm:g} mm)")
+    z_max = max_rollers(d_mm, p_mm)
+    if not 2 <= z <= z_max:
+        raise ValueError(f"{nm('n_rollers')}: got {z}; allowed: 2 .. {z_max} (rollers of "
+                         f"{d_mm:g} mm fit on a pitch circle of {p_mm:g} mm only while "
+                         f"D sin(pi/Z) >= d)")
     if not _finite(alpha) or not 0 <= alpha < 90:
         raise ValueError(f"{nm('contact_angle_deg')}: got {alpha!r}; allowed: 0 <= angle < 90")
     return {"designation": None, "n_rollers": int(z), "roller_diameter_mm": float(d_mm),
             "pitch_diameter_mm": float(p_mm), "contact_angle_deg": float(alpha)}
+
+
+def max_rollers(roller_diameter_mm: float, pitch_diameter_mm: float) -> int:
+    """The most rolling elements of diameter d that fit side by side on a pitch circle of
+    diameter D: the largest Z with D sin(pi / Z) >= d (neighbours' centres D sin(pi/Z) apart).
+
+    Parameters
+    ----------
+    roller_diameter_mm : float
+        Roller (ball) diameter d, mm; ``0 < d < D``.
+    pitch_diameter_mm : float
+        Pitch diameter D, mm.
+
+    Returns
+    -------
+    int
+        ``floor(pi / arcsin(d / D))`` (at least 2).
+
+    Examples
+    --------
+    >>> max_rollers(7.94, 39.04)   # the CWRU 6205 holds 9 balls
+    15
+    """
+    return max(2, int(math.pi / math.asin(roller_diameter_mm / pitch_diameter_mm) + 1e-9))
 
 
 def _catalogue_geometry(designation: str) -> dict:

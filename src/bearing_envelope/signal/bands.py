@@ -19,6 +19,7 @@ the frequencies given to :func:`resolve_band` (``"fr"``, ``"bpfi"``, ...) or a n
 from __future__ import annotations
 
 import math
+import numbers
 from collections.abc import Mapping
 
 from .validation import check_fs, check_positive
@@ -95,6 +96,8 @@ def clamp_band(low: float, high: float, fs: float, *, margin: float = NYQUIST_MA
     """
     fs = check_fs(fs)
     nyq = fs / 2.0
+    if not all(isinstance(v, numbers.Real) and not isinstance(v, bool) for v in (low, high)):
+        raise ValueError(f"{field}: band edges must be numbers (Hz), got ({low!r}, {high!r})")
     low, high = float(low), float(high)
     if not (math.isfinite(low) and math.isfinite(high)):
         raise ValueError(f"{field}: band edges must be finite, got ({low}, {high})")
