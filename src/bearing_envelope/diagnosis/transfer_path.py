@@ -68,7 +68,7 @@ UNIT_IMPULSE_AREA = 1.0
 
 __all__ = ["TransferPath", "NoImpulsesError", "identify_path", "background_noise", "identification_flags",
            "MIN_EVENTS", "DEFAULT_PFA", "EVENT_PFA", "MAX_LEVEL", "MODE_PFA", "MODE_FLOOR",
-           "MAX_MODES", "IDENT_TOL", "MIN_BACKGROUND"]
+           "MAX_MODES", "IDENT_TOL", "MIN_BACKGROUND", "MAX_MODELLED", "PRE_MARGIN", "MIN_PRE"]
 
 #: Fewest periods of the slowest event rate a record must hold (refused before any work).
 MIN_EVENTS = 20
@@ -886,7 +886,9 @@ def _subtracted_background(x, fs, events, train, used):
         _fill_unmeasured(f, out, smooth, bad, ok | upper, modes, hz)
         notes.append(f"not identified at {_spans(f, bad)} (interpolated across the modes, "
                      "half the record's elsewhere): the events ring for most of each period and "
-                     "make more than half of the record's power there, and of its quiet part")
+                     "make more than half of the record's power there, " + (
+                         "and of its quiet part" if quiet is not None else
+                         f"and no period leaves {MIN_PRE} samples before the next event"))
         src += "; interpolated across the modes, half the record's elsewhere where unmeasured"
     if upper.any():
         notes.append(f"only an upper bound at {_spans(f, upper)}: the quiet part of each "
