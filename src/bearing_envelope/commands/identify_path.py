@@ -4,11 +4,12 @@ Reads a measured record (the formats of ``analyze``), finds the resonance band (
 kurtogram's cell whose envelope spectrum holds the strongest line at the bearing's BPFO, BPFI,
 BSF or 2 x BSF, or --event-hz), every period's event on that line's track, and fits the mode
 they ring (natural frequency, damping from the decay of the averaged impulse envelope,
-amplitude per event) and the background spectrum (the record with its events gated out, or
---background, a healthy record of the same machine). What the record does not identify is
-flagged (warning lines). Writes the result as JSON (bearing_envelope.diagnosis.transfer_path).
-A record without periodic impulses, or too short, is refused with one line. See
-docs/virtual_rig.md.
+amplitude per event) and the background spectrum (the record with its events gated out, or,
+where they ring through every period, the quiet end of each period; or --background, a
+healthy record of the same machine; where it comes from is printed). What the record does not
+identify is flagged (warning lines). Writes the result as JSON
+(bearing_envelope.diagnosis.transfer_path). A record without periodic impulses, or too short,
+is refused with one line. See docs/virtual_rig.md.
 
 Examples::
 
@@ -146,6 +147,7 @@ def run(args) -> int:
           f"{path.band_hz[0]:.0f}-{path.band_hz[1]:.0f} Hz; f_n {path.f_n_hz:.0f} Hz, zeta "
           f"{path.zeta:.4f} ({path.zeta_range[0]:.4f}-{path.zeta_range[1]:.4f}); amplitude "
           f"{path.amplitude:.4g}; background rms {path.background_rms:.4g}", file=sys.stderr)
+    print(f"# background from: {path.background_source}", file=sys.stderr)
     for m in path.modes[1:]:
         print(f"# further mode: f_n {m['f_n_hz']:.0f} Hz, zeta {m['zeta']:.4f}; amplitude "
               f"{m['amplitude']:.4g} ({m['excess_db']:.1f} dB of added power, prominence "

@@ -39,9 +39,10 @@ machine's background. :func:`identify_path` recovers, from the record alone:
    ``gain^2 zeta``).
 5. **Background**: the power spectral density of the record between its events (every
    period's gated), when that leaves :data:`MIN_BACKGROUND` samples; else the record's less
-   the events' modelled spectrum, interpolated across the modes where the events make most
-   of the power (flagged, ``not_identified``); or of a healthy record of the same machine
-   when one is given.
+   the events' modelled spectrum, and where the events make most of that, the quiet end of
+   every period (its last samples before the next event) less the earlier events' ringing
+   modelled there; where that too is mostly ringing, interpolated across the modes (flagged,
+   ``not_identified``); or of a healthy record of the same machine when one is given.
 
 The result (:class:`TransferPath`) is JSON-serialisable, so that a simulated excitation can be
 made a record of that machine (:meth:`TransferPath.mode`, :func:`background_noise`).
@@ -67,7 +68,7 @@ UNIT_IMPULSE_AREA = 1.0
 
 __all__ = ["TransferPath", "NoImpulsesError", "identify_path", "background_noise", "identification_flags",
            "MIN_EVENTS", "DEFAULT_PFA", "EVENT_PFA", "MAX_LEVEL", "MODE_PFA", "MODE_FLOOR",
-           "MAX_MODES", "IDENT_TOL", "MIN_BACKGROUND"]
+           "MAX_MODES", "IDENT_TOL", "MIN_BACKGROUND", "MAX_MODELLED", "PRE_MARGIN", "MIN_PRE"]
 
 #: Fewest periods of the slowest event rate a record must hold (refused before any work).
 MIN_EVENTS = 20
@@ -130,9 +131,19 @@ IDENT_TOL = 0.10
 #: makes most of the record's farther off, half the record's power is the background (flagged).
 MODE_SPAN = 5.0
 #: Fewest samples between the events the background is read from (4 Welch segments); fewer,
-#: and the background is the record's spectrum less the events' modelled one (flagged where
-#: the events make most of it).
+#: and the background is the record's spectrum less the events' modelled one, and where the
+#: events make most of that, the quiet end of every period's (flagged where neither holds).
 MIN_BACKGROUND = 4 * WELCH_SEGMENT
+#: The most of a spectrum the events' modelled part may make for the spectrum less it to be
+#: read as the background (the model's power rests on the gain, identified within 10 %, so
+#: on 20 %: at half the spectrum, that is 20 % of the background).
+MAX_MODELLED = 0.5
+#: Samples before the next event's modelled onset the quiet stretch before it ends: the
+#: events' timing scatter around their track.
+PRE_MARGIN = 4
+#: Shortest quiet stretch before each event its spectrum is read from (samples; its
+#: resolution fs / 16, 750 Hz at 12 kHz).
+MIN_PRE = 16
 
 
 class NoImpulsesError(ValueError):
@@ -175,7 +186,9 @@ class TransferPath:
     background_freq_hz, background_psd : list of float
         Background power spectral density (record units^2/Hz).
     background_source : str
-        ``record`` (events gated out) or the healthy record's name.
+        ``record`` (events gated out), the healthy record's name, or where each part of the
+        spectrum comes from (the record less the events' modelled spectrum; the record before
+        each event; interpolated where neither is measured).
     flags : list of str
         Warnings to read with the numbers (resonance at the band's edge, damping at the fit's
         bound, halves disagreeing).
@@ -821,9 +834,9 @@ def _mode_peaks(x, peaks, fs, f_range, n_post, period):
 def _background(x, fs, events, gate, background, name, train):
     """Welch PSD of the healthy record, or of the record between its events (gated at every
     period's event, detected or not), or, when those stretches hold fewer than
-    :data:`MIN_BACKGROUND` samples, the record's PSD less the identified events' modelled
-    spectrum (:func:`_train_psd`). Returns ``(freq, psd, source, flag)``; ``flag`` is None or
-    the warning that the background at the resonance is not identified."""
+    :data:`MIN_BACKGROUND` samples, :func:`_subtracted_background`. Returns ``(freq, psd,
+    source, flag)``; ``flag`` is None or the warning that the background at the resonance is
+    not identified."""
     if background is not None:
         b = check_signal(background, "background", min_length=WELCH_SEGMENT)
         f, p = sps.welch(b - b.mean(), fs, nperseg=WELCH_SEGMENT)
@@ -834,35 +847,159 @@ def _background(x, fs, events, gate, background, name, train):
     f, gap, used = _gap_psd(x, fs, keep)
     if used >= MIN_BACKGROUND:
         return f, gap, "record", None
+    return _subtracted_background(x, fs, events, train, used)
+
+
+def _subtracted_background(x, fs, events, train, used):
+    """The record's Welch PSD less the identified events' modelled spectrum
+    (:func:`_train_psd`) where the model makes at most :data:`MAX_MODELLED` of it; where it
+    makes more (widened by one rate: the lines' ripple left in the smoothed spectrum must leave
+    no island of event power), the quiet part of every period (:func:`_quiet_part`). What
+    neither measures is flagged: near a mode (:data:`MODE_SPAN`) interpolated (log-linear)
+    from either side; far off (a real ringing's far spectrum is no damped cosine's: its force
+    has a finite rise time) half the record's power; where the quiet part is measured but
+    inconsistent, its upper bound. Never above the record's own spectrum."""
+    hz, modes = train
     f, p = sps.welch(x, fs, nperseg=WELCH_SEGMENT)
-    model = _train_psd(f, fs, *train)
-    w = max(int(round(train[0] / (f[1] - f[0]))), 1)
+    model = _train_psd(f, fs, hz, modes)
+    w = max(int(round(hz / (f[1] - f[0]))), 1)
     smooth = np.convolve(np.pad(p, (w // 2, w - 1 - w // 2), mode="edge"), np.ones(w) / w,
                          mode="valid")  # the events' lines spread over one rate
-    # where the events make over half the power (widened by one rate: the lines' ripple left
-    # in ``smooth`` must leave no island of event power) the difference is no measurement:
-    # near a mode (MODE_SPAN) it is interpolated (log-linear) from either side; far off (a
-    # real ringing's far spectrum is no damped cosine's: its force has a finite rise time)
-    # half the record's power is taken for it. Never above the record's own spectrum.
-    span = np.zeros(f.size, bool)
-    for m in train[1]:
-        span |= np.abs(f - m["f_n_hz"]) <= MODE_SPAN * m["zeta"] * m["f_n_hz"] + train[0]
-    dom = ndimage.binary_dilation(model > 0.5 * smooth, iterations=w)
+    dom = ndimage.binary_dilation(model > MAX_MODELLED * smooth, iterations=w)
     out = smooth - model
     src = (f"record less the identified events' modelled spectrum ({used} samples between "
            f"the events; {MIN_BACKGROUND} needed)")
-    if not dom.any():
+    ok, upper = ~dom, np.zeros(f.size, bool)
+    quiet = _quiet_part(x, fs, events, hz, modes) if dom.any() else None
+    if quiet is not None:
+        est, measured, bound, n = quiet
+        use = dom & measured
+        out[use], ok, upper = est[use], ok | (use & ~bound), use & bound
+        if use.any():
+            src += (f"; at {_spans(f, use)}, where the events make most of it, the quietest "
+                    f"{n} samples of every period less the earlier events' modelled ringing")
+    bad = ~ok & ~upper
+    if not (bad.any() or upper.any()):
         return f, out, src, None
-    near, far = dom & span, dom & ~span
-    if near.any() and (~dom).sum() >= 2:
-        out[near] = np.exp(np.interp(f[near], f[~dom], np.log(out[~dom])))
-    out[far | (near & ((~dom).sum() < 2))] = 0.5 * smooth[far | (near & ((~dom).sum() < 2))]
+    notes = []
+    if bad.any():
+        _fill_unmeasured(f, out, smooth, bad, ok | upper, modes, hz)
+        notes.append(f"not identified at {_spans(f, bad)} (interpolated across the modes, "
+                     "half the record's elsewhere): the events ring for most of each period and "
+                     "make more than half of the record's power there, " + (
+                         "and of its quiet part" if quiet is not None else
+                         f"and no period leaves {MIN_PRE} samples before the next event"))
+        src += "; interpolated across the modes, half the record's elsewhere where unmeasured"
+    if upper.any():
+        notes.append(f"only an upper bound at {_spans(f, upper)}: the quiet part of each "
+                     f"period differs by more than {2 * IDENT_TOL:.0%} from the part half its "
+                     "length earlier (ringing the model leaves out)")
+        src += "; the smaller of the two where they differ"
     out = np.minimum(out, np.maximum(smooth, p))
-    how = "interpolated across the modes, half the record's elsewhere"
-    flag = (f"background not identified at {f[dom].min():.0f}-{f[dom].max():.0f} Hz "
-            f"({how}): the events ring for most of each period and make more than half of "
-            f"the record's power there")
-    return f, out, f"{src}; {how} where the events dominate", flag
+    return f, out, src, "background " + "; ".join(notes)
+
+
+def _fill_unmeasured(f, out, smooth, bad, ok, modes, hz) -> None:
+    """In place: ``out`` where ``bad``, near a mode interpolated (log-linear) from the
+    frequencies ``ok`` either side, elsewhere half the record's ``smooth`` PSD."""
+    span = np.zeros(f.size, bool)
+    for m in modes:
+        span |= np.abs(f - m["f_n_hz"]) <= MODE_SPAN * m["zeta"] * m["f_n_hz"] + hz
+    near, far = bad & span, bad & ~span
+    if near.any() and ok.sum() >= 2:
+        out[near] = np.exp(np.interp(f[near], f[ok], np.log(out[ok])))
+    half = far | (near & (ok.sum() < 2))
+    out[half] = 0.5 * smooth[half]
+
+
+def _spans(f, mask, most: int = 4) -> str:
+    """The frequencies ``mask`` marks as ranges: ``"a-b, c-d Hz"`` (rounded); past ``most``
+    ranges, the first ``most`` and how many more, with the width they all cover."""
+    edges = np.flatnonzero(np.diff(np.concatenate(([0], mask.astype(np.int8), [0]))))
+    spans = [f"{f[a]:.0f}-{f[b - 1]:.0f}" for a, b in zip(edges[::2], edges[1::2])]
+    if len(spans) <= most:
+        return ", ".join(spans) + " Hz"
+    return (f"{', '.join(spans[:most])} Hz and {len(spans) - most} more ranges "
+            f"({mask.sum() * (f[1] - f[0]):.0f} Hz in all)")
+
+
+def _quiet_part(x, fs, events, hz, modes):
+    """The background from the quiet part of every period, or None when the period leaves
+    none: the ``n`` samples of each period whose power, averaged over every period on the
+    event track, is least (:func:`_quietest_lag`), their PSD less the earlier events' ringing
+    modelled there (:func:`_pre_event_psd`). Measured where that remainder makes at most
+    :data:`MAX_MODELLED` of it; checked against the same ``n / 2`` samples earlier (more
+    ringing, the same background): where both are measured and differ by more than twice
+    :data:`IDENT_TOL`, the smaller is kept as an upper bound. ``n``: the largest power of
+    two within half of what the period leaves before the event's modelled onset
+    (:func:`_onset_delay`), at least :data:`MIN_PRE`, at most ``WELCH_SEGMENT``.
+
+    Returns
+    -------
+    (est, measured, bound, n)
+        PSD (record units^2/Hz, on the Welch grid), the masks measured and upper bound only,
+        and ``n``."""
+    period = fs / hz
+    delay = _onset_delay(modes[0], fs)
+    n = min(1 << int(math.floor(math.log2(max((period - delay - PRE_MARGIN) / 2, 1)))),
+            WELCH_SEGMENT)
+    nxt = events[1:][(events[1:] - int(period) - n >= 0) & (events[1:] < x.size)]
+    if n < MIN_PRE or nxt.size < 2:
+        return None
+    lag = _quietest_lag(x, nxt, int(period), n, delay + PRE_MARGIN)
+    (q, rem), (q2, rem2) = (_pre_event_psd(x, fs, nxt, hz, modes, k, n, delay)
+                            for k in (lag, lag - n // 2))
+    est, est2 = q - rem, q2 - rem2
+    measured, measured2 = rem <= MAX_MODELLED * q, rem2 <= MAX_MODELLED * q2
+    bound = measured & measured2 & (np.abs(est2 / np.where(measured, est, 1.0) - 1)
+                                    > 2 * IDENT_TOL)
+    est = np.where(bound, np.minimum(est, est2), est)
+    return est, measured, bound, n
+
+
+def _pre_event_psd(x, fs, nxt, hz, modes, lag: int, n: int, delay: int):
+    """The mean of the Hann periodograms (``nfft`` = :data:`WELCH_SEGMENT`) of the ``n``
+    samples from ``lag`` (< 0) after each next event's track position ``nxt``, and the
+    earlier events' ringing modelled there: every mode's ``a^2 / 2 (|C_j|^2 + |S_j|^2)``
+    summed over the earlier events ``j`` (their phases at the mode independent), ``C_j,
+    S_j`` the same periodograms of the damped cosine and sine from the stretch's lag after
+    event ``j``'s modelled onset (``delay`` samples before its track position)."""
+    period = fs / hz
+    _, q = sps.periodogram(np.stack([x[s:s + n] for s in nxt + lag]), fs, window="hann",
+                           nfft=WELCH_SEGMENT, axis=-1)
+    rem = np.zeros(q.shape[1])
+    for m in modes:
+        wn = 2 * math.pi * m["f_n_hz"]
+        s, th = m["zeta"] * wn / fs, wn * math.sqrt(1 - m["zeta"] ** 2) / fs
+        j = np.arange(1, int(math.log(1e4) / (s * period)) + 2)  # until 1e-4 of the amplitude
+        t = (j * period + lag + delay)[:, None] + np.arange(n)[None, :]
+        decay = np.exp(-s * t)
+        _, pc = sps.periodogram(np.concatenate([decay * np.cos(th * t), decay * np.sin(th * t)]),
+                                fs, window="hann", nfft=WELCH_SEGMENT, axis=-1)
+        rem += m["amplitude"] ** 2 / 2 * pc.sum(axis=0)
+    return q.mean(axis=0), rem
+
+
+def _quietest_lag(x, nxt, period: int, n: int, lead: int) -> int:
+    """Lag (from the next event's track position, < 0) where the ``n`` samples whose mean
+    power over every period is least start: within the period, ending ``lead`` samples or
+    more before the event. On the CWRU records a real event's power rises 16-30 samples
+    before its track position, earlier than a damped cosine's through the band-pass."""
+    lags = np.arange(-period + 1, -lead)
+    power = np.mean(x[nxt[:, None] + lags[None, :]] ** 2, axis=0)
+    window = np.convolve(power, np.ones(n), mode="valid")  # windows starting at lags[:size]
+    return int(lags[int(np.argmin(window))])
+
+
+def _onset_delay(mode: dict, fs: float) -> int:
+    """Samples from a mode's onset to the peak of its ringing's envelope through the mode's
+    band-pass (where the event track places an event)."""
+    wn = 2 * math.pi * mode["f_n_hz"]
+    s, th = mode["zeta"] * wn / fs, wn * math.sqrt(1 - mode["zeta"] ** 2) / fs
+    pad, k = 4 * WELCH_SEGMENT, np.arange(4 * WELCH_SEGMENT)
+    c = np.r_[np.zeros(pad), np.exp(-s * k) * np.cos(th * k)]
+    env = np.abs(sps.hilbert(bandpass(c, fs, tuple(mode["band_hz"]), order=FILTER_ORDER)))
+    return max(int(np.argmax(env)) - pad, 0)
 
 
 def _train_psd(f, fs: float, rate: float, modes: list) -> np.ndarray:
