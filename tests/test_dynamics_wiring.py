@@ -120,6 +120,31 @@ def test_joined_law_reads_the_models_healthy_law_at_the_table_ends_and_keeps_the
     assert j.force_n[0, mid] == pytest.approx(p.k_outer * j.delta_m[mid] ** 1.5, rel=1e-12)
 
 
+def test_joined_law_removes_the_tables_share_at_the_load_not_at_the_approach():
+    """A softer healthy solve (half the model's law, as the crowned roller's 15-72 %) whose pit
+    ratio depends on the approach, ``r = 1 - 0.1 delta / delta_max`` (linear: the table's nodes
+    read it exactly): at the model's approach ``delta`` (force ``K delta^n``) the joined law
+    removes the table's share at the approach where the table's healthy contact carries that
+    force, ``delta_t = 2^(1/n) delta`` (closed form), clamped to the first loaded node below it
+    and the last node beyond it. Read at
+    the model's approach (before the fix) the default roller's pit removed 2.3 times the
+    quasi-static share at 250 kN (docs/dynamics.md, "Model only what the scene needs")."""
+    p = scene_params(_scene())
+    n = p.exponent
+    delta = np.linspace(0.0, 4e-6, 9)
+    law = p.k_outer * delta ** n
+
+    class Table:
+        race, x_m, delta_m, healthy_force_n = "outer", np.array([-1e-4, 0.0, 1e-4]), delta, 0.5 * law
+        force_n = np.vstack([0.5 * law, 0.5 * law * (1 - 0.1 * delta / delta[-1]), 0.5 * law])
+
+    j = joined_law(Table, p, n_approach=201)
+    model = p.k_outer * j.delta_m ** n
+    share = 0.1 * np.clip(2.0 ** (1.0 / n) * j.delta_m, delta[1], delta[-1]) / delta[-1]
+    np.testing.assert_allclose(j.force_n[1], (1.0 - share) * model, rtol=1e-12, atol=1e-9)
+    np.testing.assert_allclose(j.force_n[0], model, rtol=1e-12)
+
+
 # --- the criterion -------------------------------------------------------------------------
 
 @pytest.mark.parametrize("share, ratio, model", [
