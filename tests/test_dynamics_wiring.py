@@ -143,6 +143,10 @@ def test_joined_law_removes_the_tables_share_at_the_load_not_at_the_approach():
     share = 0.1 * np.clip(2.0 ** (1.0 / n) * j.delta_m, delta[1], delta[-1]) / delta[-1]
     np.testing.assert_allclose(j.force_n[1], (1.0 - share) * model, rtol=1e-12, atol=1e-9)
     np.testing.assert_allclose(j.force_n[0], model, rtol=1e-12)
+    Table.healthy_force_n = 0.5 * law[::-1].copy()
+    Table.healthy_force_n[0] = 0.0
+    with pytest.raises(ValueError, match="healthy_force_n got .* allowed: ascending"):
+        joined_law(Table, p)
 
 
 # --- the criterion -------------------------------------------------------------------------
