@@ -18,6 +18,7 @@ from bearing_envelope.io import read_case
 from bearing_envelope.physics.dynamics.case import joined_law, scene_params
 from bearing_envelope.physics.dynamics.criterion import (FAST_SHARE, OPEN_SHARE, criterion_verdict,
                                                          model_choice)
+from bearing_envelope.physics.dynamics.model import simulate_dynamics
 from bearing_envelope.physics.scene import DEFAULT_SCENE, Scene
 from bearing_envelope.study.limits import estimate_case
 from bearing_envelope.study.pipeline import case_bands, case_harmonics
@@ -147,6 +148,27 @@ def test_joined_law_removes_the_tables_share_at_the_load_not_at_the_approach():
     Table.healthy_force_n[0] = 0.0
     with pytest.raises(ValueError, match="healthy_force_n got .* allowed: ascending"):
         joined_law(Table, p)
+
+
+
+def test_a_pit_free_table_joined_gives_the_healthy_bearings_housing_force():
+    """A table without a pit (its force its healthy solve, half the model's law as a crowned
+    roller's is softer) joined and read where the pit passes: the housing force equals the
+    healthy model's (no defect law, the Hertz kernel) within 1e-6 of the largest element load,
+    the joined power law read linearly between its 2001 approach nodes (measured 7.8e-8)."""
+    p = scene_params(_scene())
+    delta = np.linspace(0.0, 20e-6, 11)
+    half = 0.5 * p.k_outer * delta ** p.exponent
+
+    class Table:
+        race, x_m, delta_m, healthy_force_n = "outer", np.linspace(-2e-3, 2e-3, 9), delta, half
+        force_n = np.tile(half, (9, 1))
+
+    healthy = simulate_dynamics(p, 0.05, 12000.0)
+    joined = simulate_dynamics(p.with_(defect=joined_law(Table, p)), 0.05, 12000.0)
+    assert joined.defect_force_n.max() > 0.5 * healthy.element_load_n.max()   # the law was read
+    np.testing.assert_allclose(joined.housing_force_n, healthy.housing_force_n, rtol=0,
+                               atol=1e-6 * healthy.element_load_n.max())
 
 
 # --- the criterion -------------------------------------------------------------------------
