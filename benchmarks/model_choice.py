@@ -8,7 +8,11 @@ For each scene, both models on the same scene, fs and record length:
 - quasi-static (``physics.history.simulate``): the removed force (N), the surrogate of the
   defect's action, along the direction of the defect's contact (``defect_angle``);
 - dynamic (``physics.dynamics.case.simulate_dynamic``): the force the bearing passes to the
-  housing (N) along the same direction, its mean removed.
+  housing (N) along the same direction, less that of the same scene without its pit (the same
+  model, start and step): the pit's part. The healthy bearing's own varying compliance has its
+  lines at multiples of Z f_c (BPFO): for the default bearing (22 rollers, f_c/f_r = 0.333)
+  2 BPFO = 231.4 Hz falls in the BPFI bin (231.9 Hz) of any record shorter than a few seconds,
+  and an outer-race pit's line is BPFO itself; the removed force holds no healthy part.
 
 Per scene: the criterion's ``share`` (drop / static approach), ``event_over_period`` and verdict;
 the envelope line at 1 x the event rate of each force in the band fs/4 - 3 fs/8 (Hann, largest
@@ -17,10 +21,26 @@ whether that contact opens over the pit (a second dynamic run, point samples at 
 passages: the least outer-contact load of the element whose contact centre is within the pit's
 middle half, against the static load). Where the element follows the pit quasi-statically, the
 housing receives the blocked (removed) force through the element's two contacts in series:
-``k_other / (k + k_other)`` of it (``defect_scales``' stiffnesses; about -6 dB for a ball). The
+``k_other / (k + k_other)`` of it (``defect_scales``' stiffnesses; about -6 dB for a ball). In
+the band the element's own mode between its two linearised contacts (the model's stiffnesses
+at the static loads, its mass and contact damping) adds its linear gain
+``1 / (1 - (f/f_n)^2)`` (+4.0 / +3.1 dB at 250 / 750 kN for the default roller, whose
+30-35 kHz mode sits just above fs/4 - 3fs/8 at 65 kHz; 0.1 dB for the 6205 at 12 kHz): the
+expected ratio is the removed force's line through that linear element (:func:`element_path`)
+over its own. The
 answers differ where the line ratio leaves that value by more than 3 dB, the contact over the
 pit strikes (peak above 1.5 x its static load; the quasi-static contact never exceeds it), or
 the contact opens. Prints a markdown table; CPU seconds are process time.
+
+``--decompose`` (the default-sweep scenes, or those named by ``--only``): the pit's part of the
+housing force's line taken apart (:func:`decompose`): the table's pit ratio at the ends of its
+``x`` range, the healthy bearing's line, the whole and the pit's part, the pit's ratio read at
+the model's approach (the join before 2026-12-06), a pit-free table, half the step, and the
+element's mass / 16 (its mode four times higher, out of the band). ``--speeds 1 2 3 5 10``: the
+rig's 0.021 in pit at 6:00 at those multiples of 1797 rpm, all at 48 kHz (the band fixed, the
+event's duration varied). ``--separate 8``: the default sweep's 250 kN, 50 um case (pit joined
+at the load, no healthy run subtracted) over an 8 s record: its envelope lines at 2 BPFO and at
+BPFI, apart.
 """
 
 from __future__ import annotations
@@ -35,6 +55,7 @@ from bearing_envelope.physics.defect_contact import defect_scales, defect_table
 from bearing_envelope.physics.dynamics.case import joined_law, scene_params, simulate_dynamic
 from bearing_envelope.physics.dynamics.criterion import model_choice
 from bearing_envelope.physics.dynamics.model import simulate_dynamics
+from bearing_envelope.physics.dynamics.params import contact_stiffness
 from bearing_envelope.physics.history import defect_angle, simulate
 from bearing_envelope.physics.locations import scene_event_frequencies
 from bearing_envelope.physics.scene import Scene
@@ -106,6 +127,38 @@ def line(x: np.ndarray, fs: float, rate: float) -> float:
     return float(amplitude_at(f, a, rate, 0.01 * rate)[1])
 
 
+def element_path(x: np.ndarray, fs: float, scene: Scene) -> np.ndarray:
+    """``x`` (a blocked force on the pitted contact, N) through the element between its two
+    linearised contacts, rings held: the force the other contact passes on,
+    ``H = (k_o + i w c) / (k + k_o - m w^2 + 2 i w c)`` (``k, k_o`` the model's stiffnesses at
+    the static loads of ``defect_scales``, ``c`` its contact damping, ``m`` the element's
+    mass); 0 when the other contact carries nothing."""
+    sc = defect_scales(scene)
+    p = scene_params(scene)
+    k_p, k_q = (p.k_inner, p.k_outer) if sc_race(scene) == "inner" else (p.k_outer, p.k_inner)
+    k = contact_stiffness(k_p, sc.element_load_n, p.exponent)
+    ko = contact_stiffness(k_q, sc.other_load_n, p.exponent) if sc.other_stiffness_n_m > 0 else 0.0
+    w = 2 * math.pi * np.fft.rfftfreq(x.size, 1.0 / fs)
+    c = p.contact_damping_ns_m
+    h = (ko + 1j * w * c) / (k + ko - p.element_mass_kg * w ** 2 + 2j * w * c) if ko > 0 else 0 * w
+    return np.fft.irfft(h * np.fft.rfft(x - np.mean(x)), x.size)
+
+
+def sc_race(scene: Scene) -> str:
+    """The race whose contact holds the pit (its table's)."""
+    return "outer" if scene.defect.location == "outer_race" else "inner"
+
+
+def healthy_housing_force(scene: Scene) -> np.ndarray:
+    """The housing force ``(n, 2)`` of ``scene`` without its pit: the dynamic case's model,
+    start, step and acquisition, no defect law."""
+    op = scene.operation
+    over = None if op.acquisition.oversample == "auto" else int(op.acquisition.oversample)
+    r = simulate_dynamics(scene_params(scene), scene.n_samples / op.fs_hz, op.fs_hz,
+                          acquisition_mode=op.acquisition.mode, oversample=over)
+    return r.housing_force_n
+
+
 def opening(scene: Scene, fidelity: str, q_static: float) -> float:
     """Least outer-contact load of an element whose contact centre is within the pit's middle
     half, over two passages at 1 MHz point samples, over the static load (outer race only)."""
@@ -133,21 +186,28 @@ def measure(name: str, scene: Scene, fidelity: str) -> dict:
     c_qs = time.process_time() - c0
     c0 = time.process_time()
     d = simulate_dynamic(scene, fidelity)
-    c_dyn = time.process_time() - c0
     ang = defect_angle(scene, h.time)   # the removed force's direction; the housing force's:
     phi = math.radians(scene.defect.position_deg) if scene.defect.location == "outer_race" else 0.0
-    qs = line(h.signals["removed_force"] * np.cos(ang - phi), fs, rate)
+    removed = h.signals["removed_force"] * np.cos(ang - phi)
+    qs = line(removed, fs, rate)
+    hf = healthy_housing_force(scene)
+    c_dyn = time.process_time() - c0
     f_dir = d.signals["housing_force_x"] * math.cos(phi) + d.signals["housing_force_y"] * math.sin(phi)
-    dyn = line(f_dir, fs, rate)
+    h_dir = hf[:, 0] * math.cos(phi) + hf[:, 1] * math.sin(phi)
+    healthy = line(h_dir, fs, rate)
+    dyn = line(f_dir - h_dir, fs, rate)
     ratio = 20 * math.log10(dyn / qs) if qs > 0 and dyn > 0 else float("inf")
     least = opening(scene, fidelity, sc.element_load_n)
     k, ko = sc.stiffness_n_m, sc.other_stiffness_n_m
-    expected = 20 * math.log10(ko / (k + ko)) if ko > 0 else float("-inf")
+    static = 20 * math.log10(ko / (k + ko)) if ko > 0 else float("-inf")
+    through = line(element_path(removed, fs, scene), fs, rate)
+    expected = 20 * math.log10(through / qs) if through > 0 and qs > 0 else float("-inf")
     peak = d.model["defect_force_peak_n"] / sc.element_load_n
     differ = not abs(ratio - expected) <= DIFFER_DB or peak > STRIKE or least <= 0.0
     return {"scene": name, "Q_N": sc.element_load_n, "share": ch.share,
             "event_periods": ch.event_over_period, "verdict": ch.verdict,
-            "qs_line_N": qs, "dyn_line_N": dyn, "ratio_dB": ratio, "expected_dB": expected,
+            "qs_line_N": qs, "healthy_line_N": healthy, "dyn_line_N": dyn, "ratio_dB": ratio,
+            "static_dB": static, "expected_dB": expected,
             "peak_over_Q": peak,
             "least_over_Q": least, "differ": differ,
             "agrees": (ch.verdict == "dynamic") == differ, "cpu_qs": c_qs, "cpu_dyn": c_dyn}
@@ -156,17 +216,83 @@ def measure(name: str, scene: Scene, fidelity: str) -> dict:
 def table(rows: list[dict]) -> str:
     """The markdown table of :func:`measure`'s rows."""
     head = ("| scene | Q N | drop/approach | event / T_n | verdict | QS removed-force env. line N | "
-            "dynamic housing-force env. line N | ratio dB | quasi-static ratio dB | peak / Q | least load over pit / Q | "
-            "answers differ | verdict agrees | CPU s QS, dyn |")
-    out = [head, "|" + "---|" * 14]
+            "healthy housing-force env. line N | dynamic housing-force env. line, pit's part N | "
+            "ratio dB | k_o/(k+k_o) dB | expected dB (through the element) | peak / Q | "
+            "least load over pit / Q | answers differ | verdict agrees | CPU s QS, dyn |")
+    out = [head, "|" + "---|" * 16]
     for r in rows:
         out.append(f"| {r['scene']} | {r['Q_N']:.3g} | {r['share']:.3g} | "
                    f"{r['event_periods']:.3g} | {r['verdict']} | {r['qs_line_N']:.3g} | "
-                   f"{r['dyn_line_N']:.3g} | {r['ratio_dB']:+.1f} | {r['expected_dB']:+.1f} | "
-                   f"{r['peak_over_Q']:.3g} | "
+                   f"{r['healthy_line_N']:.3g} | "
+                   f"{r['dyn_line_N']:.3g} | {r['ratio_dB']:+.1f} | {r['static_dB']:+.1f} | "
+                   f"{r['expected_dB']:+.1f} | {r['peak_over_Q']:.3g} | "
                    f"{r['least_over_Q']:.3g} | {'yes' if r['differ'] else 'no'} | "
                    f"{'yes' if r['agrees'] else 'NO'} | {r['cpu_qs']:.1f}, {r['cpu_dyn']:.1f} |")
     return "\n".join(out)
+
+
+def _pit_part(scene: Scene, law, fs: float, rate: float, **kw) -> tuple[float, float]:
+    """Line of the housing force along x with ``law`` and of its pit's part (less the healthy
+    run with the same changes ``kw`` of the parameters and step), N."""
+    op = scene.operation
+    spp = kw.pop("steps_per_period", None)
+    p = scene_params(scene).with_(**kw)
+    run = {"acquisition_mode": op.acquisition.mode, "steps_per_period": spp,
+           "oversample": None if op.acquisition.oversample == "auto" else int(op.acquisition.oversample)}
+    healthy = simulate_dynamics(p, scene.n_samples / fs, fs, **run).housing_force_n[:, 0]
+    pit = simulate_dynamics(p.with_(defect=law), scene.n_samples / fs, fs, **run).housing_force_n[:, 0]
+    return line(pit, fs, rate), line(pit - healthy, fs, rate)
+
+
+def decompose(name: str, scene: Scene, fidelity: str) -> list[str]:
+    """The default-sweep line taken apart (inner-race pit): one printed line per variant."""
+    tab = defect_table(scene, fidelity)
+    p = scene_params(scene)
+    fs, rate = scene.operation.fs_hz, scene_event_frequencies(scene)["bpfi"]
+    h, f = np.asarray(tab.healthy_force_n), np.asarray(tab.force_n)
+    ok = h > 0
+    ends = max(float(np.max(np.abs(f[i, ok] / h[ok] - 1.0))) for i in (0, -1))
+    out = [f"{name}: table {len(tab.x_m)} x {len(tab.delta_m)}, largest |ratio - 1| at the x "
+           f"range's ends {ends:.3g}"]
+    print(out[0], flush=True)
+    k = p.k_inner if tab.race == "inner" else p.k_outer
+    at_approach = joined_law(type("T", (), {"race": tab.race, "x_m": tab.x_m, "delta_m": tab.delta_m,
+                                            "healthy_force_n": k * np.asarray(tab.delta_m) ** p.exponent,
+                                            "force_n": f / np.where(ok, h, 1.0)[None, :]
+                                            * (k * np.asarray(tab.delta_m) ** p.exponent)[None, :]}), p)
+    none = joined_law(type("T", (), {"race": tab.race, "x_m": tab.x_m, "delta_m": tab.delta_m,
+                                     "healthy_force_n": h, "force_n": np.tile(h, (len(tab.x_m), 1))}), p)
+    law = joined_law(tab, p)
+    for what, lw, kw in (("pit (joined at the load)", law, {}),
+                         ("pit ratio read at the model's approach", at_approach, {}),
+                         ("table without its pit (ratio 1)", none, {}),
+                         ("half the step", law, {"steps_per_period": 80.0}),
+                         ("element mass / 16", law, {"element_mass_kg": p.element_mass_kg / 16})):
+        c0 = time.process_time()
+        whole, part = _pit_part(scene, lw, fs, rate, **kw)
+        out.append(f"  {what}: line {whole:.4g} N, pit's part {part:.4g} N "
+                   f"({time.process_time() - c0:.1f} CPU s)")
+        print(out[-1], flush=True)
+    return out
+
+
+def separate(duration_s: float, fidelity: str) -> dict:
+    """The default sweep's 250 kN, 50 um housing force over ``duration_s`` (no healthy run
+    subtracted): its envelope line (fs/4 - 3fs/8, largest bin within one bin) at 2 BPFO and at
+    BPFI, N, and the bin width, Hz (fine enough bins part the two)."""
+    sc = default_sweep(250.0, 50.0, duration_s=duration_s)
+    fs, ev = sc.operation.fs_hz, scene_event_frequencies(sc)
+    p = scene_params(sc)
+    p = p.with_(defect=joined_law(defect_table(sc, fidelity), p))
+    x = simulate_dynamics(p, sc.n_samples / fs, fs,
+                          acquisition_mode=sc.operation.acquisition.mode).housing_force_n[:, 0]
+    f, a = envelope_spectrum(x - np.mean(x), fs, (0.25 * fs, 0.375 * fs))
+    df = float(f[1] - f[0])
+    out = {"bin_hz": df}
+    for name, rate in (("2 BPFO", 2 * ev["bpfo"]), ("BPFI", ev["bpfi"])):
+        hz, amp = amplitude_at(f, a, rate, 0.6 * df)
+        out[f"{name} {rate:.2f} Hz"] = (float(hz), float(amp))
+    return out
 
 
 def main(argv=None) -> int:
@@ -177,7 +303,31 @@ def main(argv=None) -> int:
     ap.add_argument("--duration", type=float, default=0.5, help="record length, s")
     ap.add_argument("--fs", type=float, default=12000.0, help="CWRU scenes' fs, Hz")
     ap.add_argument("--only", nargs="*", default=None, help="scene names containing these")
+    ap.add_argument("--decompose", action="store_true",
+                    help="take the default-sweep line apart (decompose) instead of the table")
+    ap.add_argument("--speeds", nargs="*", type=float, default=None,
+                    help="the rig's 0.021 in pit at 6:00 at these multiples of 1797 rpm, 48 kHz")
+    ap.add_argument("--separate", type=float, default=None,
+                    help="record length, s: the default 250 kN case's lines near BPFI apart")
     a = ap.parse_args(argv)
+    if a.separate:
+        for k, v in separate(a.separate, a.fidelity).items():
+            print(k, v)
+        return 0
+    if a.speeds:
+        rows = []
+        for k in a.speeds:
+            sc = cwru(0.021, 0.0, RIG["clearance_um"], fs_hz=4 * a.fs, duration_s=a.duration,
+                      rpm=1797.0 * k)
+            rows.append(measure(f"rig OR 6:00 0.021 in, {k:g} x speed, {4 * a.fs / 1e3:g} kHz", sc,
+                                a.fidelity))
+            print(table(rows[-1:]).splitlines()[-1], flush=True)
+        return 0
+    if a.decompose:
+        for name, sc in scenes(a.fs, a.duration):
+            if (a.only and any(o in name for o in a.only)) or (not a.only and "default" in name):
+                decompose(name, sc, a.fidelity)
+        return 0
     rows = []
     for name, sc in scenes(a.fs, a.duration):
         if a.only and not any(o in name for o in a.only):

@@ -18,6 +18,7 @@ from bearing_envelope.io import read_case
 from bearing_envelope.physics.dynamics.case import joined_law, scene_params
 from bearing_envelope.physics.dynamics.criterion import (FAST_SHARE, OPEN_SHARE, criterion_verdict,
                                                          model_choice)
+from bearing_envelope.physics.dynamics.model import simulate_dynamics
 from bearing_envelope.physics.scene import DEFAULT_SCENE, Scene
 from bearing_envelope.study.limits import estimate_case
 from bearing_envelope.study.pipeline import case_bands, case_harmonics
@@ -118,6 +119,56 @@ def test_joined_law_reads_the_models_healthy_law_at_the_table_ends_and_keeps_the
     # at the mid-node approach the chord of K delta^1.5 between 2 and 4 um is 3.5 % high
     mid = np.searchsorted(j.delta_m, 3e-6)
     assert j.force_n[0, mid] == pytest.approx(p.k_outer * j.delta_m[mid] ** 1.5, rel=1e-12)
+
+
+def test_joined_law_removes_the_tables_share_at_the_load_not_at_the_approach():
+    """A softer healthy solve (half the model's law, as the crowned roller's 15-72 %) whose pit
+    ratio depends on the approach, ``r = 1 - 0.1 delta / delta_max`` (linear: the table's nodes
+    read it exactly): at the model's approach ``delta`` (force ``K delta^n``) the joined law
+    removes the table's share at the approach where the table's healthy contact carries that
+    force, ``delta_t = 2^(1/n) delta`` (closed form), clamped to the first loaded node below it
+    and the last node beyond it. Read at
+    the model's approach (before the fix) the default roller's pit removed 2.3 times the
+    quasi-static share at 250 kN (docs/dynamics.md, "Model only what the scene needs")."""
+    p = scene_params(_scene())
+    n = p.exponent
+    delta = np.linspace(0.0, 4e-6, 9)
+    law = p.k_outer * delta ** n
+
+    class Table:
+        race, x_m, delta_m, healthy_force_n = "outer", np.array([-1e-4, 0.0, 1e-4]), delta, 0.5 * law
+        force_n = np.vstack([0.5 * law, 0.5 * law * (1 - 0.1 * delta / delta[-1]), 0.5 * law])
+
+    j = joined_law(Table, p, n_approach=201)
+    model = p.k_outer * j.delta_m ** n
+    share = 0.1 * np.clip(2.0 ** (1.0 / n) * j.delta_m, delta[1], delta[-1]) / delta[-1]
+    np.testing.assert_allclose(j.force_n[1], (1.0 - share) * model, rtol=1e-12, atol=1e-9)
+    np.testing.assert_allclose(j.force_n[0], model, rtol=1e-12)
+    Table.healthy_force_n = 0.5 * law[::-1].copy()
+    Table.healthy_force_n[0] = 0.0
+    with pytest.raises(ValueError, match="healthy_force_n got .* allowed: ascending"):
+        joined_law(Table, p)
+
+
+
+def test_a_pit_free_table_joined_gives_the_healthy_bearings_housing_force():
+    """A table without a pit (its force its healthy solve, half the model's law as a crowned
+    roller's is softer) joined and read where the pit passes: the housing force equals the
+    healthy model's (no defect law, the Hertz kernel) within 1e-6 of the largest element load,
+    the joined power law read linearly between its 2001 approach nodes (measured 7.8e-8)."""
+    p = scene_params(_scene())
+    delta = np.linspace(0.0, 20e-6, 11)
+    half = 0.5 * p.k_outer * delta ** p.exponent
+
+    class Table:
+        race, x_m, delta_m, healthy_force_n = "outer", np.linspace(-2e-3, 2e-3, 9), delta, half
+        force_n = np.tile(half, (9, 1))
+
+    healthy = simulate_dynamics(p, 0.05, 12000.0)
+    joined = simulate_dynamics(p.with_(defect=joined_law(Table, p)), 0.05, 12000.0)
+    assert joined.defect_force_n.max() > 0.5 * healthy.element_load_n.max()   # the law was read
+    np.testing.assert_allclose(joined.housing_force_n, healthy.housing_force_n, rtol=0,
+                               atol=1e-6 * healthy.element_load_n.max())
 
 
 # --- the criterion -------------------------------------------------------------------------
