@@ -119,30 +119,62 @@ def integrators(duration: float = 1e-2, steps=(10, 20, 40, 80),
         e = errors(sol.y[:, -1], sol.y[lay.RES, :-1]) if sol.success else (math.nan, math.nan)
         rows.append(dict(method=f"solve_ivp {method}, rtol {rtol:g}", cpu=cpu, steps=sol.nfev,
                          e_end=e[0], e_res=e[1]))
-    rule = next(r["cpu"] for r in rows if f"S = {int(STEPS_PER_PERIOD)} " in r["method"])
+    rule = next((r["cpu"] for r in rows if f"S = {int(STEPS_PER_PERIOD)} " in r["method"]),
+                rows[0]["cpu"])
     for r in rows:
         r["ratio"] = r["cpu"] / rule
     return rows
 
 
+#: Steps per period measured by the step rule's parts (each against twice as many).
+RULE_STEPS = (20, 30, 40, 60, 80)
+#: The rig's scenes of the step rule (``benchmarks.rig_cost.SCENES``: config_rig.yaml's load,
+#: preload, structure and sensor, the standard table).
+RIG_SCENES = ("OR007at6", "OR007at3")
+
+
 def lines(p, steps: float, duration: float, fs: float = 12000.0):
+    """Envelope lines 1-3 x BPFO (band fs/4-3fs/8) of the resonator acceleration and of the
+    housing force along x and y."""
     r = simulate_dynamics(p, duration, fs, steps_per_period=steps)
     bpfo = p.z * p.cage_rate_hz
     out = []
-    for x in (r.resonator_acceleration_m_s2, r.housing_force_n[:, 0]):
+    for x in (r.resonator_acceleration_m_s2, r.housing_force_n[:, 0], r.housing_force_n[:, 1]):
         f, a = envelope_spectrum(x - x.mean(), fs, (0.25 * fs, 0.375 * fs))
         out += [amplitude_at(f, a, k * bpfo, 0.01 * bpfo)[1] for k in (1, 2, 3)]
     return np.array(out)
 
 
-def step_rule(duration: float = 1.0, steps=(10, 20, 40, 80)) -> list[dict]:
+def halving(got: dict) -> dict:
+    """Largest relative change of a line from ``S`` steps per period to ``2 S``, per ``S``."""
+    return {s: float(np.max(np.abs(got[s] - got[2 * s]) / np.abs(got[2 * s])))
+            for s in got if 2 * s in got}
+
+
+def rig_scene_params(name: str, preset: str = "standard"):
+    """The dynamic model of a rig scene (:data:`RIG_SCENES`), as the rig builds it."""
+    from bearing_envelope.physics.dynamics.case import case_params
+    from bearing_envelope.study.rig import read_rig_config
+    from bearing_envelope.study.rig.dynamic import rig_scene
+    from bearing_envelope.study.rig.simulation import condition_scene
+
+    from .rig_cost import CONFIG, condition
+    base = read_rig_config(CONFIG)
+    s = type(base)(**{**base.__dict__, "fidelity": preset, "dynamics": "dynamic"})
+    return case_params(rig_scene(condition_scene(condition(name, 1.0), s), s), preset)[0]
+
+
+def step_rule(duration: float = 1.0, steps=RULE_STEPS, rig=RIG_SCENES) -> list[dict]:
+    scenes = [(f"{w} in at {clock}", lambda w=w, pos=pos: scene_params(w, pos))
+              for w, pos, clock in ((0.007, 0.0, "6:00"), (0.021, 90.0, "3:00"))]
+    scenes += [(f"rig {name}", lambda name=name: rig_scene_params(name)) for name in rig]
     rows = []
-    for label, w, pos in (("0.007 in at 6:00", 0.007, 0.0), ("0.021 in at 3:00", 0.021, 90.0)):
-        p = scene_params(w, pos)
+    for label, make in scenes:
+        p = make()
         got = {s: lines(p, float(s), duration) for s in steps}
-        for s, nxt in zip(steps[:-1], steps[1:]):
-            rows.append(dict(scene=label, steps=s, lines=got[s],
-                             change=float(np.max(np.abs(got[s] - got[nxt]) / np.abs(got[nxt])))))
+        change = halving(got)
+        rows += [dict(scene=label, steps=s, lines=got[s], change=change.get(s, math.nan))
+                 for s in steps]
     return rows
 
 
@@ -171,7 +203,7 @@ def ball_params(width_in: float = 0.007):
     return p.with_(defect=lo, element_pit=dataclasses.replace(p.pit, inner=li))
 
 
-def ball(duration: float = 1.0, steps=(20, 40, 80), fs: float = 12000.0) -> list[dict]:
+def ball(duration: float = 1.0, steps=RULE_STEPS, fs: float = 12000.0) -> list[dict]:
     p = ball_params()
     r = bearing_rates(p.shaft_rate_hz, p.z, 2e3 * p.element_radius_m,
                       1e3 * (p.outer_race_radius_m + p.inner_race_radius_m),
@@ -190,9 +222,9 @@ def ball(duration: float = 1.0, steps=(20, 40, 80), fs: float = 12000.0) -> list
             over += [lines[-2] / floor]
         rows.append(dict(steps=s, cpu=cpu, lines=np.array(lines), over=over,
                          mean=res.housing_force_n[:, 0].mean() / p.force_n - 1))
-    for a, b in zip(rows[:-1], rows[1:]):
-        a["change"] = float(np.max(np.abs(a["lines"] - b["lines"]) / np.abs(b["lines"])))
-    rows[-1]["change"] = math.nan
+    change = halving({r["steps"]: r["lines"] for r in rows})
+    for r in rows:
+        r["change"] = change.get(r["steps"], math.nan)
     return rows
 
 
@@ -210,7 +242,7 @@ def print_tables(ints, rule, costs) -> None:
     print("|---|---|---|---|---|---|")
     for r in ints:
         print(f"| {r['method']} | {r['cpu']:.3f} | {r['ratio']:.1f} | {r['steps']} | {r['e_end']:.1e} | {r['e_res']:.1e} |")
-    print("\n| scene | steps/period | lines (res 1-3x, force 1-3x) | largest change when the step halves |")
+    print("\n| scene | steps/period | lines (res 1-3x, force x 1-3x, force y 1-3x) | largest change when the step halves |")
     print("|---|---|---|---|")
     for r in rule:
         print(f"| {r['scene']} | {r['steps']} | {' '.join(f'{v:.4g}' for v in r['lines'])} | {100 * r['change']:.3f} % |")
@@ -240,7 +272,7 @@ def main(argv=None) -> int:
 
 def smoke() -> None:
     ints = integrators(duration=2e-4, steps=(20, 40), methods=(("LSODA", 1e-6),))
-    rule = step_rule(duration=0.02, steps=(20, 40))
+    rule = step_rule(duration=0.02, steps=(20, 40), rig=RIG_SCENES[:1])
     print_tables(ints, rule, cost(durations=(0.01, 0.02)))
     print_ball(ball(duration=0.02, steps=(20, 40)))
 
