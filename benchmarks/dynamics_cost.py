@@ -15,15 +15,20 @@ force, the assumed structure of ``STRUCTURE_DEFAULTS``), an outer-race slot of t
    displacement (RMS, of its RMS) against DOP853 at rtol 1e-12; CPU s and CPU ratio to RK4 at
    the step rule.
 2. Step rule: envelope lines 1-3 x BPFO of the resonator acceleration and of the housing force
-   (band fs/4-3fs/8, 12 kHz, 1 s) for 10-80 steps per period; the largest change of a line from
-   that step count to twice as many. Two scenes: the 0.007 in slot at 6:00 (loaded) and the
-   0.021 in slot at 3:00 (an element bouncing at the load zone's edge).
+   along x and y (band fs/4-3fs/8, 12 kHz, 1 s) for 20-80 steps per period
+   (:data:`RULE_STEPS`); the largest change of a line from ``S`` steps to ``2 S``. Scenes: the
+   0.007 in slot at 6:00 (loaded), the 0.021 in slot at 3:00 (an element bouncing at the load
+   zone's edge), and the rig's OR 0.007 in at 6:00 and at 3:00 (:data:`RIG_SCENES`:
+   config_rig.yaml's 0.1 kN, preload and structure, the standard table).
 3. Cost: CPU s of 0.5 s and 1 s records at 12 kHz at the step rule; 10 s extrapolated linearly
    (and measured with ``--full``).
 4. Ball pit (``--parts ball``): the 0.007 in slot on element 0 (each contact's geometric law),
    envelope lines at 2 BSF and 2 BSF -+ FTF of the resonator acceleration and the housing force
    (fs/4-3fs/8, 12 kHz, 1 s) for 20-80 steps per period, their height over the spectrum's
    median (20-500 Hz), the largest change when the step halves, and the CPU s of each record.
+5. Kernel (``--parts kernel``): a 1 s record of the 0.007 in slot at 6:00 by the fused RK4 loop
+   (``kernel="fast"``) and by the step-by-step reference, alternately three times; CPU s, ns
+   per step and whether the two agree to the bit.
 """
 
 from __future__ import annotations
@@ -193,6 +198,35 @@ def cost(durations=(0.5, 1.0), full: bool = False) -> list[dict]:
     return rows
 
 
+def kernels(duration: float = 1.0, repeats: int = 3) -> list[dict]:
+    """CPU s of a record at 12 kHz by the fused loop and by the step-by-step reference, on
+    the 0.007 in slot at 6:00 (alternately, ``repeats`` times each), and whether they agree to
+    the bit."""
+    p = scene_params(0.007, 0.0)
+    rows = []
+    for k in range(repeats):
+        for kernel in ("fast", "reference"):
+            c0 = time.process_time()
+            r = simulate_dynamics(p, duration, 12000.0, kernel=kernel)
+            rows.append(dict(kernel=kernel, cpu=time.process_time() - c0, steps=r.steps,
+                             force=r.housing_force_n, end=r.state_end))
+    same = all(np.array_equal(a["force"], b["force"]) and np.array_equal(a["end"], b["end"])
+               for a, b in zip(rows[::2], rows[1::2]))
+    for r in rows:
+        r["same"] = same
+    return rows
+
+
+def print_kernels(rows) -> None:
+    print("\n| kernel | CPU s per run | steps | ns per step | housing force and end state equal to the bit |")
+    print("|---|---|---|---|---|")
+    for kernel in ("fast", "reference"):
+        got = [r for r in rows if r["kernel"] == kernel]
+        cpu = [r["cpu"] for r in got]
+        print(f"| {kernel} | {' / '.join(f'{c:.2f}' for c in cpu)} | {got[0]['steps']} | "
+              f"{1e9 * min(cpu) / got[0]['steps']:.0f} | {got[0]['same']} |")
+
+
 def ball_params(width_in: float = 0.007):
     """The CWRU scene with the slot on element 0 (outer and inner contact laws)."""
     m = yaml.safe_load((ROOT / "config_cwru.yaml").read_text(encoding="utf-8"))["scene"]
@@ -259,7 +293,8 @@ def main(argv=None) -> int:
     ap.add_argument("--full", action="store_true", help="also measure a 10 s record")
     ap.add_argument("--rule-duration", type=float, default=1.0, help="record length of part 2, s")
     ap.add_argument("--parts", nargs="+", default=["integrators", "rule", "cost", "ball"],
-                    choices=["integrators", "rule", "cost", "ball"], help="the parts to run")
+                    choices=["integrators", "rule", "cost", "ball", "kernel"],
+                    help="the parts to run (kernel: the fused loop against the reference)")
     args = ap.parse_args(argv)
     simulate_dynamics(scene_params(None), 0.01, 12000.0)          # compile outside the clocks
     print_tables(integrators() if "integrators" in args.parts else [],
@@ -267,6 +302,8 @@ def main(argv=None) -> int:
                  cost(full=args.full) if "cost" in args.parts else [])
     if "ball" in args.parts:
         print_ball(ball())
+    if "kernel" in args.parts:
+        print_kernels(kernels())
     return 0
 
 
@@ -275,6 +312,7 @@ def smoke() -> None:
     rule = step_rule(duration=0.02, steps=(20, 40), rig=RIG_SCENES[:1])
     print_tables(ints, rule, cost(durations=(0.01, 0.02)))
     print_ball(ball(duration=0.02, steps=(20, 40)))
+    print_kernels(kernels(duration=0.02, repeats=1))
 
 
 if __name__ == "__main__":
