@@ -15,15 +15,20 @@ force, the assumed structure of ``STRUCTURE_DEFAULTS``), an outer-race slot of t
    displacement (RMS, of its RMS) against DOP853 at rtol 1e-12; CPU s and CPU ratio to RK4 at
    the step rule.
 2. Step rule: envelope lines 1-3 x BPFO of the resonator acceleration and of the housing force
-   (band fs/4-3fs/8, 12 kHz, 1 s) for 10-80 steps per period; the largest change of a line from
-   that step count to twice as many. Two scenes: the 0.007 in slot at 6:00 (loaded) and the
-   0.021 in slot at 3:00 (an element bouncing at the load zone's edge).
+   along x and y (band fs/4-3fs/8, 12 kHz, 1 s) for 20-80 steps per period
+   (:data:`RULE_STEPS`); the largest change of a line from ``S`` steps to ``2 S``. Scenes: the
+   0.007 in slot at 6:00 (loaded), the 0.021 in slot at 3:00 (an element bouncing at the load
+   zone's edge), and the rig's OR 0.007 in at 6:00 and at 3:00 (:data:`RIG_SCENES`:
+   config_rig.yaml's 0.1 kN, preload and structure, the standard table).
 3. Cost: CPU s of 0.5 s and 1 s records at 12 kHz at the step rule; 10 s extrapolated linearly
    (and measured with ``--full``).
 4. Ball pit (``--parts ball``): the 0.007 in slot on element 0 (each contact's geometric law),
    envelope lines at 2 BSF and 2 BSF -+ FTF of the resonator acceleration and the housing force
    (fs/4-3fs/8, 12 kHz, 1 s) for 20-80 steps per period, their height over the spectrum's
    median (20-500 Hz), the largest change when the step halves, and the CPU s of each record.
+5. Kernel (``--parts kernel``): a 1 s record of the 0.007 in slot at 6:00 by the fused RK4 loop
+   (``kernel="fast"``) and by the step-by-step reference, alternately three times; CPU s, ns
+   per step and whether the two agree to the bit.
 """
 
 from __future__ import annotations
@@ -119,30 +124,62 @@ def integrators(duration: float = 1e-2, steps=(10, 20, 40, 80),
         e = errors(sol.y[:, -1], sol.y[lay.RES, :-1]) if sol.success else (math.nan, math.nan)
         rows.append(dict(method=f"solve_ivp {method}, rtol {rtol:g}", cpu=cpu, steps=sol.nfev,
                          e_end=e[0], e_res=e[1]))
-    rule = next(r["cpu"] for r in rows if f"S = {int(STEPS_PER_PERIOD)} " in r["method"])
+    rule = next((r["cpu"] for r in rows if f"S = {int(STEPS_PER_PERIOD)} " in r["method"]),
+                rows[0]["cpu"])
     for r in rows:
         r["ratio"] = r["cpu"] / rule
     return rows
 
 
+#: Steps per period measured by the step rule's parts (each against twice as many).
+RULE_STEPS = (20, 30, 40, 60, 80)
+#: The rig's scenes of the step rule (``benchmarks.rig_cost.SCENES``: config_rig.yaml's load,
+#: preload, structure and sensor, the standard table).
+RIG_SCENES = ("OR007at6", "OR007at3")
+
+
 def lines(p, steps: float, duration: float, fs: float = 12000.0):
+    """Envelope lines 1-3 x BPFO (band fs/4-3fs/8) of the resonator acceleration and of the
+    housing force along x and y."""
     r = simulate_dynamics(p, duration, fs, steps_per_period=steps)
     bpfo = p.z * p.cage_rate_hz
     out = []
-    for x in (r.resonator_acceleration_m_s2, r.housing_force_n[:, 0]):
+    for x in (r.resonator_acceleration_m_s2, r.housing_force_n[:, 0], r.housing_force_n[:, 1]):
         f, a = envelope_spectrum(x - x.mean(), fs, (0.25 * fs, 0.375 * fs))
         out += [amplitude_at(f, a, k * bpfo, 0.01 * bpfo)[1] for k in (1, 2, 3)]
     return np.array(out)
 
 
-def step_rule(duration: float = 1.0, steps=(10, 20, 40, 80)) -> list[dict]:
+def halving(got: dict) -> dict:
+    """Largest relative change of a line from ``S`` steps per period to ``2 S``, per ``S``."""
+    return {s: float(np.max(np.abs(got[s] - got[2 * s]) / np.abs(got[2 * s])))
+            for s in got if 2 * s in got}
+
+
+def rig_scene_params(name: str, preset: str = "standard"):
+    """The dynamic model of a rig scene (:data:`RIG_SCENES`), as the rig builds it."""
+    from bearing_envelope.physics.dynamics.case import case_params
+    from bearing_envelope.study.rig import read_rig_config
+    from bearing_envelope.study.rig.dynamic import rig_scene
+    from bearing_envelope.study.rig.simulation import condition_scene
+
+    from .rig_cost import CONFIG, condition
+    base = read_rig_config(CONFIG)
+    s = type(base)(**{**base.__dict__, "fidelity": preset, "dynamics": "dynamic"})
+    return case_params(rig_scene(condition_scene(condition(name, 1.0), s), s), preset)[0]
+
+
+def step_rule(duration: float = 1.0, steps=RULE_STEPS, rig=RIG_SCENES) -> list[dict]:
+    scenes = [(f"{w} in at {clock}", lambda w=w, pos=pos: scene_params(w, pos))
+              for w, pos, clock in ((0.007, 0.0, "6:00"), (0.021, 90.0, "3:00"))]
+    scenes += [(f"rig {name}", lambda name=name: rig_scene_params(name)) for name in rig]
     rows = []
-    for label, w, pos in (("0.007 in at 6:00", 0.007, 0.0), ("0.021 in at 3:00", 0.021, 90.0)):
-        p = scene_params(w, pos)
+    for label, make in scenes:
+        p = make()
         got = {s: lines(p, float(s), duration) for s in steps}
-        for s, nxt in zip(steps[:-1], steps[1:]):
-            rows.append(dict(scene=label, steps=s, lines=got[s],
-                             change=float(np.max(np.abs(got[s] - got[nxt]) / np.abs(got[nxt])))))
+        change = halving(got)
+        rows += [dict(scene=label, steps=s, lines=got[s], change=change.get(s, math.nan))
+                 for s in steps]
     return rows
 
 
@@ -161,6 +198,35 @@ def cost(durations=(0.5, 1.0), full: bool = False) -> list[dict]:
     return rows
 
 
+def kernels(duration: float = 1.0, repeats: int = 3) -> list[dict]:
+    """CPU s of a record at 12 kHz by the fused loop and by the step-by-step reference, on
+    the 0.007 in slot at 6:00 (alternately, ``repeats`` times each), and whether they agree to
+    the bit."""
+    p = scene_params(0.007, 0.0)
+    rows = []
+    for k in range(repeats):
+        for kernel in ("fast", "reference"):
+            c0 = time.process_time()
+            r = simulate_dynamics(p, duration, 12000.0, kernel=kernel)
+            rows.append(dict(kernel=kernel, cpu=time.process_time() - c0, steps=r.steps,
+                             force=r.housing_force_n, end=r.state_end))
+    same = all(np.array_equal(a["force"], b["force"]) and np.array_equal(a["end"], b["end"])
+               for a, b in zip(rows[::2], rows[1::2]))
+    for r in rows:
+        r["same"] = same
+    return rows
+
+
+def print_kernels(rows) -> None:
+    print("\n| kernel | CPU s per run | steps | ns per step | housing force and end state equal to the bit |")
+    print("|---|---|---|---|---|")
+    for kernel in ("fast", "reference"):
+        got = [r for r in rows if r["kernel"] == kernel]
+        cpu = [r["cpu"] for r in got]
+        print(f"| {kernel} | {' / '.join(f'{c:.2f}' for c in cpu)} | {got[0]['steps']} | "
+              f"{1e9 * min(cpu) / got[0]['steps']:.0f} | {got[0]['same']} |")
+
+
 def ball_params(width_in: float = 0.007):
     """The CWRU scene with the slot on element 0 (outer and inner contact laws)."""
     m = yaml.safe_load((ROOT / "config_cwru.yaml").read_text(encoding="utf-8"))["scene"]
@@ -171,7 +237,7 @@ def ball_params(width_in: float = 0.007):
     return p.with_(defect=lo, element_pit=dataclasses.replace(p.pit, inner=li))
 
 
-def ball(duration: float = 1.0, steps=(20, 40, 80), fs: float = 12000.0) -> list[dict]:
+def ball(duration: float = 1.0, steps=RULE_STEPS, fs: float = 12000.0) -> list[dict]:
     p = ball_params()
     r = bearing_rates(p.shaft_rate_hz, p.z, 2e3 * p.element_radius_m,
                       1e3 * (p.outer_race_radius_m + p.inner_race_radius_m),
@@ -190,9 +256,9 @@ def ball(duration: float = 1.0, steps=(20, 40, 80), fs: float = 12000.0) -> list
             over += [lines[-2] / floor]
         rows.append(dict(steps=s, cpu=cpu, lines=np.array(lines), over=over,
                          mean=res.housing_force_n[:, 0].mean() / p.force_n - 1))
-    for a, b in zip(rows[:-1], rows[1:]):
-        a["change"] = float(np.max(np.abs(a["lines"] - b["lines"]) / np.abs(b["lines"])))
-    rows[-1]["change"] = math.nan
+    change = halving({r["steps"]: r["lines"] for r in rows})
+    for r in rows:
+        r["change"] = change.get(r["steps"], math.nan)
     return rows
 
 
@@ -210,7 +276,7 @@ def print_tables(ints, rule, costs) -> None:
     print("|---|---|---|---|---|---|")
     for r in ints:
         print(f"| {r['method']} | {r['cpu']:.3f} | {r['ratio']:.1f} | {r['steps']} | {r['e_end']:.1e} | {r['e_res']:.1e} |")
-    print("\n| scene | steps/period | lines (res 1-3x, force 1-3x) | largest change when the step halves |")
+    print("\n| scene | steps/period | lines (res 1-3x, force x 1-3x, force y 1-3x) | largest change when the step halves |")
     print("|---|---|---|---|")
     for r in rule:
         print(f"| {r['scene']} | {r['steps']} | {' '.join(f'{v:.4g}' for v in r['lines'])} | {100 * r['change']:.3f} % |")
@@ -227,7 +293,8 @@ def main(argv=None) -> int:
     ap.add_argument("--full", action="store_true", help="also measure a 10 s record")
     ap.add_argument("--rule-duration", type=float, default=1.0, help="record length of part 2, s")
     ap.add_argument("--parts", nargs="+", default=["integrators", "rule", "cost", "ball"],
-                    choices=["integrators", "rule", "cost", "ball"], help="the parts to run")
+                    choices=["integrators", "rule", "cost", "ball", "kernel"],
+                    help="the parts to run (kernel: the fused loop against the reference)")
     args = ap.parse_args(argv)
     simulate_dynamics(scene_params(None), 0.01, 12000.0)          # compile outside the clocks
     print_tables(integrators() if "integrators" in args.parts else [],
@@ -235,14 +302,17 @@ def main(argv=None) -> int:
                  cost(full=args.full) if "cost" in args.parts else [])
     if "ball" in args.parts:
         print_ball(ball())
+    if "kernel" in args.parts:
+        print_kernels(kernels())
     return 0
 
 
 def smoke() -> None:
     ints = integrators(duration=2e-4, steps=(20, 40), methods=(("LSODA", 1e-6),))
-    rule = step_rule(duration=0.02, steps=(20, 40))
+    rule = step_rule(duration=0.02, steps=(20, 40), rig=RIG_SCENES[:1])
     print_tables(ints, rule, cost(durations=(0.01, 0.02)))
     print_ball(ball(duration=0.02, steps=(20, 40)))
+    print_kernels(kernels(duration=0.02, repeats=1))
 
 
 if __name__ == "__main__":

@@ -31,9 +31,10 @@ __all__ = ["DynamicHistory", "DYNAMIC_SIGNAL_UNITS", "DYNAMIC_SIGNAL_DESCRIPTION
            "CPU_S_PER_ELEMENT_STEP"]
 
 #: CPU seconds per RK4 step and element, measured (``python -m benchmarks dynamics_cost
-#: --full``, docs/dynamics.md): the 6205's 10 s record at 12 kHz, 24,111,780 steps of
-#: 0.42 us for its 9 balls in 34.9 CPU s (3.4 CPU s per record second).
-CPU_S_PER_ELEMENT_STEP = 34.9 / 24111780 / 9
+#: --parts cost --full``, docs/dynamics.md, 2026-12-06, the fused loop): the 6205's 10 s record
+#: at 12 kHz with the 0.007 in pit, 18,083,835 steps of 0.556 us for its 9 balls in 18.86 CPU s
+#: (1.9 CPU s per record second).
+CPU_S_PER_ELEMENT_STEP = 18.86 / 18083835 / 9
 
 #: The 1-D signals of a dynamic case (``/signals``) and their units.
 DYNAMIC_SIGNAL_UNITS = {

@@ -15,7 +15,7 @@ import numpy as np
 
 from ..acquisition import acquire, antialias_filter
 from ..scene import Acquisition
-from .kernels import CDT, CT0, cage_angle_at, contact_forces, rhs_kernel, rk4_run
+from .kernels import CDT, CT0, cage_angle_at, contact_forces, rhs_kernel, rk4_loop, rk4_run
 from .layout import REC_CONTACT, REC_FIXED, REC_SIZE_FIXED, StateLayout
 from .params import (MODEL_NAME, PEAK_LOAD_FACTOR, DynamicParams, highest_frequency_hz, quasi_static,
                      step_size)
@@ -25,7 +25,7 @@ START_S = 0.0
 
 __all__ = ["Arrays", "arrays", "rhs", "element_loads", "initial_state", "simulate_dynamics",
            "DynamicResult", "jacobian", "linearised_frequencies_hz", "modal_oversample",
-           "SETTLE_PERIODS", "record_names"]
+           "SETTLE_PERIODS", "record_names", "KERNELS"]
 
 #: Settling before ``t = 0`` (discarded), in periods of the slowest structural mode, at least
 #: 20 ms: the start from the quasi-static state rings the rings' modes down.
@@ -33,6 +33,10 @@ SETTLE_PERIODS = 30.0
 #: Spacing of the cage-angle nodes with slip, s (the slip process is piecewise linear per
 #: inner-race pass, longer than this).
 _CAGE_NODE_S = 2e-5
+#: The integrators :func:`simulate_dynamics` can run, by name: ``fast`` the fused loop
+#: (:func:`~.kernels.rk4_loop`), ``reference`` the step-by-step one it is tested against
+#: (:func:`~.kernels.rk4_run`); the same arithmetic, the same bits.
+KERNELS = {"fast": rk4_loop, "reference": rk4_run}
 
 
 @dataclass(frozen=True)
@@ -367,8 +371,8 @@ class _Stream:
     """Integrates forward on demand and serves rows of the internal record by index
     ``j`` (time ``j rec_dt``), keeping only what a later request may still ask for."""
 
-    def __init__(self, params, a, y0, j_first, rec_dt, every):
-        self.a, self.y, self.rec_dt, self.every = a, y0.copy(), rec_dt, every
+    def __init__(self, params, a, y0, j_first, rec_dt, every, run=rk4_loop):
+        self.a, self.y, self.rec_dt, self.every, self.run = a, y0.copy(), rec_dt, every, run
         self.z = params.z
         self.next_j = j_first
         self.buf = np.empty((0, REC_SIZE_FIXED + 2 * params.z + 1))
@@ -382,7 +386,7 @@ class _Stream:
             n = j_hi + 1 - self.next_j
             new = np.empty((n, self.buf.shape[1]))
             a = self.a
-            rk4_run(self.y, self.next_j * self.rec_dt, self.rec_dt / self.every, n, self.every,
+            self.run(self.y, self.next_j * self.rec_dt, self.rec_dt / self.every, n, self.every,
                     *a.kernel_args(), new)
             if not np.all(np.isfinite(self.y)):
                 bad = ~np.all(np.isfinite(new), axis=1)
@@ -426,7 +430,8 @@ def _settle_s(params: DynamicParams) -> float:
 def simulate_dynamics(params: DynamicParams, duration_s: float, fs_hz: float, *,
                       dt_s: float | None = None, steps_per_period: float | None = None,
                       oversample: int | None = None, acquisition_mode: str = Acquisition.mode,
-                      settle_s: float | None = None, y0: np.ndarray | None = None) -> DynamicResult:
+                      settle_s: float | None = None, y0: np.ndarray | None = None,
+                      kernel: str = "fast") -> DynamicResult:
     """Run the model for ``duration_s`` and record it at ``fs_hz``.
 
     The state starts at :func:`initial_state` (or ``y0``) at ``-settle_s`` and is integrated by
@@ -458,6 +463,9 @@ def simulate_dynamics(params: DynamicParams, duration_s: float, fs_hz: float, *,
         Settling before ``t = 0``, s (default: :data:`SETTLE_PERIODS` housing periods).
     y0 : ndarray, optional
         State at ``-settle_s`` (default :func:`initial_state`).
+    kernel : {"fast", "reference"}
+        The integrator (:data:`KERNELS`): ``fast`` the fused loop, ``reference`` the
+        step-by-step one; the same result to the bit.
 
     Returns
     -------
@@ -469,13 +477,16 @@ def simulate_dynamics(params: DynamicParams, duration_s: float, fs_hz: float, *,
     ------
     ValueError
         ``duration_s`` or ``fs_hz`` not finite and > 0, an ``acquisition`` other than
-        ``antialiased`` or ``point``, or a ``y0`` of another shape than the state.
+        ``antialiased`` or ``point``, a ``kernel`` not in :data:`KERNELS`, or a ``y0`` of
+        another shape than the state.
     """
     for name, v in (("duration_s", duration_s), ("fs_hz", fs_hz)):
         if not (isinstance(v, numbers.Real) and math.isfinite(v) and v > 0):
             raise ValueError(f"simulate_dynamics: {name} got {v!r}; allowed: finite > 0")
     if acquisition_mode not in ("antialiased", "point"):
         raise ValueError(f"simulate_dynamics: acquisition_mode got {acquisition_mode!r}; allowed: antialiased | point")
+    if kernel not in KERNELS:
+        raise ValueError(f"simulate_dynamics: kernel got {kernel!r}; allowed: {' | '.join(KERNELS)}")
     cpu0 = time.process_time()
     n_out = int(round(duration_s * fs_hz))
     ov = 1 if acquisition_mode == "point" else (modal_oversample(params, fs_hz) if oversample is None
@@ -493,7 +504,7 @@ def simulate_dynamics(params: DynamicParams, duration_s: float, fs_hz: float, *,
     if y.shape != (StateLayout(params.z).size,):
         raise ValueError(f"simulate_dynamics: y0 has shape {y.shape}; allowed: "
                          f"({StateLayout(params.z).size},)")
-    st = _Stream(params, a, y, j_first, rec_dt, every)
+    st = _Stream(params, a, y, j_first, rec_dt, every, KERNELS[kernel])
     names = record_names(params.z)
     ranges: dict = {}
     sig = acquire(st.evaluate, n_out, fs_hz, mode=acquisition_mode, oversample=ov,

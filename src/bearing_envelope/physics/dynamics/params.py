@@ -29,10 +29,12 @@ __all__ = ["DefectLaw", "ElementPit", "DynamicParams", "element_pit_from_scene",
 #: Name of the model a result says made it.
 MODEL_NAME = "lumped_dynamic"
 
-#: Step rule: RK4 steps per period of the highest linearised frequency (measured by
-#: ``python -m benchmarks dynamics_cost``: the envelope lines change < 1 % when it doubles,
-#: also for an element bouncing at the load zone's edge: 1.1 % from 20 to 40, 0.7 % from 40 to 80).
-STEPS_PER_PERIOD = 40.0
+#: Step rule: RK4 steps per period of the highest linearised frequency, the smallest count whose
+#: envelope lines change <= 1 % when the step halves on every scene of ``python -m benchmarks
+#: dynamics_cost --parts rule ball`` (docs/dynamics.md, 2026-12-06): worst 0.64 % from 30 to 60
+#: (an element bouncing at the load zone's edge; 1.07 % from 20 to 40; the rig's scenes and the
+#: ball pit < 0.01 %).
+STEPS_PER_PERIOD = 30.0
 #: The contact load of the step rule, as a multiple of the quasi-static largest element load
 #: (impacts load a contact above its static value).
 PEAK_LOAD_FACTOR = 2.0
