@@ -322,3 +322,44 @@ def test_gain_is_not_identified_where_zeta_is_not():
     assert unknown == ["zeta", "gain"]
     flags, unknown = identification_flags(band, f_n, 0.05, (0.045, 0.055), (0.01, 0.01), 50, period, None)
     assert unknown == [] and flags == []
+
+
+# ------------------------------------ issue 43: events ringing into the next one, in phase
+def _periodic_train(rate, f_n, zeta, amplitude, noise, jitter, seconds=6.0, seed=3):
+    """Impulses at ``rate`` Hz (each time jittered by ``jitter`` of a period, not
+    accumulated) ringing the analytic resonator, plus white noise; the record and the gain."""
+    rng = np.random.default_rng(seed)
+    times = np.arange(0.004, seconds - 0.004, 1 / rate)
+    times = times + jitter / rate * rng.standard_normal(times.size)
+    gain = amplitude / (1e-3 * 2 * zeta * 2 * math.pi * f_n)
+    n = int(seconds * FS)
+    return _ringing(n, FS, times, 1e-3, f_n, zeta, gain) + noise * rng.standard_normal(n), gain
+
+
+@pytest.mark.parametrize("rate, f_n, zeta", [(190.0, 2660.0, 0.015), (230.0, 2660.0, 0.03)])
+def test_events_ringing_into_the_next_in_phase_are_not_a_confident_answer(rate, f_n, zeta):
+    """Events periodic to 0.3 % of a period meet the previous one's ringing (22-30 % of its
+    amplitude at zeta 0.015, 11 % at 0.03) nearly in phase; the model adds it in power.
+    Before, zeta read +12 % (190 Hz, zeta 0.015) and the gain -11 % (230 Hz, zeta 0.03), not
+    flagged: each is now within 10 % or listed as not identified, the flag naming why."""
+    x, gain = _periodic_train(rate, f_n, zeta, 2.4, 0.2, jitter=0.003)
+    p = identify_path(x, FS, {k: v * rate / 107.0 for k, v in RATES.items()})
+    for name, got, true in (("zeta", p.zeta, zeta), ("gain", p.mode(1e-3).gain, gain)):
+        assert abs(got / true - 1) <= 0.1 or name in p.not_identified, (name, got, true)
+    assert "gain" in p.not_identified
+    assert any("in phase from event to event" in f for f in p.flags)
+
+
+def test_overlap_flags_need_both_ringing_left_and_coherent_phases():
+    """The bound on what ringing in phase moves (``sqrt((1 + r)/(1 - r)) - 1``, 0.36 at r
+    0.3): coherent, it takes zeta and the gain; with independent phases (coherence 0.05:
+    a bearing's slip) or little ringing left (r 0.02), neither."""
+    band, f_n, period = (2000.0, 3300.0), 2660.0, 63.0
+    args = (band, f_n, 0.015, (0.0149, 0.0151), (0.01, 0.01), 50, period, None)
+    _, unknown = identification_flags(*args, coherent_tail=(0.3, 0.8))
+    assert unknown == ["zeta", "gain"]
+    assert identification_flags(*args, coherent_tail=(0.3, 0.05)) == ([], [])
+    assert identification_flags(*args, coherent_tail=(0.02, 0.9)) == ([], [])
+    # the gain carries zeta's share too: twice the bound (u = 0.9 x 0.062 = 0.056)
+    _, unknown = identification_flags(*args, coherent_tail=(0.06, 0.9))
+    assert unknown == ["gain"]
