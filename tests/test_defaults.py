@@ -440,7 +440,7 @@ def test_a_planted_duplicate_fails(tmp_path, monkeypatch):
 
 #: ``DEFAULT_*`` constants of the same name in two modules that are different quantities.
 SAME_NAME_OTHER_QUANTITY = {
-    "DEFAULT_PFA": {"bearing_envelope.diagnosis.transfer_path":
+    "DEFAULT_PFA": {"bearing_envelope.diagnosis.path_constants":
                     "identify-path's event detection (0.1 %), not the verdict's 1 %"},
     "DEFAULT_BANDS": {"bearing_envelope.study.tradeoff":
                       "the trade-off study's bands: the library's (read) and a fixed band"},
