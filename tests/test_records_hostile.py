@@ -266,3 +266,14 @@ def test_a_binary_manifest_names_the_manifest(tmp_path, capsys):
     f.write_bytes(bytes(range(256)) * 16)
     msg = _refusal(["--manifest", str(f), "--fr", "29.95", "--bearing", "6205"], capsys)
     assert "error: --manifest: " in msg and "is not a UTF-8 text CSV" in msg
+
+
+def test_the_windows_accepted_without_scipy_are_scipys():
+    """The fast path's names (no scipy.signal import in a simulate job) are windows scipy makes."""
+    from scipy.signal import get_window
+
+    from bearing_envelope.diagnosis.options import PLAIN_WINDOWS, AnalysisOptions
+
+    for name in sorted(PLAIN_WINDOWS):
+        assert get_window(name, 16).shape == (16,)
+        assert AnalysisOptions(window=name).window == name

@@ -35,7 +35,7 @@ from .routes import ROUTES
 from .speed import MEASURED_SPEED_SEARCH_PERCENT
 
 __all__ = ["AnalysisOptions", "OptionSpec", "OPTION_SPECS", "OptionError", "options_with",
-           "KURTOGRAM_MIN_ORDERS", "LEVEL0_CHOICES"]
+           "KURTOGRAM_MIN_ORDERS", "LEVEL0_CHOICES", "PLAIN_WINDOWS"]
 
 #: The kurtogram band must be at least ``KURTOGRAM_MIN_ORDERS x n_harmonics x`` the highest
 #: fault frequency wide (unless ``min_bandwidth`` is given): the envelope of a band ``W`` Hz
@@ -200,7 +200,16 @@ def _known_window(v) -> bool:
     return True
 
 
+#: Window names accepted without importing scipy.signal (a simulate job builds the options and
+#: must not load it, tests/test_lazy.py); every other name or tuple is asked of scipy. Each is
+#: checked against scipy's own ``get_window`` (tests/test_records_hostile.py).
+PLAIN_WINDOWS = frozenset({"hann", "hamming", "blackman", "boxcar", "bartlett", "triang",
+                           "flattop", "blackmanharris", "nuttall", "cosine", "tukey"})
+
+
 def _window(spec, v):
+    if isinstance(v, str) and v in PLAIN_WINDOWS:
+        return True, v
     try:
         return (isinstance(v, (str, tuple)) and _known_window(v)), v
     except TypeError:   # an unhashable tuple member
