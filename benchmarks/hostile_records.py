@@ -536,18 +536,13 @@ def csv_cases(w: Writer) -> list:
     case("ambiguous commas", w.csv(((f"{int(v * 1000)}",) for v in np.abs(x[:2000]) + 1),
                                    header=None),
          ("refuse", r"--delimiter|--decimal|--fs"))
-    xt = x.astype(object)
-    xt[1234] = "abc"
-    case("a word among the samples", w.csv(zip(t, xt)), ("refuse", r"'x'.*line"))
-    xn = x.astype(object)
-    xn[20] = "nan"
-    case("'nan' among the samples", w.csv(zip(t, xn)), ("refuse", r"non-finite"))
-    xi = x.astype(object)
-    xi[20] = "1e400"
-    case("1e400 among the samples", w.csv(zip(t, xi)), ("refuse", r"non-finite|'x'"))
-    xe = x.astype(object)
-    xe[20] = ""
-    case("an empty cell", w.csv(zip(t, xe)), ("refuse", r"'x'|line"))
+    for name, at, cell, want in (("a word among the samples", 1234, "abc", r"'x'.*line"),
+                                 ("'nan' among the samples", 20, "nan", r"non-finite"),
+                                 ("1e400 among the samples", 20, "1e400", r"non-finite|'x'"),
+                                 ("an empty cell", 20, "", r"'x'|line")):
+        xc = x.astype(object)
+        xc[at] = cell
+        case(name, w.csv(zip(t, xc)), ("refuse", want))
     case("empty file", w.raw(b"", ".csv"), ("refuse", r"data line|CSV"))
     case("header only", w.raw(b"time,x\n", ".csv"), ("refuse", r"data line"))
     case("one line", w.raw(b"0.0,1.0\n", ".csv"), ("refuse", r"samples|--fs|time column|"
