@@ -35,8 +35,9 @@ QUASI_STATIC, DYNAMIC = "quasi_static", "dynamic"
 
 #: ``share`` at and above which the element's contact over the pit opens or nearly opens and
 #: it strikes the exit edge (measured, ``python -m benchmarks model_choice``: at 0.94 the
-#: contact kept 0.27 of its load and struck at 2.4 x it; at 0.36 and below it kept >= 0.69
-#: and peaked at <= 1.12 x, the quasi-static answer within 3 dB).
+#: contact kept 0.27 of its load and struck at 2.4 x it; at 0.36 and below, at the rig's speed,
+#: it kept >= 0.68 and peaked at <= 1.12 x, the quasi-static answer within 3 dB; faster:
+#: :data:`FAST_RATE`).
 OPEN_SHARE = 0.5
 #: ``share`` at and above which a fast event (:data:`FAST_RATE`) needs the dynamics.
 FAST_SHARE = 0.1
