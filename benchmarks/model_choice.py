@@ -22,15 +22,17 @@ passages: the least outer-contact load of the element whose contact centre is wi
 middle half, against the static load). Where the element follows the pit quasi-statically, the
 housing receives the blocked (removed) force through the element's two contacts in series:
 ``k_other / (k + k_other)`` of it (``defect_scales``' stiffnesses; about -6 dB for a ball). In
-the band the element's own mode between its two linearised contacts (the model's stiffnesses
-at the static loads, its mass and contact damping) adds its linear gain
-``1 / (1 - (f/f_n)^2)`` (+4.0 / +3.1 dB at 250 / 750 kN for the default roller, whose
-30-35 kHz mode sits just above fs/4 - 3fs/8 at 65 kHz; 0.1 dB for the 6205 at 12 kHz): the
-expected ratio is the removed force's line through that linear element (:func:`element_path`)
-over its own. The
-answers differ where the line ratio leaves that value by more than 3 dB, the contact over the
-pit strikes (peak above 1.5 x its static load; the quasi-static contact never exceeds it), or
-the contact opens. Prints a markdown table; CPU seconds are process time.
+the band the element between its two linearised contacts (the model's stiffnesses at the
+static loads, its mass and contact damping) changes that (:func:`element_path`: the force of
+its **outer** contact, the housing's): an inner-race pit's reaches the housing through the
+other contact, ``k_o / (k + k_o - m w^2)`` (+4.0 / +3.1 dB at 250 / 750 kN for the default
+roller, whose 30-35 kHz mode sits just above fs/4 - 3fs/8 at 65 kHz); an outer-race pit's
+through its own contact, ``(k_o - m w^2) / (k + k_o - m w^2)``, falling to 0 at the
+anti-resonance ``sqrt(k_o / m)`` (25 kHz for the 6205's ball at 51 N: 1.3-4.0 dB below the
+static ratio in 12-18 kHz at 48 kHz, 0.1 dB at 12 kHz). The expected ratio is the removed
+force's line through that linear element over its own. The answers differ where the line ratio
+leaves that value by more than 3 dB, the contact over the pit strikes (peak above 1.5 x its
+static load; the quasi-static contact never exceeds it), or the contact opens. Prints a markdown table; CPU seconds are process time.
 
 ``--decompose`` (the default-sweep scenes, or those named by ``--only``): the pit's part of the
 housing force's line taken apart (:func:`decompose`): the table's pit ratio at the ends of its
@@ -38,9 +40,12 @@ housing force's line taken apart (:func:`decompose`): the table's pit ratio at t
 the model's approach (the join before 2026-12-06), a pit-free table, half the step, and the
 element's mass / 16 (its mode four times higher, out of the band). ``--speeds 1 2 3 5 10``: the
 rig's 0.021 in pit at 6:00 at those multiples of 1797 rpm, all at 48 kHz (the band fixed, the
-event's duration varied). ``--separate 8``: the default sweep's 250 kN, 50 um case (pit joined
-at the load, no healthy run subtracted) over an 8 s record: its envelope lines at 2 BPFO and at
-BPFI, apart.
+event's duration varied). ``--causes 1``: the same pit at that speed, each candidate for its
+departure switched alone (:func:`causes`: fidelity, both tables' offsets, the acquisition's
+oversampling, the record length, the step, the element's mass). ``--transfer 10``: that
+pit's part of the housing force over the removed force, band by band (:func:`transfer`).
+``--separate 8``: the default sweep's 250 kN, 50 um case (pit joined at the load, no healthy
+run subtracted) over an 8 s record: its envelope lines at 2 BPFO and at BPFI, apart.
 """
 
 from __future__ import annotations
@@ -55,7 +60,7 @@ from bearing_envelope.physics.defect_contact import defect_scales, defect_table
 from bearing_envelope.physics.dynamics.case import joined_law, scene_params, simulate_dynamic
 from bearing_envelope.physics.dynamics.criterion import model_choice
 from bearing_envelope.physics.dynamics.model import simulate_dynamics
-from bearing_envelope.physics.dynamics.params import contact_stiffness
+from bearing_envelope.physics.dynamics.params import STEPS_PER_PERIOD, contact_stiffness
 from bearing_envelope.physics.history import defect_angle, simulate
 from bearing_envelope.physics.locations import scene_event_frequencies
 from bearing_envelope.physics.scene import Scene
@@ -74,8 +79,10 @@ STRIKE = 1.5
 
 
 def cwru(pit_in: float, position_deg: float, clearance_um: float, *, fs_hz: float,
-         duration_s: float, load_kN: float = RIG["load_kN"], rpm: float = 1797.0) -> Scene:
-    """The CWRU 6205 (1797 rpm unless ``rpm``) with a round 0.28 mm deep outer-race pit."""
+         duration_s: float, load_kN: float = RIG["load_kN"], rpm: float = 1797.0,
+         oversample: int | None = None) -> Scene:
+    """The CWRU 6205 (1797 rpm unless ``rpm``) with a round 0.28 mm deep outer-race pit
+    (``oversample``: the acquisition's, else ``auto``)."""
     fr = rpm / 60.0
     dia = pit_in * INCH_UM
     m = {"bearing": {"designation": "SKF 6205-2RS", "radial_clearance_um": clearance_um},
@@ -84,6 +91,8 @@ def cwru(pit_in: float, position_deg: float, clearance_um: float, *, fs_hz: floa
          "defect": {"location": "outer_race", "shape": "cylinder", "length_um": dia,
                     "width_um": dia, "position_deg": position_deg},
          "dynamics": {"model": "auto"}}
+    if oversample is not None:
+        m["operation"]["acquisition"] = {"oversample": int(oversample)}
     return Scene.from_mapping(m, load_kN=load_kN, depth_um=279.4)
 
 
@@ -107,11 +116,15 @@ def scenes(fs_hz: float, duration_s: float) -> list[tuple[str, Scene]]:
                     cwru(pit, 90.0, 10.0, fs_hz=fs_hz, duration_s=duration_s)))
     out.append(("10 um clearance OR 6:00 0.021 in", cwru(0.021, 0.0, 10.0, fs_hz=fs_hz,
                                                          duration_s=duration_s)))
-    for pit, pos in ((0.014, 90.0), (0.021, 0.0)):   # events shorter than the natural period
+    # events near and under the natural period (fs at least 2 x 13 x BPFI: 4, 8, 12 x fs)
+    for pit, pos, speed in ((0.014, 90.0, 10), (0.021, 0.0, 10), (0.021, 90.0, 10),
+                            (0.021, 0.0, 15), (0.021, 90.0, 15), (0.021, 90.0, 20),
+                            (0.021, 0.0, 30), (0.021, 90.0, 30)):
         clock = "3:00" if pos else "6:00"
-        out.append((f"rig OR {clock} {pit} in, 10 x speed, 48 kHz",
-                    cwru(pit, pos, RIG["clearance_um"], fs_hz=4 * fs_hz, duration_s=duration_s,
-                         rpm=17970.0)))
+        f = (4 if speed <= 10 else 8 if speed <= 20 else 12) * fs_hz
+        out.append((f"rig OR {clock} {pit} in, {speed} x speed, {f / 1e3:g} kHz",
+                    cwru(pit, pos, RIG["clearance_um"], fs_hz=f, duration_s=duration_s,
+                         rpm=1797.0 * speed)))
     for load, depth in ((250.0, 50.0), (750.0, 100.0)):
         out.append((f"default sweep {load:g} kN h {depth:g} um",
                     default_sweep(load, depth, duration_s=duration_s)))
@@ -127,20 +140,37 @@ def line(x: np.ndarray, fs: float, rate: float) -> float:
     return float(amplitude_at(f, a, rate, 0.01 * rate)[1])
 
 
-def element_path(x: np.ndarray, fs: float, scene: Scene) -> np.ndarray:
+def element_path(x: np.ndarray, fs: float, scene: Scene,
+                 mass_kg: float | None = None) -> np.ndarray:
     """``x`` (a blocked force on the pitted contact, N) through the element between its two
-    linearised contacts, rings held: the force the other contact passes on,
-    ``H = (k_o + i w c) / (k + k_o - m w^2 + 2 i w c)`` (``k, k_o`` the model's stiffnesses at
-    the static loads of ``defect_scales``, ``c`` its contact damping, ``m`` the element's
-    mass); 0 when the other contact carries nothing."""
+    linearised contacts, rings held: the change of the force the element's **outer** contact
+    passes to the outer ring (the housing force's contact). With ``k, k_o`` the model's
+    stiffnesses of the pitted and the other contact at the static loads of ``defect_scales``,
+    ``c`` its contact damping (``c_o = 0`` on an other contact that carries nothing), ``m`` the
+    element's mass and ``D = k + k_o - m w^2 + i w (c + c_o)``:
+
+    - inner-race pit (the outer contact is the other one): ``H = (k_o + i w c_o) / D``,
+      falling to 0 above the element's mode;
+    - outer-race pit (the outer contact is the pitted one): ``H = (k_o - m w^2 + i w c_o) / D``,
+      the pitted contact's own change: 0 at the anti-resonance ``sqrt(k_o / m)`` (the element's
+      inertia cancels the other contact's spring) and the whole blocked force above the mode,
+      where the element cannot follow the pit.
+
+    Both are ``k_o / (k + k_o)`` at low frequency. Until 2026-12-06 the outer-race pit was given
+    the inner-race form (the other contact's force: 3-6 dB too high in 12-18 kHz for the 6205
+    at 48 kHz). ``mass_kg``: the element's mass, if not the model's.
+    """
     sc = defect_scales(scene)
     p = scene_params(scene)
-    k_p, k_q = (p.k_inner, p.k_outer) if sc_race(scene) == "inner" else (p.k_outer, p.k_inner)
+    outer = sc_race(scene) == "outer"
+    k_p, k_q = (p.k_outer, p.k_inner) if outer else (p.k_inner, p.k_outer)
     k = contact_stiffness(k_p, sc.element_load_n, p.exponent)
-    ko = contact_stiffness(k_q, sc.other_load_n, p.exponent) if sc.other_stiffness_n_m > 0 else 0.0
+    loaded = sc.other_stiffness_n_m > 0
+    ko = contact_stiffness(k_q, sc.other_load_n, p.exponent) if loaded else 0.0
     w = 2 * math.pi * np.fft.rfftfreq(x.size, 1.0 / fs)
-    c = p.contact_damping_ns_m
-    h = (ko + 1j * w * c) / (k + ko - p.element_mass_kg * w ** 2 + 2j * w * c) if ko > 0 else 0 * w
+    c, c_o = p.contact_damping_ns_m, (p.contact_damping_ns_m if loaded else 0.0)
+    mw2 = (p.element_mass_kg if mass_kg is None else mass_kg) * w ** 2
+    h = (ko - (mw2 if outer else 0.0) + 1j * w * c_o) / (k + ko - mw2 + 1j * w * (c + c_o))
     return np.fft.irfft(h * np.fft.rfft(x - np.mean(x)), x.size)
 
 
@@ -276,6 +306,83 @@ def decompose(name: str, scene: Scene, fidelity: str) -> list[str]:
     return out
 
 
+def _departure(scene: Scene, fidelity, **kw) -> float:
+    """:func:`measure`'s departure (ratio less expected, dB) of ``scene`` with the dynamic runs'
+    ``steps_per_period`` and ``element_mass_kg`` of ``kw`` (the expected path's mass with it)."""
+    fs, rate = scene.operation.fs_hz, scene_event_frequencies(scene)["bpfo"]
+    h = simulate(scene, fidelity)
+    removed = h.signals["removed_force"] * np.cos(defect_angle(scene, h.time))
+    mass = kw.get("element_mass_kg")
+    _, part = _pit_part(scene, joined_law(defect_table(scene, fidelity), scene_params(scene)),
+                        fs, rate, **kw)
+    qs = line(removed, fs, rate)
+    return 20 * math.log10(part / qs) - 20 * math.log10(
+        line(element_path(removed, fs, scene, mass), fs, rate) / qs)
+
+
+def causes(speed: float, fs: float, duration_s: float, fidelity: str) -> list[str]:
+    """The candidates for the departure of the rig's 0.021 in pit at 6:00 (``speed`` x 1797 rpm,
+    ``fs``), each switched alone: the departure (ratio less expected, dB) per candidate, one
+    printed line each."""
+    def scene(**kw):
+        return cwru(0.021, 0.0, RIG["clearance_um"], fs_hz=fs, rpm=1797.0 * speed,
+                    duration_s=kw.pop("duration_s", duration_s), **kw)
+
+    fine = {"preset": fidelity, "offset_step_um": 10.0, "max_offsets": 200}
+    m = scene_params(scene()).element_mass_kg
+    cases = (("as in the table", lambda: _departure(scene(), fidelity)),
+             ("fidelity standard", lambda: _departure(scene(), "standard")),
+             ("both tables' offsets every 10 um", lambda: _departure(scene(), fine)),
+             ("acquisition oversample 8 (both models)",
+              lambda: _departure(scene(oversample=8), fidelity)),
+             ("record twice as long", lambda: _departure(scene(duration_s=2 * duration_s), fidelity)),
+             ("half the step",
+              lambda: _departure(scene(), fidelity, steps_per_period=2 * STEPS_PER_PERIOD)),
+             ("element mass / 16 (its mode 4 x higher)",
+              lambda: _departure(scene(), fidelity, element_mass_kg=m / 16)))
+    out = []
+    for what, run in cases:
+        c0 = time.process_time()
+        out.append(f"{what}: departure {run():+.2f} dB ({time.process_time() - c0:.1f} CPU s)")
+        print(out[-1], flush=True)
+    return out
+
+
+def transfer(speed: float, fs: float, duration_s: float, fidelity: str) -> list[str]:
+    """The dynamic model's pit part of the housing force over the removed force, band by band
+    (1.5 kHz at 48 kHz, the bins where the removed force holds 5 % of its band's peak), against
+    the element's linear path (undamped) through its outer contact (:func:`element_path`) and
+    through the other one, for the rig's 0.021 in pit at 6:00 at ``speed`` x 1797 rpm: one printed line
+    per band."""
+    sc = cwru(0.021, 0.0, RIG["clearance_um"], fs_hz=fs, duration_s=duration_s,
+              rpm=1797.0 * speed)
+    h = simulate(sc, fidelity)
+    x = h.signals["removed_force"] * np.cos(defect_angle(sc, h.time))
+    p = scene_params(sc)
+    law = joined_law(defect_table(sc, fidelity), p)
+    run = {"acquisition_mode": sc.operation.acquisition.mode}
+    y = (simulate_dynamics(p.with_(defect=law), x.size / fs, fs, **run).housing_force_n[:, 0]
+         - simulate_dynamics(p, x.size / fs, fs, **run).housing_force_n[:, 0])
+    f = np.fft.rfftfreq(x.size, 1.0 / fs)
+    X, Y = np.fft.rfft(x - x.mean()), np.fft.rfft(y - y.mean())
+    sd = defect_scales(sc)
+    k = contact_stiffness(p.k_outer, sd.element_load_n, p.exponent)
+    ko = contact_stiffness(p.k_inner, sd.other_load_n, p.exponent)
+    out = []
+    for lo in np.arange(0.0, fs / 2, fs / 32):
+        sel = (f >= lo) & (f < lo + fs / 32) & (f > 0)
+        top = sel & (np.abs(X) > 0.05 * np.abs(X[sel]).max())
+        r = np.sum(Y[top] * np.conj(X[top])) / np.sum(np.abs(X[top]) ** 2)
+        w = 2 * math.pi * (lo + fs / 64)
+        d = k + ko - p.element_mass_kg * w ** 2
+        out.append(f"{lo / 1e3:5.1f}-{(lo + fs / 32) / 1e3:5.1f} kHz: measured "
+                   f"{20 * math.log10(abs(r)):+.1f} dB ({math.degrees(np.angle(r)):+.0f} deg), "
+                   f"outer contact {20 * math.log10(abs((ko - p.element_mass_kg * w ** 2) / d)):+.1f}"
+                   f" dB, inner contact {20 * math.log10(abs(ko / d)):+.1f} dB")
+        print(out[-1], flush=True)
+    return out
+
+
 def separate(duration_s: float, fidelity: str) -> dict:
     """The default sweep's 250 kN, 50 um housing force over ``duration_s`` (no healthy run
     subtracted): its envelope line (fs/4 - 3fs/8, largest bin within one bin) at 2 BPFO and at
@@ -307,9 +414,21 @@ def main(argv=None) -> int:
                     help="take the default-sweep line apart (decompose) instead of the table")
     ap.add_argument("--speeds", nargs="*", type=float, default=None,
                     help="the rig's 0.021 in pit at 6:00 at these multiples of 1797 rpm, 48 kHz")
+    ap.add_argument("--causes", type=float, default=None,
+                    help="speed multiple: the rig's 0.021 in pit at 6:00, 4 x fs, each candidate "
+                         "for its departure switched alone")
+    ap.add_argument("--transfer", type=float, default=None,
+                    help="speed multiple: the rig's 0.021 in pit at 6:00, 4 x fs, the pit part "
+                         "over the removed force band by band")
     ap.add_argument("--separate", type=float, default=None,
                     help="record length, s: the default 250 kN case's lines near BPFI apart")
     a = ap.parse_args(argv)
+    if a.transfer:
+        transfer(a.transfer, 4 * a.fs, a.duration, a.fidelity)
+        return 0
+    if a.causes:
+        causes(a.causes, 4 * a.fs, a.duration, a.fidelity)
+        return 0
     if a.separate:
         for k, v in separate(a.separate, a.fidelity).items():
             print(k, v)

@@ -16,7 +16,7 @@ import yaml
 from bearing_envelope.cli import main
 from bearing_envelope.io import read_case
 from bearing_envelope.physics.dynamics.case import joined_law, scene_params
-from bearing_envelope.physics.dynamics.criterion import (FAST_SHARE, OPEN_SHARE, criterion_verdict,
+from bearing_envelope.physics.dynamics.criterion import (FAST_RATE, FAST_SHARE, OPEN_SHARE, criterion_verdict,
                                                          model_choice)
 from bearing_envelope.physics.dynamics.model import simulate_dynamics
 from bearing_envelope.physics.scene import DEFAULT_SCENE, Scene
@@ -175,8 +175,11 @@ def test_a_pit_free_table_joined_gives_the_healthy_bearings_housing_force():
 
 @pytest.mark.parametrize("share, ratio, model", [
     (OPEN_SHARE, 50.0, "dynamic"),                    # opens, however slow
-    (OPEN_SHARE * 0.999, 1.0, "quasi_static"),        # closed, not faster than the contact
-    (FAST_SHARE, 0.999, "dynamic"),                   # sizeable and fast
+    (OPEN_SHARE * 0.999, OPEN_SHARE / FAST_RATE * 1.001, "quasi_static"),  # closed, slow enough
+    (FAST_SHARE, FAST_SHARE / FAST_RATE * 0.999, "dynamic"),        # sizeable and fast
+    (FAST_SHARE, FAST_SHARE / FAST_RATE * 1.001, "quasi_static"),   # sizeable, followed
+    (0.276, 0.946, "quasi_static"),   # 3:00 0.021 in at 10 x: 0.29 per period, peak 1.31 x
+    (0.214, 0.616, "dynamic"),        # 3:00 0.021 in at 15 x: 0.35 per period, strike 1.64 x
     (FAST_SHARE * 0.999, 0.01, "quasi_static"),       # fast but negligible (the default sweep)
 ])
 def test_verdict_thresholds_at_their_boundaries(share, ratio, model):
