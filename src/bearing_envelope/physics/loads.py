@@ -83,7 +83,7 @@ __all__ = ["LoadDistribution", "LOAD_ROUNDING_ULPS",
            "palmgren_stiffness", "centrifugal_force", "race_compliances",
            "operating_clearance", "ELEMENT_DENSITY_KG_M3", "STEEL_EXPANSION_PER_K", "solve_row", "row_load_distribution",
            "load_zone_integral", "scene_load_distribution", "hertz_point_stiffness", "contact_law",
-           "LINE_CONTACT_EXPONENT", "POINT_CONTACT_EXPONENT"]
+           "LINE_CONTACT_EXPONENT", "POINT_CONTACT_EXPONENT", "contact_stiffness"]
 
 
 def palmgren_stiffness(length_m: float, contacts: int = 2) -> float:
@@ -534,6 +534,24 @@ def contact_law(scene) -> tuple[float, float]:
     if getattr(b, "kind", "roller") == "ball":
         return hertz_point_stiffness(b, scene.material.e_star_pa), POINT_CONTACT_EXPONENT
     return palmgren_stiffness(1e-3 * b.roller_length_mm), LINE_CONTACT_EXPONENT
+
+
+def contact_stiffness(k: float, q: float, n: float) -> float:
+    """Linearised stiffness ``dQ/d delta = n K^(1/n) Q^((n-1)/n)`` of ``Q = K delta^n`` at load
+    ``q``: ``1.5 K^(2/3) Q^(1/3)`` for a point contact, ``(10/9) K^(9/10) Q^(1/10)`` for
+    Palmgren's line contact (:func:`contact_law`).
+
+    Parameters
+    ----------
+    k, q, n : float
+        ``K`` (N m^-n), load (N, >= 0), ``n``.
+
+    Returns
+    -------
+    float
+        Stiffness, N/m.
+    """
+    return n * k ** (1.0 / n) * max(q, 0.0) ** ((n - 1.0) / n)
 
 
 #: Density of the rolling elements (kg/m^3): through-hardened AISI 52100 / 100Cr6, 7.81e3
