@@ -37,7 +37,7 @@ from scipy.special import ellipe, ellipk, ellipkm1
 from ..checks import check_positive
 
 __all__ = ["HertzContact", "sphere", "elliptical", "elliptic_ratio", "curvature_difference",
-           "harris_point_contact", "hamrock_brewe"]
+           "harris_point_contact", "hamrock_brewe", "line_half_width"]
 
 
 @dataclass(frozen=True)
@@ -398,3 +398,34 @@ def hamrock_brewe(force: float, rx: float, ry: float, e_star: float) -> HertzCon
     approach = ff * (4.5 / (ee * r) * (force / (math.pi * k * e_prime)) ** 2) ** (1.0 / 3.0)
     a, b = (major, minor) if rx >= ry else (minor, major)
     return HertzContact(a, b, p0, approach, force / (math.pi * a * b), force)
+
+
+def line_half_width(force: float, length: float, rx: float, e_star: float) -> float:
+    """Half-width ``b`` (m) of a Hertz line contact, ``b = sqrt(4 Q R_x / (pi l E*))``.
+
+    Two parallel cylinders (a roller and its raceway) of effective radius ``R_x`` pressed
+    together by ``Q`` spread evenly over the length ``l`` (``Q / l`` per unit length) touch over
+    a strip ``2b`` wide with the elliptical pressure ``p0 sqrt(1 - (x/b)^2)``,
+    ``p0 = 2 Q / (pi b l)`` (Johnson 1985, eqs. 4.43-4.45; Harris & Kotzalas 2007, eq. 6.39).
+
+    Parameters
+    ----------
+    force : float
+        Normal load ``Q`` (N), > 0.
+    length : float
+        Contact length ``l`` (m), > 0.
+    rx : float
+        Effective radius across the strip ``R_x`` (m), > 0.
+    e_star : float
+        Composite modulus ``E*`` (Pa), > 0.
+
+    Returns
+    -------
+    float
+        ``b``, m.
+    """
+    force = check_positive(force, "force")
+    length = check_positive(length, "length")
+    rx = check_positive(rx, "rx")
+    e_star = check_positive(e_star, "e_star")
+    return math.sqrt(4.0 * force * rx / (math.pi * length * e_star))

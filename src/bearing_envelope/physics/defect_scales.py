@@ -1,6 +1,8 @@
 """The defect's characteristic scales: the numbers that decide whether a defect's contact needs
-the dynamics (:class:`DefectScales`, :func:`defect_scales`; docs/dynamics.md), from closed-form
-Hertz and the rigid geometry, no contact solve: the Hertz constant of one element's contact
+the dynamics (:class:`DefectScales`, :func:`defect_scales`; docs/dynamics.md), from the
+element's closed-form contact law (Hertz point contact for balls, Hertz's line-contact
+half-width and Palmgren's load-deflection law for rollers) and the rigid geometry, no contact
+solve: the Hertz constant of one element's contact
 (:func:`hertz_constant`), the rigid drop into the pit (:func:`rigid_drop`), the element's mass
 (:func:`element_mass`) and the race whose contact with the pit is tabulated
 (:func:`tabulated_race`). The defect contact law that reads them:
@@ -16,7 +18,8 @@ import numpy as np
 
 from ..contact import hertz
 from .geometry import axial_separation, defect_depth
-from .loads import ELEMENT_DENSITY_KG_M3, scene_load_distribution
+from .loads import (ELEMENT_DENSITY_KG_M3, contact_law, contact_stiffness, race_compliances,
+                    scene_load_distribution)
 from .scene import Scene
 
 __all__ = ["hertz_constant", "rigid_drop", "RIGID_DROP_POINTS", "tabulated_race", "element_mass",
@@ -142,7 +145,9 @@ class DefectScales:
     other_load_n : float
         The same element's load on the other race (N).
     contact_half_width_m, contact_half_length_m : float
-        Hertz semi-axes along rolling and along the axis at ``element_load_n`` (m).
+        Semi-axes of the pitted contact along rolling and along the axis at ``element_load_n``
+        (m): the Hertz ellipse's (balls); the line contact's half-width
+        ``sqrt(4 Q R_x / (pi l E*))`` and half the roller length (rollers).
     pit_length_m : float
         Pit extent along rolling ``w_x`` (m).
     pit_over_contact : float
@@ -150,7 +155,8 @@ class DefectScales:
     rigid_drop_m : float
         :func:`rigid_drop` (m).
     static_approach_m : float
-        Hertz approach of the pitted contact at ``element_load_n`` (m).
+        Approach of the pitted contact at ``element_load_n`` (m): Hertz's (balls), Palmgren's
+        ``c Q^(9/10)`` per contact (rollers, :func:`~.loads.race_compliances`).
     drop_over_approach : float
         ``rigid_drop / static_approach``: > 1, centred over the pit the element loses contact
         with the pitted race unless it moves.
@@ -161,8 +167,10 @@ class DefectScales:
     element_mass_kg : float
         :func:`element_mass`.
     stiffness_n_m, other_stiffness_n_m : float
-        Linearised contact stiffness ``1.5 K^(2/3) Q^(1/3)`` of the pitted and the other
-        contact (N/m; ``K`` closed-form Hertz, :func:`hertz_constant`).
+        Linearised contact stiffness ``n K^(1/n) Q^((n-1)/n)`` of the pitted and the other
+        contact (N/m, :func:`~.loads.contact_stiffness`; ``K`` of one contact,
+        :func:`~.loads.race_compliances`): ``1.5 K^(2/3) Q^(1/3)`` (balls, Hertz) or
+        ``(10/9) K^(9/10) Q^(1/10)`` (rollers, Palmgren's line contact).
     natural_frequency_hz : float
         ``sqrt((k + k_other)/m) / (2 pi)``: the element between its two contacts (both resist
         its radial motion; rings held fixed).
@@ -207,6 +215,22 @@ def _element_loads(scene: Scene) -> tuple[float, float, str]:
     return q[race], q["outer" if race == "inner" else "inner"], race
 
 
+def _semi_axes(scene: Scene, race: str, q: float) -> tuple[float, float, float]:
+    """``(a_x, a_y, approach)`` (m) of the element's contact with ``race`` at load ``q`` (N):
+    the Hertz ellipse (balls), or the line contact's half-width, half the roller length and
+    Palmgren's approach ``c q^(1/n)`` (rollers); zeros at zero load."""
+    if not q > 0:
+        return 0.0, 0.0, 0.0
+    b, e = scene.bearing, scene.material.e_star_pa
+    if b.kind == "ball":
+        h = hertz.elliptical(q, b.rx_for(race), b.ry_for(race), e)
+        return h.a, h.b, h.approach
+    c = race_compliances(scene)[0 if race == "inner" else 1]
+    length = 2.0 * b.half_length_m
+    return (hertz.line_half_width(q, length, b.rx_for(race), e), b.half_length_m,
+            c * q ** (1.0 / contact_law(scene)[1]))
+
+
 def defect_scales(scene: Scene) -> DefectScales:
     """The defect's characteristic scales (:class:`DefectScales`) for ``scene``.
 
@@ -223,21 +247,15 @@ def defect_scales(scene: Scene) -> DefectScales:
     """
     q, q_other, race = _element_loads(scene)
     sc = scene.for_race(race)
-    b, e = sc.bearing, sc.material.e_star_pa
     other = "outer" if race == "inner" else "inner"
-    k, k_o = hertz_constant(sc, race), hertz_constant(sc, other)
-
-    def stiff(kk, qq):
-        return 1.5 * kk ** (2.0 / 3.0) * qq ** (1.0 / 3.0)
-
-    h = hertz.elliptical(q, b.rx_m, b.ry_m, e) if q > 0 else None
-    a_x, a_y = (h.a, h.b) if h else (0.0, 0.0)
-    delta = h.approach if h else 0.0
+    n = contact_law(sc)[1]
+    comp = dict(zip(("inner", "outer"), race_compliances(sc)))
+    k, k_o = (contact_stiffness(comp[r] ** -n, qq, n) for r, qq in ((race, q), (other, q_other)))
+    a_x, a_y, delta = _semi_axes(sc, race, q)
     w, v = sc.defect.extent_x_m, sc.defect_speed_m_s
-    m = element_mass(b)
+    m = element_mass(sc.bearing)
     drop = rigid_drop(sc)
-    kt = stiff(k, q) + stiff(k_o, q_other)
-    fn = math.sqrt(kt / m) / (2.0 * math.pi)
+    fn = math.sqrt((k + k_o) / m) / (2.0 * math.pi)
     period = 1.0 / fn if fn > 0 else math.inf
     return DefectScales(
         element_load_n=q, other_load_n=q_other, contact_half_width_m=a_x,
@@ -245,7 +263,7 @@ def defect_scales(scene: Scene) -> DefectScales:
         pit_over_contact=w / (2.0 * a_x) if a_x > 0 else math.inf, rigid_drop_m=drop,
         static_approach_m=delta, drop_over_approach=drop / delta if delta > 0 else math.inf,
         surface_speed_m_s=v, event_duration_s=w / v, element_mass_kg=m,
-        stiffness_n_m=stiff(k, q), other_stiffness_n_m=stiff(k_o, q_other),
+        stiffness_n_m=k, other_stiffness_n_m=k_o,
         natural_frequency_hz=fn, natural_period_s=period,
         event_over_period=(w / v) / period, fall_time_s=math.sqrt(2.0 * m * drop / q)
         if q > 0 else math.inf)

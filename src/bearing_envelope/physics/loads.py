@@ -1,13 +1,13 @@
 """Load distribution over the rollers of a radially loaded bearing, and the load zone.
 
 Deflection-based equilibrium of one row (Harris & Kotzalas, *Rolling Bearing Analysis*, 5th ed.,
-2007, vol. 1 ch. 7; Stribeck 1901). The inner ring is displaced radially by ``delta_r`` towards the
-load direction (``psi = 0``). The roller at angle ``psi`` is compressed along its contact normal
-(contact angle ``alpha``) by
+2007, vol. 1 ch. 7; Stribeck 1901). The inner ring is displaced by ``delta_r`` towards the
+load direction (``psi = 0``) and by ``delta_y`` across it. The roller at angle ``psi`` is
+compressed along its contact normal (contact angle ``alpha``) by
 
 .. math::
 
-    \\delta(\\psi) = \\left(\\delta_r\\cos\\psi - \\tfrac{P_d}{2}\\right)\\cos\\alpha ,
+    \\delta(\\psi) = \\left(\\delta_r\\cos\\psi + \\delta_y\\sin\\psi - \\tfrac{P_d}{2}\\right)\\cos\\alpha ,
 
 with ``P_d`` the radial (diametral) internal clearance, and carries
 
@@ -16,15 +16,24 @@ with ``P_d`` the radial (diametral) internal clearance, and carries
     Q(\\psi) = K\\,\\langle\\delta(\\psi)\\rangle_+^{\\,n},\\qquad n = 10/9\\ \\text{(line contact)},
 
 with ``K`` the roller's load-deflection constant (both raceway contacts in series). Equilibrium of
-the row, solved numerically for ``delta_r`` (Brent's method):
+the row in both directions, solved numerically for ``(delta_r, delta_y)`` (nested Brent solves,
+:func:`solve_row`):
 
 .. math::
 
-    \\sum_j Q(\\psi_j)\\cos\\psi_j\\cos\\alpha = F_{row} .
+    \\sum_j Q(\\psi_j)\\cos\\psi_j\\cos\\alpha = F_{row} ,\\qquad
+    \\sum_j Q(\\psi_j)\\sin\\psi_j\\cos\\alpha = 0 .
+
+Where the rollers sit symmetric about the load (cage phase a multiple of ``pi/Z``, the phase 0
+the scenes use) the second holds with ``delta_y = 0``. At any other phase the elements on one
+side of the load carry more than their mirror images and the ring moves across the load too
+(the 6205 at 1 kN, 10 um clearance: ``delta_y = -0.52 um`` at 5.7 deg; an x-only balance
+leaves up to 2.9 % of the largest load wrong).
 
 This is equivalent to the load-zone law
 ``Q(psi) = Q_max [1 - (1 - cos psi)/(2 eps)]^n`` with
-``eps = (1 - P_d/(2 delta_r))/2``. With zero clearance ``eps = 1/2`` and, for many rollers,
+``eps = (1 - P_d/(2 delta))/2``, ``delta = hypot(delta_r, delta_y)``, about the zone's centre
+``atan2(delta_y, delta_r)``. With zero clearance ``eps = 1/2`` and, for many rollers,
 ``Q_max = F_row / (Z J_r(1/2) cos(alpha))`` with ``1/J_r(1/2) = 4.08`` for line contact (4.37 for
 point contact, n = 3/2) -- Harris & Kotzalas (2007) table 7.1 / Stribeck's constant. Stribeck's
 design rule ``Q_max ~ 4.6 F/(Z cos alpha)`` (rollers) or 5 (balls) allows for some clearance.
@@ -50,7 +59,7 @@ carries ``Q_o = Q_i + F_c cos(alpha)`` and the compatibility of the element's tw
 gives the inner contact's load ``Q_i(psi)``; where ``delta(psi) <= c_o (F_c cos alpha)^(1/n)`` the
 inner contact opens (``Q_i = 0``) and the element rests on the outer race with ``F_c`` alone: an
 element outside the radial load zone still loads the outer race. The inner ring's equilibrium
-``sum Q_i cos(psi) cos(alpha) = F_row`` is solved as before.
+``sum Q_i cos(psi) cos(alpha) = F_row`` (and its ``sin`` partner) is solved as before.
 """
 
 from __future__ import annotations
@@ -74,7 +83,7 @@ __all__ = ["LoadDistribution", "LOAD_ROUNDING_ULPS",
            "palmgren_stiffness", "centrifugal_force", "race_compliances",
            "operating_clearance", "ELEMENT_DENSITY_KG_M3", "STEEL_EXPANSION_PER_K", "solve_row", "row_load_distribution",
            "load_zone_integral", "scene_load_distribution", "hertz_point_stiffness", "contact_law",
-           "LINE_CONTACT_EXPONENT", "POINT_CONTACT_EXPONENT"]
+           "LINE_CONTACT_EXPONENT", "POINT_CONTACT_EXPONENT", "contact_stiffness"]
 
 
 def palmgren_stiffness(length_m: float, contacts: int = 2) -> float:
@@ -150,9 +159,9 @@ class LoadDistribution:
     exponent : float
         ``n``.
     delta_r : float
-        Radial displacement of the inner ring (m).
+        Displacement of the inner ring along the load (m).
     psi : ndarray
-        Roller angles used in the equilibrium (rad), roller 0 at ``psi = 0``.
+        Roller angles used in the equilibrium (rad), roller 0 at the solve's ``phase``.
     q : ndarray
         Roller loads at those angles (N).
     """
@@ -171,11 +180,26 @@ class LoadDistribution:
     #: ``(delta, Q_i)`` nodes of the inner contact's load against the element's compression
     #: (with the centrifugal force only; :func:`_inner_load` solved exactly at each node).
     law_nodes: tuple | None = None
+    #: Displacement of the inner ring across the load (m): 0 where the elements sit symmetric
+    #: about the load (:func:`solve_row`).
+    delta_y: float = 0.0
+
+    @property
+    def displacement(self) -> float:
+        """Magnitude of the inner ring's displacement ``hypot(delta_r, delta_y)`` (m)."""
+        return math.hypot(self.delta_r, self.delta_y)
+
+    @property
+    def zone_centre(self) -> float:
+        """Angle of the load zone's centre from the load direction, ``atan2(delta_y, delta_r)``
+        (rad): 0 where the elements sit symmetric about the load."""
+        return math.atan2(self.delta_y, self.delta_r)
 
     @property
     def q_max(self) -> float:
-        """Load of the roller at ``psi = 0`` (N): the inner contact's (the largest of the row)."""
-        return float(self.load_at(0.0))
+        """Load at the load zone's centre (N): the inner contact's, the largest of the law
+        (at ``psi = 0`` where the elements sit symmetric about the load)."""
+        return float(self.load_at(self.zone_centre))
 
     @property
     def q_max_outer(self) -> float:
@@ -184,14 +208,14 @@ class LoadDistribution:
 
     @property
     def epsilon(self) -> float:
-        """Load-zone parameter ``eps = (1 - P_d/(2 delta_r))/2``."""
-        return 0.5 * (1.0 - self.clearance / (2.0 * self.delta_r))
+        """Load-zone parameter ``eps = (1 - P_d/(2 delta))/2``, ``delta`` = :attr:`displacement`."""
+        return 0.5 * (1.0 - self.clearance / (2.0 * self.displacement))
 
     @property
     def half_angle(self) -> float:
-        """Half extent of the radial load zone ``psi_l = arccos(P_d / (2 delta_r))`` (rad); pi
-        when a preload loads every element."""
-        return math.acos(min(1.0, max(-1.0, self.clearance / (2.0 * self.delta_r))))
+        """Half extent of the radial load zone about its centre, ``psi_l = arccos(P_d / (2 delta))``
+        (rad), ``delta`` = :attr:`displacement`; pi when a preload loads every element."""
+        return math.acos(min(1.0, max(-1.0, self.clearance / (2.0 * self.displacement))))
 
     def load_at(self, psi, race: str = "inner"):
         """Element load ``Q(psi)`` (N) at angle(s) ``psi`` (rad) from the load direction.
@@ -212,7 +236,8 @@ class LoadDistribution:
             Element load, N, shape of ``psi`` (0 outside the load zone, plus the centrifugal
             force for ``outer``).
         """
-        d = (self.delta_r * np.cos(psi) - 0.5 * self.clearance) * math.cos(self.contact_angle_rad)
+        d = (self.delta_r * np.cos(psi) + self.delta_y * np.sin(psi)
+             - 0.5 * self.clearance) * math.cos(self.contact_angle_rad)
         if self.law_nodes is None:
             q = self.stiffness * np.clip(d, 0.0, None) ** self.exponent
         else:
@@ -223,8 +248,8 @@ class LoadDistribution:
     def rounding_load(self) -> float:
         """The element load (N) of a compression within the rounding of its computation.
 
-        The compression ``(delta_r cos psi - P_d/2) cos alpha`` is computed from terms of size
-        ``delta_r`` and ``P_d/2``; within :data:`LOAD_ROUNDING_ULPS` machine epsilons of them
+        The compression ``(delta_r cos psi + delta_y sin psi - P_d/2) cos alpha`` is computed from
+        terms of size ``delta_r`` and ``P_d/2``; within :data:`LOAD_ROUNDING_ULPS` machine epsilons of them
         it is zero computed badly (``delta_r cos(pi/2) = 6e-17 delta_r``: 2.3e-22 N at the
         edge of a zero-clearance zone), not a load (issue 43).
 
@@ -234,7 +259,7 @@ class LoadDistribution:
             ``Q`` of that compression, N (the inner contact's; the centrifugal force is a real
             load and is not part of it).
         """
-        d = LOAD_ROUNDING_ULPS * np.finfo(float).eps * (abs(self.delta_r) + 0.5 * abs(
+        d = LOAD_ROUNDING_ULPS * np.finfo(float).eps * (self.displacement + 0.5 * abs(
             self.clearance)) * math.cos(self.contact_angle_rad)
         if self.law_nodes is None:
             return float(self.stiffness * d ** self.exponent)
@@ -293,12 +318,44 @@ def _inner_load(delta, c_i: float, c_o: float, fc: float, n: float) -> np.ndarra
     return 0.5 * (lo + hi)
 
 
+def _root(f, x0: float, step: float, xtol: float) -> float:
+    """Root of the nondecreasing ``f`` (Brent's method) bracketed from ``x0`` by steps doubling
+    from ``step`` towards the sign change; ``x0`` itself when ``f(x0) == 0``."""
+    f0 = f(x0)
+    if f0 == 0.0:
+        return x0
+    sign = -1.0 if f0 > 0 else 1.0
+    far = x0 + sign * step
+    while (f(far) > 0) == (f0 > 0):
+        step *= 2.0
+        if step > 1.0:
+            raise ValueError("over 1 m")
+        far = x0 + sign * step
+    lo, hi = sorted((x0, far))
+    return brentq(f, lo, hi, xtol=xtol, rtol=1e-14, maxiter=500)
+
+
+#: The transverse force (fraction of the row load) below which the x-only solution is taken as
+#: balanced: rounding of ``sum Q sin psi`` at a phase where the elements sit symmetric about the
+#: load (about 1e-16; the 2-D solve balances to ~1e-14).
+SYMMETRIC_Y_RESIDUAL = 1e-12
+
+
 def solve_row(force_row: float, n_rollers: int,
               contact_angle_deg: float = RADIAL_CONTACT_ANGLE_DEG,
               clearance: float = 0.0, stiffness: float = 1e10, exponent: float = 10.0 / 9.0,
               phase: float = CAGE_PHASE_RAD, *, centrifugal: float = CENTRIFUGAL_OFF_N,
               compliances: tuple[float, float] | None = None) -> LoadDistribution:
-    """Solve the radial equilibrium of one row for ``delta_r``.
+    """Solve the radial equilibrium of one row for the ring's displacement ``(delta_r, delta_y)``.
+
+    Both force balances hold (Harris & Kotzalas 2007, vol. 1 ch. 7): along the load,
+    ``sum Q_j cos(psi_j) cos(alpha) = F_row``, and across it, ``sum Q_j sin(psi_j) cos(alpha) = 0``,
+    with ``Q_j`` of the compression ``(delta_r cos psi_j + delta_y sin psi_j - P_d/2) cos alpha``.
+    The equilibrium minimises a convex energy, so nested Brent solves find it: ``delta_y`` for
+    each ``delta_r`` (the transverse force grows with ``delta_y``), then ``delta_r`` (the
+    longitudinal force, at the balanced ``delta_y``, grows with ``delta_r``). Where the elements
+    sit symmetric about the load (``phase`` a multiple of ``pi/Z``) ``delta_y = 0`` and the
+    along-the-load solve alone is the answer.
 
     Parameters
     ----------
@@ -326,13 +383,14 @@ def solve_row(force_row: float, n_rollers: int,
     Returns
     -------
     LoadDistribution
-        ``delta_r`` (m) and the roller loads ``q`` (N) at the angles ``psi`` (rad) of the
-        solved equilibrium, with the law's constants.
+        ``delta_r``, ``delta_y`` (m) and the roller loads ``q`` (N) at the angles ``psi`` (rad)
+        of the solved equilibrium, with the law's constants.
 
     Raises
     ------
     ValueError
-        A load, roller count, clearance or centrifugal force out of range, or no equilibrium
+        A load, roller count, clearance or centrifugal force out of range, fewer than three
+        rollers at a phase where they are not symmetric about the load, or no equilibrium
         below 1 m of ring displacement.
 
     Examples
@@ -355,35 +413,69 @@ def solve_row(force_row: float, n_rollers: int,
         raise ValueError(f"centrifugal must be >= 0 (with compliances), got {centrifugal!r}")
     ca = math.radians(contact_angle_deg)
     psi = phase + 2.0 * math.pi * np.arange(n_rollers) / n_rollers
+    cos_psi, sin_psi = np.cos(psi), np.sin(psi)
 
-    def loads(dr):
-        d = (dr * np.cos(psi) - 0.5 * clearance) * math.cos(ca)
+    def loads(dr, dy=0.0):
+        d = (dr * cos_psi + dy * sin_psi - 0.5 * clearance) * math.cos(ca)
         if centrifugal > 0:
             return _inner_load(d, compliances[0], compliances[1], centrifugal, exponent)
         return stiffness * np.clip(d, 0.0, None) ** exponent
 
-    def residual(dr):
-        return float(np.sum(loads(dr) * np.cos(psi)) * math.cos(ca) - force_row)
+    def no_equilibrium():
+        return ValueError(
+            f"load distribution: no equilibrium found: the radial load {force_row:g} N per "
+            f"row needs a ring displacement over 1 m (contact_angle_deg {contact_angle_deg:g}, "
+            f"allowed: a radial bearing, <= 45 deg; clearance {clearance:g} m; stiffness "
+            f"{stiffness:g} N m^-n)")
 
-    lo = max(0.0, 0.5 * clearance / max(np.max(np.cos(psi)), 1e-12))
+    def x_force(dr, dy=0.0):
+        return float(np.sum(loads(dr, dy) * cos_psi) * math.cos(ca) - force_row)
+
+    def y_force(dr, dy):
+        return float(np.sum(loads(dr, dy) * sin_psi) * math.cos(ca))
+
+    lo = max(0.0, 0.5 * clearance / max(np.max(cos_psi), 1e-12))
     hi = max(lo, 1e-9) * 2 + 1e-9
-    while residual(hi) < 0:
+    while x_force(hi) < 0:
         hi *= 2.0
         if hi > 1.0:
-            raise ValueError(
-                f"load distribution: no equilibrium found: the radial load {force_row:g} N per "
-                f"row needs a ring displacement over 1 m (contact_angle_deg {contact_angle_deg:g}, "
-                f"allowed: a radial bearing, <= 45 deg; clearance {clearance:g} m; stiffness "
-                f"{stiffness:g} N m^-n)")
-    dr = brentq(residual, lo, hi, xtol=1e-18, rtol=1e-14, maxiter=500)
+            raise no_equilibrium()
+    dr = brentq(x_force, lo, hi, xtol=1e-18, rtol=1e-14, maxiter=500)
+    dy = 0.0
+    if abs(y_force(dr, 0.0)) > SYMMETRIC_Y_RESIDUAL * force_row:
+        dr, dy = _balance_y(x_force, y_force, dr, clearance, n_rollers, phase, no_equilibrium)
     nodes = None
     if centrifugal > 0:
-        d_top = (dr - 0.5 * clearance) * math.cos(ca)
+        d_top = (math.hypot(dr, dy) - 0.5 * clearance) * math.cos(ca)
         d_open = compliances[1] * centrifugal ** (1.0 / exponent)
         dn = np.linspace(min(d_open, d_top), d_top, LAW_NODES)
         nodes = (dn, _inner_load(dn, compliances[0], compliances[1], centrifugal, exponent))
     return LoadDistribution(float(force_row), int(n_rollers), ca, float(clearance), float(stiffness),
-                            float(exponent), float(dr), psi, loads(dr), float(centrifugal), nodes)
+                            float(exponent), float(dr), psi, loads(dr, dy), float(centrifugal), nodes,
+                            float(dy))
+
+
+def _balance_y(x_force, y_force, dr0: float, clearance: float, n_rollers: int, phase: float,
+               no_equilibrium) -> tuple[float, float]:
+    """``(delta_r, delta_y)`` with both forces balanced (:func:`solve_row`), from the
+    along-the-load solution ``dr0``: ``delta_y`` balanced for each ``delta_r`` inside the
+    Brent solve of ``delta_r``."""
+    if n_rollers < 3:
+        raise ValueError(
+            f"load distribution: n_rollers {n_rollers} at phase {phase:g} rad cannot balance "
+            f"the load across its line; allowed: >= 3 rollers, or a phase that is a multiple "
+            f"of pi/{n_rollers}")
+    scale = max(abs(dr0), 0.5 * abs(clearance), 1e-12)
+    tol = 1e-15 * scale
+
+    def dy_of(dr):
+        return _root(lambda dy: y_force(dr, dy), 0.0, 1e-3 * scale, tol)
+
+    try:
+        dr = _root(lambda d: x_force(d, dy_of(d)), dr0, 1e-2 * scale, tol)
+    except ValueError:
+        raise no_equilibrium() from None
+    return dr, dy_of(dr)
 
 
 #: Load-deflection exponents ``n`` of ``Q = K delta^n``: line contact (Palmgren, rollers) and
@@ -442,6 +534,24 @@ def contact_law(scene) -> tuple[float, float]:
     if getattr(b, "kind", "roller") == "ball":
         return hertz_point_stiffness(b, scene.material.e_star_pa), POINT_CONTACT_EXPONENT
     return palmgren_stiffness(1e-3 * b.roller_length_mm), LINE_CONTACT_EXPONENT
+
+
+def contact_stiffness(k: float, q: float, n: float) -> float:
+    """Linearised stiffness ``dQ/d delta = n K^(1/n) Q^((n-1)/n)`` of ``Q = K delta^n`` at load
+    ``q``: ``1.5 K^(2/3) Q^(1/3)`` for a point contact, ``(10/9) K^(9/10) Q^(1/10)`` for
+    Palmgren's line contact (:func:`contact_law`).
+
+    Parameters
+    ----------
+    k, q, n : float
+        ``K`` (N m^-n), load (N, >= 0), ``n``.
+
+    Returns
+    -------
+    float
+        Stiffness, N/m.
+    """
+    return n * k ** (1.0 / n) * max(q, 0.0) ** ((n - 1.0) / n)
 
 
 #: Density of the rolling elements (kg/m^3): through-hardened AISI 52100 / 100Cr6, 7.81e3

@@ -163,7 +163,7 @@ def element_loads(t: float, y: np.ndarray, params: DynamicParams,
 
 def initial_state(params: DynamicParams, t: float = START_S) -> np.ndarray:
     """The quasi-static state at ``t`` (zero velocities): the housing on its support, the inner
-    ring displaced by the Harris/Stribeck ``delta_r`` (:func:`~.params.quasi_static`), each
+    ring displaced by the Harris/Stribeck ``(delta_r, delta_y)`` (:func:`~.params.quasi_static`), each
     element where its inner contact carries its quasi-static load (or, unloaded, resting on the
     outer race with its centrifugal force).
 
@@ -187,9 +187,10 @@ def initial_state(params: DynamicParams, t: float = START_S) -> np.ndarray:
     y = np.zeros(lay.size)
     ho = f / params.housing_stiffness_n_m if params.housing_stiffness_n_m > 0 else 0.0
     ld = quasi_static(params, thc - la) if f > 0 else None
-    dr = ld.delta_r if ld is not None else 0.0
+    dr, dy = (ld.delta_r, ld.delta_y) if ld is not None else (0.0, 0.0)
     y[[lay.XO, lay.YO]] = ho * math.cos(la), ho * math.sin(la)
-    y[[lay.XI, lay.YI]] = (ho + dr) * math.cos(la), (ho + dr) * math.sin(la)
+    y[[lay.XI, lay.YI]] = ((ho + dr) * math.cos(la) - dy * math.sin(la),
+                           (ho + dr) * math.sin(la) + dy * math.cos(la))
     y[lay.RES] = math.cos(params.sensor_angle_rad) * y[lay.XO] + math.sin(params.sensor_angle_rad) * y[lay.YO]
     g = 0.25 * params.clearance_m
     for j in range(params.z):

@@ -18,7 +18,7 @@ from ..defect_contact import tabulated_race
 from ..geometry import hertz_estimate
 from ..kinematics import bearing_rates
 from ..loads import (CAGE_PHASE_RAD, ELEMENT_DENSITY_KG_M3, LoadDistribution, centrifugal_force,
-                     race_compliances, scene_load_distribution, solve_row)
+                     contact_stiffness, race_compliances, scene_load_distribution, solve_row)
 from ..dynamics_option import STRUCTURE_DEFAULTS   # the assumed structure's one home
 from .layout import P_NAMES
 
@@ -434,23 +434,6 @@ def quasi_static(params: DynamicParams, phase: float = CAGE_PHASE_RAD) -> LoadDi
     kw = {"centrifugal": fc, "compliances": (params.k_inner ** -m, params.k_outer ** -m)} if fc > 0 else {}
     return solve_row(params.force_n, params.z, math.degrees(params.contact_angle_rad),
                      params.clearance_m, params.series_constant, params.exponent, phase, **kw)
-
-
-def contact_stiffness(k: float, q: float, n: float) -> float:
-    """Linearised stiffness ``dQ/d delta = n K^(1/n) Q^((n-1)/n)`` of ``Q = K delta^n`` at load
-    ``q`` (``1.5 K^(2/3) Q^(1/3)`` for a point contact).
-
-    Parameters
-    ----------
-    k, q, n : float
-        ``K`` (N m^-n), load (N, >= 0), ``n``.
-
-    Returns
-    -------
-    float
-        Stiffness, N/m.
-    """
-    return n * k ** (1.0 / n) * max(q, 0.0) ** ((n - 1.0) / n)
 
 
 def highest_frequency_hz(params: DynamicParams, peak_factor: float = PEAK_LOAD_FACTOR) -> float:
