@@ -32,8 +32,8 @@ DATA = "/work/shared/data/real"
 
 
 def _fmt(values, nd=1) -> str:
-    v = [x for x in values if np.isfinite(x)]
-    return " / ".join(f"{x:.{nd}f}" for x in v) if v else "-"
+    """Values joined by " / "; one not read (NaN: the rule's contrast floor) as "n/a"."""
+    return " / ".join(f"{x:.{nd}f}" if np.isfinite(x) else "n/a" for x in values) or "-"
 
 
 def clearance_row(run: Path, config: str, conds, b_inner: float) -> dict:
