@@ -60,6 +60,9 @@ REGISTRY: dict[str, str] = {
                     "opening over the pit)",
     "rig_cost": "virtual rig with the dynamics: CPU of a dynamic rig record per preset, and the "
                 "whole rig quasi-static against dynamic (--whole)",
+    "rig_clearance": "the dynamic rig's OR 3:00 events against the operating clearance: 3:00 "
+                     "ball load, least load over the pit, secondary events, OR 3:00 re 6:00, the "
+                     "IR fr sideband implied",
     "rig_targets": "issue 42's rig targets (line height, 3x/1x, OR 3:00 re 6:00, secondary "
                    "events at 3:00, ball class, height against pit size) read off scored runs",
     "defect_size": "defect length from the entry-exit spacing: records of known spacing, the "

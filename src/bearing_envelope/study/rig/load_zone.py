@@ -15,7 +15,9 @@ from scipy import signal as sps
 
 from ...physics.locations import get_location
 from ...physics.transfer import direction_gain
+from ...signal.envelope import bandpass, envelope, settling_samples
 from .config import RigSettings
+from .dynamic import dynamic_path, excitation_model
 from .records import RigCondition
 from .scoring import band_ratios
 from .simulation import condition_scene
@@ -23,20 +25,29 @@ from .simulation import condition_scene
 #: The line family the load zone is identified on: the shaft-rate sidebands of a defect that
 #: turns with the shaft through the zone (the inner race's BPFI).
 IDENTIFICATION_FAMILY = "bpfi"
+#: A dynamic excitation's events are read in analyze's fixed band, fs/4-3fs/8 (as fractions of
+#: fs): below it the housing (about 0.7 kHz) and the shaft ring at every element passage.
+DYNAMIC_EVENT_BAND = (0.25, 0.375)
 
-__all__ = ["removed_force_exponent", "event_exponent", "directional_modulation",
+__all__ = ["removed_force_exponent", "event_exponent", "event_points", "event_level",
+           "DYNAMIC_EVENT_BAND", "directional_modulation",
            "identify_load_zone", "measured_sideband_db", "identify_from_run",
            "identification_records", "structure_ratio_db", "SIDEBAND_BANDS"]
 
 
-def removed_force_exponent(contact_3: str, contact_6: str) -> float:
+def removed_force_exponent(contact_3: str, contact_6: str, event_hz: float | None = None) -> float:
     """Exponent ``b`` of ``F_removed ~ Q^b`` through the two simulated points (the 3:00 and
-    6:00 records of one pit: each event's removed force and the roller load it met).
+    6:00 records of one pit: each one's event amplitude and the element load it met,
+    :func:`event_level`).
 
     Parameters
     ----------
     contact_3, contact_6 : str
-        The two ``<record>_contact.npz`` (:func:`~.simulation.simulate_excitations`).
+        The two excitation files: ``<record>_contact.npz``
+        (:func:`~.simulation.simulate_excitations`) or ``<record>_dynamic.npz``
+        (:func:`~.dynamic.simulate_dynamic_record`).
+    event_hz : float, optional
+        The events' rate (BPFO), Hz; needed by a dynamic excitation.
 
     Returns
     -------
@@ -49,25 +60,94 @@ def removed_force_exponent(contact_3: str, contact_6: str) -> float:
         The two points do not define an exponent (a load or removed force <= 0, or equal
         loads).
     """
-    pts = []
-    for path in (contact_3, contact_6):
-        with np.load(path) as z:
-            pts.append((float(np.max(z["roller_load"])), float(np.max(z["removed_force"]))))
-    (q1, f1), (q2, f2) = pts
+    (q1, f1), (q2, f2) = (event_level(p, event_hz) for p in (contact_3, contact_6))
     if min(q1, q2, f1, f2) <= 0 or q1 == q2:
         raise ValueError(f"contact: roller loads {q1:g}, {q2:g} N and removed forces {f1:g}, "
                          f"{f2:g} N; allowed: two positive, different points")
     return math.log(f2 / f1) / math.log(q2 / q1)
 
 
+def event_level(path: str, event_hz: float | None = None) -> tuple[float, float]:
+    """One record's element load and event amplitude: a contact history's largest roller
+    load and removed force; a dynamic excitation's medians over its events
+    (:func:`event_points`).
+
+    Parameters
+    ----------
+    path : str
+        The excitation file.
+    event_hz : float, optional
+        The events' rate, Hz; needed by a dynamic excitation.
+
+    Returns
+    -------
+    (float, float)
+        Load and amplitude, N.
+
+    Raises
+    ------
+    ValueError
+        A dynamic excitation without ``event_hz``.
+    """
+    if excitation_model(path) == "quasi_static":
+        with np.load(path) as z:
+            return float(np.max(z["roller_load"])), float(np.max(z["removed_force"]))
+    if event_hz is None:
+        raise ValueError(f"{path}: event_hz: got None for a dynamic excitation; allowed: the "
+                         "events' rate, Hz")
+    q, a = event_points(path, event_hz)
+    return float(np.median(q)), float(np.median(a))
+
+
+def event_points(path: str, event_hz: float) -> tuple[np.ndarray, np.ndarray]:
+    """Each event's element load and amplitude in one excitation file.
+
+    A contact history (quasi-static): the peaks of the removed force (one per event; the
+    acquisition's filter rings between them) and the roller load at each. A dynamic excitation
+    (:data:`~.dynamic.DYNAMIC_MODEL`): its removed force (the housing force's fluctuation along
+    the defect's radius) rings the housing and shaft modes at every element passage, so the
+    event is read where the rig reads it, in :data:`DYNAMIC_EVENT_BAND` (fs/4-3fs/8): per
+    event period the envelope's highest value, and the element load as the median of the
+    nearest element's load over that period (the load it carries into the pit, not its dip).
+
+    Parameters
+    ----------
+    path : str
+        The excitation file.
+    event_hz : float
+        The events' rate, Hz.
+
+    Returns
+    -------
+    (numpy.ndarray, numpy.ndarray)
+        Loads and amplitudes, N, one per event.
+    """
+    with np.load(path) as z:
+        f, q, fs = np.asarray(z["removed_force"]), np.asarray(z["roller_load"]), float(z["fs"])
+    if excitation_model(path) == "quasi_static":
+        peaks, _ = sps.find_peaks(f, height=1e-3 * f.max() if f.size and f.max() > 0 else np.inf,
+                                  distance=max(1, int(0.6 * fs / event_hz)))
+        return q[peaks], f[peaks]
+    band = (DYNAMIC_EVENT_BAND[0] * fs, DYNAMIC_EVENT_BAND[1] * fs)
+    edge = settling_samples(fs, band)
+    e = envelope(bandpass(f, fs, band))
+    period = max(1, int(fs / event_hz))
+    starts = np.arange(edge, e.size - edge - period, period)
+    peaks = np.array([s + int(np.argmax(e[s:s + period])) for s in starts], dtype=np.int64)
+    half = period // 2
+    loads = np.array([np.median(q[max(0, i - half):i + half + 1]) for i in peaks])
+    return loads, e[peaks]
+
+
 def event_exponent(contact_path: str, event_hz: float) -> float:
     """Exponent ``b`` of ``F_removed ~ Q^b`` fitted (log-log, least squares) over the events of
-    one contact history: each event's peak removed force against the roller load it met.
+    one excitation file (:func:`event_points`): each event's amplitude against the element
+    load it met.
 
     Parameters
     ----------
     contact_path : str
-        A ``<record>_contact.npz`` of :func:`simulate_excitations`.
+        A ``<record>_contact.npz`` of :func:`simulate_excitations` or a ``<record>_dynamic.npz``.
     event_hz : float
         The events' rate (BPFI for an inner race), Hz.
 
@@ -81,14 +161,10 @@ def event_exponent(contact_path: str, event_hz: float) -> float:
     ValueError
         The history's events do not span two roller loads.
     """
-    with np.load(contact_path) as z:
-        f, q, fs = np.asarray(z["removed_force"]), np.asarray(z["roller_load"]), float(z["fs"])
-    # one peak per event (the acquisition's filter rings between them)
-    peaks, _ = sps.find_peaks(f, height=1e-3 * f.max() if f.size and f.max() > 0 else np.inf,
-                              distance=max(1, int(0.6 * fs / event_hz)))
-    ok = peaks[q[peaks] > 0]
-    if ok.size < 3 or np.ptp(np.log(q[ok])) < 1e-3:
-        raise ValueError(f"{contact_path}: {ok.size} events over roller loads "
+    q, f = event_points(contact_path, event_hz)
+    ok = (q > 0) & (f > 0)
+    if ok.sum() < 3 or np.ptp(np.log(q[ok])) < 1e-3:
+        raise ValueError(f"{contact_path}: {ok.sum()} events over roller loads "
                          f"{np.unique(np.round(q[ok], 3))[:3]} N; allowed: events at >= 2 loads")
     return float(np.polyfit(np.log(q[ok]), np.log(f[ok]), 1)[0])
 
@@ -234,9 +310,10 @@ def identify_from_run(run_dir, conditions, settings: RigSettings) -> dict:
     the measured inner-race fr sideband (median of :func:`measured_sideband_db` over
     :func:`identification_records`: CWRU's 0.007 in records at 12 kHz), the measured 3:00/6:00
     BPFO ratio (median of ``outer_race.csv`` at their fs), the removed-force exponents of the
-    run's contact histories
-    (:func:`event_exponent`, :func:`removed_force_exponent`), then
-    :func:`identify_load_zone` at the rig's load.
+    run's excitations, contact histories or dynamic runs alike (:func:`event_exponent`: the
+    median over the inner-race records; :func:`removed_force_exponent`: the first pair), then
+    :func:`identify_load_zone` at the rig's load; and the same rule on each load's records
+    alone (``per_load``: the spread).
 
     Parameters
     ----------
@@ -251,8 +328,10 @@ def identify_from_run(run_dir, conditions, settings: RigSettings) -> dict:
     Returns
     -------
     dict
-        The measured targets, exponents, ``clearance_um`` and ``sensor_cross_axis``, and what
-        the identified rig predicts (:func:`directional_modulation`).
+        The measured targets, exponents, ``clearance_um`` and ``sensor_cross_axis``, what
+        the identified rig predicts (:func:`directional_modulation`), and ``per_load`` (each
+        load's inner-race record and 3:00/6:00 pair: exponents, clearance and gain, or the
+        error that refused them).
 
     Raises
     ------
@@ -271,13 +350,11 @@ def identify_from_run(run_dir, conditions, settings: RigSettings) -> dict:
     if not ir or ratios.empty or ratios.meas_db.isna().all():
         raise ValueError(f"{run}: needs inner-race records and 3:00/6:00 (90/0 deg) outer-race "
                          "pairs at one fs, scored")
-    sb = measured_sideband_db(pd.read_csv(run / "measured_lines.csv"), [c.name for c in ir])
+    lines = pd.read_csv(run / "measured_lines.csv")
+    sb = measured_sideband_db(lines, [c.name for c in ir])
     r3 = ratios.iloc[0]
-    contact = run / "contact"
-    b_in = float(np.median([event_exponent(str(contact / f"{c.name}_contact.npz"),
-                                           c.rates[IDENTIFICATION_FAMILY]) for c in ir]))
-    b_out = removed_force_exponent(str(contact / f"{r3.record_3}_contact.npz"),
-                                   str(contact / f"{r3.record_6}_contact.npz"))
+    b_each = _exponents(run / "contact", settings, ir, ratios, by)
+    b_in, b_out = float(np.median(b_each["inner"])), b_each["outer"][0]
     target = {"sb1_db": float(np.median(sb)), "ratio_3_6_db": float(ratios.meas_db.median())}
     structure_db = structure_ratio_db(ratios, directional_modulation(
         settings, ir[0], by[r3.record_3], b_in, b_out)["ratio_3_6_db"])
@@ -288,9 +365,33 @@ def identify_from_run(run_dir, conditions, settings: RigSettings) -> dict:
     fit = dataclasses.replace(settings, scene=m, sensor_cross_axis=k)
     predicted = directional_modulation(fit, ir[0], by[r3.record_3], b_in, b_out)
     predicted["ratio_3_6_db"] += structure_db
-    return {"load_kN": settings.load_kN, "measured": target, "n_sideband_readings": len(sb),
-            "b_inner": b_in, "b_outer": b_out, "structure_db": structure_db,
-            "clearance_um": c, "sensor_cross_axis": k, "predicted": predicted}
+    per_load = []
+    for cond, b_i, (_, row), b_o in zip(ir, b_each["inner"], ratios.iterrows(), b_each["outer"]):
+        try:   # the same rule on one load's records: the spread over the records
+            cl, kl = identify_load_zone(settings, cond, by[row.record_3], float(np.median(
+                measured_sideband_db(lines, [cond.name]))), float(row.meas_db) - structure_db,
+                b_i, b_o)
+        except ValueError as err:
+            cl, kl = None, str(err)
+        per_load.append({"records": [cond.name, row.record_3, row.record_6], "b_inner": b_i,
+                         "b_outer": b_o, "clearance_um": cl, "sensor_cross_axis": kl})
+    return {"load_kN": settings.load_kN, "dynamics": settings.dynamics, "measured": target,
+            "n_sideband_readings": len(sb), "b_inner": b_in, "b_outer": b_out,
+            "structure_db": structure_db, "clearance_um": c, "sensor_cross_axis": k,
+            "predicted": predicted, "per_load": per_load}
+
+
+def _exponents(contact: Path, settings: RigSettings, ir, ratios, by) -> dict:
+    """The exponents of each inner-race record and each 3:00/6:00 pair, read on the run's
+    excitation files (the model ``settings.dynamics`` names)."""
+    def path(name):
+        return str(dynamic_path(contact, by[name]) if settings.dynamics == "dynamic"
+                   else contact / f"{name}_contact.npz")
+
+    inner = [event_exponent(path(c.name), c.rates[IDENTIFICATION_FAMILY]) for c in ir]
+    outer = [removed_force_exponent(path(r.record_3), path(r.record_6),
+                                    by[r.record_3].rates["bpfo"]) for _, r in ratios.iterrows()]
+    return {"inner": inner, "outer": outer}
 
 
 def structure_ratio_db(ratios, model_db: float) -> float:
