@@ -14,12 +14,14 @@ force, the assumed structure of ``STRUCTURE_DEFAULTS``), an outer-race slot of t
    right-hand side; error of the end state (of the largest displacement) and of the resonator's
    displacement (RMS, of its RMS) against DOP853 at rtol 1e-12; CPU s and CPU ratio to RK4 at
    the step rule.
-2. Step rule: envelope lines 1-3 x BPFO of the resonator acceleration and of the housing force
-   along x and y (band fs/4-3fs/8, 12 kHz, 1 s) for 20-80 steps per period
-   (:data:`RULE_STEPS`); the largest change of a line from ``S`` steps to ``2 S``. Scenes: the
-   0.007 in slot at 6:00 (loaded), the 0.021 in slot at 3:00 (an element bouncing at the load
-   zone's edge), and the rig's OR 0.007 in at 6:00 and at 3:00 (:data:`RIG_SCENES`:
-   config_rig.yaml's 0.1 kN, preload and structure, the standard table).
+2. Step rule: envelope lines of the defect (1-3 x BPFO, 1-3 x BPFI, 2 BSF -+ FTF and 2 BSF) of
+   the resonator acceleration and of the housing force along x and y (band fs/4-3fs/8, 1 s)
+   for 20-80 steps per period (:data:`RULE_STEPS`, ``--rule-steps``); the largest change of a
+   line from ``S`` steps to ``2 S``. Scenes: the 0.007 in slot at 6:00 (loaded), the 0.021 in
+   slot at 3:00 (an element bouncing at the load zone's edge), both at 12 kHz (``--no-edge``
+   leaves them out), and the rig's OR 0.007 in at 6:00 and at 3:00, IR 0.007 in and the ball
+   0.007 in (:data:`RIG_SCENES`, ``--rule-scenes``: config_rig.yaml's 0.1 kN, preload and
+   structure, the standard table, a ball's axis fixed) at 12 and 48 kHz (:data:`RIG_FS`).
 3. Cost: CPU s of 0.5 s and 1 s records at 12 kHz at the step rule; 10 s extrapolated linearly
    (and measured with ``--full``).
 4. Ball pit (``--parts ball``): the 0.007 in slot on element 0 (each contact's geometric law),
