@@ -14,12 +14,14 @@ force, the assumed structure of ``STRUCTURE_DEFAULTS``), an outer-race slot of t
    right-hand side; error of the end state (of the largest displacement) and of the resonator's
    displacement (RMS, of its RMS) against DOP853 at rtol 1e-12; CPU s and CPU ratio to RK4 at
    the step rule.
-2. Step rule: envelope lines 1-3 x BPFO of the resonator acceleration and of the housing force
-   along x and y (band fs/4-3fs/8, 12 kHz, 1 s) for 20-80 steps per period
-   (:data:`RULE_STEPS`); the largest change of a line from ``S`` steps to ``2 S``. Scenes: the
-   0.007 in slot at 6:00 (loaded), the 0.021 in slot at 3:00 (an element bouncing at the load
-   zone's edge), and the rig's OR 0.007 in at 6:00 and at 3:00 (:data:`RIG_SCENES`:
-   config_rig.yaml's 0.1 kN, preload and structure, the standard table).
+2. Step rule: envelope lines of the defect (1-3 x BPFO, 1-3 x BPFI, 2 BSF -+ FTF and 2 BSF) of
+   the resonator acceleration and of the housing force along x and y (band fs/4-3fs/8, 1 s)
+   for 20-80 steps per period (:data:`RULE_STEPS`, ``--rule-steps``); the largest change of a
+   line from ``S`` steps to ``2 S``. Scenes: the 0.007 in slot at 6:00 (loaded), the 0.021 in
+   slot at 3:00 (an element bouncing at the load zone's edge), both at 12 kHz (``--no-edge``
+   leaves them out), and the rig's OR 0.007 in at 6:00 and at 3:00, IR 0.007 in and the ball
+   0.007 in (:data:`RIG_SCENES`, ``--rule-scenes``: config_rig.yaml's 0.1 kN, preload and
+   structure, the standard table, a ball's axis fixed) at 12 and 48 kHz (:data:`RIG_FS`).
 3. Cost: CPU s of 0.5 s and 1 s records at 12 kHz at the step rule; 10 s extrapolated linearly
    (and measured with ``--full``).
 4. Ball pit (``--parts ball``): the 0.007 in slot on element 0 (each contact's geometric law),
@@ -48,7 +50,7 @@ from scipy.integrate import solve_ivp
 from bearing_envelope.physics.dynamics import (StateLayout, initial_state, params_from_scene, rhs,
                                                simulate_dynamics, slot_law)
 from bearing_envelope.physics.dynamics.model import arrays
-from bearing_envelope.physics.dynamics.params import STEPS_PER_PERIOD
+from bearing_envelope.physics.dynamics.params import STEPS_PER_PERIOD, rule_steps
 from bearing_envelope.physics.kinematics import bearing_rates
 from bearing_envelope.physics.scene import Scene
 from bearing_envelope.signal.envelope import envelope_spectrum
@@ -135,18 +137,32 @@ def integrators(duration: float = 1e-2, steps=(10, 20, 40, 80),
 RULE_STEPS = (20, 30, 40, 60, 80)
 #: The rig's scenes of the step rule (``benchmarks.rig_cost.SCENES``: config_rig.yaml's load,
 #: preload, structure and sensor, the standard table).
-RIG_SCENES = ("OR007at6", "OR007at3")
+RIG_SCENES = ("OR007at6", "OR007at3", "IR007", "B007")
+#: The sampling rates of the rig's scenes in the step rule (the 12 and 48 kHz records), Hz.
+RIG_FS = (12000.0, 48000.0)
+
+
+def fault_hz(p) -> tuple[float, float, float]:
+    """The three lines of ``p``'s defect: 1-3 x BPFO (outer race), 1-3 x BPFI (inner race),
+    2 BSF -+ FTF and 2 BSF (an element pit)."""
+    if p.element_pit is not None:
+        r = bearing_rates(p.shaft_rate_hz, p.z, 2e3 * p.element_radius_m,
+                          1e3 * (p.outer_race_radius_m + p.inner_race_radius_m),
+                          math.degrees(p.contact_angle_rad))
+        return 2 * r["bsf"] - r["ftf"], 2 * r["bsf"], 2 * r["bsf"] + r["ftf"]
+    f1 = p.z * (p.shaft_rate_hz - p.cage_rate_hz if p.defect_race == "inner" else p.cage_rate_hz)
+    return f1, 2 * f1, 3 * f1
 
 
 def lines(p, steps: float, duration: float, fs: float = 12000.0):
-    """Envelope lines 1-3 x BPFO (band fs/4-3fs/8) of the resonator acceleration and of the
-    housing force along x and y."""
+    """Envelope lines of the defect (:func:`fault_hz`; band fs/4-3fs/8) of the resonator
+    acceleration and of the housing force along x and y."""
     r = simulate_dynamics(p, duration, fs, steps_per_period=steps)
-    bpfo = p.z * p.cage_rate_hz
+    freqs = fault_hz(p)
     out = []
     for x in (r.resonator_acceleration_m_s2, r.housing_force_n[:, 0], r.housing_force_n[:, 1]):
         f, a = envelope_spectrum(x - x.mean(), fs, (0.25 * fs, 0.375 * fs))
-        out += [amplitude_at(f, a, k * bpfo, 0.01 * bpfo)[1] for k in (1, 2, 3)]
+        out += [amplitude_at(f, a, q, 0.01 * freqs[0])[1] for q in freqs]
     return np.array(out)
 
 
@@ -156,8 +172,10 @@ def halving(got: dict) -> dict:
             for s in got if 2 * s in got}
 
 
-def rig_scene_params(name: str, preset: str = "standard"):
-    """The dynamic model of a rig scene (:data:`RIG_SCENES`), as the rig builds it."""
+def rig_scene_params(name: str, preset: str = "standard", fs_hz: float = 12000.0):
+    """The dynamic model of a rig scene (:data:`RIG_SCENES`) recorded at ``fs_hz``, as the rig
+    builds it; a ball's spin axis fixed (its pit meets a contact every turn, not only while the
+    wandering axis holds it on the track)."""
     from bearing_envelope.physics.dynamics.case import case_params
     from bearing_envelope.study.rig import read_rig_config
     from bearing_envelope.study.rig.dynamic import rig_scene
@@ -165,21 +183,28 @@ def rig_scene_params(name: str, preset: str = "standard"):
 
     from .rig_cost import CONFIG, condition
     base = read_rig_config(CONFIG)
-    s = type(base)(**{**base.__dict__, "fidelity": preset, "dynamics": "dynamic"})
-    return case_params(rig_scene(condition_scene(condition(name, 1.0), s), s), preset)[0]
+    s = type(base)(**{**base.__dict__, "fidelity": preset, "dynamics": "dynamic",
+                      "ball_spin_axis": "fixed"})
+    return case_params(rig_scene(condition_scene(condition(name, 1.0, fs_hz), s), s), preset)[0]
 
 
-def step_rule(duration: float = 1.0, steps=RULE_STEPS, rig=RIG_SCENES) -> list[dict]:
-    scenes = [(f"{w} in at {clock}", lambda w=w, pos=pos: scene_params(w, pos))
-              for w, pos, clock in ((0.007, 0.0, "6:00"), (0.021, 90.0, "3:00"))]
-    scenes += [(f"rig {name}", lambda name=name: rig_scene_params(name)) for name in rig]
+def step_rule(duration: float = 1.0, steps=RULE_STEPS, rig=RIG_SCENES, rig_fs=RIG_FS,
+              edge: bool = True) -> list[dict]:
+    scenes = [(f"{w} in at {clock}", 12000.0, lambda w=w, pos=pos: scene_params(w, pos))
+              for w, pos, clock in ((0.007, 0.0, "6:00"), (0.021, 90.0, "3:00"))] if edge else []
+    scenes += [(f"rig {name} {fs / 1e3:g} kHz", fs, lambda name=name, fs=fs: rig_scene_params(name, fs_hz=fs))
+               for name in rig for fs in rig_fs]
     rows = []
-    for label, make in scenes:
+    for label, fs, make in scenes:
         p = make()
-        got = {s: lines(p, float(s), duration) for s in steps}
+        got, cpu = {}, {}
+        for s in steps:
+            c0 = time.process_time()
+            got[s] = lines(p, float(s), duration, fs)
+            cpu[s] = time.process_time() - c0
         change = halving(got)
-        rows += [dict(scene=label, steps=s, lines=got[s], change=change.get(s, math.nan))
-                 for s in steps]
+        rows += [dict(scene=label, steps=s, lines=got[s], change=change.get(s, math.nan),
+                      cpu=cpu[s], rule=rule_steps(p)) for s in steps]
     return rows
 
 
@@ -276,10 +301,10 @@ def print_tables(ints, rule, costs) -> None:
     print("|---|---|---|---|---|---|")
     for r in ints:
         print(f"| {r['method']} | {r['cpu']:.3f} | {r['ratio']:.1f} | {r['steps']} | {r['e_end']:.1e} | {r['e_res']:.1e} |")
-    print("\n| scene | steps/period | lines (res 1-3x, force x 1-3x, force y 1-3x) | largest change when the step halves |")
-    print("|---|---|---|---|")
+    print("\n| scene (its rule's steps/period) | steps/period | CPU s | lines (res, force x, force y: 3 each) | largest change when the step halves |")
+    print("|---|---|---|---|---|")
     for r in rule:
-        print(f"| {r['scene']} | {r['steps']} | {' '.join(f'{v:.4g}' for v in r['lines'])} | {100 * r['change']:.3f} % |")
+        print(f"| {r['scene']} ({r['rule']:g}) | {r['steps']} | {r['cpu']:.2f} | {' '.join(f'{v:.4g}' for v in r['lines'])} | {100 * r['change']:.3f} % |")
     print("\n| scene | record s: CPU s (steps, oversample) | CPU s per record s | 10 s extrapolated | 10 s measured |")
     print("|---|---|---|---|---|")
     for r in costs:
@@ -292,13 +317,18 @@ def main(argv=None) -> int:
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--full", action="store_true", help="also measure a 10 s record")
     ap.add_argument("--rule-duration", type=float, default=1.0, help="record length of part 2, s")
+    ap.add_argument("--rule-steps", type=int, nargs="+", default=list(RULE_STEPS),
+                    help="steps per period of part 2 (each against twice as many when listed)")
+    ap.add_argument("--rule-scenes", nargs="+", default=list(RIG_SCENES), help="rig scenes of part 2")
+    ap.add_argument("--no-edge", action="store_true", help="part 2 without the two 1 kN scenes")
     ap.add_argument("--parts", nargs="+", default=["integrators", "rule", "cost", "ball"],
                     choices=["integrators", "rule", "cost", "ball", "kernel"],
                     help="the parts to run (kernel: the fused loop against the reference)")
     args = ap.parse_args(argv)
     simulate_dynamics(scene_params(None), 0.01, 12000.0)          # compile outside the clocks
     print_tables(integrators() if "integrators" in args.parts else [],
-                 step_rule(args.rule_duration) if "rule" in args.parts else [],
+                 step_rule(args.rule_duration, tuple(args.rule_steps), tuple(args.rule_scenes),
+                           edge=not args.no_edge) if "rule" in args.parts else [],
                  cost(full=args.full) if "cost" in args.parts else [])
     if "ball" in args.parts:
         print_ball(ball())

@@ -8,8 +8,8 @@
    length at its fs; CPU s (process time) of the defect table (cold, once per pit in a process)
    and of the dynamic run (:func:`bearing_envelope.study.rig.dynamic.simulate_dynamic_record`).
    The records are synthetic conditions of the development records' scenes (no data needed):
-   OR 0.007 in at 6:00 and at 3:00, IR 0.007 in, OR 0.014 in at 6:00, IR 0.028 in; 10 s at
-   12 kHz, 29.95 Hz shaft rate.
+   OR 0.007 in at 6:00 and at 3:00, IR 0.007 in, OR 0.014 in at 6:00, IR 0.028 in, ball
+   0.007 in; 10 s at 12 kHz, 29.95 Hz shaft rate.
 2. ``--whole``: the whole rig (``bearing-envelope rig RECORDS --config config_rig.yaml``) run
    from empty scratch folders, ``rig.dynamics: quasi_static`` then ``dynamic``, one after the
    other in this process's children: user + system CPU s of each and their ratio.
@@ -44,7 +44,8 @@ SCENES = {"OR007at6": ("outer_race", 177.8, 279.4, 0.0),
           "OR007at3": ("outer_race", 177.8, 279.4, 90.0),
           "IR007": ("inner_race", 177.8, 279.4, 0.0),
           "OR014at6": ("outer_race", 355.6, 279.4, 0.0),
-          "IR028": ("inner_race", 711.2, 1270.0, 0.0)}
+          "IR028": ("inner_race", 711.2, 1270.0, 0.0),
+          "B007": ("rolling_element", 177.8, 279.4, 0.0)}
 
 
 def condition(name: str, duration_s: float, fs_hz: float = 12_000.0,

@@ -7,6 +7,7 @@ import math
 
 import numpy as np
 import pytest
+import yaml
 from scipy.integrate import solve_ivp
 
 from bearing_envelope.physics.dynamics import (DynamicParams, StateLayout, contact_stiffness,
@@ -15,10 +16,12 @@ from bearing_envelope.physics.dynamics import (DynamicParams, StateLayout, conta
                                                quasi_static, rhs, simulate_dynamics, slot_law,
                                                step_size)
 from bearing_envelope.physics.dynamics.model import arrays
-from bearing_envelope.physics.dynamics.params import STEPS_PER_PERIOD
+from bearing_envelope.physics.dynamics.params import (STEPS_PER_PERIOD, STEPS_PER_PERIOD_LOADED,
+                                                      rule_steps)
 from bearing_envelope.signal.envelope import envelope_spectrum
 from bearing_envelope.signal.spectrum import amplitude_at
-from test_dynamics_oracles import at_rest, cwru_scene
+from bearing_envelope.physics.scene import Scene
+from test_dynamics_oracles import ROOT, at_rest, cwru_scene, harris_2d
 
 
 def test_contact_stiffness_is_the_derivative_of_hertz():
@@ -41,6 +44,35 @@ def test_step_rule_bounds_the_linearised_frequencies():
     assert 40e3 < f_elem < 80e3 and 0.2e-6 < step_size(p) < 1.5e-6   # design.md: near 1 us
     rest = at_rest(0.0, contact_damping_ns_m=0.0, housing_damping_ns_m=0.0, resonator_zeta=0.0)
     assert linearised_frequencies_hz(rest, initial_state(rest)).max() < highest_frequency_hz(rest)
+
+
+def preloaded(**defect):
+    """The 6205 as the rig runs it: 0.1 kN on 4.1 um of preload (negative clearance), every
+    element loaded all round."""
+    m = yaml.safe_load((ROOT / "config_cwru.yaml").read_text())["scene"]
+    m["defect"].update(defect)
+    m["bearing"]["radial_clearance_um"] = -4.1
+    return params_from_scene(Scene.from_mapping(m, load_kN=0.1, depth_um=0.0))
+
+
+def test_step_rule_of_a_scene_loaded_all_round():
+    p = preloaded()
+    assert harris_2d(p, 0.0)[0].min() > 0.0     # Harris's row: every element loaded
+    f = highest_frequency_hz(p)
+    assert rule_steps(p) == STEPS_PER_PERIOD_LOADED < STEPS_PER_PERIOD
+    assert step_size(p) == pytest.approx(1 / (STEPS_PER_PERIOD_LOADED * f), rel=1e-12)
+    assert rule_steps(params_from_scene(cwru_scene())) == STEPS_PER_PERIOD   # elements unloaded
+    assert step_size(p, 30.0) == pytest.approx(1 / (30.0 * f), rel=1e-12)
+
+
+def test_preloaded_lines_change_under_one_percent_when_the_loaded_rule_step_halves():
+    p = preloaded()
+    law = slot_law(p.element_radius_m, 177.8e-6, 279.4e-6, p.k_outer, 1.5, 30e-6)
+    p = p.with_(defect=law, defect_race="outer")
+    a, b = lines(p, STEPS_PER_PERIOD_LOADED), lines(p, 2 * STEPS_PER_PERIOD_LOADED)
+    change = np.max(np.abs(a - b) / b)
+    print(f"preloaded, 0.007 in at 6:00: lines {np.round(b, 5)}, largest change {change:.2e}")
+    assert change <= 0.01
 
 
 def lines(p, steps, duration=0.5, fs=12000.0):

@@ -31,10 +31,10 @@ __all__ = ["DynamicHistory", "DYNAMIC_SIGNAL_UNITS", "DYNAMIC_SIGNAL_DESCRIPTION
            "CPU_S_PER_ELEMENT_STEP"]
 
 #: CPU seconds per RK4 step and element, measured (``python -m benchmarks dynamics_cost
-#: --parts cost --full``, docs/dynamics.md, 2026-12-06, the fused loop): the 6205's 10 s record
-#: at 12 kHz with the 0.007 in pit, 18,083,835 steps of 0.556 us for its 9 balls in 18.86 CPU s
-#: (1.9 CPU s per record second).
-CPU_S_PER_ELEMENT_STEP = 18.86 / 18083835 / 9
+#: --parts cost --full``, docs/dynamics.md, 2026-12-06 05:05 UTC, load 4-8, the fused loop with
+#: the pit read near it only): the 6205's 10 s record at 12 kHz with the 0.007 in pit,
+#: 18,083,835 steps of 0.556 us for its 9 balls in 19.67 CPU s (2.0 CPU s per record second).
+CPU_S_PER_ELEMENT_STEP = 19.67 / 18083835 / 9
 
 #: The 1-D signals of a dynamic case (``/signals``) and their units.
 DYNAMIC_SIGNAL_UNITS = {

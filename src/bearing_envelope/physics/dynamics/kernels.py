@@ -162,6 +162,33 @@ def _defect_x(P, th, t):
 
 
 @_jit
+def _pit_element(P, thc, t, x_lo, x_hi, z):
+    """Index of the element nearest a race pit at cage angle ``thc``, time ``t``: with its two
+    neighbours the only elements whose defect position (:func:`_defect_x`) can fall in the
+    law's ``[x_lo, x_hi]`` (every other is >= 1.5 pitches from the pit, the law reaches < 1);
+    -1 when the law reaches a pitch or more (then every element reads it)."""
+    pitch = 2.0 * math.pi / z
+    if P[DRACE] == 1.0:
+        r = P[RO]
+        phi = P[DANG] - thc
+    else:
+        r = P[RI]
+        phi = P[DANG] + P[WS] * t - thc
+    if max(-x_lo, x_hi) >= r * pitch:
+        return -1
+    return int(math.floor(phi / pitch + 0.5)) % z
+
+
+@_jit
+def _near(j, jn, z):
+    """Whether element ``j`` is element ``jn`` or its neighbour (always, for ``jn < 0``)."""
+    d = j - jn
+    if d < 0:
+        d += z
+    return jn < 0 or d <= 1 or d >= z - 1
+
+
+@_jit
 def _approaches(r, c, s, thd, u, ud, ca, g):
     """Approaches (m) of an element's inner and outer contact and their rates (m/s):
     ``(di, dout, ddi, ddo)``; ``r`` the rings' ``(x_i, y_i, x_o, y_o)`` and their velocities,
@@ -314,6 +341,7 @@ def contact_forces(t, y, P, cage, cph, sph, tx, td, tf, qi, qo, xd):
     xd[z] = 0.0
     drace = P[DRACE]
     race = drace == 1.0 or drace == 2.0
+    jn = _pit_element(P, thc, t, tx[0], tx[tx.size - 1], z) if race else -1
     for j in range(z):
         c = c0 * cph[j] - s0 * sph[j]
         s = s0 * cph[j] + c0 * sph[j]
@@ -321,7 +349,7 @@ def contact_forces(t, y, P, cage, cph, sph, tx, td, tf, qi, qo, xd):
         xd[j] = 1e9
         qi[j] = hertz_force(di, ddi, P[KI], P[NEXP], P[N15], P[CC])
         qo[j] = hertz_force(dout, ddo, P[KO], P[NEXP], P[N15], P[CC])
-        if race:
+        if race and _near(j, jn, z):
             xd[j] = _defect_x(P, thc + 2.0 * math.pi * j / z, t)
             if xd[j] >= tx[0] and xd[j] <= tx[tx.size - 1]:
                 if drace == 1.0:
@@ -394,7 +422,6 @@ def _record(t, y, k1, fdef, side, P, cage, cph, sph, qo, row):
     """One row of the internal record (:data:`~.layout.REC_FIXED`, the ``Z`` outer loads, the
     ``Z`` element velocities, the defect's side :data:`~.layout.REC_CONTACT`)."""
     z = cph.size
-    nd = _E0 + z
     thc, _ = cage_angle_at(t, cage, P[CT0], P[CDT])
     c0 = math.cos(thc)
     s0 = math.sin(thc)
@@ -403,6 +430,15 @@ def _record(t, y, k1, fdef, side, P, cage, cph, sph, qo, row):
     for j in range(z):
         fx += qo[j] * P[CA] * (c0 * cph[j] - s0 * sph[j])
         fy += qo[j] * P[CA] * (s0 * cph[j] + c0 * sph[j])
+    _write_row(y, k1, fx, fy, fdef, side, qo, z, row)
+
+
+@_jit_inline
+def _write_row(y, k1, fx, fy, fdef, side, qo, z, row):
+    """The record row's layout, once for :func:`_record` and :func:`rk4_loop`: ``fx, fy`` the
+    elements' force on the outer ring (N), ``fdef`` the defect force (N), ``side`` its contact."""
+    nd = _E0 + z
+    for j in range(z):
         row[REC_SIZE_FIXED + j] = qo[j]
         row[REC_SIZE_FIXED + z + j] = y[nd + _E0 + j]
     row[0], row[1] = fx, fy
@@ -488,6 +524,7 @@ def _stage(t, thc, thd, c0, s0, y, P, cph, sph, pitch, tx, td, tf, qi, qo, xd, d
     fyi = 0.0
     fxo = 0.0
     fyo = 0.0
+    jn = _pit_element(P, thc, t, x_lo, x_hi, z) if race else -1
     for j in range(z):
         c = c0 * cph[j] - s0 * sph[j]
         s = s0 * cph[j] + c0 * sph[j]
@@ -495,7 +532,7 @@ def _stage(t, thc, thd, c0, s0, y, P, cph, sph, pitch, tx, td, tf, qi, qo, xd, d
         di, dout, ddi, ddo = _approaches(rings, c, s, thd, y[_E0 + j], ud, ca, g)
         qij = hertz_force(di, ddi, ki, nexp, n15, cc)
         qoj = hertz_force(dout, ddo, ko, nexp, n15, cc)
-        if race:
+        if race and _near(j, jn, z):
             xdj = _defect_x(P, thc + pitch[j], t)
             if xdj >= x_lo and xdj <= x_hi:
                 if drace == 1.0:
@@ -556,7 +593,6 @@ def rk4_loop(y, t0, dt, n_rec, every, P, cage, cph, sph, tx, td, tf, rec):
         The time at the end, s.
     """
     z = cph.size
-    nd = _E0 + z
     n = y.size
     k1 = np.empty(n)
     k2 = np.empty(n)
@@ -580,17 +616,7 @@ def rk4_loop(y, t0, dt, n_rec, every, P, cage, cph, sph, tx, td, tf, rec):
             s0 = math.sin(th)
             fdef, fx, fy = _stage(t, th, thd, c0, s0, y, P, cph, sph, pitch, tx, td, tf, qi, qo, xd, k1)
             if m == 0:
-                row = rec[r]
-                for j in range(z):
-                    row[REC_SIZE_FIXED + j] = qo[j]
-                    row[REC_SIZE_FIXED + z + j] = y[nd + _E0 + j]
-                row[0], row[1] = fx, fy
-                row[2], row[3] = y[2], y[3]
-                row[4], row[5] = k1[nd + 2], k1[nd + 3]
-                row[6], row[7] = y[4], k1[nd + 4]
-                row[8] = fdef
-                row[9], row[10] = y[0], y[1]
-                row[REC_SIZE_FIXED + 2 * z] = xd[z]
+                _write_row(y, k1, fx, fy, fdef, xd[z], qo, z, rec[r])
             for i in range(n):
                 tmp[i] = y[i] + h2 * k1[i]
             th, thd = cage_angle_at(t + h2, cage, ct0, cdt)

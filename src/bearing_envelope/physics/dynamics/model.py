@@ -454,7 +454,8 @@ def simulate_dynamics(params: DynamicParams, duration_s: float, fs_hz: float, *,
     dt_s : float, optional
         Largest step, s (default: the step rule).
     steps_per_period : float, optional
-        The step rule's steps per period of the highest frequency.
+        The step rule's steps per period of the highest frequency (default: the scene's,
+        :func:`~.params.rule_steps`).
     oversample : int, optional
         ``N`` (default :func:`modal_oversample`).
     acquisition_mode : {"antialiased", "point"}
@@ -493,8 +494,7 @@ def simulate_dynamics(params: DynamicParams, duration_s: float, fs_hz: float, *,
     ov = 1 if acquisition_mode == "point" else (modal_oversample(params, fs_hz) if oversample is None
                                            else int(oversample))
     rec_dt = 1.0 / (ov * fs_hz)
-    dt = step_size(params, **({} if steps_per_period is None else
-                              {"steps_per_period": steps_per_period})) if dt_s is None else float(dt_s)
+    dt = step_size(params, steps_per_period) if dt_s is None else float(dt_s)
     every = max(1, int(math.ceil(rec_dt / dt - 1e-9)))
     settle = _settle_s(params) if settle_s is None else float(settle_s)
     lead = 0 if acquisition_mode == "point" else (antialias_filter(ov).size - 1) // 2

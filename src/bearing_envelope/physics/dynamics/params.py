@@ -24,7 +24,7 @@ from .layout import P_NAMES
 
 __all__ = ["DefectLaw", "ElementPit", "DynamicParams", "element_pit_from_scene", "STRUCTURE_DEFAULTS", "slot_drop", "slot_law",
            "params_from_scene", "contact_stiffness", "highest_frequency_hz", "step_size",
-           "quasi_static", "contact_damping", "STEPS_PER_PERIOD", "PEAK_LOAD_FACTOR", "MODEL_NAME"]
+           "quasi_static", "contact_damping", "STEPS_PER_PERIOD", "STEPS_PER_PERIOD_LOADED", "rule_steps", "PEAK_LOAD_FACTOR", "MODEL_NAME"]
 
 #: Name of the model a result says made it.
 MODEL_NAME = "lumped_dynamic"
@@ -35,6 +35,13 @@ MODEL_NAME = "lumped_dynamic"
 #: (an element bouncing at the load zone's edge; 1.07 % from 20 to 40; the rig's scenes and the
 #: ball pit < 0.01 %).
 STEPS_PER_PERIOD = 30.0
+#: Step rule of a scene whose every element carries load in its quasi-static solution (no element
+#: leaves a race and strikes it again at the load zone's edge, the case that sets
+#: :data:`STEPS_PER_PERIOD`): RK4 steps per period, the smallest measured whose envelope lines
+#: change <= 1 % when the step halves on every rig scene kind (OR 6:00 and 3:00, IR, ball pit;
+#: 12 and 48 kHz; ``python -m benchmarks dynamics_cost --parts rule``, docs/dynamics.md,
+#: 2026-12-06: worst 0.056 % from 15 to 30, the ball pit at 48 kHz).
+STEPS_PER_PERIOD_LOADED = 15.0
 #: The contact load of the step rule, as a multiple of the quasi-static largest element load
 #: (impacts load a contact above its static value).
 PEAK_LOAD_FACTOR = 2.0
@@ -460,7 +467,25 @@ def highest_frequency_hz(params: DynamicParams, peak_factor: float = PEAK_LOAD_F
     return max(math.sqrt(k / params.element_mass_kg) / (2 * math.pi), params.resonator_hz)
 
 
-def step_size(params: DynamicParams, steps_per_period: float = STEPS_PER_PERIOD,
+def rule_steps(params: DynamicParams) -> float:
+    """The step rule's steps per period of ``params``: :data:`STEPS_PER_PERIOD_LOADED` when every
+    element carries load in the quasi-static solution, else :data:`STEPS_PER_PERIOD`.
+
+    Parameters
+    ----------
+    params : DynamicParams
+        The model (its load, clearance and contact stiffnesses).
+
+    Returns
+    -------
+    float
+        Steps per period of :func:`highest_frequency_hz`.
+    """
+    loaded = params.force_n > 0 and float(np.min(quasi_static(params).q)) > 0.0
+    return STEPS_PER_PERIOD_LOADED if loaded else STEPS_PER_PERIOD
+
+
+def step_size(params: DynamicParams, steps_per_period: float | None = None,
               peak_factor: float = PEAK_LOAD_FACTOR) -> float:
     """The step rule: ``dt = 1 / (steps_per_period x f_max)`` with ``f_max`` from
     :func:`highest_frequency_hz`.
@@ -469,8 +494,8 @@ def step_size(params: DynamicParams, steps_per_period: float = STEPS_PER_PERIOD,
     ----------
     params : DynamicParams
         The model (its masses and contact stiffnesses).
-    steps_per_period : float
-        RK4 steps per period of ``f_max`` (:data:`STEPS_PER_PERIOD`).
+    steps_per_period : float, optional
+        RK4 steps per period of ``f_max`` (None: the scene's, :func:`rule_steps`).
     peak_factor : float
         As :func:`highest_frequency_hz`.
 
@@ -484,6 +509,8 @@ def step_size(params: DynamicParams, steps_per_period: float = STEPS_PER_PERIOD,
     ValueError
         ``steps_per_period`` < 4 (RK4 is unstable near 2.2 steps per period).
     """
+    if steps_per_period is None:
+        steps_per_period = rule_steps(params)
     if not steps_per_period >= 4:
         raise ValueError(f"steps_per_period: got {steps_per_period!r}; allowed: >= 4 (RK4 is "
                          "unstable near 2.2)")
